@@ -1,0 +1,8 @@
+//! Host side of the SCT toolchain: reads plant, specification and supervisor automata in the field's file
+//! formats, synthesises local modular supervisors, packs them into microcontroller tables and drives the
+//! firmware against a virtual plant.
+//!
+//! Data flows one way: model files → [`model`] → synthesis → packing → emitted tables → firmware.
+#![deny(missing_docs)]
+
+pub mod model;

@@ -1,0 +1,20 @@
+//! The automaton model every other part of the tool works on.
+//!
+//! An [`Automaton`] is a finite automaton with named states and named events, one optional initial
+//! state, a set of marked states and a deterministic transition relation. Its events carry their
+//! controllability. Automata read from different files are brought together in an [`EventTable`],
+//! which gives every event of a set one dense id in one deterministic order and refuses an event whose
+//! controllability differs between two files.
+//!
+//! Everything here is ordered deterministically: the same input gives the same ids and so byte-identical
+//! output downstream.
+
+mod automaton;
+mod error;
+mod event_table;
+mod ids;
+
+pub use automaton::{Automaton, Event, Kind, State, Transition};
+pub use error::ModelError;
+pub use event_table::EventTable;
+pub use ids::{EventId, IdError, StateId};

@@ -1,0 +1,103 @@
+//! This module is the home of the tables the runtime reads: one [`SupervisorSet`] of automata in the
+//! `offset` layout, emitted by `codegen` as `static` data in flash.
+//!
+//! # The `offset` layout
+//!
+//! Each automaton is one byte block. For every state, in state-index order: one byte `n` (the number of
+//! outgoing transitions), then `n` records of three bytes `[event][target_hi][target_lo]`: the global event
+//! id and the *byte offset* of the target state's count byte within the same block, big-endian. This is
+//! the reference tool's "memory safe" vector (size Σs + 3Σt per automaton) with one change: targets are
+//! record offsets instead of state indices, so reaching the next state costs nothing rather than a walk
+//! over k records. A state is held at run time as its offset.
+//!
+//! Limits: at most 256 events (one byte per event id), at most 255 transitions out of one state, and a
+//! block of at most 65 536 bytes. `codegen` refuses sets beyond them.
+
+/// What an automaton does in the loop.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Role {
+    /// A plant subsystem of the product system: generates the controllable events it can physically
+    /// take and tracks the uncontrollable ones.
+    Plant,
+    /// A supervisor: only disables controllable events.
+    Supervisor,
+}
+
+/// One automaton of the set in the `offset` layout.
+#[derive(Clone, Copy, Debug)]
+pub struct Automaton {
+    /// Name, for logs and reports.
+    pub name: &'static str,
+    /// Plant or supervisor.
+    pub role: Role,
+    /// Offset of the initial state within [`Automaton::block`].
+    pub initial: u16,
+    /// The states and transitions, as described in the module documentation.
+    pub block: &'static [u8],
+    /// Bitset over global event ids (bit `e % 32` of word `e / 32`): the automaton's alphabet. An event
+    /// outside it never moves or blocks the automaton.
+    pub alphabet: &'static [u32],
+}
+
+/// The whole set the firmware runs: plants and supervisors over one event numbering.
+#[derive(Clone, Copy, Debug)]
+pub struct SupervisorSet {
+    /// Event names by global id.
+    pub event_names: &'static [&'static str],
+    /// Bitset over global event ids: the controllable ones.
+    pub controllable: &'static [u32],
+    /// Plants first, then supervisors, in manifest order.
+    pub automata: &'static [Automaton],
+}
+
+impl Automaton {
+    /// The offset of the state reached from the state at `state` by `event`, or `None` when the state
+    /// has no such transition (or `state` is not a state offset of this block).
+    pub fn step(&self, state: u16, event: u8) -> Option<u16> {
+        let at = usize::from(state);
+        let n = usize::from(*self.block.get(at)?);
+        let records = self.block.get(at + 1..at + 1 + 3 * n)?;
+        records.chunks_exact(3).find(|r| r[0] == event).map(|r| u16::from_be_bytes([r[1], r[2]]))
+    }
+
+    /// Whether `event` belongs to this automaton's alphabet.
+    pub fn has_event(&self, event: u8) -> bool {
+        let word = usize::from(event / 32);
+        self.alphabet.get(word).is_some_and(|w| w & (1 << (event % 32)) != 0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two states: 0 –e0→ 1 (offset 4), 1 –e1→ 0.
+    static BLOCK: [u8; 8] = [1, 0, 0, 4, 1, 1, 0, 0];
+    static ALPHABET: [u32; 1] = [0b11];
+
+    fn toggle() -> Automaton {
+        Automaton { name: "T", role: Role::Plant, initial: 0, block: &BLOCK, alphabet: &ALPHABET }
+    }
+
+    #[test]
+    fn step_follows_offsets() {
+        let t = toggle();
+        assert_eq!(t.step(0, 0), Some(4));
+        assert_eq!(t.step(4, 1), Some(0));
+        assert_eq!(t.step(0, 1), None);
+    }
+
+    #[test]
+    fn step_out_of_block_is_none_not_panic() {
+        assert_eq!(toggle().step(200, 0), None);
+        assert_eq!(toggle().step(7, 0), None);
+    }
+
+    #[test]
+    fn alphabet_membership() {
+        let t = toggle();
+        assert!(t.has_event(1));
+        assert!(!t.has_event(2));
+        assert!(!t.has_event(255));
+    }
+}
