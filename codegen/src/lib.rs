@@ -5,4 +5,5 @@
 //! Data flows one way: model files → [`model`] → synthesis → packing → emitted tables → firmware.
 #![deny(missing_docs)]
 
+pub mod formats;
 pub mod model;

@@ -1,0 +1,80 @@
+//! Readers and writers for the field's automaton file formats.
+//!
+//! | format | extension | reads | writes | automata per file |
+//! |---|---|---|---|---|
+//! | IDES3 / Nadzoru | `.xmd` | [`xmd::read`] | [`xmd::write`] | one |
+//!
+//! [`read_path`] picks the format from the extension (case-insensitive) and, failing that, from the
+//! content. Every reader returns automata that passed [`Automaton::validate`] and were
+//! [canonicalized](Automaton::canonicalize), or a [`ParseError`] naming the file and the line; no input
+//! makes a reader panic. Single-automaton formats name the automaton after the file stem.
+
+mod builder;
+mod error;
+pub mod xmd;
+mod xml;
+
+use std::path::Path;
+
+use error::ErrorKind;
+pub use error::{ParseError, WriteError};
+
+use crate::model::Automaton;
+
+/// A file format this module knows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// IDES3 `.xmd` XML.
+    Xmd,
+}
+
+impl Format {
+    /// The format an extension names (case-insensitive), if any.
+    pub fn from_path(path: &Path) -> Option<Format> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "xmd" => Some(Format::Xmd),
+            _ => None,
+        }
+    }
+
+    /// The format the content looks like, if any.
+    pub fn sniff(text: &str) -> Option<Format> {
+        let head = text.trim_start();
+        if head.starts_with('<') && text.contains("<model") {
+            return Some(Format::Xmd);
+        }
+        None
+    }
+}
+
+/// Reads every automaton in the file at `path` (format by extension, then by content).
+pub fn read_path(path: &Path) -> Result<Vec<Automaton>, ParseError> {
+    let bytes = std::fs::read(path).map_err(|e| ParseError::new(path, None, ErrorKind::Io(e)))?;
+    read_bytes(path, &bytes)
+}
+
+/// Reads every automaton in `bytes`, the content of a file called `path` (used for the format and errors).
+pub fn read_bytes(path: &Path, bytes: &[u8]) -> Result<Vec<Automaton>, ParseError> {
+    let text = decode(path, bytes)?;
+    let format = Format::from_path(path)
+        .or_else(|| Format::sniff(text))
+        .ok_or_else(|| ParseError::new(path, None, ErrorKind::UnknownFormat))?;
+    match format {
+        Format::Xmd => Ok(vec![xmd::read(path, text)?]),
+    }
+}
+
+/// `bytes` as UTF-8 text (a leading byte-order mark dropped), or an error at the first bad byte's line.
+fn decode<'b>(path: &Path, bytes: &'b [u8]) -> Result<&'b str, ParseError> {
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    std::str::from_utf8(bytes).map_err(|e| {
+        let line = 1 + bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count();
+        ParseError::new(path, Some(line), ErrorKind::NotUtf8)
+    })
+}
+
+/// The automaton name a single-automaton file gives: its stem (`cell/S1.xmd` → `S1`).
+fn file_stem(path: &Path) -> String {
+    path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
+}
