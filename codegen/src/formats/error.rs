@@ -11,7 +11,11 @@ use crate::model::ModelError;
 /// message wording may improve without breaking them. Every reader returns this for every malformed
 /// input, never a panic.
 #[derive(Debug)]
-pub struct ParseError {
+pub struct ParseError(Box<Inner>);
+
+/// The parts of a [`ParseError`], boxed so that `Result<_, ParseError>` stays one pointer wide.
+#[derive(Debug)]
+struct Inner {
     file: PathBuf,
     line: Option<usize>,
     kind: ErrorKind,
@@ -38,7 +42,7 @@ pub(crate) enum ErrorKind {
 
 impl ParseError {
     pub(crate) fn new(file: &Path, line: Option<usize>, kind: ErrorKind) -> Self {
-        ParseError { file: file.to_path_buf(), line, kind }
+        ParseError(Box::new(Inner { file: file.to_path_buf(), line, kind }))
     }
 
     /// A grammar error at `line`.
@@ -58,27 +62,27 @@ impl ParseError {
 
     /// The file the error is about, as the caller named it.
     pub fn file(&self) -> &Path {
-        &self.file
+        &self.0.file
     }
 
     /// The 1-based line the error is at, when it is tied to one.
     pub fn line(&self) -> Option<usize> {
-        self.line
+        self.0.line
     }
 
     /// Whether the file could not be read at all (as opposed to being malformed).
     pub fn is_io(&self) -> bool {
-        matches!(self.kind, ErrorKind::Io(_))
+        matches!(self.0.kind, ErrorKind::Io(_))
     }
 }
 
 impl fmt::Display for ParseError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}: ", self.file.display())?;
-        if let Some(line) = self.line {
+        write!(f, "{}: ", self.0.file.display())?;
+        if let Some(line) = self.0.line {
             write!(f, "line {line}: ")?;
         }
-        match &self.kind {
+        match &self.0.kind {
             ErrorKind::Io(e) => write!(f, "cannot read: {e}"),
             ErrorKind::NotUtf8 => f.write_str("not UTF-8 text"),
             ErrorKind::UnknownFormat => f.write_str(
@@ -94,7 +98,7 @@ impl fmt::Display for ParseError {
 
 impl std::error::Error for ParseError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        match &self.kind {
+        match &self.0.kind {
             ErrorKind::Io(e) => Some(e),
             _ => None,
         }
