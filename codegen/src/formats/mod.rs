@@ -10,6 +10,7 @@
 //! makes a reader panic. Single-automaton formats name the automaton after the file stem.
 
 mod builder;
+pub mod dot;
 mod error;
 pub mod xmd;
 mod xml;
@@ -63,6 +64,33 @@ pub fn read_bytes(path: &Path, bytes: &[u8]) -> Result<Vec<Automaton>, ParseErro
     match format {
         Format::Xmd => Ok(vec![xmd::read(path, text)?]),
     }
+}
+
+/// Writes `automata` to `path` in the format its extension names (`.dot` too).
+pub fn write_path(path: &Path, automata: &[Automaton]) -> Result<(), WriteError> {
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let text = match ext.as_deref() {
+        Some("dot") => dot::write(automata),
+        Some("xmd") => xmd::write(single(path, "xmd", automata)?),
+        _ => return Err(WriteError::UnknownFormat(path.to_path_buf())),
+    };
+    write_file(path, &text)
+}
+
+/// The one automaton of `automata`, for formats that hold exactly one.
+fn single<'a>(
+    path: &Path,
+    format: &'static str,
+    automata: &'a [Automaton],
+) -> Result<&'a Automaton, WriteError> {
+    match automata {
+        [a] => Ok(a),
+        _ => Err(WriteError::TooMany { file: path.to_path_buf(), format, count: automata.len() }),
+    }
+}
+
+fn write_file(path: &Path, text: &str) -> Result<(), WriteError> {
+    std::fs::write(path, text).map_err(|source| WriteError::Io { file: path.to_path_buf(), source })
 }
 
 /// `bytes` as UTF-8 text (a leading byte-order mark dropped), or an error at the first bad byte's line.
