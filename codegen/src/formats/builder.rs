@@ -53,6 +53,21 @@ impl<'f> Builder<'f> {
         Ok(id)
     }
 
+    /// Number of states so far.
+    pub(crate) fn state_count(&self) -> usize {
+        self.automaton.states.len()
+    }
+
+    /// Marks `state`.
+    pub(crate) fn mark(&mut self, state: StateId) {
+        self.automaton.states[state.index()].marked = true;
+    }
+
+    /// Marks every state (formats where "no marking given" or `*` means "all marked").
+    pub(crate) fn mark_all(&mut self) {
+        self.automaton.states.iter_mut().for_each(|s| s.marked = true);
+    }
+
     /// Makes `state` the initial state, refusing a second, different one.
     pub(crate) fn initial(&mut self, state: StateId, line: usize) -> Result<(), ParseError> {
         match self.automaton.initial {
