@@ -19,13 +19,23 @@
 //! the manufacturing cell 3420 states and 11 808 transitions, 38 844 bytes in `offset` against 2 324 for
 //! the six local modular supervisors.
 
+mod bits;
 mod bitset;
+pub mod compact;
 mod decoded;
 mod error;
+pub mod floor;
+mod layout;
+pub mod memory_safe;
 pub mod offset;
+pub mod paper;
+pub mod report;
 mod set;
+mod size;
 #[cfg(test)]
 pub(crate) mod testing;
 
 pub use error::{DecodeError, PackError};
+pub use layout::Layout;
 pub use set::{Member, PackSet, Role};
+pub use size::Size;

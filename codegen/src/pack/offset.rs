@@ -10,7 +10,7 @@
 //!
 //! Limits: at most 256 events, 255 transitions out of one state, 65 536 bytes per block.
 
-use super::{bitset, decoded::Recovered, DecodeError, PackError, PackSet, Role};
+use super::{bitset, decoded::Recovered, DecodeError, PackError, PackSet, Role, Size};
 use crate::model::Automaton;
 
 /// Layout name, as given to `--layout`.
@@ -46,6 +46,23 @@ pub struct Block {
     pub block: Vec<u8>,
     /// Bitset over global event ids: the automaton's alphabet.
     pub alphabet: Vec<u32>,
+}
+
+impl Packed {
+    /// Bytes per automaton and of each side table (bitsets in whole u32 words, as the runtime holds them).
+    pub fn size(&self) -> Size {
+        let n = self.automata.len();
+        Size {
+            layout: NAME,
+            per_automaton: self.automata.iter().map(|b| (b.name.clone(), b.block.len())).collect(),
+            side_tables: vec![
+                ("controllability", 4 * self.controllable.len()),
+                ("automaton offsets", 4 * n),
+                ("initial states", 2 * n),
+                ("alphabets", self.automata.iter().map(|b| 4 * b.alphabet.len()).sum()),
+            ],
+        }
+    }
 }
 
 /// Packs `set` in the `offset` layout, or says which limit it breaks.
@@ -185,8 +202,10 @@ mod tests {
 
     proptest::proptest! {
         #[test]
-        fn random_sets_round_trip(set in crate::pack::testing::arb_set(8)) {
-            assert_round_trip(&set, &decode(&encode(&set).unwrap()).unwrap());
+        fn random_sets_round_trip_and_size_formula(set in crate::pack::testing::arb_set(8)) {
+            let packed = encode(&set).unwrap();
+            assert_round_trip(&set, &decode(&packed).unwrap());
+            proptest::prop_assert_eq!(packed.size().blocks(), set.state_count() + 3 * set.transition_count());
         }
     }
 

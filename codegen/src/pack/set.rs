@@ -117,6 +117,15 @@ impl PackSet {
         &self.events
     }
 
+    /// The members of one role only, over the same event numbering (so sizes of event-indexed tables
+    /// stay those of the whole set). The paper counts supervisors this way.
+    pub fn only(&self, role: Role) -> PackSet {
+        PackSet {
+            members: self.members.iter().filter(|m| m.role == role).cloned().collect(),
+            events: self.events.clone(),
+        }
+    }
+
     /// Total states over all members (the paper's Σs).
     pub fn state_count(&self) -> usize {
         self.members.iter().map(Member::state_count).sum()
