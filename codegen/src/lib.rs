@@ -6,4 +6,6 @@
 #![deny(missing_docs)]
 
 pub mod formats;
+pub mod check;
 pub mod model;
+pub mod pack;
