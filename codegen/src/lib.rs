@@ -5,5 +5,8 @@
 //! Data flows one way: model files → [`model`] → synthesis → packing → emitted tables → firmware.
 #![deny(missing_docs)]
 
+pub mod check;
+pub mod formats;
 pub mod model;
+pub mod pack;
 pub mod synth;
