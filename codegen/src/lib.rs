@@ -7,6 +7,7 @@
 
 pub mod check;
 pub mod formats;
+pub mod manifest;
 pub mod model;
 pub mod pack;
 pub mod synth;
