@@ -126,7 +126,13 @@ pub struct Runtime {
 
 impl Default for Runtime {
     fn default() -> Self {
-        Runtime { policy: Policy::default(), seed: 0, guard: true, on_fault: OnFault::default(), input_buffer: 32 }
+        Runtime {
+            policy: Policy::default(),
+            seed: 0,
+            guard: true,
+            on_fault: OnFault::default(),
+            input_buffer: 32,
+        }
     }
 }
 
@@ -187,7 +193,9 @@ impl Manifest {
     pub fn parse(path: &Path, text: &str) -> Result<Manifest, ManifestError> {
         let mut m: Manifest = toml::from_str(text).map_err(|e| ManifestError::Syntax {
             file: path.to_owned(),
-            line: e.span().map_or(0, |s| text.as_bytes()[..s.start.min(text.len())].iter().filter(|&&b| b == b'\n').count() + 1),
+            line: e.span().map_or(0, |s| {
+                text.as_bytes()[..s.start.min(text.len())].iter().filter(|&&b| b == b'\n').count() + 1
+            }),
             message: e.message().to_owned(),
         })?;
         m.file = path.to_owned();
@@ -262,9 +270,10 @@ mod tests {
 
     #[test]
     fn unknown_keys_are_named_with_their_line() {
-        let err = Manifest::parse(Path::new("m.toml"), "name = \"x\"\n[runtime]\npolicy = \"first\"\nsed = 3\n")
-            .unwrap_err()
-            .to_string();
+        let err =
+            Manifest::parse(Path::new("m.toml"), "name = \"x\"\n[runtime]\npolicy = \"first\"\nsed = 3\n")
+                .unwrap_err()
+                .to_string();
         assert!(err.starts_with("m.toml:4: unknown field `sed`"), "{err}");
         let err = Manifest::parse(Path::new("m.toml"), "name = \"x\"\n[runtime]\npolicy = \"fastest\"\n")
             .unwrap_err()
@@ -275,19 +284,26 @@ mod tests {
     #[test]
     fn model_errors_name_the_key_and_overrides_must_exist() {
         let dir = cell();
-        let m = Manifest::parse(&dir, "name = \"x\"\nplants = [\"plants/G1.xmd\", \"plants/nope.xmd\"]\n").unwrap();
+        let m = Manifest::parse(&dir, "name = \"x\"\nplants = [\"plants/G1.xmd\", \"plants/nope.xmd\"]\n")
+            .unwrap();
         let err = m.read_automata().unwrap_err().to_string();
         assert!(err.contains("cell.toml: plants[1]: ") && err.contains("nope.xmd"), "{err}");
-        let m = Manifest::parse(&dir, "name = \"x\"\nplants = [\"plants/G1.xmd\"]\n[events.zz]\ncontrollable = true\n")
-            .unwrap();
+        let m = Manifest::parse(
+            &dir,
+            "name = \"x\"\nplants = [\"plants/G1.xmd\"]\n[events.zz]\ncontrollable = true\n",
+        )
+        .unwrap();
         let err = m.read_automata().unwrap_err().to_string();
         assert!(err.ends_with("cell.toml: events.zz: no automaton of the manifest has this event"), "{err}");
     }
 
     #[test]
     fn an_override_changes_controllability_everywhere() {
-        let m = Manifest::parse(&cell(), "name = \"x\"\nplants = [\"plants/G1.xmd\"]\n[events.e1_lig]\ncontrollable = false\n")
-            .unwrap();
+        let m = Manifest::parse(
+            &cell(),
+            "name = \"x\"\nplants = [\"plants/G1.xmd\"]\n[events.e1_lig]\ncontrollable = false\n",
+        )
+        .unwrap();
         let set = m.read_automata().unwrap();
         let g1 = &set.plants[0];
         assert!(!g1.events[g1.event_id("e1_lig").unwrap().index()].controllable);
