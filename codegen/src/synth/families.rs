@@ -267,10 +267,10 @@ fn random(n: usize) -> (Vec<Automaton>, Vec<Automaton>) {
             (0..size).map(|s| (s.to_string(), !plant || s == 0 || rng.below(2) != 0)).collect();
         let mut delta = Vec::new();
         for s in 0..size {
-            for e in 0..events.len() {
+            for (e, (_, controllable)) in events.iter().enumerate() {
                 if plant && e == 0 {
                     delta.push((s, e, (s + 1) % size));
-                } else if !plant && !events[e].1 || rng.below(3) != 0 {
+                } else if !plant && !controllable || rng.below(3) != 0 {
                     delta.push((s, e, rng.below(size)));
                 }
             }
