@@ -43,16 +43,26 @@ struct Field {
     mask: u64,
 }
 
-/// Packed product tuples with a hash index from tuple to state id.
+/// One slot of the index: the first word of a key (so most probes touch no other memory) and its id.
+#[derive(Clone, Copy)]
+struct Slot {
+    first: u64,
+    id: u32,
+}
+
+const EMPTY: Slot = Slot { first: 0, id: NONE };
+
+/// Packed product tuples with a hash index from tuple to state id (open addressing, linear probing, load
+/// at most one half).
 struct KeyStore {
     width: usize,
     words: Vec<u64>,
-    slots: Vec<u32>,
+    slots: Vec<Slot>,
 }
 
 impl KeyStore {
     fn new(width: usize) -> Self {
-        KeyStore { width, words: Vec::new(), slots: vec![NONE; 1 << 10] }
+        KeyStore { width, words: Vec::new(), slots: vec![EMPTY; 1 << 10] }
     }
 
     fn len(&self) -> usize {
@@ -63,46 +73,63 @@ impl KeyStore {
         &self.words[id as usize * self.width..(id as usize + 1) * self.width]
     }
 
+    /// A well-mixed hash (murmur3's 64-bit finaliser per word); callers take its high bits.
     fn hash(key: &[u64]) -> u64 {
         let mut h: u64 = 0x243F_6A88_85A3_08D3;
         for &w in key {
-            h = (h ^ w).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-            h ^= h >> 29;
+            h ^= w;
+            h ^= h >> 33;
+            h = h.wrapping_mul(0xFF51_AFD7_ED55_8CCD);
+            h ^= h >> 33;
+            h = h.wrapping_mul(0xC4CE_B9FE_1A85_EC53);
+            h ^= h >> 33;
         }
         h
+    }
+
+    /// The first slot to probe for a key with hash `h` in a table of `cap` (a power of two) slots.
+    fn slot(h: u64, cap: usize) -> usize {
+        (h >> (64 - cap.trailing_zeros())) as usize
     }
 
     /// The id of `key`, inserting it with the next id when new; the flag says whether it was new.
     fn insert(&mut self, key: &[u64]) -> (u32, bool) {
         let mask = self.slots.len() - 1;
-        let mut i = Self::hash(key) as usize & mask;
+        let mut i = Self::slot(Self::hash(key), self.slots.len());
         loop {
-            let id = self.slots[i];
-            if id == NONE {
+            let slot = self.slots[i];
+            if slot.id == NONE {
                 let id = self.len() as u32;
-                self.slots[i] = id;
+                self.slots[i] = Slot { first: key[0], id };
                 self.words.extend_from_slice(key);
                 if self.len() * 2 > self.slots.len() {
                     self.grow();
                 }
                 return (id, true);
             }
-            if self.key(id) == key {
-                return (id, false);
+            if slot.first == key[0] && (self.width == 1 || self.key(slot.id)[1..] == key[1..]) {
+                return (slot.id, false);
             }
             i = (i + 1) & mask;
         }
     }
 
+    /// Reads the first slot `key` would probe, so that a batch of lookups issued back to back overlaps
+    /// its cache misses instead of paying them one after the other.
+    fn touch(&self, key: &[u64]) -> u32 {
+        self.slots[Self::slot(Self::hash(key), self.slots.len())].id
+    }
+
     fn grow(&mut self) {
         let cap = self.slots.len() * 2;
-        let mut slots = vec![NONE; cap];
+        let mut slots = vec![EMPTY; cap];
         for id in 0..self.len() as u32 {
-            let mut i = Self::hash(self.key(id)) as usize & (cap - 1);
-            while slots[i] != NONE {
+            let key = self.key(id);
+            let mut i = Self::slot(Self::hash(key), cap);
+            while slots[i].id != NONE {
                 i = (i + 1) & (cap - 1);
             }
-            slots[i] = id;
+            slots[i] = Slot { first: key[0], id };
         }
         self.slots = slots;
     }
@@ -125,7 +152,8 @@ pub(crate) struct Exploration {
     keys: KeyStore,
     fields: Vec<Field>,
     /// (state, event) for each state where the plant generates an uncontrollable event the
-    /// specification refuses (the first such event in ascending order), ascending by state.
+    /// specification refuses (the first such event in ascending order), ascending by state. Such states are
+    /// not expanded: they have no transitions in [`Exploration::dfa`].
     pub bad: Vec<(u32, u32)>,
     /// Breadth-first parent (state, event) of each state (the initial state points to itself), if asked.
     pub parents: Vec<(u32, u32)>,
@@ -178,6 +206,16 @@ impl Exploration {
             })
             .collect();
         let check_bad = options.plants < components.len();
+        // Events whose refusal can make a state bad: uncontrollable, in the plant and in the specification.
+        let guarded: Vec<usize> = (0..union.len())
+            .filter(|&i| {
+                let p = &participants[i];
+                check_bad
+                    && !inputs.controllable[union[i] as usize]
+                    && p.first().is_some_and(|&(c, _)| c < options.plants)
+                    && p.last().is_some_and(|&(c, _)| c >= options.plants)
+            })
+            .collect();
 
         let mut keys = KeyStore::new(width);
         let mut marked = Vec::new();
@@ -201,58 +239,73 @@ impl Exploration {
         let mut cur = vec![0u32; components.len()];
         let mut key = vec![0u64; width];
         let mut next = vec![0u64; width];
+        let mut batch: Vec<u64> = Vec::new();
+        let mut batch_events: Vec<u32> = Vec::new();
         let mut s = 0u32;
         while (s as usize) < keys.len() {
             key.copy_from_slice(keys.key(s));
             for (c, f) in fields.iter().enumerate() {
                 cur[c] = ((key[f.word] >> f.shift) & f.mask) as u32;
             }
-            let mut state_bad = false;
-            for (i, &e) in union.iter().enumerate() {
+            // A bad state is removed by supC whatever follows it: record it and do not expand it.
+            let refused = guarded.iter().copied().find(|&i| {
+                let mut plant_enables = true;
+                for &(c, l) in &participants[i] {
+                    let enabled = lookups[c].next[cur[c] as usize * lookups[c].width + l] != NONE;
+                    if c < options.plants {
+                        plant_enables &= enabled;
+                    } else if !enabled {
+                        return plant_enables;
+                    }
+                }
+                false
+            });
+            if let Some(i) = refused {
+                bad.push((s, union[i]));
+                offsets.push(events.len());
+                s += 1;
+                continue;
+            }
+            // Successor keys first, then one pass touching their slots, then the lookups proper.
+            batch.clear();
+            batch_events.clear();
+            'events: for (i, &e) in union.iter().enumerate() {
                 next.copy_from_slice(&key);
-                let mut refused_by = None;
                 for &(c, l) in &participants[i] {
                     let t = lookups[c].next[cur[c] as usize * lookups[c].width + l];
                     if t == NONE {
-                        refused_by = Some(c);
-                        break;
+                        continue 'events;
                     }
                     set(&mut next, fields[c], t);
                 }
-                match refused_by {
-                    None => {
-                        let (t, new) = keys.insert(&next);
-                        if new {
-                            if keys.len() > cfg.state_limit {
-                                return Err(SynthError::StateLimit {
-                                    what: what.to_owned(),
-                                    limit: cfg.state_limit,
-                                });
-                            }
-                            marked.push(components.iter().enumerate().all(|(c, d)| {
-                                d.marked
-                                    [((next[fields[c].word] >> fields[c].shift) & fields[c].mask) as usize]
-                            }));
-                            if options.parents {
-                                parents.push((s, e));
-                            }
-                            if let Some(o) = &cfg.observer {
-                                if keys.len() % (1 << 16) == 0 {
-                                    o.states(what, keys.len());
-                                }
-                            }
-                        }
-                        events.push(e);
-                        targets.push(t);
+                batch.extend_from_slice(&next);
+                batch_events.push(e);
+            }
+            let mut touched = 0u32;
+            for next in batch.chunks_exact(width) {
+                touched ^= keys.touch(next);
+            }
+            std::hint::black_box(touched);
+            for (next, &e) in batch.chunks_exact(width).zip(&batch_events) {
+                let (t, new) = keys.insert(next);
+                if new {
+                    if keys.len() > cfg.state_limit {
+                        return Err(SynthError::StateLimit { what: what.to_owned(), limit: cfg.state_limit });
                     }
-                    Some(c) => {
-                        let plant_enables = c >= options.plants && participants[i][0].0 < options.plants;
-                        if check_bad && !state_bad && plant_enables && !inputs.controllable[e as usize] {
-                            state_bad = true;
-                            bad.push((s, e));
+                    marked.push(components.iter().enumerate().all(|(c, d)| {
+                        d.marked[((next[fields[c].word] >> fields[c].shift) & fields[c].mask) as usize]
+                    }));
+                    if options.parents {
+                        parents.push((s, e));
+                    }
+                    if let Some(o) = &cfg.observer {
+                        if keys.len() % (1 << 16) == 0 {
+                            o.states(what, keys.len());
                         }
                     }
                 }
+                events.push(e);
+                targets.push(t);
             }
             offsets.push(events.len());
             s += 1;
