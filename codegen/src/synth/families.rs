@@ -146,14 +146,15 @@ fn room_index(home: usize, room: usize) -> usize {
     }
 }
 
-/// `k` cats and one mouse in the five-room maze; per cat, a specification that it never shares a room with
-/// the mouse, marked when both are home.
+/// `k` cats and `k` mice in the five-room maze; for every cat and mouse, a specification that they never
+/// share a room, marked when both are home.
 fn cat_mouse(k: usize) -> (Vec<Automaton>, Vec<Automaton>) {
     let cat_events = |j: usize| -> Vec<(String, bool)> {
         CAT_DOORS.iter().enumerate().map(|(d, &(_, _, c))| (format!("c{j}_{}", d + 1), c)).collect()
     };
-    let mouse_events: Vec<(String, bool)> =
-        MOUSE_DOORS.iter().enumerate().map(|(d, &(_, _, c))| (format!("m{}", d + 1), c)).collect();
+    let mouse_events = |i: usize| -> Vec<(String, bool)> {
+        MOUSE_DOORS.iter().enumerate().map(|(d, &(_, _, c))| (format!("m{i}_{}", d + 1), c)).collect()
+    };
     let mut plants: Vec<Automaton> = (1..=k)
         .map(|j| {
             let delta: Vec<_> = CAT_DOORS
@@ -164,48 +165,47 @@ fn cat_mouse(k: usize) -> (Vec<Automaton>, Vec<Automaton>) {
             build(&format!("Cat{j}"), Kind::Plant, &rooms(CAT_HOME), &cat_events(j), &delta)
         })
         .collect();
-    let delta: Vec<_> = MOUSE_DOORS
-        .iter()
-        .enumerate()
-        .map(|(d, &(f, t, _))| (room_index(MOUSE_HOME, f), d, room_index(MOUSE_HOME, t)))
-        .collect();
-    plants.push(build("Mouse", Kind::Plant, &rooms(MOUSE_HOME), &mouse_events, &delta));
-    let specs = (1..=k)
-        .map(|j| {
-            // States: (cat room, mouse room) with different rooms; (home, home) first.
-            let mut pairs = vec![(CAT_HOME, MOUSE_HOME)];
-            for c in 0..5 {
-                for m in 0..5 {
-                    if c != m && (c, m) != (CAT_HOME, MOUSE_HOME) {
-                        pairs.push((c, m));
-                    }
-                }
+    plants.extend((1..=k).map(|i| {
+        let delta: Vec<_> = MOUSE_DOORS
+            .iter()
+            .enumerate()
+            .map(|(d, &(f, t, _))| (room_index(MOUSE_HOME, f), d, room_index(MOUSE_HOME, t)))
+            .collect();
+        build(&format!("Mouse{i}"), Kind::Plant, &rooms(MOUSE_HOME), &mouse_events(i), &delta)
+    }));
+    // States of a pair specification: (cat room, mouse room) in different rooms; (home, home) first.
+    let mut pairs = vec![(CAT_HOME, MOUSE_HOME)];
+    for c in 0..5 {
+        for m in 0..5 {
+            if c != m && (c, m) != (CAT_HOME, MOUSE_HOME) {
+                pairs.push((c, m));
             }
-            let id = |c: usize, m: usize| pairs.iter().position(|&p| p == (c, m));
+        }
+    }
+    let id = |c: usize, m: usize| pairs.iter().position(|&p| p == (c, m));
+    let mut delta = Vec::new();
+    for (s, &(c, m)) in pairs.iter().enumerate() {
+        for (d, &(f, t, _)) in CAT_DOORS.iter().enumerate() {
+            if let Some(x) = id(t, m).filter(|_| f == c) {
+                delta.push((s, d, x));
+            }
+        }
+        for (d, &(f, t, _)) in MOUSE_DOORS.iter().enumerate() {
+            if let Some(x) = id(c, t).filter(|_| f == m) {
+                delta.push((s, CAT_DOORS.len() + d, x));
+            }
+        }
+    }
+    let st: Vec<(String, bool)> =
+        pairs.iter().map(|&(c, m)| (format!("c{c}m{m}"), (c, m) == (CAT_HOME, MOUSE_HOME))).collect();
+    let mut specs = Vec::new();
+    for j in 1..=k {
+        for i in 1..=k {
             let mut events = cat_events(j);
-            events.extend(mouse_events.iter().cloned());
-            let mut delta = Vec::new();
-            for (s, &(c, m)) in pairs.iter().enumerate() {
-                for (d, &(f, t, _)) in CAT_DOORS.iter().enumerate() {
-                    if f == c {
-                        if let Some(x) = id(t, m) {
-                            delta.push((s, d, x));
-                        }
-                    }
-                }
-                for (d, &(f, t, _)) in MOUSE_DOORS.iter().enumerate() {
-                    if f == m {
-                        if let Some(x) = id(c, t) {
-                            delta.push((s, CAT_DOORS.len() + d, x));
-                        }
-                    }
-                }
-            }
-            let st: Vec<(String, bool)> =
-                pairs.iter().map(|&(c, m)| (format!("c{c}m{m}"), (c, m) == (CAT_HOME, MOUSE_HOME))).collect();
-            build(&format!("Apart{j}"), Kind::Spec, &st, &events, &delta)
-        })
-        .collect();
+            events.extend(mouse_events(i));
+            specs.push(build(&format!("Apart{j}_{i}"), Kind::Spec, &st, &events, &delta));
+        }
+    }
     (plants, specs)
 }
 
