@@ -3,6 +3,7 @@
 //! | format | extension | reads | writes | automata per file |
 //! |---|---|---|---|---|
 //! | IDES3 / Nadzoru | `.xmd` | [`xmd::read`] | [`xmd::write`] | one |
+//! | libFAUDES / DESTool | `.gen` | [`gen::read`] | [`gen::write`] | one |
 //! | TCT | `.ads` / `.ADS` (+ event map) | [`ads::read`] | [`ads::write`] | one |
 //!
 //! [`read_path`] picks the format from the extension (case-insensitive) and, failing that, from the
@@ -14,6 +15,8 @@ pub mod ads;
 mod builder;
 pub mod dot;
 mod error;
+pub mod gen;
+mod gen_tokens;
 pub mod xmd;
 mod xml;
 
@@ -31,6 +34,8 @@ pub enum Format {
     Xmd,
     /// TCT `.ADS` text.
     Ads,
+    /// libFAUDES `.gen` tokens.
+    Gen,
 }
 
 impl Format {
@@ -40,6 +45,7 @@ impl Format {
         match ext.as_str() {
             "xmd" => Some(Format::Xmd),
             "ads" => Some(Format::Ads),
+            "gen" => Some(Format::Gen),
             _ => None,
         }
     }
@@ -47,6 +53,9 @@ impl Format {
     /// The format the content looks like, if any.
     pub fn sniff(text: &str) -> Option<Format> {
         let head = text.trim_start();
+        if head.starts_with("<Generator") || text.contains("<TransRel>") {
+            return Some(Format::Gen);
+        }
         if head.starts_with('<') && text.contains("<model") {
             return Some(Format::Xmd);
         }
@@ -107,6 +116,7 @@ fn read_text(path: &Path, text: &str, format: Format) -> Result<Vec<Automaton>, 
     match format {
         Format::Xmd => Ok(vec![xmd::read(path, text)?]),
         Format::Ads => Ok(vec![ads::read(path, text, None)?]),
+        Format::Gen => Ok(vec![gen::read(path, text)?]),
     }
 }
 
@@ -126,6 +136,11 @@ pub fn write_path(path: &Path, automata: &[Automaton]) -> Result<(), WriteError>
     let text = match ext.as_deref() {
         Some("dot") => dot::write(automata),
         Some("xmd") => xmd::write(single(path, "xmd", automata)?),
+        Some("gen") => {
+            let a = single(path, "gen", automata)?;
+            gen::check(a).map_err(|msg| WriteError::Unrepresentable { file: path.to_path_buf(), msg })?;
+            gen::write(a)
+        }
         Some("ads") => return ads::write_files(path, single(path, "ads", automata)?),
         _ => return Err(WriteError::UnknownFormat(path.to_path_buf())),
     };
