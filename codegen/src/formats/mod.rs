@@ -4,6 +4,7 @@
 //! |---|---|---|---|---|
 //! | IDES3 / Nadzoru | `.xmd` | [`xmd::read`] | [`xmd::write`] | one |
 //! | libFAUDES / DESTool | `.gen` | [`gen::read`] | [`gen::write`] | one |
+//! | Supremica / Waters | `.wmod` | [`wmod::read`] | [`wmod::write`] | one per component |
 //! | TCT | `.ads` / `.ADS` (+ event map) | [`ads::read`] | [`ads::write`] | one |
 //!
 //! [`read_path`] picks the format from the extension (case-insensitive) and, failing that, from the
@@ -13,15 +14,18 @@
 
 pub mod ads;
 mod builder;
+mod decode;
 pub mod dot;
 mod error;
 pub mod gen;
 mod gen_tokens;
+pub mod wmod;
 pub mod xmd;
 mod xml;
 
 use std::path::Path;
 
+use decode::decode;
 use error::ErrorKind;
 pub use error::{ParseError, WriteError};
 
@@ -36,6 +40,8 @@ pub enum Format {
     Ads,
     /// libFAUDES `.gen` tokens.
     Gen,
+    /// Supremica `.wmod` XML.
+    Wmod,
 }
 
 impl Format {
@@ -46,6 +52,7 @@ impl Format {
             "xmd" => Some(Format::Xmd),
             "ads" => Some(Format::Ads),
             "gen" => Some(Format::Gen),
+            "wmod" => Some(Format::Wmod),
             _ => None,
         }
     }
@@ -55,6 +62,9 @@ impl Format {
         let head = text.trim_start();
         if head.starts_with("<Generator") || text.contains("<TransRel>") {
             return Some(Format::Gen);
+        }
+        if head.starts_with('<') && text.contains("<Module") {
+            return Some(Format::Wmod);
         }
         if head.starts_with('<') && text.contains("<model") {
             return Some(Format::Xmd);
@@ -78,6 +88,7 @@ pub fn read_path(path: &Path) -> Result<Vec<Automaton>, ParseError> {
 pub fn read_path_with_events(path: &Path, event_map: Option<&Path>) -> Result<Vec<Automaton>, ParseError> {
     let bytes = read_file(path)?;
     let text = decode(path, &bytes)?;
+    let text = text.as_ref();
     let format = detect(path, text)?;
     if format != Format::Ads {
         if let Some(map) = event_map {
@@ -102,14 +113,14 @@ pub fn read_path_with_events(path: &Path, event_map: Option<&Path>) -> Result<Ve
         (Some(p), Some(bytes)) => Some((p, decode(p, bytes)?)),
         _ => None,
     };
-    Ok(vec![ads::read(path, text, map)?])
+    Ok(vec![ads::read(path, text, map.as_ref().map(|(p, t)| (*p, t.as_ref())))?])
 }
 
 /// Reads every automaton in `bytes`, the content of a file called `path` (used for the format and
 /// errors). Touches no other file: an `.ADS` file is read without an event map.
 pub fn read_bytes(path: &Path, bytes: &[u8]) -> Result<Vec<Automaton>, ParseError> {
     let text = decode(path, bytes)?;
-    read_text(path, text, detect(path, text)?)
+    read_text(path, &text, detect(path, &text)?)
 }
 
 fn read_text(path: &Path, text: &str, format: Format) -> Result<Vec<Automaton>, ParseError> {
@@ -117,6 +128,7 @@ fn read_text(path: &Path, text: &str, format: Format) -> Result<Vec<Automaton>, 
         Format::Xmd => Ok(vec![xmd::read(path, text)?]),
         Format::Ads => Ok(vec![ads::read(path, text, None)?]),
         Format::Gen => Ok(vec![gen::read(path, text)?]),
+        Format::Wmod => wmod::read(path, text),
     }
 }
 
@@ -133,15 +145,17 @@ fn read_file(path: &Path) -> Result<Vec<u8>, ParseError> {
 /// Writes `automata` to `path` in the format its extension names (`.dot` too).
 pub fn write_path(path: &Path, automata: &[Automaton]) -> Result<(), WriteError> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let unrepresentable = |msg| WriteError::Unrepresentable { file: path.to_path_buf(), msg };
     let text = match ext.as_deref() {
         Some("dot") => dot::write(automata),
         Some("xmd") => xmd::write(single(path, "xmd", automata)?),
         Some("gen") => {
             let a = single(path, "gen", automata)?;
-            gen::check(a).map_err(|msg| WriteError::Unrepresentable { file: path.to_path_buf(), msg })?;
+            gen::check(a).map_err(unrepresentable)?;
             gen::write(a)
         }
         Some("ads") => return ads::write_files(path, single(path, "ads", automata)?),
+        Some("wmod") => wmod::write(&file_stem(path), automata).map_err(unrepresentable)?,
         _ => return Err(WriteError::UnknownFormat(path.to_path_buf())),
     };
     write_file(path, &text)
@@ -162,15 +176,6 @@ fn single<'a>(
 /// Writes `text` to `path`.
 fn write_file(path: &Path, text: &str) -> Result<(), WriteError> {
     std::fs::write(path, text).map_err(|source| WriteError::Io { file: path.to_path_buf(), source })
-}
-
-/// `bytes` as UTF-8 text (a leading byte-order mark dropped), or an error at the first bad byte's line.
-fn decode<'b>(path: &Path, bytes: &'b [u8]) -> Result<&'b str, ParseError> {
-    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
-    std::str::from_utf8(bytes).map_err(|e| {
-        let line = 1 + bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count();
-        ParseError::new(path, Some(line), ErrorKind::NotUtf8)
-    })
 }
 
 /// The automaton name a single-automaton file gives: its stem (`cell/S1.xmd` → `S1`).
