@@ -148,14 +148,21 @@ pub fn write_path(path: &Path, automata: &[Automaton]) -> Result<(), WriteError>
     let unrepresentable = |msg| WriteError::Unrepresentable { file: path.to_path_buf(), msg };
     let text = match ext.as_deref() {
         Some("dot") => dot::write(automata),
-        Some("xmd") => xmd::write(single(path, "xmd", automata)?),
+        Some("xmd") => {
+            let a = single(path, "xmd", automata)?;
+            xml::check_names(a).map_err(unrepresentable)?;
+            xmd::write(a)
+        }
         Some("gen") => {
             let a = single(path, "gen", automata)?;
             gen::check(a).map_err(unrepresentable)?;
             gen::write(a)
         }
         Some("ads") => return ads::write_files(path, single(path, "ads", automata)?),
-        Some("wmod") => wmod::write(&file_stem(path), automata).map_err(unrepresentable)?,
+        Some("wmod") => {
+            automata.iter().try_for_each(xml::check_names).map_err(unrepresentable)?;
+            wmod::write(&file_stem(path), automata).map_err(unrepresentable)?
+        }
         _ => return Err(WriteError::UnknownFormat(path.to_path_buf())),
     };
     write_file(path, &text)

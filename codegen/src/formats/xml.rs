@@ -7,6 +7,7 @@ use roxmltree::{Document, Node, ParsingOptions};
 
 use super::error::ErrorKind;
 use super::ParseError;
+use crate::model::Automaton;
 
 /// Parses `text`, turning the XML parser's error into a [`ParseError`] with its line.
 pub(crate) fn parse<'i>(file: &Path, text: &'i str) -> Result<Document<'i>, ParseError> {
@@ -21,6 +22,20 @@ pub(crate) fn parse<'i>(file: &Path, text: &'i str) -> Result<Document<'i>, Pars
 /// The 1-based line where `node` starts.
 pub(crate) fn line(doc: &Document, node: Node) -> usize {
     doc.text_pos_at(node.range().start).row as usize
+}
+
+/// Whether every name of `a` survives an XML document: not empty, no surrounding whitespace (readers
+/// trim it), no control characters other than tab (XML 1.0 cannot hold them).
+pub(crate) fn check_names(a: &Automaton) -> Result<(), String> {
+    let names = std::iter::once(&a.name)
+        .chain(a.states.iter().map(|s| &s.name))
+        .chain(a.events.iter().map(|e| &e.name));
+    for name in names {
+        if name.is_empty() || name.trim() != name || name.chars().any(|c| c.is_control() && c != '\t') {
+            return Err(format!("name '{}' cannot be written to XML unchanged", name.escape_debug()));
+        }
+    }
+    Ok(())
 }
 
 /// `s` with the five XML special characters escaped, for attribute values and text.
