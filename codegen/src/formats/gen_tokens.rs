@@ -124,7 +124,11 @@ impl<'t> Tokens<'t> {
 
     fn quoted(&mut self, line: usize) -> Result<Option<Token<'t>>, ParseError> {
         let rest = &self.text[self.pos + 1..];
-        let end = rest.find('"').ok_or_else(|| self.error(line, "quoted name is never closed"))?;
+        // Like libFAUDES, markup ends a quoted name: a missing quote is reported where it is missing.
+        let end = rest
+            .find(['"', '<', '>'])
+            .filter(|&i| rest.as_bytes()[i] == b'"')
+            .ok_or_else(|| self.error(line, "quoted name is never closed"))?;
         let raw = &rest[..end];
         self.advance(end + 2);
         Ok(Some(Token::Str(unescape(raw))))

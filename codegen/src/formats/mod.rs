@@ -189,3 +189,60 @@ fn write_file(path: &Path, text: &str) -> Result<(), WriteError> {
 fn file_stem(path: &Path) -> String {
     path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::Kind;
+
+    fn scratch(name: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("codegen-formats-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        dir.join(name)
+    }
+
+    fn one_state(state: &str) -> Automaton {
+        let mut a = Automaton::new("A", Kind::Plant);
+        a.initial = Some(a.add_state(state, true).unwrap());
+        a
+    }
+
+    #[test]
+    fn write_path_refuses_what_the_format_cannot_hold() {
+        let two = [one_state("s"), one_state("t")];
+        let err = write_path(&scratch("two.xmd"), &two).unwrap_err().to_string();
+        assert!(err.ends_with("two.xmd: xmd holds one automaton, got 2"), "{err}");
+        let err = write_path(&scratch("hash.gen"), &[one_state("s#1")]).unwrap_err().to_string();
+        assert!(err.contains("state name 's#1' contains '#'"), "{err}");
+        let err = write_path(&scratch("space.xmd"), &[one_state(" s")]).unwrap_err().to_string();
+        assert!(err.contains("name ' s' cannot be written to XML unchanged"), "{err}");
+        let err =
+            write_path(&scratch("two.wmod"), &[one_state("s"), one_state("t")]).unwrap_err().to_string();
+        assert!(err.ends_with("two automata are called 'A'"), "{err}");
+    }
+
+    #[test]
+    fn ads_sidecar_event_map_is_written_and_read_back() {
+        let mut a = one_state("s");
+        let go = a.add_event("go", true).unwrap();
+        let s = crate::model::StateId::new(0).unwrap();
+        a.add_transition(s, go, s);
+        let path = scratch("loop.ADS");
+        write_path(&path, std::slice::from_ref(&a)).unwrap();
+        assert!(ads::event_map_for(&path).is_file());
+        let back = read_path(&path).unwrap().remove(0);
+        assert_eq!(back.events, a.events);
+        let without = read_path_with_events(&path, Some(&scratch("missing.events"))).unwrap_err();
+        assert!(without.is_io(), "{without}");
+    }
+
+    #[test]
+    fn content_decides_when_the_extension_does_not() {
+        let xmd = b"<?xml version=\"1.0\"?><model type=\"FSA\"><data></data></model>";
+        assert_eq!(read_bytes(Path::new("x.txt"), xmd).unwrap()[0].states.len(), 0);
+        let gen = b"<Generator> <States> s </States> <InitStates> s </InitStates> </Generator>";
+        assert_eq!(read_bytes(Path::new("noext"), gen).unwrap()[0].states.len(), 1);
+        let msg = read_bytes(Path::new("x.txt"), b"hello").unwrap_err().to_string();
+        assert!(msg.starts_with("x.txt: unknown format"), "{msg}");
+    }
+}

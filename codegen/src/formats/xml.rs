@@ -14,7 +14,13 @@ pub(crate) fn parse<'i>(file: &Path, text: &'i str) -> Result<Document<'i>, Pars
     // No DTDs: model files have none, and entity expansion is a way to blow up memory.
     let options = ParsingOptions { allow_dtd: false, ..ParsingOptions::default() };
     Document::parse_with_options(text, options).map_err(|e| {
-        let line = e.pos().row as usize;
+        // Errors about the end of the text are reported at its last line, not where the parser began.
+        let line = match e {
+            roxmltree::Error::UnexpectedEndOfStream | roxmltree::Error::UnclosedRootNode => {
+                text.lines().count().max(1)
+            }
+            _ => e.pos().row as usize,
+        };
         ParseError::new(file, Some(line), ErrorKind::Xml(e.to_string()))
     })
 }
