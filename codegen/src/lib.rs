@@ -9,3 +9,4 @@ pub mod check;
 pub mod formats;
 pub mod model;
 pub mod pack;
+pub mod synth;
