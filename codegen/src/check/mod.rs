@@ -85,11 +85,11 @@ mod tests {
             let mut want = BTreeSet::new();
             let mut nearest = vec![usize::MAX; a.events.len()];
             for p in (0..a.states.len()).filter(|&p| dist[p].is_some()) {
-                for e in 0..a.events.len() {
+                for (e, near) in nearest.iter_mut().enumerate() {
                     let q = step(&a, p, e).filter(|&q| q != p);
                     if q.and_then(|q| step(&a, q, e).filter(|&r| r != q)).is_some() {
                         want.insert(a.events[e].name.clone());
-                        nearest[e] = nearest[e].min(dist[p].unwrap());
+                        *near = (*near).min(dist[p].unwrap());
                     }
                 }
             }
