@@ -17,10 +17,12 @@ mod avalanche;
 mod diamond;
 mod finding;
 mod paths;
+mod scope;
 #[cfg(test)]
 mod testing;
 
 pub use finding::{Finding, Problem};
+pub use scope::{scopes, Scope};
 
 use crate::model::Automaton;
 
