@@ -85,6 +85,7 @@ pub struct Site {
 
 /// Why a set cannot run with a runtime of the given sizes (a table emitted for another build).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum TableError {
     /// The automaton count differs from the runtime's, or exceeds [`MAX_AUTOMATA`].
     Automata,
