@@ -5,7 +5,8 @@
 //! Data flows one way: model files → [`model`] → synthesis → packing → emitted tables → firmware.
 #![deny(missing_docs)]
 
-pub mod formats;
 pub mod check;
+pub mod emit;
+pub mod formats;
 pub mod model;
 pub mod pack;

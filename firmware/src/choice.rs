@@ -33,7 +33,7 @@ use crate::table::{SupervisorSet, MAX_SITE_EVENTS, NO_OWNER};
 #[derive(Clone, Copy)]
 pub struct View<'a> {
     /// The tables.
-    pub set: &'a SupervisorSet,
+    pub set: &'a SupervisorSet<'a>,
     /// Current state offset of every automaton.
     pub states: &'a [u16],
 }
@@ -200,11 +200,11 @@ impl<const W: usize, const S: usize> Policy<W> for RandomLocalQueue<S> {
 }
 
 /// The owned controllable out-events of one plant's current state.
-struct SiteEvents {
+struct SiteEvents<'a> {
     /// Transition records of the state.
-    records: &'static [u8],
+    records: &'a [u8],
     /// Owner table, to skip events the plant does not own.
-    owner: &'static [u8],
+    owner: &'a [u8],
     plant: u8,
     /// How many owned controllable out-events the state has (at most [`MAX_SITE_EVENTS`] counted).
     count: u8,
@@ -214,8 +214,8 @@ struct SiteEvents {
     slot: Option<usize>,
 }
 
-impl SiteEvents {
-    fn at<const W: usize>(view: View<'_>, plant: usize, enabled: &EventSet<W>) -> Self {
+impl<'a> SiteEvents<'a> {
+    fn at<const W: usize>(view: View<'a>, plant: usize, enabled: &EventSet<W>) -> Self {
         let (set, owner) = (view.set, view.set.owner);
         let state = view.states.get(plant).copied().unwrap_or(0);
         let records = set.automata.get(plant).map_or(&[][..], |a| a.records(state));

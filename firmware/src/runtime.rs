@@ -22,7 +22,7 @@
 //! use firmware::table::{Automaton, Role, SupervisorSet};
 //!
 //! // One plant: state 0 –start(0)→ state 1 (offset 4) –done(1)→ state 0; start is controllable.
-//! static SET: SupervisorSet = SupervisorSet {
+//! static SET: SupervisorSet<'static> = SupervisorSet {
 //!     event_names: &["start", "done"],
 //!     controllable: &[0b01],
 //!     automata: &[Automaton {
@@ -119,7 +119,7 @@ pub enum Decision {
 
 /// The runtime over a set of `N` automata and events in `W`-word bitsets, choosing with policy `P`.
 pub struct Runtime<'t, P, E, const W: usize, const N: usize> {
-    set: &'t SupervisorSet,
+    set: &'t SupervisorSet<'t>,
     states: [u16; N],
     counters: Counters,
     overflow_mark: u32,
@@ -131,7 +131,12 @@ pub struct Runtime<'t, P, E, const W: usize, const N: usize> {
 
 impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P, E, W, N> {
     /// A runtime in the initial states; refuses tables whose sizes are not `W` and `N`.
-    pub fn new(set: &'t SupervisorSet, config: Config, policy: P, entropy: E) -> Result<Self, TableError> {
+    pub fn new(
+        set: &'t SupervisorSet<'t>,
+        config: Config,
+        policy: P,
+        entropy: E,
+    ) -> Result<Self, TableError> {
         set.check(W, N)?;
         let mut rt = Self {
             set,
@@ -245,7 +250,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     }
 
     /// The tables.
-    pub fn set(&self) -> &'t SupervisorSet {
+    pub fn set(&self) -> &'t SupervisorSet<'t> {
         self.set
     }
 

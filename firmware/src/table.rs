@@ -42,36 +42,37 @@ pub enum Role {
 
 /// One automaton of the set in the `offset` layout.
 #[derive(Clone, Copy, Debug)]
-pub struct Automaton {
+pub struct Automaton<'t> {
     /// Name, for logs and reports.
-    pub name: &'static str,
+    pub name: &'t str,
     /// Plant or supervisor.
     pub role: Role,
     /// Offset of the initial state within [`Automaton::block`].
     pub initial: u16,
     /// The states and transitions, as described in the module documentation.
-    pub block: &'static [u8],
+    pub block: &'t [u8],
     /// Bitset over global event ids (bit `e % 32` of word `e / 32`): the automaton's alphabet. An event
     /// outside it never moves or blocks the automaton.
-    pub alphabet: &'static [u32],
+    pub alphabet: &'t [u32],
 }
 
-/// The whole set the firmware runs: plants and supervisors over one event numbering.
+/// The whole set the firmware runs: plants and supervisors over one event numbering. On the target every
+/// slice is a `static` in flash (`'t = 'static`); on the host the tables may be borrowed from owned data.
 #[derive(Clone, Copy, Debug)]
-pub struct SupervisorSet {
+pub struct SupervisorSet<'t> {
     /// Event names by global id.
-    pub event_names: &'static [&'static str],
+    pub event_names: &'t [&'t str],
     /// Bitset over global event ids: the controllable ones.
-    pub controllable: &'static [u32],
+    pub controllable: &'t [u32],
     /// Plants first, then supervisors, in manifest order.
-    pub automata: &'static [Automaton],
+    pub automata: &'t [Automaton<'t>],
     /// Per global event id: bit `a` set when automaton `a` has the event in its alphabet.
-    pub holders: &'static [u32],
+    pub holders: &'t [u32],
     /// Per global event id: the index of the plant that generates it (the first plant holding it), or
     /// [`NO_OWNER`] for uncontrollable events.
-    pub owner: &'static [u8],
+    pub owner: &'t [u8],
     /// The choice sites with two or more controllable out-events, sorted by automaton then state.
-    pub sites: &'static [Site],
+    pub sites: &'t [Site],
 }
 
 /// A choice site: a state of a plant where two or more controllable events it owns leave.
@@ -97,7 +98,7 @@ pub enum TableError {
     Sites,
 }
 
-impl SupervisorSet {
+impl SupervisorSet<'_> {
     /// Checks the sizes a runtime with `words` bitset words and `automata` automata relies on.
     pub fn check(&self, words: usize, automata: usize) -> Result<(), TableError> {
         if self.automata.len() != automata || automata > MAX_AUTOMATA {
@@ -134,7 +135,7 @@ impl SupervisorSet {
     }
 }
 
-impl Automaton {
+impl<'t> Automaton<'t> {
     /// The offset of the state reached from the state at `state` by `event`, or `None` when the state
     /// has no such transition (or `state` is not a state offset of this block).
     pub fn step(&self, state: u16, event: u8) -> Option<u16> {
@@ -143,7 +144,7 @@ impl Automaton {
 
     /// The transition records `[event][target_hi][target_lo]` of the state at `state` (empty when
     /// `state` is not a state offset of this block).
-    pub fn records(&self, state: u16) -> &'static [u8] {
+    pub fn records(&self, state: u16) -> &'t [u8] {
         let block = self.block;
         let at = usize::from(state);
         let Some(&n) = block.get(at) else { return &[] };
@@ -165,7 +166,7 @@ mod tests {
     static BLOCK: [u8; 8] = [1, 0, 0, 4, 1, 1, 0, 0];
     static ALPHABET: [u32; 1] = [0b11];
 
-    fn toggle() -> Automaton {
+    fn toggle() -> Automaton<'static> {
         Automaton { name: "T", role: Role::Plant, initial: 0, block: &BLOCK, alphabet: &ALPHABET }
     }
 

@@ -3,6 +3,7 @@
 
 mod convert;
 mod dot;
+mod emit;
 mod inspect;
 
 use std::error::Error as StdError;
@@ -29,6 +30,7 @@ enum Command {
     Inspect(inspect::Args),
     Convert(convert::Args),
     Dot(dot::Args),
+    Emit(emit::Args),
 }
 
 /// Runs the chosen subcommand; `Ok` carries its exit status (0, or 1 when a check failed).
@@ -37,6 +39,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, Error> {
         Command::Inspect(args) => inspect::run(args),
         Command::Convert(args) => convert::run(args),
         Command::Dot(args) => dot::run(args),
+        Command::Emit(args) => emit::run(args),
     }
 }
 

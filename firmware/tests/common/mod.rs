@@ -51,8 +51,12 @@ fn bits(events: impl IntoIterator<Item = u8>) -> Vec<u32> {
 
 /// Encodes `specs` (plants first) over `events` names, the first `controllable` flags true where
 /// controllable; at most 32 events. Leaks the tables (tests only).
-pub fn encode(names: &[&'static str], controllable: &[bool], specs: &[Spec]) -> &'static SupervisorSet {
-    let automata: Vec<Automaton> = specs
+pub fn encode(
+    names: &[&'static str],
+    controllable: &[bool],
+    specs: &[Spec],
+) -> &'static SupervisorSet<'static> {
+    let automata: Vec<Automaton<'static>> = specs
         .iter()
         .enumerate()
         .map(|(i, s)| Automaton {
@@ -105,7 +109,7 @@ pub const TO1: u8 = 3;
 
 /// The livelock example (states 1–4 as indices 0–3; 4 marked): 1 –a→ 3, 1 –b→ 2, 3 –a→ 4, 3 –b→ 1
 /// controllable; 2 –to4→ 4 and 4 –to1→ 1 uncontrollable. One plant, no supervisor.
-pub fn livelock() -> (&'static SupervisorSet, Spec) {
+pub fn livelock() -> (&'static SupervisorSet<'static>, Spec) {
     let spec = Spec {
         role: Role::Plant,
         states: 4,
