@@ -16,19 +16,13 @@
 //! # Side tables
 //!
 //! Beside the blocks, a set carries what makes the hot path independent of the set's size: per event the
-//! automata that hold it ([`SupervisorSet::holders`], so an event touches only those), per controllable
-//! event the plant that owns it and the *choice sites* of the local-queue policies
-//! ([`SupervisorSet::owner`], [`SupervisorSet::sites`]; see [`crate::choice`]). A set has at most
-//! [`MAX_AUTOMATA`] automata, and a choice site at most [`MAX_SITE_EVENTS`] controllable out-events.
+//! automata that hold it ([`SupervisorSet::holders`], so an event touches only those), per plant the
+//! controllable events it generates and the *choice sites* of the local-queue policies
+//! ([`SupervisorSet::plant_events`], [`SupervisorSet::sites`]; see [`crate::choice`]). A set has at most
+//! [`MAX_AUTOMATA`] automata.
 
 /// Most automata in one set: one bit each in a `u32` of [`SupervisorSet::holders`].
 pub const MAX_AUTOMATA: usize = 32;
-
-/// Most controllable out-events of one choice site: one bit each in a `u32` round of the random policies.
-pub const MAX_SITE_EVENTS: usize = 32;
-
-/// [`SupervisorSet::owner`] of an event no plant generates (every uncontrollable event).
-pub const NO_OWNER: u8 = 0xFF;
 
 /// What an automaton does in the loop.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -68,14 +62,14 @@ pub struct SupervisorSet<'t> {
     pub automata: &'t [Automaton<'t>],
     /// Per global event id: bit `a` set when automaton `a` has the event in its alphabet.
     pub holders: &'t [u32],
-    /// Per global event id: the index of the plant that generates it (the first plant holding it), or
-    /// [`NO_OWNER`] for uncontrollable events.
-    pub owner: &'t [u8],
+    /// Per plant, a bitset of `controllable.len()` words: the controllable events it generates (those
+    /// of its alphabet no earlier plant holds). Every controllable event belongs to exactly one plant.
+    pub plant_events: &'t [u32],
     /// The choice sites with two or more controllable out-events, sorted by automaton then state.
     pub sites: &'t [Site],
 }
 
-/// A choice site: a state of a plant where two or more controllable events it owns leave.
+/// A choice site: a state of a plant where two or more controllable events it generates leave.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub struct Site {
     /// Index of the plant in [`SupervisorSet::automata`].
@@ -108,7 +102,7 @@ impl SupervisorSet<'_> {
         if events > 32 * words
             || self.controllable.len() != words
             || self.holders.len() != events
-            || self.owner.len() != events
+            || self.plant_events.len() != words * self.plant_count()
             || self.automata.iter().any(|a| a.alphabet.len() != words)
         {
             return Err(TableError::EventWords);
@@ -138,12 +132,14 @@ impl SupervisorSet<'_> {
 impl<'t> Automaton<'t> {
     /// The offset of the state reached from the state at `state` by `event`, or `None` when the state
     /// has no such transition (or `state` is not a state offset of this block).
+    #[inline]
     pub fn step(&self, state: u16, event: u8) -> Option<u16> {
         self.records(state).chunks_exact(3).find(|r| r[0] == event).map(|r| u16::from_be_bytes([r[1], r[2]]))
     }
 
     /// The transition records `[event][target_hi][target_lo]` of the state at `state` (empty when
     /// `state` is not a state offset of this block).
+    #[inline]
     pub fn records(&self, state: u16) -> &'t [u8] {
         let block = self.block;
         let at = usize::from(state);

@@ -57,7 +57,7 @@ impl Policy {
             Policy::GlobalQueue => 1,
             Policy::RandomGlobalQueue => 4 * words,
             Policy::LocalQueue => 1 + sites,
-            Policy::RandomLocalQueue => 4 + 4 * sites,
+            Policy::RandomLocalQueue => 4 + 4 * words * sites,
         }
     }
 
@@ -69,7 +69,7 @@ impl Policy {
             Policy::GlobalQueue => "firmware::choice::GlobalQueue",
             Policy::RandomGlobalQueue => "firmware::choice::RandomGlobalQueue<EVENT_WORDS>",
             Policy::LocalQueue => "firmware::choice::LocalQueue<SITES>",
-            Policy::RandomLocalQueue => "firmware::choice::RandomLocalQueue<SITES>",
+            Policy::RandomLocalQueue => "firmware::choice::RandomLocalQueue<EVENT_WORDS, SITES>",
         }
     }
 }
@@ -162,6 +162,6 @@ mod tests {
         assert_eq!(Policy::GlobalQueue.ram_bytes(1, 3), size_of::<choice::GlobalQueue>());
         assert_eq!(Policy::RandomGlobalQueue.ram_bytes(2, 3), size_of::<choice::RandomGlobalQueue<2>>());
         assert_eq!(Policy::LocalQueue.ram_bytes(1, 3), size_of::<choice::LocalQueue<3>>());
-        assert_eq!(Policy::RandomLocalQueue.ram_bytes(1, 3), size_of::<choice::RandomLocalQueue<3>>());
+        assert_eq!(Policy::RandomLocalQueue.ram_bytes(2, 3), size_of::<choice::RandomLocalQueue<2, 3>>());
     }
 }

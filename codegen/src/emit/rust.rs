@@ -141,8 +141,7 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options)
     }
     let _ = writeln!(out, "    ],");
     let _ = writeln!(out, "    holders: &[{}],", hex_words(&side.holders));
-    let owner: Vec<String> = side.owner.iter().map(|o| format!("0x{o:02x}")).collect();
-    let _ = writeln!(out, "    owner: &[{}],", owner.join(", "));
+    let _ = writeln!(out, "    plant_events: &[{}],", hex_words(&side.plant_events));
     let _ = writeln!(out, "    sites: &[");
     for s in &side.sites {
         let _ = writeln!(

@@ -2,9 +2,7 @@
 //! holding it, per controllable event the plant that generates it, and the choice sites of the local
 //! policies (`firmware::table`); and [`HostTables`], the same set as runtime tables on the host.
 
-use firmware::table::{
-    Automaton, Role as RtRole, Site, SupervisorSet, MAX_AUTOMATA, MAX_SITE_EVENTS, NO_OWNER,
-};
+use firmware::table::{Automaton, Role as RtRole, Site, SupervisorSet, MAX_AUTOMATA};
 
 use crate::pack::offset::Packed;
 use crate::pack::{PackError, Role};
@@ -29,18 +27,6 @@ pub enum EmitError {
         /// Event name.
         event: String,
     },
-    /// A state of a plant with more owned controllable out-events than a choice site can order.
-    #[error(
-        "plant '{automaton}' has a state with {events} controllable out-events, more than the runtime's limit of {limit}"
-    )]
-    SiteTooWide {
-        /// Plant name.
-        automaton: String,
-        /// Controllable out-events of the state.
-        events: usize,
-        /// The limit.
-        limit: usize,
-    },
     /// The input buffer capacity is 0 or too large for the firmware's queue.
     #[error("input buffer of {capacity} events: it must hold 1 to 65535")]
     InputBuffer {
@@ -54,8 +40,9 @@ pub enum EmitError {
 pub struct SideTables {
     /// Per global event id: bit `a` set when automaton `a` holds the event.
     pub holders: Vec<u32>,
-    /// Per global event id: the index of the plant that generates it, or `NO_OWNER`.
-    pub owner: Vec<u8>,
+    /// Per plant, a bitset: the controllable events it generates (of its alphabet, those no earlier
+    /// plant holds).
+    pub plant_events: Vec<u32>,
     /// Choice sites with two or more owned controllable out-events, sorted.
     pub sites: Vec<Site>,
 }
@@ -94,35 +81,37 @@ impl SideTables {
                     .sum()
             })
             .collect();
-        let mut owner = vec![NO_OWNER; events];
+        let plants: Vec<_> = packed.automata.iter().take_while(|b| b.role == Role::Plant).collect();
+        let mut owner = vec![None; events];
         for (e, o) in owner.iter_mut().enumerate().filter(|(e, _)| has(&packed.controllable, *e)) {
-            let plant = packed.automata.iter().position(|b| b.role == Role::Plant && has(&b.alphabet, e));
-            // At most MAX_AUTOMATA (32) automata, so the index fits.
-            *o = match plant.and_then(|p| u8::try_from(p).ok()) {
-                Some(p) => p,
+            match plants.iter().position(|b| has(&b.alphabet, e)) {
+                Some(p) => *o = Some(p),
                 None => return Err(EmitError::Unowned { event: packed.event_names[e].clone() }),
-            };
+            }
+        }
+        let words = packed.controllable.len();
+        let mut plant_events = vec![0u32; words * plants.len()];
+        for (e, o) in owner.iter().enumerate() {
+            if let Some(p) = o {
+                plant_events[p * words + e / 32] |= 1 << (e % 32);
+            }
         }
         let mut sites = Vec::new();
-        for (a, b) in packed.automata.iter().enumerate().filter(|(_, b)| b.role == Role::Plant) {
-            let a8 = u8::try_from(a).unwrap_or(NO_OWNER);
+        for (p, b) in plants.iter().enumerate() {
+            // At most MAX_AUTOMATA (32) automata, so the index fits.
+            let automaton = u8::try_from(p).unwrap_or(u8::MAX);
             for state in state_offsets(&b.block) {
                 let at = usize::from(state);
                 let n = usize::from(b.block[at]);
-                let owned = b.block[at + 1..at + 1 + 3 * n]
+                let generated = b.block[at + 1..at + 1 + 3 * n]
                     .chunks_exact(3)
-                    .filter(|r| owner.get(usize::from(r[0])) == Some(&a8))
-                    .count();
-                if owned > MAX_SITE_EVENTS {
-                    let limit = MAX_SITE_EVENTS;
-                    return Err(EmitError::SiteTooWide { automaton: b.name.clone(), events: owned, limit });
-                }
-                if owned >= 2 {
-                    sites.push(Site { automaton: a8, state });
+                    .filter(|r| owner[usize::from(r[0])] == Some(p));
+                if generated.count() >= 2 {
+                    sites.push(Site { automaton, state });
                 }
             }
         }
-        Ok(SideTables { holders, owner, sites })
+        Ok(SideTables { holders, plant_events, sites })
     }
 }
 
@@ -180,7 +169,7 @@ impl HostTables {
             controllable: &self.packed.controllable,
             automata,
             holders: &self.side.holders,
-            owner: &self.side.owner,
+            plant_events: &self.side.plant_events,
             sites: &self.side.sites,
         }
     }

@@ -80,7 +80,7 @@ pub const INPUT_SLOTS: usize = 33;
 /// Entropy seed of the random policies (QEMU; a board reseeds).
 pub const SEED: u64 = 1;
 /// The choice policy (random-local-queue).
-pub type Policy = firmware::choice::RandomLocalQueue<SITES>;
+pub type Policy = firmware::choice::RandomLocalQueue<EVENT_WORDS, SITES>;
 /// Run-time configuration.
 pub const CONFIG: firmware::runtime::Config = firmware::runtime::Config {
     guard: true,
@@ -353,7 +353,7 @@ pub static SET: firmware::table::SupervisorSet<'static> = firmware::table::Super
         },
     ],
     holders: &[0x00000211, 0x00000211, 0x00000112, 0x00000112, 0x00000112, 0x00000112, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000000e8, 0x000000e8, 0x000000e8, 0x000000e8, 0x000000e8],
-    owner: &[0x00, 0x00, 0xff, 0xff, 0xff, 0xff, 0x02, 0x02, 0x02, 0x02, 0x02, 0xff, 0xff, 0xff, 0xff, 0xff, 0x02, 0x02, 0x03, 0x03, 0xff, 0x03, 0x03],
+    plant_events: &[0x00000003, 0x00000000, 0x000307c0, 0x006c0000],
     sites: &[
         firmware::table::Site { automaton: 2, state: 0 },
         firmware::table::Site { automaton: 3, state: 0 },

@@ -3,7 +3,9 @@
 //! example of the design notes.
 #![allow(dead_code)]
 
-use firmware::table::{Automaton, Role, Site, SupervisorSet, NO_OWNER};
+use firmware::table::{Automaton, Role, Site, SupervisorSet};
+
+const NO_OWNER: u8 = 0xFF;
 
 /// An automaton given by its states, global-id transitions and alphabet.
 pub struct Spec {
@@ -79,6 +81,12 @@ pub fn encode(
             }
         })
         .collect();
+    let plant_events: Vec<u32> = specs
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.role == Role::Plant)
+        .flat_map(|(i, _)| bits((0..names.len() as u8).filter(|&e| owner[usize::from(e)] == i as u8)))
+        .collect();
     let mut sites = Vec::new();
     for (i, s) in specs.iter().enumerate().filter(|(_, s)| s.role == Role::Plant) {
         let offs = offsets(s);
@@ -96,7 +104,7 @@ pub fn encode(
         ),
         automata: Box::leak(automata.into_boxed_slice()),
         holders: Box::leak(holders.into_boxed_slice()),
-        owner: Box::leak(owner.into_boxed_slice()),
+        plant_events: Box::leak(plant_events.into_boxed_slice()),
         sites: Box::leak(sites.into_boxed_slice()),
     }))
 }
