@@ -8,6 +8,7 @@ use firmware::table::{Automaton, Role, Site, SupervisorSet};
 const NO_OWNER: u8 = 0xFF;
 
 /// An automaton given by its states, global-id transitions and alphabet.
+#[derive(Clone, Debug)]
 pub struct Spec {
     pub role: Role,
     pub states: usize,
