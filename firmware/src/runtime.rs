@@ -295,7 +295,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     fn refresh(&mut self) {
         let controllable = self.controllable();
         let mut dirty = self.dirty & (u32::MAX >> (32 - N.clamp(1, 32)));
-        self.dirty = u32::MAX;
+        self.dirty = 0;
         while dirty != 0 {
             let a = dirty.trailing_zeros() as usize;
             dirty &= dirty - 1;
