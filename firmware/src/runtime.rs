@@ -9,8 +9,11 @@
 //!
 //! Cost does not depend on the set's state count: a state is held as the offset of its record in the
 //! table, so taking a transition reads one state's records and nothing else; an event touches only the
-//! automata that hold it ([`SupervisorSet::holders`]); the enabled set is one bitset intersection per
-//! automaton.
+//! automata that hold it ([`SupervisorSet::holders`]). Each automaton's *blocked* set (the controllable
+//! events of its alphabet its current state cannot take) is kept in RAM; a move only marks the automaton
+//! dirty, and the next decision refreshes the dirty ones from the records of their states. So an input
+//! costs one record scan per automaton holding it, the enabled set one bitset union per automaton, and
+//! the choice policies read no record at all.
 //!
 //! # Examples
 //!
@@ -22,7 +25,7 @@
 //! use firmware::table::{Automaton, Role, SupervisorSet};
 //!
 //! // One plant: state 0 –start(0)→ state 1 (offset 4) –done(1)→ state 0; start is controllable.
-//! static SET: SupervisorSet = SupervisorSet {
+//! static SET: SupervisorSet<'static> = SupervisorSet {
 //!     event_names: &["start", "done"],
 //!     controllable: &[0b01],
 //!     automata: &[Automaton {
@@ -30,7 +33,7 @@
 //!         block: &[1, 0, 0, 4, 1, 1, 0, 0], alphabet: &[0b11],
 //!     }],
 //!     holders: &[1, 1],
-//!     owner: &[0, 0xFF],
+//!     plant_events: &[0b01],
 //!     sites: &[],
 //! };
 //! let config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 0 };
@@ -119,8 +122,12 @@ pub enum Decision {
 
 /// The runtime over a set of `N` automata and events in `W`-word bitsets, choosing with policy `P`.
 pub struct Runtime<'t, P, E, const W: usize, const N: usize> {
-    set: &'t SupervisorSet,
+    set: &'t SupervisorSet<'t>,
     states: [u16; N],
+    blocked: [EventSet<W>; N],
+    /// Bit `a`: automaton `a` moved since its blocked set was computed.
+    dirty: u32,
+    plants: u8,
     counters: Counters,
     overflow_mark: u32,
     safe: bool,
@@ -131,11 +138,20 @@ pub struct Runtime<'t, P, E, const W: usize, const N: usize> {
 
 impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P, E, W, N> {
     /// A runtime in the initial states; refuses tables whose sizes are not `W` and `N`.
-    pub fn new(set: &'t SupervisorSet, config: Config, policy: P, entropy: E) -> Result<Self, TableError> {
+    pub fn new(
+        set: &'t SupervisorSet<'t>,
+        config: Config,
+        policy: P,
+        entropy: E,
+    ) -> Result<Self, TableError> {
         set.check(W, N)?;
         let mut rt = Self {
             set,
             states: [0; N],
+            blocked: [EventSet::EMPTY; N],
+            dirty: 0,
+            // At most MAX_AUTOMATA (32) automata: `check` passed.
+            plants: u8::try_from(set.plant_count()).unwrap_or(0),
             counters: Counters::default(),
             overflow_mark: 0,
             safe: false,
@@ -152,6 +168,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
         for (s, a) in self.states.iter_mut().zip(self.set.automata) {
             *s = a.initial;
         }
+        self.dirty = u32::MAX;
         self.counters = Counters::default();
         self.safe = false;
         self.policy.reset();
@@ -199,7 +216,15 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
             return Decision::Halted;
         }
         let enabled = self.enabled();
-        let view = View { set: self.set, states: &self.states };
+        if enabled.is_empty() {
+            return Decision::Idle;
+        }
+        let view = View {
+            set: self.set,
+            states: &self.states,
+            blocked: &self.blocked,
+            plants: usize::from(self.plants),
+        };
         let Some(c) = self.policy.choose(view, &enabled, &mut self.rng) else {
             return Decision::Idle;
         };
@@ -216,17 +241,13 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     }
 
     /// The controllable events every automaton holding them can take now.
-    pub fn enabled(&self) -> EventSet<W> {
-        let controllable = self.controllable();
-        let mut enabled = controllable;
-        for (a, &state) in self.set.automata.iter().zip(&self.states) {
-            let mut blocked = words::<W>(a.alphabet).and(&controllable);
-            for r in a.records(state).chunks_exact(3) {
-                blocked.remove(r[0]);
-            }
-            enabled = enabled.and_not(&blocked);
+    pub fn enabled(&mut self) -> EventSet<W> {
+        self.refresh();
+        let mut blocked = EventSet::EMPTY;
+        for b in &self.blocked {
+            blocked = blocked.or(b);
         }
-        enabled
+        self.controllable().and_not(&blocked)
     }
 
     /// The counters.
@@ -245,7 +266,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     }
 
     /// The tables.
-    pub fn set(&self) -> &'t SupervisorSet {
+    pub fn set(&self) -> &'t SupervisorSet<'t> {
         self.set
     }
 
@@ -255,15 +276,40 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
         while holders != 0 {
             let a = holders.trailing_zeros() as usize;
             holders &= holders - 1;
-            let (Some(aut), Some(state)) = (self.set.automata.get(a), self.states.get_mut(a)) else {
+            let (Some(aut), Some(&state)) = (self.set.automata.get(a), self.states.get(a)) else {
                 continue;
             };
-            match aut.step(*state, event) {
-                Some(target) => *state = target,
+            // `a < N` here: `states` has N entries.
+            match aut.step(state, event) {
+                Some(target) => {
+                    self.states[a] = target;
+                    self.dirty |= 1 << a;
+                }
                 None => stuck = stuck.or(u8::try_from(a).ok()),
             }
         }
         stuck
+    }
+
+    /// Recomputes the blocked set of every automaton that moved since the last refresh.
+    fn refresh(&mut self) {
+        let controllable = self.controllable();
+        let mut dirty = self.dirty & (u32::MAX >> (32 - N.clamp(1, 32)));
+        self.dirty = 0;
+        while dirty != 0 {
+            let a = dirty.trailing_zeros() as usize;
+            dirty &= dirty - 1;
+            let (Some(aut), Some(&state), Some(b)) =
+                (self.set.automata.get(a), self.states.get(a), self.blocked.get_mut(a))
+            else {
+                continue;
+            };
+            let mut blocked = words::<W>(aut.alphabet).and(&controllable);
+            for r in aut.records(state).chunks_exact(3) {
+                blocked.remove(r[0]);
+            }
+            *b = blocked;
+        }
     }
 
     fn controllable(&self) -> EventSet<W> {

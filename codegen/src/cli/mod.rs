@@ -3,6 +3,7 @@
 
 mod convert;
 mod dot;
+mod emit;
 mod inspect;
 mod pack;
 
@@ -31,6 +32,7 @@ enum Command {
     Convert(convert::Args),
     Dot(dot::Args),
     Pack(pack::Args),
+    Emit(emit::Args),
 }
 
 /// Runs the chosen subcommand; `Ok` carries its exit status (0, or 1 when a check failed).
@@ -40,6 +42,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, Error> {
         Command::Convert(args) => convert::run(args),
         Command::Dot(args) => dot::run(args),
         Command::Pack(args) => pack::run(args),
+        Command::Emit(args) => emit::run(args),
     }
 }
 
