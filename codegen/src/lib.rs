@@ -5,4 +5,7 @@
 //! Data flows one way: model files → [`model`] → synthesis → packing → emitted tables → firmware.
 #![deny(missing_docs)]
 
+pub mod link;
 pub mod model;
+pub mod monitor;
+pub mod plant;
