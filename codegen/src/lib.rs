@@ -9,3 +9,4 @@ pub mod link;
 pub mod model;
 pub mod monitor;
 pub mod plant;
+pub mod qemu;
