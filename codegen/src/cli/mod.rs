@@ -1,0 +1,69 @@
+//! Command-line interface: the argument structure (clap derive) and the dispatch to one module per
+//! subcommand.
+
+mod convert;
+mod dot;
+mod inspect;
+
+use std::error::Error as StdError;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// Any error a subcommand reports; `main` prints it with its causes and exits 2.
+pub type Error = Box<dyn StdError + Send + Sync>;
+
+/// Supervisory control from paper to silicon: read plant and specification automata (IDES3 .xmd,
+/// TCT .ADS, libFAUDES .gen, Supremica .wmod), synthesise supervisors and pack them for a microcontroller.
+#[derive(Debug, Parser)]
+#[command(name = "codegen", version)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    command: Command,
+}
+
+/// The subcommands; each lives in its own module.
+#[derive(Debug, Subcommand)]
+enum Command {
+    Inspect(inspect::Args),
+    Convert(convert::Args),
+    Dot(dot::Args),
+}
+
+/// Runs the chosen subcommand; `Ok` carries its exit status (0, or 1 when a check failed).
+pub fn run(cli: Cli) -> Result<ExitCode, Error> {
+    match cli.command {
+        Command::Inspect(args) => inspect::run(args),
+        Command::Convert(args) => convert::run(args),
+        Command::Dot(args) => dot::run(args),
+    }
+}
+
+/// Whether `e` (or one of its causes) is a write to a closed pipe.
+pub fn is_broken_pipe(e: &(dyn StdError + 'static)) -> bool {
+    let mut cur = Some(e);
+    while let Some(err) = cur {
+        if err.downcast_ref::<std::io::Error>().is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+        {
+            return true;
+        }
+        cur = err.source();
+    }
+    false
+}
+
+/// `e` followed by each of its causes, separated by `: `.
+pub fn chain(e: &(dyn StdError + 'static)) -> String {
+    let mut out = e.to_string();
+    let mut cur = e.source();
+    while let Some(cause) = cur {
+        let text = cause.to_string();
+        if !out.ends_with(&text) {
+            out.push_str(": ");
+            out.push_str(&text);
+        }
+        cur = cause.source();
+    }
+    out
+}
