@@ -8,7 +8,9 @@
 //! controller's next decision). [`session`] couples it to a firmware over a byte link and to the
 //! [`monitor`](crate::monitor) that judges the run.
 
+pub mod closed_loop;
 pub(crate) mod composition;
+pub mod image;
 mod rng;
 pub mod session;
 mod simulator;
