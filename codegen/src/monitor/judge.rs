@@ -166,15 +166,16 @@ impl Monitor {
             Verdict::Ok
         } else {
             self.report.desyncs += 1;
-            // Take the command in the controller's order: before the events it had not read.
+            // Take the command in the controller's order: before the events it had not read. Which of
+            // the views it decided in is unknown, so all of them stay candidates.
             let reordered = views.iter().rev().find_map(|v| {
                 let mut s = v.state.clone();
                 self.unread_from(v.seen).all(|u| self.closed.step(&mut s, u)).then_some(s)
             });
             match reordered {
                 Some(state) => {
-                    self.physical = state.clone();
-                    self.views = BTreeSet::from([View { seen: self.sent, state }]);
+                    self.physical = state;
+                    self.views = views;
                     Verdict::Desync { resolved: true }
                 }
                 None => return Verdict::Desync { resolved: false },

@@ -35,7 +35,7 @@ impl Default for Options {
             events: 10_000,
             plant: PlantConfig::default(),
             session: SessionConfig::default(),
-            window_us: 50_000,
+            window_us: 500_000,
             qemu: QemuConfig::default(),
         }
     }

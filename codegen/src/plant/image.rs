@@ -61,7 +61,18 @@ pub fn build_qemu_image(tables: &Path, out: &Path) -> Result<PathBuf, ImageError
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let output = Command::new(cargo)
         .current_dir(&root)
-        .args(["build", "-p", "firmware", "--release", "--features", "qemu", "--target", TARGET, "--bin", BINARY])
+        .args([
+            "build",
+            "-p",
+            "firmware",
+            "--release",
+            "--features",
+            "qemu",
+            "--target",
+            TARGET,
+            "--bin",
+            BINARY,
+        ])
         .arg("--message-format=json-render-diagnostics")
         .env("SCT_TABLES", &tables)
         .stdin(Stdio::null())
