@@ -19,6 +19,7 @@ pub mod dot;
 mod error;
 pub mod gen;
 mod gen_tokens;
+mod hash;
 pub mod wmod;
 pub mod xmd;
 mod xml;
