@@ -14,6 +14,7 @@
 
 pub mod ads;
 mod builder;
+mod contract;
 mod decode;
 pub mod dot;
 mod error;
@@ -26,6 +27,7 @@ mod xml;
 
 use std::path::Path;
 
+pub use contract::check_reader;
 use decode::decode;
 use error::ErrorKind;
 pub use error::{ParseError, WriteError};
