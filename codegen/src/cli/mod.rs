@@ -6,6 +6,7 @@ mod dot;
 mod emit;
 mod inspect;
 mod pack;
+mod synth;
 
 use std::error::Error as StdError;
 use std::process::ExitCode;
@@ -33,6 +34,7 @@ enum Command {
     Dot(dot::Args),
     Pack(pack::Args),
     Emit(emit::Args),
+    Synth(synth::Args),
 }
 
 /// Runs the chosen subcommand; `Ok` carries its exit status (0, or 1 when a check failed).
@@ -43,6 +45,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, Error> {
         Command::Dot(args) => dot::run(args),
         Command::Pack(args) => pack::run(args),
         Command::Emit(args) => emit::run(args),
+        Command::Synth(args) => synth::run(args),
     }
 }
 
