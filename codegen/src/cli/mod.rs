@@ -1,6 +1,7 @@
 //! Command-line interface: the argument structure (clap derive) and the dispatch to one module per
 //! subcommand.
 
+mod check;
 mod convert;
 mod dot;
 mod emit;
@@ -32,6 +33,7 @@ enum Command {
     Convert(convert::Args),
     Dot(dot::Args),
     Pack(pack::Args),
+    Check(check::Args),
     Emit(emit::Args),
 }
 
@@ -42,6 +44,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, Error> {
         Command::Convert(args) => convert::run(args),
         Command::Dot(args) => dot::run(args),
         Command::Pack(args) => pack::run(args),
+        Command::Check(args) => check::run(args),
         Command::Emit(args) => emit::run(args),
     }
 }
