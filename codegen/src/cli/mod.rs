@@ -1,6 +1,7 @@
 //! Command-line interface: the argument structure (clap derive) and the dispatch to one module per
 //! subcommand.
 
+mod check;
 mod convert;
 mod dot;
 mod emit;
@@ -33,6 +34,7 @@ enum Command {
     Convert(convert::Args),
     Dot(dot::Args),
     Pack(pack::Args),
+    Check(check::Args),
     Emit(emit::Args),
     Synth(synth::Args),
 }
@@ -44,6 +46,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, Error> {
         Command::Convert(args) => convert::run(args),
         Command::Dot(args) => dot::run(args),
         Command::Pack(args) => pack::run(args),
+        Command::Check(args) => check::run(args),
         Command::Emit(args) => emit::run(args),
         Command::Synth(args) => synth::run(args),
     }
