@@ -8,5 +8,10 @@
 pub mod check;
 pub mod emit;
 pub mod formats;
+pub mod link;
 pub mod model;
+pub mod monitor;
 pub mod pack;
+pub mod synth;
+pub mod plant;
+pub mod qemu;

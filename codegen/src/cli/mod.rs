@@ -5,6 +5,7 @@ mod convert;
 mod dot;
 mod emit;
 mod inspect;
+mod pack;
 
 use std::error::Error as StdError;
 use std::process::ExitCode;
@@ -30,6 +31,7 @@ enum Command {
     Inspect(inspect::Args),
     Convert(convert::Args),
     Dot(dot::Args),
+    Pack(pack::Args),
     Emit(emit::Args),
 }
 
@@ -39,6 +41,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, Error> {
         Command::Inspect(args) => inspect::run(args),
         Command::Convert(args) => convert::run(args),
         Command::Dot(args) => dot::run(args),
+        Command::Pack(args) => pack::run(args),
         Command::Emit(args) => emit::run(args),
     }
 }

@@ -53,6 +53,22 @@ impl<'f> Builder<'f> {
         Ok(id)
     }
 
+    /// The state called `name`, or an error at `line`.
+    pub(crate) fn state_named(&self, name: &str, line: usize) -> Result<StateId, ParseError> {
+        self.states
+            .get(name)
+            .copied()
+            .ok_or_else(|| self.err(line, ModelError::UnknownState(name.to_owned())))
+    }
+
+    /// The event called `name`, or an error at `line`.
+    pub(crate) fn event_named(&self, name: &str, line: usize) -> Result<EventId, ParseError> {
+        self.events
+            .get(name)
+            .copied()
+            .ok_or_else(|| self.err(line, ModelError::UnknownEvent(name.to_owned())))
+    }
+
     /// Number of states so far.
     pub(crate) fn state_count(&self) -> usize {
         self.automaton.states.len()

@@ -47,7 +47,7 @@ pub fn assert_round_trip(set: &PackSet, decoded: &[Automaton]) {
 }
 
 /// A random deterministic automaton over events `e0..e{pool}` (even ids controllable).
-fn arb_automaton(name: String, pool: usize, max_states: usize) -> impl Strategy<Value = Automaton> {
+pub fn arb_automaton(name: String, pool: usize, max_states: usize) -> impl Strategy<Value = Automaton> {
     (1..=max_states, proptest::collection::vec(any::<bool>(), pool)).prop_flat_map(move |(n, used)| {
         let alphabet: Vec<usize> = (0..pool).filter(|&i| used[i]).collect();
         let slots = n * alphabet.len();
