@@ -5,5 +5,13 @@
 //! Data flows one way: model files → [`model`] → synthesis → packing → emitted tables → firmware.
 #![deny(missing_docs)]
 
+pub mod check;
+pub mod emit;
 pub mod formats;
+pub mod link;
 pub mod model;
+pub mod monitor;
+pub mod pack;
+pub mod plant;
+pub mod qemu;
+pub mod synth;

@@ -3,7 +3,9 @@
 
 mod convert;
 mod dot;
+mod emit;
 mod inspect;
+mod pack;
 
 use std::error::Error as StdError;
 use std::process::ExitCode;
@@ -29,6 +31,8 @@ enum Command {
     Inspect(inspect::Args),
     Convert(convert::Args),
     Dot(dot::Args),
+    Pack(pack::Args),
+    Emit(emit::Args),
 }
 
 /// Runs the chosen subcommand; `Ok` carries its exit status (0, or 1 when a check failed).
@@ -37,6 +41,8 @@ pub fn run(cli: Cli) -> Result<ExitCode, Error> {
         Command::Inspect(args) => inspect::run(args),
         Command::Convert(args) => convert::run(args),
         Command::Dot(args) => dot::run(args),
+        Command::Pack(args) => pack::run(args),
+        Command::Emit(args) => emit::run(args),
     }
 }
 

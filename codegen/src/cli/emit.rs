@@ -1,0 +1,93 @@
+//! `codegen emit`: write the Rust tables the firmware compiles.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use codegen::emit::{emit, Input, OnFault, Options, Policy, Provenance};
+use codegen::formats::read_path;
+use codegen::model::Automaton;
+use codegen::pack::{offset, PackSet};
+
+use super::Error;
+
+/// Emit the Rust tables (offset layout, side tables, policy, configuration) the firmware includes.
+///
+/// Plants and supervisors are read from model files (any readable format); the output starts with a
+/// provenance header (SHA-256 of every input, tool version, the command). Same inputs, same bytes.
+/// Build the QEMU firmware on it with `SCT_TABLES=FILE cargo qemu-build`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// A plant model file (repeat; plants come first in the tables, in this order).
+    #[arg(long = "plant", value_name = "FILE", required = true)]
+    plants: Vec<PathBuf>,
+    /// A supervisor model file (repeat).
+    #[arg(long = "sup", value_name = "FILE")]
+    supervisors: Vec<PathBuf>,
+    /// Name of the set.
+    #[arg(long, default_value = "set")]
+    name: String,
+    /// Choice policy.
+    #[arg(long, value_enum, default_value_t = Policy::RandomLocalQueue)]
+    policy: Policy,
+    /// Seed of the random policies (QEMU; a board reseeds from its own entropy).
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Inexact-synchronisation guard.
+    #[arg(long, default_value_t = true, action = clap::ArgAction::Set)]
+    guard: bool,
+    /// Reaction to a fault.
+    #[arg(long, value_enum, default_value_t = OnFault::Continue)]
+    on_fault: OnFault,
+    /// Input buffer capacity in events.
+    #[arg(long, default_value_t = 32)]
+    input_buffer: usize,
+    /// Random draws between two reseeds (0: never).
+    #[arg(long, default_value_t = 1024)]
+    reseed_every: u32,
+    /// The Rust file to write.
+    #[arg(short, long, value_name = "FILE")]
+    output: PathBuf,
+}
+
+/// Runs `emit`.
+pub fn run(args: Args) -> Result<ExitCode, Error> {
+    let mut inputs = Vec::new();
+    let mut read = |paths: &[PathBuf]| -> Result<Vec<Automaton>, Error> {
+        let mut out = Vec::new();
+        for p in paths {
+            out.extend(read_path(p)?);
+            inputs.push(Input::read(p).map_err(|e| format!("{}: {e}", p.display()))?);
+        }
+        Ok(out)
+    };
+    let plants = read(&args.plants)?;
+    let supervisors = read(&args.supervisors)?;
+    let packed = offset::encode(&PackSet::new(plants, supervisors)?)?;
+    let options = Options {
+        name: args.name.clone(),
+        policy: args.policy,
+        seed: args.seed,
+        guard: args.guard,
+        on_fault: args.on_fault,
+        input_buffer: args.input_buffer,
+        reseed_every: args.reseed_every,
+    };
+    let provenance = Provenance { inputs, command: command(&args) };
+    let text = emit(&packed, &options, &provenance)?;
+    std::fs::write(&args.output, text).map_err(|e| format!("{}: {e}", args.output.display()))?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The command line that reproduces the output, paths as given, every option spelt out.
+fn command(args: &Args) -> String {
+    let mut words = vec![String::from("codegen emit"), format!("--name {}", args.name)];
+    words.extend(args.plants.iter().map(|p| format!("--plant {}", p.display())));
+    words.extend(args.supervisors.iter().map(|p| format!("--sup {}", p.display())));
+    words.push(format!("--policy {}", args.policy));
+    words.push(format!("--seed {}", args.seed));
+    words.push(format!("--guard {}", args.guard));
+    words.push(format!("--on-fault {}", args.on_fault.name()));
+    words.push(format!("--input-buffer {}", args.input_buffer));
+    words.push(format!("--reseed-every {}", args.reseed_every));
+    words.join(" ").replace('\\', "/")
+}

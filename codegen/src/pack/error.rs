@@ -1,0 +1,126 @@
+//! What can stop a supervisor set from being packed, or a packed table from being read back.
+
+use crate::model::ModelError;
+
+/// A set that cannot be packed in the requested layout.
+///
+/// Every limit names the layout, the automaton and the number that broke it, so the engineer knows
+/// which layout to choose instead or which automaton to split.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum PackError {
+    /// An automaton is invalid, or two automata disagree on an event's controllability.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// An automaton has no state, so it has no initial state to start the runtime in.
+    #[error("automaton '{automaton}' has no state")]
+    Empty {
+        /// Automaton name.
+        automaton: String,
+    },
+    /// More events in the whole set than the layout's event field can number.
+    #[error("layout {layout}: the set has {events} events, more than the limit of {limit}")]
+    TooManyEvents {
+        /// Layout name.
+        layout: &'static str,
+        /// Events in the set.
+        events: usize,
+        /// Largest number the layout supports.
+        limit: usize,
+    },
+    /// One state has more outgoing transitions than the layout's count field holds.
+    #[error(
+        "layout {layout}: state '{state}' of '{automaton}' has {transitions} outgoing transitions, more than the limit of {limit}"
+    )]
+    TooManyTransitions {
+        /// Layout name.
+        layout: &'static str,
+        /// Automaton name.
+        automaton: String,
+        /// State name.
+        state: String,
+        /// Outgoing transitions of that state.
+        transitions: usize,
+        /// Largest count the layout supports.
+        limit: usize,
+    },
+    /// An automaton has more states than the layout's target field can address.
+    #[error("layout {layout}: '{automaton}' has {states} states, more than the limit of {limit}")]
+    TooManyStates {
+        /// Layout name.
+        layout: &'static str,
+        /// Automaton name.
+        automaton: String,
+        /// States of the automaton.
+        states: usize,
+        /// Largest number the layout supports.
+        limit: usize,
+    },
+    /// An automaton's block is longer than the layout's offsets can address.
+    #[error(
+        "layout {layout}: the block of '{automaton}' takes {bytes} bytes, more than the limit of {limit}"
+    )]
+    BlockTooLarge {
+        /// Layout name.
+        layout: &'static str,
+        /// Automaton name.
+        automaton: String,
+        /// Bytes the block would take.
+        bytes: usize,
+        /// Largest block the layout supports.
+        limit: usize,
+    },
+}
+
+/// Bytes that do not form a table of the layout they claim to be.
+///
+/// Decoders are the inverse of the encoders and the test oracle for them; they also check every
+/// reference, so a corrupted table is reported, never followed.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum DecodeError {
+    /// The bytes end inside a record.
+    #[error("{what}: truncated at byte {at}")]
+    Truncated {
+        /// Which table or automaton.
+        what: String,
+        /// Offset where more bytes were expected.
+        at: usize,
+    },
+    /// A target or initial state that is not a state of the automaton.
+    #[error("{what}: byte {at} refers to {target}, which is not a state")]
+    BadState {
+        /// Which table or automaton.
+        what: String,
+        /// Offset of the reference.
+        at: usize,
+        /// The offset or index found there.
+        target: usize,
+    },
+    /// An event id beyond the event table or outside the automaton's alphabet.
+    #[error("{what}: byte {at} holds event {event}, which is not in the alphabet")]
+    BadEvent {
+        /// Which table or automaton.
+        what: String,
+        /// Offset of the event field.
+        at: usize,
+        /// The event id found there.
+        event: usize,
+    },
+    /// A state lists one event twice.
+    #[error("{what}: state {state} lists event {event} twice")]
+    Nondeterministic {
+        /// Which table or automaton.
+        what: String,
+        /// State index.
+        state: usize,
+        /// Event id.
+        event: usize,
+    },
+    /// Side tables disagree with each other (lengths, counts).
+    #[error("{what}: {detail}")]
+    Inconsistent {
+        /// Which table or automaton.
+        what: String,
+        /// What does not match.
+        detail: String,
+    },
+}

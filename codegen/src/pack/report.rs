@@ -1,0 +1,296 @@
+//! The size report: every layout's bytes per automaton and in total, the floor, and the paper's columns.
+//!
+//! Two scopes are measured. *All* is what the firmware holds: plants and supervisors. *Supervisors* is what
+//! the reference paper counted, over the same event numbering; it is where the paper's 2347 bytes for the
+//! manufacturing cell are reproduced and the denser layouts are compared with it.
+
+use std::fmt::{self, Write as _};
+
+use serde_json::{json, Value};
+
+use super::{floor, paper::Columns, Layout, PackSet, Role, Size};
+
+/// The paper's columns for one approach (local modular, modular, monolithic), or why they are missing.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Comparison {
+    /// Approach name, e.g. `local modular`.
+    pub approach: String,
+    /// Its counts, or the reason they could not be had (e.g. a synthesis that exceeded a limit).
+    pub columns: Result<Columns, String>,
+}
+
+/// One layout measured on both scopes; a layout that refuses the set keeps its error message.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Measured {
+    /// The layout.
+    pub layout: Layout,
+    /// Plants and supervisors.
+    pub all: Result<Size, String>,
+    /// Supervisors only, same events.
+    pub supervisors: Result<Size, String>,
+}
+
+/// Everything `codegen pack` prints.
+#[derive(Clone, Debug)]
+pub struct Report {
+    set: PackSet,
+    measured: Vec<Measured>,
+    comparisons: Vec<Comparison>,
+}
+
+impl Report {
+    /// Measures `layouts` on `set`. `comparisons` are the paper's columns for other supervisor sets of the
+    /// same problem (modular, monolithic); the set's own supervisors come first as `local modular`.
+    pub fn new(set: PackSet, layouts: &[Layout], comparisons: Vec<Comparison>) -> Report {
+        let sups = set.only(Role::Supervisor);
+        let measured = layouts
+            .iter()
+            .map(|&layout| Measured {
+                layout,
+                all: layout.size(&set).map_err(|e| e.to_string()),
+                supervisors: layout.size(&sups).map_err(|e| e.to_string()),
+            })
+            .collect();
+        let own = Comparison {
+            approach: "local modular".to_owned(),
+            columns: Ok(Columns::of(sups.members().iter().map(|m| &m.automaton), set.events().len())),
+        };
+        Report { set, measured, comparisons: [vec![own], comparisons].concat() }
+    }
+
+    /// The layouts as measured.
+    pub fn measured(&self) -> &[Measured] {
+        &self.measured
+    }
+
+    /// The floor of every automaton of the set, in bytes.
+    pub fn floor_bytes(&self) -> usize {
+        self.set.members().iter().map(floor::bytes).sum()
+    }
+
+    /// The floor of the supervisors only.
+    pub fn supervisor_floor_bytes(&self) -> usize {
+        self.set.members().iter().filter(|m| m.role == Role::Supervisor).map(floor::bytes).sum()
+    }
+
+    /// The paper's columns, the set's own supervisors first.
+    pub fn comparisons(&self) -> &[Comparison] {
+        &self.comparisons
+    }
+
+    /// The report as JSON (schema 1): `layouts` (each `name`, `bytes`, `per_automaton`, `side_tables`,
+    /// `supervisor_bytes`), `floor_bytes`, `paper` (the set's own supervisors: `matrix`, `chained_list`,
+    /// `memory_safe`), `comparisons` (every approach) and `automata`.
+    pub fn to_json(&self) -> Value {
+        let size_json = |s: &Result<Size, String>| match s {
+            Ok(s) => json!(s.total()),
+            Err(_) => Value::Null,
+        };
+        let layouts: Vec<Value> = self
+            .measured
+            .iter()
+            .map(|m| {
+                let mut v = json!({
+                    "name": m.layout.name(),
+                    "bytes": size_json(&m.all),
+                    "supervisor_bytes": size_json(&m.supervisors),
+                });
+                match &m.all {
+                    Ok(size) => {
+                        v["blocks"] = json!(size.blocks());
+                        v["per_automaton"] = size
+                            .per_automaton
+                            .iter()
+                            .map(|(name, bytes)| json!({"name": name, "bytes": bytes}))
+                            .collect();
+                        v["side_tables"] = size
+                            .side_tables
+                            .iter()
+                            .map(|(name, bytes)| json!({"name": name, "bytes": bytes}))
+                            .collect();
+                    }
+                    Err(e) => v["error"] = json!(e),
+                }
+                v
+            })
+            .collect();
+        let columns_json = |c: &Columns| {
+            json!({
+                "states": c.states,
+                "transitions": c.transitions,
+                "events": c.events,
+                "matrix": c.matrix(),
+                "chained_list": c.chained_list(),
+                "memory_safe": c.memory_safe(),
+            })
+        };
+        let comparisons: Vec<Value> = self
+            .comparisons
+            .iter()
+            .map(|c| match &c.columns {
+                Ok(cols) => {
+                    let mut v = columns_json(cols);
+                    v["approach"] = json!(c.approach);
+                    v
+                }
+                Err(why) => json!({"approach": c.approach, "missing": why}),
+            })
+            .collect();
+        let automata: Vec<Value> = self
+            .set
+            .members()
+            .iter()
+            .map(|m| {
+                json!({
+                    "name": m.name(),
+                    "role": m.role.as_str(),
+                    "states": m.state_count(),
+                    "transitions": m.transition_count(),
+                    "alphabet": m.global.len(),
+                    "floor_bytes": floor::bytes(m),
+                })
+            })
+            .collect();
+        let paper = match &self.comparisons[0].columns {
+            Ok(c) => columns_json(c),
+            Err(_) => Value::Null,
+        };
+        json!({
+            "schema": 1,
+            "events": self.set.events().len(),
+            "automata": automata,
+            "layouts": layouts,
+            "floor_bytes": self.floor_bytes(),
+            "supervisor_floor_bytes": self.supervisor_floor_bytes(),
+            "paper": paper,
+            "comparisons": comparisons,
+        })
+    }
+}
+
+impl fmt::Display for Report {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let events = self.set.events();
+        let controllable = events.ids().filter(|&e| events.is_controllable(e)).count();
+        writeln!(
+            f,
+            "{} automata, {} events ({} controllable)",
+            self.set.members().len(),
+            events.len(),
+            controllable
+        )?;
+        writeln!(f)?;
+        let mut head = format!(
+            "{:<12} {:<10} {:>6} {:>6} {:>5} {:>6}",
+            "automaton", "role", "states", "trans", "alph", "floor"
+        );
+        for m in &self.measured {
+            write!(head, " {:>11}", m.layout.name())?;
+        }
+        writeln!(f, "{head}")?;
+        for (i, member) in self.set.members().iter().enumerate() {
+            let mut line = format!(
+                "{:<12} {:<10} {:>6} {:>6} {:>5} {:>6}",
+                member.name(),
+                member.role.as_str(),
+                member.state_count(),
+                member.transition_count(),
+                member.global.len(),
+                floor::bytes(member)
+            );
+            for m in &self.measured {
+                match &m.all {
+                    Ok(size) => write!(line, " {:>11}", size.per_automaton[i].1)?,
+                    Err(_) => write!(line, " {:>11}", "-")?,
+                }
+            }
+            writeln!(f, "{line}")?;
+        }
+        for (label, floor, pick) in [
+            ("all", self.floor_bytes(), (|m: &Measured| &m.all) as fn(&Measured) -> &Result<Size, String>),
+            ("supervisors", self.supervisor_floor_bytes(), |m: &Measured| &m.supervisors),
+        ] {
+            writeln!(f)?;
+            writeln!(f, "{label}: floor {floor} bytes")?;
+            for m in &self.measured {
+                match pick(m) {
+                    Ok(size) => {
+                        let side: Vec<String> =
+                            size.side_tables.iter().map(|(n, b)| format!("{n} {b}")).collect();
+                        let ratio = if floor > 0 { size.total() as f64 / floor as f64 } else { 0.0 };
+                        writeln!(
+                            f,
+                            "  {:<11} {:>7} bytes = blocks {} + side tables {} ({}); {:.2}× floor",
+                            m.layout.name(),
+                            size.total(),
+                            size.blocks(),
+                            size.side(),
+                            side.join(", "),
+                            ratio
+                        )?;
+                    }
+                    Err(e) => writeln!(f, "  {:<11} refused: {e}", m.layout.name())?,
+                }
+            }
+        }
+        if let Some(Ok(ms)) =
+            self.measured.iter().find(|m| m.layout == Layout::MemorySafe).map(|m| &m.supervisors)
+        {
+            let controllability =
+                ms.side_tables.iter().find(|(n, _)| *n == "controllability").map_or(0, |t| t.1);
+            writeln!(
+                f,
+                "  memory-safe transition vector {} + controllability vector {} = {} bytes (the paper's column)",
+                ms.blocks(),
+                controllability,
+                ms.blocks() + controllability
+            )?;
+        }
+        writeln!(f)?;
+        writeln!(f, "paper's columns (supervisors; e = {}):", events.len())?;
+        writeln!(
+            f,
+            "  {:<14} {:>6} {:>6} {:>10} {:>13} {:>12}",
+            "approach", "states", "trans", "matrix", "chained list", "memory safe"
+        )?;
+        for c in &self.comparisons {
+            match &c.columns {
+                Ok(cols) => writeln!(
+                    f,
+                    "  {:<14} {:>6} {:>6} {:>10} {:>13} {:>12}",
+                    c.approach,
+                    cols.states,
+                    cols.transitions,
+                    cols.matrix(),
+                    cols.chained_list(),
+                    cols.memory_safe()
+                )?,
+                Err(why) => writeln!(f, "  {:<14} missing: {why}", c.approach)?,
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pack::testing::toggle;
+
+    #[test]
+    fn memory_safe_supervisors_match_the_paper_formula() {
+        let set = PackSet::new(vec![toggle("G")], vec![toggle("S1"), toggle("S2")]).unwrap();
+        let report = Report::new(set, &Layout::ALL, vec![]);
+        let ms = &report.measured()[0];
+        let sups = ms.supervisors.as_ref().unwrap();
+        let paper = report.comparisons()[0].columns.as_ref().unwrap();
+        // Blocks plus the controllability vector: the paper's memory-safe figure.
+        assert_eq!(sups.blocks() + sups.side_tables[0].1, paper.memory_safe());
+        assert_eq!(paper.memory_safe(), 4 + 3 * 4 + 2);
+        let json = report.to_json();
+        assert_eq!(json["paper"]["memory_safe"], 18);
+        assert_eq!(json["layouts"][0]["name"], "memory-safe");
+        assert_eq!(json["layouts"][0]["per_automaton"][1]["bytes"], 8);
+        assert!(report.to_string().contains("local modular"));
+    }
+}

@@ -1,0 +1,49 @@
+//! Limits and hooks of one synthesis run.
+
+use std::fmt;
+use std::sync::Arc;
+
+/// Receives progress reports of long walks (a CLI draws them as a progress bar).
+pub trait Observer: Send + Sync {
+    /// `what` (an automaton being built) has reached `states` states so far.
+    fn states(&self, what: &str, states: usize);
+    /// A new stage starts (for example the supervisor of one specification).
+    fn stage(&self, what: &str);
+}
+
+/// Settings shared by every synthesis function.
+#[derive(Clone)]
+pub struct Config {
+    /// Largest number of states any product or supervisor may reach before the run stops with
+    /// [`SynthError::StateLimit`](super::SynthError::StateLimit).
+    pub state_limit: usize,
+    /// Whether modular and local modular synthesis merge conflicting specifications until the set is
+    /// nonconflicting (`true`, the default) or only report the conflict.
+    pub merge_conflicting: bool,
+    /// Progress reports, if anyone listens.
+    pub observer: Option<Arc<dyn Observer>>,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Config { state_limit: 100_000_000, merge_conflicting: true, observer: None }
+    }
+}
+
+impl Config {
+    pub(crate) fn stage(&self, what: &str) {
+        if let Some(o) = &self.observer {
+            o.stage(what);
+        }
+    }
+}
+
+impl fmt::Debug for Config {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Config")
+            .field("state_limit", &self.state_limit)
+            .field("merge_conflicting", &self.merge_conflicting)
+            .field("observer", &self.observer.is_some())
+            .finish()
+    }
+}

@@ -1,0 +1,60 @@
+//! `codegen pack` and `codegen check` end to end: figures, JSON fields and exit statuses.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn codegen(args: &[String]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_codegen")).args(args).output().expect("run codegen")
+}
+
+fn repo(rel: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(rel).display().to_string()
+}
+
+fn cell_files() -> Vec<String> {
+    let mut args = vec!["pack".to_owned(), "--plant".to_owned()];
+    args.extend(["G1", "G2", "G3", "G4"].iter().map(|g| repo(&format!("examples/cell/plants/{g}.xmd"))));
+    args.push("--sup".to_owned());
+    args.extend(
+        ["S1", "S2_6", "S3", "S4", "S5", "S7"]
+            .iter()
+            .map(|s| repo(&format!("examples/cell/published/{s}.xmd"))),
+    );
+    args
+}
+
+#[test]
+fn pack_json_carries_the_papers_columns_and_every_layout() {
+    let mut args = cell_files();
+    args.push("--json".to_owned());
+    let out = codegen(&args);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let paper = &json["paper"];
+    assert_eq!((paper["matrix"].as_u64(), paper["chained_list"].as_u64()), (Some(54_312), Some(3_974)));
+    assert_eq!(paper["memory_safe"], 2347);
+    let layouts = json["layouts"].as_array().unwrap();
+    let names: Vec<_> = layouts.iter().map(|l| l["name"].as_str().unwrap()).collect();
+    assert_eq!(names, ["memory-safe", "offset", "compact"]);
+    // Blocks add up to the total with the side tables; ten automata listed.
+    for l in layouts {
+        let blocks: u64 =
+            l["per_automaton"].as_array().unwrap().iter().map(|a| a["bytes"].as_u64().unwrap()).sum();
+        let side: u64 =
+            l["side_tables"].as_array().unwrap().iter().map(|t| t["bytes"].as_u64().unwrap()).sum();
+        assert_eq!(blocks + side, l["bytes"].as_u64().unwrap());
+        assert_eq!(l["per_automaton"].as_array().unwrap().len(), 10);
+    }
+    assert!(layouts[2]["supervisor_bytes"].as_u64().unwrap() <= 2347 / 2);
+    assert!(json["floor_bytes"].as_u64().unwrap() > 0);
+}
+
+#[test]
+fn pack_text_shows_2347_and_refuses_unknown_layouts() {
+    let out = codegen(&cell_files());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("controllability vector 23 = 2347 bytes"), "{text}");
+    let mut args = cell_files();
+    args.extend(["--layout".to_owned(), "dense".to_owned()]);
+    assert_eq!(codegen(&args).status.code(), Some(2));
+}

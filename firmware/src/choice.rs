@@ -1,0 +1,261 @@
+//! The six choice policies of the runtime: which one controllable event to fire when the supervisors
+//! leave several enabled.
+//!
+//! | policy | RAM | rule |
+//! |---|---|---|
+//! | [`First`] | 0 | lowest enabled event id (PLC rung order) |
+//! | [`Random`] | 0 (uses the runtime's generator) | uniform among the enabled |
+//! | [`GlobalQueue`] | 1 B | one cursor over all controllable events in id order |
+//! | [`RandomGlobalQueue`] | 4·W B | a random order of all controllable events per round |
+//! | [`LocalQueue`] | 1 + S B | a cursor per choice site |
+//! | [`RandomLocalQueue`] | 4 + 4·W·S B | a random order per choice site and round |
+//!
+//! W is the word count of an event bitset, S the number of choice sites with two or more controllable
+//! out-events ([`crate::table::SupervisorSet::sites`]); a site with one such event needs no memory.
+//!
+//! A *choice site* is a state of the plant that generates the event. The local policies first pick a
+//! plant among those that generate an enabled event (cyclically, or in a random order per round), then
+//! the plant's current state picks among its own enabled events in event-id order (the order of its
+//! transition records). So a choice made in one place never starves another, which a single global
+//! cursor can do: in the livelock example of the design notes a global queue cycles 1, 3, 1, 3 and never
+//! reaches the marked state, while a local queue runs 1, 3, 4, 1, 2, 4, 1, 3, 1.
+//!
+//! The random queues draw their order lazily: a round is the set of events not yet taken, and each pick
+//! is uniform among the enabled events still in the round (a new round starts when none is). Every event
+//! enabled at each visit is thus taken once per round, in a random order, and no permutation is stored.
+//!
+//! Every policy works on bitsets only; none reads a transition record.
+
+use crate::event_set::EventSet;
+use crate::rng::{Entropy, Rng};
+use crate::table::SupervisorSet;
+
+/// What a policy may look at besides the enabled set.
+#[derive(Clone, Copy)]
+pub struct View<'a, const W: usize> {
+    /// The tables.
+    pub set: &'a SupervisorSet<'a>,
+    /// Current state offset of every automaton.
+    pub states: &'a [u16],
+    /// Per automaton, the controllable events of its alphabet its current state has no transition for.
+    pub blocked: &'a [EventSet<W>],
+    /// Number of plants (the first automata).
+    pub plants: usize,
+}
+
+impl<const W: usize> View<'_, W> {
+    /// The controllable events plant `p` generates.
+    fn generated(&self, p: usize) -> EventSet<W> {
+        let mut set = EventSet::EMPTY;
+        if let Some(words) = self.set.plant_events.get(p * W..p * W + W) {
+            set.0.copy_from_slice(words);
+        }
+        set
+    }
+
+    /// Index of plant `p`'s current state in the site table, if that state is a choice site.
+    fn site(&self, p: usize) -> Option<usize> {
+        let state = *self.states.get(p)?;
+        self.set.site(u8::try_from(p).ok()?, state)
+    }
+}
+
+/// A choice policy.
+pub trait Policy<const W: usize> {
+    /// One event of `enabled`, or `None` when `enabled` is empty.
+    fn choose<E: Entropy>(
+        &mut self,
+        view: View<'_, W>,
+        enabled: &EventSet<W>,
+        rng: &mut Rng<E>,
+    ) -> Option<u8>;
+
+    /// Back to the state after boot (on a link reset).
+    fn reset(&mut self);
+}
+
+/// `first`: the lowest enabled event id.
+#[derive(Clone, Debug, Default)]
+pub struct First;
+
+impl<const W: usize> Policy<W> for First {
+    fn choose<E: Entropy>(&mut self, _: View<'_, W>, enabled: &EventSet<W>, _: &mut Rng<E>) -> Option<u8> {
+        enabled.first()
+    }
+
+    fn reset(&mut self) {}
+}
+
+/// `random`: uniform among the enabled events.
+#[derive(Clone, Debug, Default)]
+pub struct Random;
+
+impl<const W: usize> Policy<W> for Random {
+    fn choose<E: Entropy>(&mut self, _: View<'_, W>, enabled: &EventSet<W>, rng: &mut Rng<E>) -> Option<u8> {
+        pick(enabled, rng)
+    }
+
+    fn reset(&mut self) {}
+}
+
+/// `global-queue`: the first enabled event at or after the cursor in id order; the cursor moves past it.
+#[derive(Clone, Debug, Default)]
+pub struct GlobalQueue {
+    cursor: u8,
+}
+
+impl<const W: usize> Policy<W> for GlobalQueue {
+    fn choose<E: Entropy>(&mut self, _: View<'_, W>, enabled: &EventSet<W>, _: &mut Rng<E>) -> Option<u8> {
+        let c = enabled.next_cyclic(self.cursor)?;
+        self.cursor = c.wrapping_add(1);
+        Some(c)
+    }
+
+    fn reset(&mut self) {
+        self.cursor = 0;
+    }
+}
+
+/// `random-global-queue`: every controllable event once per round, in a random order.
+#[derive(Clone, Debug)]
+pub struct RandomGlobalQueue<const W: usize> {
+    round: EventSet<W>,
+}
+
+impl<const W: usize> Default for RandomGlobalQueue<W> {
+    fn default() -> Self {
+        Self { round: EventSet::EMPTY }
+    }
+}
+
+impl<const W: usize> Policy<W> for RandomGlobalQueue<W> {
+    fn choose<E: Entropy>(
+        &mut self,
+        view: View<'_, W>,
+        enabled: &EventSet<W>,
+        rng: &mut Rng<E>,
+    ) -> Option<u8> {
+        let all = EventSet::from_words(view.set.controllable).unwrap_or(EventSet::EMPTY);
+        pick_from_round(&mut self.round, enabled, all, rng)
+    }
+
+    fn reset(&mut self) {
+        self.round = EventSet::EMPTY;
+    }
+}
+
+/// `local-queue`: plants in a cyclic order, then a cursor per choice site.
+#[derive(Clone, Debug)]
+pub struct LocalQueue<const S: usize> {
+    plant_cursor: u8,
+    cursors: [u8; S],
+}
+
+impl<const S: usize> Default for LocalQueue<S> {
+    fn default() -> Self {
+        Self { plant_cursor: 0, cursors: [0; S] }
+    }
+}
+
+impl<const W: usize, const S: usize> Policy<W> for LocalQueue<S> {
+    fn choose<E: Entropy>(&mut self, view: View<'_, W>, enabled: &EventSet<W>, _: &mut Rng<E>) -> Option<u8> {
+        for i in 0..view.plants {
+            let p = (usize::from(self.plant_cursor) + i) % view.plants;
+            let candidates = enabled.and(&view.generated(p));
+            let c = match view.site(p).and_then(|s| self.cursors.get_mut(s)) {
+                Some(cursor) => {
+                    let c = candidates.next_cyclic(*cursor);
+                    if let Some(c) = c {
+                        *cursor = c.wrapping_add(1);
+                    }
+                    c
+                }
+                None => candidates.first(),
+            };
+            if let Some(c) = c {
+                self.plant_cursor = u8::try_from((p + 1) % view.plants).unwrap_or(0);
+                return Some(c);
+            }
+        }
+        enabled.first()
+    }
+
+    fn reset(&mut self) {
+        *self = Self::default();
+    }
+}
+
+/// `random-local-queue` (the default): plants in a random order per round, then at each choice site its
+/// events in a random order per round.
+#[derive(Clone, Debug)]
+pub struct RandomLocalQueue<const W: usize, const S: usize> {
+    plant_round: EventSet<1>,
+    rounds: [EventSet<W>; S],
+}
+
+impl<const W: usize, const S: usize> Default for RandomLocalQueue<W, S> {
+    fn default() -> Self {
+        Self { plant_round: EventSet::EMPTY, rounds: [EventSet::EMPTY; S] }
+    }
+}
+
+impl<const W: usize, const S: usize> Policy<W> for RandomLocalQueue<W, S> {
+    fn choose<E: Entropy>(
+        &mut self,
+        view: View<'_, W>,
+        enabled: &EventSet<W>,
+        rng: &mut Rng<E>,
+    ) -> Option<u8> {
+        let plants = view.plants.min(32);
+        let mut with_events = EventSet::<1>::EMPTY;
+        for p in 0..plants {
+            if !enabled.and(&view.generated(p)).is_empty() {
+                with_events.0[0] |= 1 << p;
+            }
+        }
+        let all_plants = EventSet([if plants >= 32 { u32::MAX } else { (1 << plants) - 1 }]);
+        let Some(p) = pick_from_round(&mut self.plant_round, &with_events, all_plants, rng) else {
+            return enabled.first();
+        };
+        let p = usize::from(p);
+        let generated = view.generated(p);
+        let candidates = enabled.and(&generated);
+        match view.site(p).and_then(|s| self.rounds.get_mut(s)) {
+            Some(round) => {
+                let all = match view.blocked.get(p) {
+                    Some(b) => generated.and_not(b),
+                    None => generated,
+                };
+                pick_from_round(round, &candidates, all, rng)
+            }
+            None => pick(&candidates, rng),
+        }
+    }
+
+    fn reset(&mut self) {
+        *self = Self::default();
+    }
+}
+
+/// A uniformly drawn event of `set`.
+fn pick<E: Entropy, const W: usize>(set: &EventSet<W>, rng: &mut Rng<E>) -> Option<u8> {
+    set.nth(rng.below(set.len()))
+}
+
+/// Draws from `candidates ∩ round` (starting a new round, `all`, when that is empty) and takes the drawn
+/// event out of the round.
+fn pick_from_round<E: Entropy, const W: usize>(
+    round: &mut EventSet<W>,
+    candidates: &EventSet<W>,
+    all: EventSet<W>,
+    rng: &mut Rng<E>,
+) -> Option<u8> {
+    let mut pool = candidates.and(round);
+    if pool.is_empty() {
+        *round = all;
+        pool = *candidates;
+    }
+    let c = pick(&pool, rng)?;
+    round.remove(c);
+    Some(c)
+}

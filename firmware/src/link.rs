@@ -1,0 +1,183 @@
+//! The byte protocol between the firmware and a host (the virtual plant over QEMU's UART socket, or a
+//! serial port), and the service routine that drives a [`Runtime`] from it.
+//!
+//! One byte per event: `0x00..=0xEF` is an event id — host → firmware an uncontrollable event the plant
+//! produced, firmware → host a controllable command the firmware fired. Control bytes:
+//!
+//! | byte | direction | meaning |
+//! |---|---|---|
+//! | `0xF0` RESET | host → fw | automata to initial states, counters to zero, safe state left; answered by READY |
+//! | `0xF1` STATUS | both | request; answered by `0xF1` then six `u32` little-endian: events_in, commands_out, unexpected, overflows, guard_redecisions, unknown_bytes |
+//! | `0xF2` EXIT | host → fw | end the emulation: status 0, or 1 in the safe state |
+//! | `0xF3` READY | fw → host | once at boot and after each RESET |
+//! | `0xF4` SAFE | fw → host | a fault put the firmware in the safe state; it stopped deciding |
+//! | `0xF5` HOLD, `0xF6` GO | host → fw | stop / resume deciding; handled in the receive interrupt ([`Hold`]) so that a burst can be queued between two decisions |
+//!
+//! Any other byte from `0xF0` up, an event id beyond the set, and a *controllable* event id sent by the
+//! host (only the firmware generates those) count as `unknown_bytes` and are faults. Control bytes go
+//! through the input buffer in order with the events (so a RESET or STATUS sees every event sent before
+//! it), except HOLD and GO.
+
+use crate::choice::Policy;
+use crate::input_queue::InputConsumer;
+use crate::rng::Entropy;
+use crate::runtime::{Applied, Decision, Runtime};
+use core::sync::atomic::{AtomicBool, Ordering};
+
+/// Host → firmware: back to the initial state.
+pub const RESET: u8 = 0xF0;
+/// Host → firmware: counters request; firmware → host: the answer's first byte.
+pub const STATUS: u8 = 0xF1;
+/// Host → firmware: end the emulation.
+pub const EXIT: u8 = 0xF2;
+/// Firmware → host: ready for events.
+pub const READY: u8 = 0xF3;
+/// Firmware → host: in the safe state.
+pub const SAFE: u8 = 0xF4;
+/// Host → firmware: stop deciding.
+pub const HOLD: u8 = 0xF5;
+/// Host → firmware: resume deciding.
+pub const GO: u8 = 0xF6;
+/// Highest event id the link can carry.
+pub const MAX_EVENT: u8 = 0xEF;
+
+/// The decision gate that HOLD and GO set from the receive interrupt.
+#[derive(Debug, Default)]
+pub struct Hold(AtomicBool);
+
+impl Hold {
+    /// Deciding allowed.
+    pub const fn new() -> Self {
+        Self(AtomicBool::new(false))
+    }
+
+    /// Called by the receive interrupt for every byte: consumes HOLD and GO, hands every other byte back
+    /// for the input buffer.
+    pub fn filter(&self, byte: u8) -> Option<u8> {
+        match byte {
+            HOLD => self.0.store(true, Ordering::Relaxed),
+            GO => self.0.store(false, Ordering::Relaxed),
+            other => return Some(other),
+        }
+        None
+    }
+
+    /// Whether deciding is on hold.
+    pub fn is_held(&self) -> bool {
+        self.0.load(Ordering::Relaxed)
+    }
+}
+
+/// Where the link's outgoing bytes and notes go (a UART and a log on the target, a vector in tests).
+pub trait Port {
+    /// Sends one byte to the host.
+    fn send(&mut self, byte: u8);
+
+    /// Something worth a log line happened (nothing by default).
+    fn note(&mut self, _note: Note) {}
+}
+
+/// A log-worthy event of [`Link::service`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Note {
+    /// An uncontrollable input some automaton holding it could not take.
+    Unexpected {
+        /// The event.
+        event: u8,
+        /// The first automaton that could not take it.
+        automaton: u8,
+    },
+    /// A byte that means nothing here.
+    Unknown(u8),
+    /// The runtime entered the safe state.
+    Safe,
+    /// A choice was dropped by the inexact-synchronisation guard.
+    Redecided,
+}
+
+/// What the caller does after a [`Link::service`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Poll {
+    /// Work may remain: call again.
+    Busy,
+    /// Nothing to do until the next input: sleep (`wfi`).
+    Idle,
+    /// The host asked to end: exit with this status.
+    Exit(u8),
+}
+
+/// The link's state beyond the runtime's: whether SAFE was announced.
+#[derive(Debug, Default)]
+pub struct Link {
+    safe_announced: bool,
+}
+
+impl Link {
+    /// A link that has not announced anything yet (the caller sends READY at boot).
+    pub const fn new() -> Self {
+        Self { safe_announced: false }
+    }
+
+    /// One turn of the loop: drains the input buffer into the runtime, then takes at most one decision
+    /// (unless held) and sends what it fired.
+    pub fn service<P: Policy<W>, E: Entropy, const W: usize, const N: usize>(
+        &mut self,
+        rt: &mut Runtime<'_, P, E, W, N>,
+        rx: &mut InputConsumer<'_>,
+        hold: &Hold,
+        port: &mut impl Port,
+    ) -> Poll {
+        while let Some(byte) = rx.pop() {
+            match byte {
+                0..=MAX_EVENT => match rt.apply(byte) {
+                    Applied::Taken => {}
+                    Applied::Unexpected { automaton } => {
+                        port.note(Note::Unexpected { event: byte, automaton })
+                    }
+                    Applied::Unknown => port.note(Note::Unknown(byte)),
+                },
+                RESET => {
+                    rt.reset();
+                    self.safe_announced = false;
+                    port.send(READY);
+                }
+                STATUS => {
+                    port.send(STATUS);
+                    for word in rt.counters().to_array() {
+                        for b in word.to_le_bytes() {
+                            port.send(b);
+                        }
+                    }
+                }
+                EXIT => return Poll::Exit(u8::from(rt.is_safe())),
+                HOLD | GO => {
+                    hold.filter(byte);
+                }
+                other => {
+                    rt.note_unknown_byte();
+                    port.note(Note::Unknown(other));
+                }
+            }
+        }
+        rt.note_overflows(rx.overflows());
+        if rt.is_safe() && !self.safe_announced {
+            self.safe_announced = true;
+            port.send(SAFE);
+            port.note(Note::Safe);
+        }
+        if hold.is_held() {
+            return Poll::Idle;
+        }
+        match rt.decide(|| !rx.is_empty()) {
+            Decision::Fired(c) => {
+                port.send(c);
+                Poll::Busy
+            }
+            Decision::Redecide => {
+                port.note(Note::Redecided);
+                Poll::Busy
+            }
+            Decision::Idle | Decision::Halted => Poll::Idle,
+        }
+    }
+}

@@ -1,0 +1,141 @@
+//! The random source of the random choice policies: a xorshift32 generator seeded, and periodically
+//! reseeded, from an [`Entropy`] source.
+//!
+//! xorshift32 costs 4 bytes of RAM and a handful of instructions per draw, and every bit of its output
+//! varies (the reference tool's 8-bit LCG has a low bit that just alternates, so "random" choice between
+//! two events degenerates into a fixed cycle). Draws in a range use the high bits (multiply and shift),
+//! never a modulus of the low ones. Every `reseed_every` draws the generator mixes in fresh entropy: on a
+//! board, ADC noise and timer jitter; under QEMU, a stream derived from the manifest seed, so runs repeat.
+//!
+//! # Examples
+//!
+//! ```
+//! use firmware::rng::{Rng, SeedEntropy};
+//!
+//! let mut rng = Rng::new(SeedEntropy::new(7), 1000);
+//! let d = rng.below(6);
+//! assert!(d < 6);
+//! ```
+
+/// A source of seed material.
+pub trait Entropy {
+    /// Some bits of entropy (need not be uniform; they are mixed in, not used directly).
+    fn entropy(&mut self) -> u32;
+}
+
+/// Deterministic entropy from a 64-bit seed (the manifest's `seed`): a splitmix64 stream, so that the
+/// same seed gives the same run (QEMU, host tests).
+#[derive(Clone, Debug)]
+pub struct SeedEntropy(u64);
+
+impl SeedEntropy {
+    /// The stream of `seed`.
+    pub const fn new(seed: u64) -> Self {
+        Self(seed)
+    }
+}
+
+impl Entropy for SeedEntropy {
+    fn entropy(&mut self) -> u32 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        (z ^ (z >> 31)) as u32
+    }
+}
+
+/// xorshift32 with periodic reseeding from `E`.
+#[derive(Clone, Debug)]
+pub struct Rng<E> {
+    state: u32,
+    draws_left: u32,
+    reseed_every: u32,
+    entropy: E,
+}
+
+/// The state used when mixing would leave xorshift's one fixed point, zero.
+const NONZERO: u32 = 0x6D2B_79F5;
+
+impl<E: Entropy> Rng<E> {
+    /// A generator seeded from `entropy`, reseeded every `reseed_every` draws (0: never).
+    pub fn new(entropy: E, reseed_every: u32) -> Self {
+        let mut rng = Self { state: NONZERO, draws_left: reseed_every, reseed_every, entropy };
+        rng.reseed();
+        rng
+    }
+
+    /// Mixes fresh entropy into the state.
+    pub fn reseed(&mut self) {
+        let mixed = self.state.rotate_left(13) ^ self.entropy.entropy();
+        self.state = if mixed == 0 { NONZERO } else { mixed };
+        self.draws_left = self.reseed_every;
+    }
+
+    /// The next 32 random bits.
+    pub fn next_u32(&mut self) -> u32 {
+        if self.reseed_every != 0 {
+            if self.draws_left == 0 {
+                self.reseed();
+            }
+            self.draws_left -= 1;
+        }
+        let mut x = self.state;
+        x ^= x << 13;
+        x ^= x >> 17;
+        x ^= x << 5;
+        self.state = x;
+        x
+    }
+
+    /// A number in `0..n` (0 when `n` is 0), from the high bits.
+    pub fn below(&mut self, n: u32) -> u32 {
+        ((u64::from(self.next_u32()) * u64::from(n)) >> 32) as u32
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Zero;
+    impl Entropy for Zero {
+        fn entropy(&mut self) -> u32 {
+            NONZERO.rotate_left(13)
+        }
+    }
+
+    #[test]
+    fn same_seed_same_stream_other_seed_other_stream() {
+        let a: Vec<u32> = {
+            let mut r = Rng::new(SeedEntropy::new(1), 10);
+            (0..50).map(|_| r.next_u32()).collect()
+        };
+        let mut r = Rng::new(SeedEntropy::new(1), 10);
+        assert_eq!(a, (0..50).map(|_| r.next_u32()).collect::<Vec<_>>());
+        let mut r = Rng::new(SeedEntropy::new(2), 10);
+        assert_ne!(a, (0..50).map(|_| r.next_u32()).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn entropy_that_cancels_the_state_never_sticks_at_zero() {
+        let mut r = Rng::new(Zero, 3);
+        assert!((0..20).all(|_| r.next_u32() != 0));
+    }
+
+    #[test]
+    fn below_is_in_range_and_low_bit_does_not_alternate() {
+        let mut r = Rng::new(SeedEntropy::new(3), 100);
+        let draws: Vec<u32> = (0..4000).map(|_| r.below(2)).collect();
+        assert!(draws.iter().all(|&d| d < 2));
+        let ones = draws.iter().filter(|&&d| d == 1).count();
+        assert!((1800..2200).contains(&ones), "{ones}");
+        assert!(draws.windows(2).any(|w| w[0] == w[1]));
+        let mut counts = [0u32; 6];
+        for _ in 0..6000 {
+            counts[r.below(6) as usize] += 1;
+        }
+        assert!(counts.iter().all(|&c| (850..1150).contains(&c)), "{counts:?}");
+        assert_eq!(r.below(0), 0);
+    }
+}

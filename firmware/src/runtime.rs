@@ -1,0 +1,339 @@
+//! The decision loop of the design notes (§4), one step at a time: apply the buffered uncontrollable
+//! events, compute the enabled controllable events, choose one, check the inexact-synchronisation guard,
+//! fire it.
+//!
+//! The three levels of de Queiroz & Cury meet here: the *plants* (product system) generate the
+//! controllable events they can physically take and track the uncontrollable ones, the *supervisors*
+//! only disable, and the *interface* (the caller: [`crate::link`] or a board's pin layer) turns input
+//! signals into [`Runtime::apply`] calls and fired events into outputs.
+//!
+//! Cost does not depend on the set's state count: a state is held as the offset of its record in the
+//! table, so taking a transition reads one state's records and nothing else; an event touches only the
+//! automata that hold it ([`SupervisorSet::holders`]). Each automaton's *blocked* set (the controllable
+//! events of its alphabet its current state cannot take) is kept in RAM; a move only marks the automaton
+//! dirty, and the next decision refreshes the dirty ones from the records of their states. So an input
+//! costs one record scan per automaton holding it, the enabled set one bitset union per automaton, and
+//! the choice policies read no record at all.
+//!
+//! # Examples
+//!
+//! ```
+//! use firmware::choice::First;
+//! use firmware::fault::FaultPolicy;
+//! use firmware::rng::SeedEntropy;
+//! use firmware::runtime::{Config, Decision, Runtime};
+//! use firmware::table::{Automaton, Role, SupervisorSet};
+//!
+//! // One plant: state 0 –start(0)→ state 1 (offset 4) –done(1)→ state 0; start is controllable.
+//! static SET: SupervisorSet<'static> = SupervisorSet {
+//!     event_names: &["start", "done"],
+//!     controllable: &[0b01],
+//!     automata: &[Automaton {
+//!         name: "M", role: Role::Plant, initial: 0,
+//!         block: &[1, 0, 0, 4, 1, 1, 0, 0], alphabet: &[0b11],
+//!     }],
+//!     holders: &[1, 1],
+//!     plant_events: &[0b01],
+//!     sites: &[],
+//! };
+//! let config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 0 };
+//! let mut rt = Runtime::<_, _, 1, 1>::new(&SET, config, First, SeedEntropy::new(1)).unwrap();
+//! assert_eq!(rt.decide(|| false), Decision::Fired(0));
+//! assert_eq!(rt.decide(|| false), Decision::Idle);
+//! rt.apply(1);
+//! assert_eq!(rt.decide(|| false), Decision::Fired(0));
+//! ```
+
+use crate::choice::{Policy, View};
+use crate::event_set::EventSet;
+use crate::fault::FaultPolicy;
+use crate::rng::{Entropy, Rng};
+use crate::table::{SupervisorSet, TableError};
+
+/// Run-time options (manifest `[runtime]`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Config {
+    /// Inexact-synchronisation guard: drop a chosen event when an input arrived while choosing.
+    pub guard: bool,
+    /// What a fault does.
+    pub on_fault: FaultPolicy,
+    /// Random draws between two reseeds of the generator (0: never reseed).
+    pub reseed_every: u32,
+}
+
+/// The counters the link's STATUS answer reports, in that order.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counters {
+    /// Uncontrollable events applied.
+    pub events_in: u32,
+    /// Controllable events fired.
+    pub commands_out: u32,
+    /// Events some automaton holding them could not take.
+    pub unexpected: u32,
+    /// Input bytes lost to a full buffer.
+    pub overflows: u32,
+    /// Choices dropped by the inexact-synchronisation guard.
+    pub guard_redecisions: u32,
+    /// Link bytes that are neither a known control byte nor an uncontrollable event of the set.
+    pub unknown_bytes: u32,
+}
+
+impl Counters {
+    /// The six counters in STATUS order.
+    pub fn to_array(&self) -> [u32; 6] {
+        [
+            self.events_in,
+            self.commands_out,
+            self.unexpected,
+            self.overflows,
+            self.guard_redecisions,
+            self.unknown_bytes,
+        ]
+    }
+}
+
+/// What [`Runtime::apply`] did with an input.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Applied {
+    /// Every automaton holding the event took it.
+    Taken,
+    /// Automaton `automaton` holds the event but had no transition for it in its current state (it stays
+    /// where it is; the others moved).
+    Unexpected {
+        /// Index of the first such automaton.
+        automaton: u8,
+    },
+    /// Not an uncontrollable event of the set: ignored.
+    Unknown,
+}
+
+/// What one [`Runtime::decide`] did.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Decision {
+    /// This controllable event was fired: the caller runs its output action.
+    Fired(u8),
+    /// Nothing is enabled: sleep until the next input.
+    Idle,
+    /// An input arrived while choosing; the choice was dropped: apply the input, then decide again.
+    Redecide,
+    /// A fault put the runtime in the safe state: no more decisions until a reset.
+    Halted,
+}
+
+/// The runtime over a set of `N` automata and events in `W`-word bitsets, choosing with policy `P`.
+pub struct Runtime<'t, P, E, const W: usize, const N: usize> {
+    set: &'t SupervisorSet<'t>,
+    states: [u16; N],
+    blocked: [EventSet<W>; N],
+    /// Bit `a`: automaton `a` moved since its blocked set was computed.
+    dirty: u32,
+    plants: u8,
+    counters: Counters,
+    overflow_mark: u32,
+    safe: bool,
+    config: Config,
+    policy: P,
+    rng: Rng<E>,
+}
+
+impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P, E, W, N> {
+    /// A runtime in the initial states; refuses tables whose sizes are not `W` and `N`.
+    pub fn new(
+        set: &'t SupervisorSet<'t>,
+        config: Config,
+        policy: P,
+        entropy: E,
+    ) -> Result<Self, TableError> {
+        set.check(W, N)?;
+        let mut rt = Self {
+            set,
+            states: [0; N],
+            blocked: [EventSet::EMPTY; N],
+            dirty: 0,
+            // At most MAX_AUTOMATA (32) automata: `check` passed.
+            plants: u8::try_from(set.plant_count()).unwrap_or(0),
+            counters: Counters::default(),
+            overflow_mark: 0,
+            safe: false,
+            config,
+            policy,
+            rng: Rng::new(entropy, config.reseed_every),
+        };
+        rt.reset();
+        Ok(rt)
+    }
+
+    /// Automata to their initial states, counters to zero, policy to its boot state, safe state left.
+    pub fn reset(&mut self) {
+        for (s, a) in self.states.iter_mut().zip(self.set.automata) {
+            *s = a.initial;
+        }
+        self.dirty = u32::MAX;
+        self.counters = Counters::default();
+        self.safe = false;
+        self.policy.reset();
+    }
+
+    /// Step 1 of the loop for one input: applies uncontrollable `event` to every automaton holding it.
+    pub fn apply(&mut self, event: u8) -> Applied {
+        let controllable = self.controllable();
+        let Some(&holders) = self.set.holders.get(usize::from(event)) else {
+            return self.unknown();
+        };
+        if controllable.contains(event) {
+            return self.unknown();
+        }
+        self.counters.events_in = self.counters.events_in.wrapping_add(1);
+        match self.take(event, holders) {
+            None => Applied::Taken,
+            Some(automaton) => {
+                self.counters.unexpected = self.counters.unexpected.wrapping_add(1);
+                self.fault();
+                Applied::Unexpected { automaton }
+            }
+        }
+    }
+
+    /// Counts a link byte that means nothing and applies the fault policy.
+    pub fn note_unknown_byte(&mut self) {
+        self.unknown();
+    }
+
+    /// Takes the input buffer's total overflow count; any growth is counted and is a fault.
+    pub fn note_overflows(&mut self, total: u32) {
+        let new = total.wrapping_sub(self.overflow_mark);
+        if new != 0 {
+            self.overflow_mark = total;
+            self.counters.overflows = self.counters.overflows.wrapping_add(new);
+            self.fault();
+        }
+    }
+
+    /// Steps 2–6 of the loop: computes the enabled set, chooses, checks the guard (`pending` says
+    /// whether an input is waiting) and fires.
+    pub fn decide(&mut self, pending: impl FnOnce() -> bool) -> Decision {
+        if self.safe {
+            return Decision::Halted;
+        }
+        let enabled = self.enabled();
+        if enabled.is_empty() {
+            return Decision::Idle;
+        }
+        let view = View {
+            set: self.set,
+            states: &self.states,
+            blocked: &self.blocked,
+            plants: usize::from(self.plants),
+        };
+        let Some(c) = self.policy.choose(view, &enabled, &mut self.rng) else {
+            return Decision::Idle;
+        };
+        if self.config.guard && pending() {
+            self.counters.guard_redecisions = self.counters.guard_redecisions.wrapping_add(1);
+            return Decision::Redecide;
+        }
+        if let Some(&holders) = self.set.holders.get(usize::from(c)) {
+            // `c` is enabled, so every holder has the transition.
+            let _ = self.take(c, holders);
+        }
+        self.counters.commands_out = self.counters.commands_out.wrapping_add(1);
+        Decision::Fired(c)
+    }
+
+    /// The controllable events every automaton holding them can take now.
+    pub fn enabled(&mut self) -> EventSet<W> {
+        self.refresh();
+        let mut blocked = EventSet::EMPTY;
+        for b in &self.blocked {
+            blocked = blocked.or(b);
+        }
+        self.controllable().and_not(&blocked)
+    }
+
+    /// The counters.
+    pub fn counters(&self) -> &Counters {
+        &self.counters
+    }
+
+    /// Whether a fault put the runtime in the safe state.
+    pub fn is_safe(&self) -> bool {
+        self.safe
+    }
+
+    /// Current state offset of every automaton.
+    pub fn states(&self) -> &[u16; N] {
+        &self.states
+    }
+
+    /// The tables.
+    pub fn set(&self) -> &'t SupervisorSet<'t> {
+        self.set
+    }
+
+    /// Moves every automaton of `holders` by `event`; the first that cannot, if any.
+    fn take(&mut self, event: u8, mut holders: u32) -> Option<u8> {
+        let mut stuck = None;
+        while holders != 0 {
+            let a = holders.trailing_zeros() as usize;
+            holders &= holders - 1;
+            let (Some(aut), Some(&state)) = (self.set.automata.get(a), self.states.get(a)) else {
+                continue;
+            };
+            // `a < N` here: `states` has N entries.
+            match aut.step(state, event) {
+                Some(target) => {
+                    self.states[a] = target;
+                    self.dirty |= 1 << a;
+                }
+                None => stuck = stuck.or(u8::try_from(a).ok()),
+            }
+        }
+        stuck
+    }
+
+    /// Recomputes the blocked set of every automaton that moved since the last refresh.
+    fn refresh(&mut self) {
+        let controllable = self.controllable();
+        let mut dirty = self.dirty & (u32::MAX >> (32 - N.clamp(1, 32)));
+        self.dirty = 0;
+        while dirty != 0 {
+            let a = dirty.trailing_zeros() as usize;
+            dirty &= dirty - 1;
+            let (Some(aut), Some(&state), Some(b)) =
+                (self.set.automata.get(a), self.states.get(a), self.blocked.get_mut(a))
+            else {
+                continue;
+            };
+            let mut blocked = words::<W>(aut.alphabet).and(&controllable);
+            for r in aut.records(state).chunks_exact(3) {
+                blocked.remove(r[0]);
+            }
+            *b = blocked;
+        }
+    }
+
+    fn controllable(&self) -> EventSet<W> {
+        words(self.set.controllable)
+    }
+
+    fn unknown(&mut self) -> Applied {
+        self.counters.unknown_bytes = self.counters.unknown_bytes.wrapping_add(1);
+        self.fault();
+        Applied::Unknown
+    }
+
+    fn fault(&mut self) {
+        if self.config.on_fault == FaultPolicy::SafeState {
+            self.safe = true;
+        }
+    }
+}
+
+/// A table bitset as a set (lengths are checked once in [`Runtime::new`]).
+fn words<const W: usize>(table: &[u32]) -> EventSet<W> {
+    let mut set = EventSet::EMPTY;
+    for (w, t) in set.0.iter_mut().zip(table) {
+        *w = *t;
+    }
+    set
+}
