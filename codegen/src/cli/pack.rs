@@ -6,7 +6,8 @@ use std::process::ExitCode;
 
 use codegen::formats::read_path;
 use codegen::model::Automaton;
-use codegen::pack::{report::Report, Layout, PackSet};
+use codegen::pack::{comparison::modular_and_monolithic, report::Report, Layout, PackSet};
+use codegen::synth::Config;
 
 use super::Error;
 
@@ -24,6 +25,10 @@ pub struct Args {
     /// Supervisor model files, in order.
     #[arg(long = "sup", num_args = 1..)]
     supervisors: Vec<PathBuf>,
+    /// Specification model files: with them the report adds the paper's columns for the modular and
+    /// monolithic supervisors, synthesised from the plants and these specifications.
+    #[arg(long = "spec", num_args = 1..)]
+    specs: Vec<PathBuf>,
     /// Report only this layout (memory-safe, offset or compact).
     #[arg(long, value_parser = parse_layout)]
     layout: Option<Layout>,
@@ -51,12 +56,19 @@ fn read_all(files: &[PathBuf]) -> Result<Vec<Automaton>, Error> {
 
 /// Runs `pack`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
-    let set = PackSet::new(read_all(&args.plants)?, read_all(&args.supervisors)?)?;
+    let plants = read_all(&args.plants)?;
+    let specs = read_all(&args.specs)?;
+    let set = PackSet::new(plants.clone(), read_all(&args.supervisors)?)?;
+    let comparisons = if specs.is_empty() {
+        Vec::new()
+    } else {
+        modular_and_monolithic(&plants, &specs, set.events().len(), &Config::default())
+    };
     let layouts: Vec<Layout> = match args.layout {
         Some(l) => vec![l],
         None => Layout::ALL.to_vec(),
     };
-    let report = Report::new(set, &layouts, Vec::new());
+    let report = Report::new(set, &layouts, comparisons);
     let mut out = std::io::stdout().lock();
     if args.json {
         // Serialised first so a closed pipe surfaces as an io::Error, which `main` treats as success.

@@ -33,6 +33,7 @@
 mod bits;
 mod bitset;
 pub mod compact;
+pub mod comparison;
 mod decoded;
 mod error;
 pub mod floor;
