@@ -7,6 +7,7 @@ mod dot;
 mod emit;
 mod inspect;
 mod pack;
+mod synth;
 
 use std::error::Error as StdError;
 use std::process::ExitCode;
@@ -35,6 +36,7 @@ enum Command {
     Pack(pack::Args),
     Check(check::Args),
     Emit(emit::Args),
+    Synth(synth::Args),
 }
 
 /// Runs the chosen subcommand; `Ok` carries its exit status (0, or 1 when a check failed).
@@ -46,6 +48,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, Error> {
         Command::Pack(args) => pack::run(args),
         Command::Check(args) => check::run(args),
         Command::Emit(args) => emit::run(args),
+        Command::Synth(args) => synth::run(args),
     }
 }
 
