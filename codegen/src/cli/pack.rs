@@ -4,11 +4,10 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use codegen::formats::read_path;
-use codegen::model::Automaton;
 use codegen::pack::{comparison::modular_and_monolithic, report::Report, Layout, PackSet};
 use codegen::synth::Config;
 
+use super::set::ClosedLoop;
 use super::Error;
 
 /// Report the size of a supervisor set in every table layout.
@@ -19,8 +18,12 @@ use super::Error;
 /// memory-safe columns.
 #[derive(Debug, clap::Args)]
 pub struct Args {
+    /// Project manifest (TOML): its plants and its supervisors (listed, else synthesised local modular
+    /// from its specifications, which also give the modular and monolithic rows).
+    #[arg(required_unless_present = "plants", conflicts_with_all = ["plants", "supervisors", "specs"])]
+    manifest: Option<PathBuf>,
     /// Plant model files, in order (their events are numbered first).
-    #[arg(long = "plant", num_args = 1.., required = true)]
+    #[arg(long = "plant", num_args = 1..)]
     plants: Vec<PathBuf>,
     /// Supervisor model files, in order.
     #[arg(long = "sup", num_args = 1..)]
@@ -45,24 +48,17 @@ fn parse_layout(name: &str) -> Result<Layout, String> {
     })
 }
 
-/// Every automaton of every file, in order.
-fn read_all(files: &[PathBuf]) -> Result<Vec<Automaton>, Error> {
-    let mut out = Vec::new();
-    for f in files {
-        out.extend(read_path(f)?);
-    }
-    Ok(out)
-}
-
 /// Runs `pack`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
-    let plants = read_all(&args.plants)?;
-    let specs = read_all(&args.specs)?;
-    let set = PackSet::new(plants.clone(), read_all(&args.supervisors)?)?;
-    let comparisons = if specs.is_empty() {
+    let closed = match &args.manifest {
+        Some(path) => ClosedLoop::from_manifest(path)?,
+        None => ClosedLoop::from_files(&args.plants, &args.specs, &args.supervisors)?,
+    };
+    let set = PackSet::new(closed.plants.clone(), closed.supervisors)?;
+    let comparisons = if closed.specs.is_empty() {
         Vec::new()
     } else {
-        modular_and_monolithic(&plants, &specs, set.events().len(), &Config::default())
+        modular_and_monolithic(&closed.plants, &closed.specs, set.events().len(), &Config::default())
     };
     let layouts: Vec<Layout> = match args.layout {
         Some(l) => vec![l],
