@@ -7,6 +7,7 @@ mod dot;
 mod emit;
 mod inspect;
 mod pack;
+mod set;
 mod synth;
 
 use std::error::Error as StdError;
