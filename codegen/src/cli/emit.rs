@@ -43,7 +43,7 @@ pub struct Args {
     input_buffer: usize,
     /// Random draws between two reseeds (0: never).
     #[arg(long, default_value_t = 1024)]
-    reseed_every: u32,
+    reseed_every: u16,
     /// The Rust file to write.
     #[arg(short, long, value_name = "FILE")]
     output: PathBuf,

@@ -124,7 +124,7 @@ pub struct Options {
     /// Input buffer capacity in events.
     pub input_buffer: usize,
     /// Random draws between two reseeds (0: never).
-    pub reseed_every: u32,
+    pub reseed_every: u16,
 }
 
 impl Default for Options {
