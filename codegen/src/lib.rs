@@ -12,6 +12,6 @@ pub mod link;
 pub mod model;
 pub mod monitor;
 pub mod pack;
-pub mod synth;
 pub mod plant;
 pub mod qemu;
+pub mod synth;
