@@ -47,7 +47,15 @@ fn every_model_file_reads_or_is_refused_by_element() {
     for file in &files {
         let name = file.file_name().unwrap().to_str().unwrap();
         match (read_path(file), REFUSED.iter().find(|(f, _)| *f == name)) {
-            (Ok(automata), None) => assert!(!automata.is_empty(), "{name}"),
+            (Ok(automata), None) => {
+                assert!(!automata.is_empty(), "{name}");
+                for a in &automata {
+                    assert_eq!(a.validate(), Ok(()), "{name}");
+                    let mut sorted = a.clone();
+                    sorted.canonicalize();
+                    assert_eq!(&sorted, a, "{name}: transitions not canonical");
+                }
+            }
             (Err(e), Some((_, msg))) => assert!(e.to_string().ends_with(msg), "{e}"),
             (Ok(_), Some(_)) => panic!("{name} should be refused"),
             (Err(e), None) => panic!("{e}"),

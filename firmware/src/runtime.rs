@@ -265,6 +265,14 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
         &self.states
     }
 
+    /// Puts every automaton in the state at the given offset, as [`Runtime::states`] reported it (a
+    /// checkpoint; host tools replay or explore from it). Counters and the policy's memory are kept. An
+    /// offset that is no state of its block makes every later event of that automaton unexpected.
+    pub fn restore(&mut self, states: &[u16; N]) {
+        self.states = *states;
+        self.dirty = u32::MAX;
+    }
+
     /// The tables.
     pub fn set(&self) -> &'t SupervisorSet<'t> {
         self.set

@@ -57,7 +57,7 @@ impl Policy {
             Policy::GlobalQueue => 1,
             Policy::RandomGlobalQueue => 4 * words,
             Policy::LocalQueue => 1 + sites,
-            Policy::RandomLocalQueue => 4 + 4 * words * sites,
+            Policy::RandomLocalQueue => 4 * words * sites,
         }
     }
 

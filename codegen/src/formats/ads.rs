@@ -97,7 +97,7 @@ pub fn read(file: &Path, text: &str, event_map: Option<(&Path, &str)>) -> Result
                     ));
                 }
                 for s in 0..n {
-                    b.state(&s.to_string(), false, line)?;
+                    b.state(s.to_string(), false, line)?;
                 }
                 if n > 0 {
                     b.initial(StateId::from_u32(0), line)?;
@@ -138,7 +138,7 @@ pub fn read(file: &Path, text: &str, event_map: Option<(&Path, &str)>) -> Result
         events.insert(label, b.event(&label.to_string(), label % 2 == 1, 1)?);
     }
     for (source, label, target, line) in transitions {
-        b.transition(source, events[&label], target, line)?;
+        b.transition(source, events[&label], target, line);
     }
     b.finish()
 }

@@ -11,11 +11,13 @@
 //! and attribute sections are skipped: they carry nothing this tool uses. The XML variant (`<StateSet>`,
 //! `<TransitionRelation>`) is refused by name. The automaton is named after the file stem.
 
-use std::collections::HashMap;
+use std::borrow::Cow;
+
 use std::path::Path;
 
 use super::builder::Builder;
 use super::gen_tokens::{quote, Token, Tokens};
+use super::hash::FastMap;
 use super::{file_stem, ParseError};
 use crate::model::{Automaton, Kind, StateId};
 
@@ -31,7 +33,7 @@ pub fn read(file: &Path, text: &str) -> Result<Automaton, ParseError> {
     let mut r = Reader {
         t: Tokens::new(file, text),
         b: Builder::new(file, file_stem(file), Kind::Unknown),
-        index: HashMap::new(),
+        index: FastMap::default(),
     };
     r.generator()?;
     r.b.finish()
@@ -41,7 +43,7 @@ struct Reader<'t> {
     t: Tokens<'t>,
     b: Builder<'t>,
     /// libFAUDES state index → our state id.
-    index: HashMap<u64, StateId>,
+    index: FastMap<u64, StateId>,
 }
 
 impl<'t> Reader<'t> {
@@ -110,7 +112,7 @@ impl<'t> Reader<'t> {
             let name = match tok {
                 Token::End("Alphabet") => return Ok(()),
                 Token::Str(s) => s,
-                Token::Int(n) => n.to_string(),
+                Token::Int(n) => n.to_string().into(),
                 other => {
                     return Err(self.t.error(line, format!("unexpected {} in <Alphabet>", describe(&other))))
                 }
@@ -126,7 +128,7 @@ impl<'t> Reader<'t> {
             let (tok, line) = self.next_token("States")?;
             match tok {
                 Token::End("States") => return Ok(()),
-                Token::Int(i) => self.declare(i, i.to_string(), line)?,
+                Token::Int(i) => self.declare(i, i.to_string().into(), line)?,
                 Token::Str(s) => {
                     let (name, index) = match s.split_once('#') {
                         Some((name, suffix)) => {
@@ -137,7 +139,7 @@ impl<'t> Reader<'t> {
                             let index = index.ok_or_else(|| {
                                 self.t.error(line, format!("state '{s}': '#' must be followed by an index"))
                             })?;
-                            (name.to_owned(), index)
+                            (Cow::Owned(name.to_owned()), index)
                         }
                         None => (s, next_index),
                     };
@@ -146,7 +148,7 @@ impl<'t> Reader<'t> {
                 Token::Begin { name: "Consecutive", empty: false } => {
                     let (from, to) = self.range(line)?;
                     for i in from..=to {
-                        self.declare(i, i.to_string(), line)?;
+                        self.declare(i, i.to_string().into(), line)?;
                     }
                     next_index += to - from;
                 }
@@ -159,14 +161,14 @@ impl<'t> Reader<'t> {
         }
     }
 
-    fn declare(&mut self, index: u64, name: String, line: usize) -> Result<(), ParseError> {
+    fn declare(&mut self, index: u64, name: Cow<'t, str>, line: usize) -> Result<(), ParseError> {
         if self.b.state_count() as u64 >= MAX_STATES {
             return Err(self.t.error(line, format!("more than {MAX_STATES} states")));
         }
         if self.index.contains_key(&index) {
             return Err(self.t.error(line, format!("state index {index} is declared twice")));
         }
-        let id = self.b.state(&name, false, line)?;
+        let id = self.b.state(name, false, line)?;
         self.index.insert(index, id);
         Ok(())
     }
@@ -195,12 +197,22 @@ impl<'t> Reader<'t> {
     }
 
     fn transitions(&mut self) -> Result<(), ParseError> {
+        // Files list transitions grouped by source state: remembering the last source saves most
+        // name lookups in large files.
+        let mut last: Option<(Token<'t>, StateId)> = None;
         loop {
             let (tok, line) = self.next_token("TransRel")?;
             if tok == Token::End("TransRel") {
                 return Ok(());
             }
-            let source = self.state_ref(tok, line, "TransRel")?;
+            let source = match &last {
+                Some((name, id)) if *name == tok => *id,
+                _ => {
+                    let id = self.state_ref(tok.clone(), line, "TransRel")?;
+                    last = Some((tok, id));
+                    id
+                }
+            };
             let event = match self.next_token("TransRel")? {
                 (Token::Str(s), l) => self.b.event_named(&s, l)?,
                 (Token::Int(n), l) => self.b.event_named(&n.to_string(), l)?,
@@ -210,7 +222,7 @@ impl<'t> Reader<'t> {
             };
             let (tok, l) = self.next_token("TransRel")?;
             let target = self.state_ref(tok, l, "TransRel")?;
-            self.b.transition(source, event, target, line)?;
+            self.b.transition(source, event, target, line);
             self.attributes()?;
         }
     }
@@ -240,7 +252,7 @@ impl<'t> Reader<'t> {
         }
     }
 
-    fn state_ref(&self, tok: Token, line: usize, section: &str) -> Result<StateId, ParseError> {
+    fn state_ref(&self, tok: Token<'t>, line: usize, section: &str) -> Result<StateId, ParseError> {
         match tok {
             Token::Int(i) => self
                 .index

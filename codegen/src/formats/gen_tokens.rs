@@ -1,6 +1,7 @@
 //! The token stream of libFAUDES text files: markup `<Begin>` / `</End>`, quoted and bare strings,
 //! unsigned integers, `+Option+` flags and `%` comments (skipped).
 
+use std::borrow::Cow;
 use std::path::Path;
 
 use super::ParseError;
@@ -13,7 +14,7 @@ pub(crate) enum Token<'t> {
     /// `</Name>`.
     End(&'t str),
     /// A quoted string (entities decoded) or a bare word that is not a number.
-    Str(String),
+    Str(Cow<'t, str>),
     /// A bare unsigned decimal integer.
     Int(u64),
     /// `+X+`: an attribute flag such as `+C+` (controllable).
@@ -172,9 +173,9 @@ impl<'t> Tokens<'t> {
 }
 
 /// Decodes the five XML entities libFAUDES uses in names; anything else stays as written.
-fn unescape(raw: &str) -> String {
+fn unescape(raw: &str) -> Cow<'_, str> {
     if !raw.contains('&') {
-        return raw.to_owned();
+        return Cow::Borrowed(raw);
     }
     let mut out = String::with_capacity(raw.len());
     let mut rest = raw;
@@ -196,7 +197,7 @@ fn unescape(raw: &str) -> String {
         }
     }
     out.push_str(rest);
-    out
+    Cow::Owned(out)
 }
 
 /// `s` as a quoted libFAUDES string (the entities `&amp;`, `&quot;`, `&lt;`, `&gt;` escaped).

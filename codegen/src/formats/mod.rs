@@ -14,17 +14,20 @@
 
 pub mod ads;
 mod builder;
+mod contract;
 mod decode;
 pub mod dot;
 mod error;
 pub mod gen;
 mod gen_tokens;
+mod hash;
 pub mod wmod;
 pub mod xmd;
 mod xml;
 
 use std::path::Path;
 
+pub use contract::check_reader;
 use decode::decode;
 use error::ErrorKind;
 pub use error::{ParseError, WriteError};

@@ -208,7 +208,7 @@ fn component(
                 ));
             }
             let event = b.event_named(name, label_at)?;
-            b.transition(source, event, target, label_at)?;
+            b.transition(source, event, target, label_at);
         }
     }
     b.finish()

@@ -14,7 +14,7 @@
 //   dc99a845e7867c8b21f2af5d875ce378974fd1998b305b4cb541fc098b71cef3  examples/cell/published/S5.xmd
 //   f21eda29b38d2e6edde4c0038a13a1bae5544aff733fe3946b65a3a0f5f0c680  examples/cell/published/S7.xmd
 // Options: policy=random-local-queue seed=1 guard=true on_fault=continue input_buffer=32 reseed_every=1024
-// Choice-policy RAM in bytes (3 choice sites): first 0, random 0, global-queue 1, random-global-queue 4, local-queue 4, random-local-queue 16
+// Choice-policy RAM in bytes (3 choice sites): first 0, random 0, global-queue 1, random-global-queue 4, local-queue 4, random-local-queue 12
 
 /// Name of the supervisor set.
 pub const NAME: &str = "cell";
