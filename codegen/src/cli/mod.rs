@@ -7,9 +7,9 @@ mod dot;
 mod emit;
 mod inspect;
 mod pack;
-mod set;
 mod plant;
 mod run;
+mod set;
 mod synth;
 
 use std::error::Error as StdError;
