@@ -95,8 +95,7 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     };
     let provenance = Provenance { inputs, command: command(&args) };
     let text = emit(&packed, &options, &provenance)?;
-    std::fs::write(&args.output, text).map_err(|e| format!("{}: {e}", args.output.display()))?;
-    Ok(ExitCode::SUCCESS)
+    write(&args.output, &text)
 }
 
 /// `emit MANIFEST`: the manifest's ready supervisors, or its local modular ones.
@@ -129,7 +128,18 @@ fn from_manifest(path: &std::path::Path, args: &Args) -> Result<ExitCode, Error>
     let command =
         format!("codegen emit {} --reseed-every {}", path.display(), args.reseed_every).replace('\\', "/");
     let text = emit(&packed, &options, &Provenance { inputs, command })?;
-    std::fs::write(&args.output, text).map_err(|e| format!("{}: {e}", args.output.display()))?;
+    write(&args.output, &text)
+}
+
+/// Writes the file and prints its summary lines (set, policy RAM) from its header.
+fn write(output: &std::path::Path, text: &str) -> Result<ExitCode, Error> {
+    std::fs::write(output, text).map_err(|e| format!("{}: {e}", output.display()))?;
+    for line in text.lines().take_while(|l| l.starts_with("//")) {
+        if let Some(fact) = line.strip_prefix("// Set ").or_else(|| line.strip_prefix("// Choice-policy ")) {
+            println!("{fact}");
+        }
+    }
+    println!("written to {}", output.display());
     Ok(ExitCode::SUCCESS)
 }
 
