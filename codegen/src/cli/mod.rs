@@ -7,6 +7,9 @@ mod dot;
 mod emit;
 mod inspect;
 mod pack;
+mod plant;
+mod run;
+mod set;
 mod synth;
 
 use std::error::Error as StdError;
@@ -37,6 +40,8 @@ enum Command {
     Check(check::Args),
     Emit(emit::Args),
     Synth(synth::Args),
+    Plant(plant::Args),
+    Run(run::Args),
 }
 
 /// Runs the chosen subcommand; `Ok` carries its exit status (0, or 1 when a check failed).
@@ -49,6 +54,8 @@ pub fn run(cli: Cli) -> Result<ExitCode, Error> {
         Command::Check(args) => check::run(args),
         Command::Emit(args) => emit::run(args),
         Command::Synth(args) => synth::run(args),
+        Command::Plant(args) => plant::run(args),
+        Command::Run(args) => run::run(args),
     }
 }
 

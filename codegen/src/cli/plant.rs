@@ -47,6 +47,10 @@ pub struct RunArgs {
     /// Races: chance (per mille) that the plant answers a command at once, racing the next decision.
     #[arg(long, value_name = "PER_MILLE", default_value_t = 100)]
     pub race: u32,
+    /// Steering: chance (per mille) that the plant picks the event that brings the closed loop nearest
+    /// to a supervisor transition not covered yet.
+    #[arg(long, value_name = "PER_MILLE", default_value_t = 600)]
+    pub guide: u32,
     /// Delay before each plant event, in microseconds: MIN..MAX (uniform).
     #[arg(long, value_name = "MIN..MAX", value_parser = parse_delay, default_value = "0..400")]
     pub delay_us: Delay,
@@ -97,6 +101,7 @@ impl RunArgs {
                 burst_per_mille: self.burst.per_mille,
                 burst_max: self.burst.max,
                 race_per_mille: self.race,
+                guide_per_mille: self.guide,
             },
             ..Options::default()
         }
@@ -109,7 +114,7 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     let options = args.run.options(project.runtime.seed);
     let mut link = args.connect.connect().map_err(|e| format!("connecting to {:?}: {e}", args.connect))?;
     let mut progress = Progress::new(options.events);
-    let report = attach(&mut link, &project.set, &project.name, &options, &mut |r| progress.show(r));
+    let report = attach(&mut link, &project.set, &project.runtime.name, &options, &mut |r| progress.show(r));
     progress.clear();
     finish(&report?, args.run.json)
 }
