@@ -52,7 +52,7 @@ pub struct RunArgs {
     #[arg(long, value_name = "PER_MILLE", default_value_t = 600)]
     pub guide: u32,
     /// Delay before each plant event, in microseconds: MIN..MAX (uniform).
-    #[arg(long, value_name = "MIN..MAX", value_parser = parse_delay, default_value = "0..400")]
+    #[arg(long, value_name = "MIN..MAX", value_parser = parse_delay, default_value = "0..100")]
     pub delay_us: Delay,
     /// Print the report as JSON (schema version in its `schema` field).
     #[arg(long)]
