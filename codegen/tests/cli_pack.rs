@@ -115,3 +115,60 @@ fn check_cell_closed_loop_and_local_scopes() {
         scopes[0]["findings"].as_array().unwrap().iter().filter(|f| f["problem"] == "avalanche").count();
     assert_eq!(avalanche, 0);
 }
+
+#[test]
+fn pack_manifest_synthesises_and_adds_the_modular_and_monolithic_rows() {
+    let out = codegen(&["pack".into(), repo("examples/cell/cell.toml"), "--json".into()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["paper"]["memory_safe"], 2347);
+    let rows: Vec<_> = json["comparisons"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| {
+            (
+                c["approach"].as_str().unwrap().to_owned(),
+                c["states"].as_u64().unwrap(),
+                c["memory_safe"].as_u64().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        rows,
+        [
+            ("local modular".into(), 233, 2347),
+            ("modular".into(), 1072, 20_253),
+            ("monolithic".into(), 3420, 38_867)
+        ]
+    );
+}
+
+#[test]
+fn check_manifest_livelock_and_cell_summary() {
+    let out = codegen(&[
+        "check".into(),
+        repo("examples/livelock/livelock.toml"),
+        "--check".into(),
+        "choice".into(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let out = codegen(&["check".into(), repo("examples/cell/cell.toml"), "--json".into()]);
+    assert_eq!(out.status.code(), Some(1));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let closed = json["scopes"][0]["findings"].as_array().unwrap();
+    let count = |p: &str, shape: Option<&str>| {
+        closed.iter().filter(|f| f["problem"] == p && shape.is_none_or(|s| f["shape"] == s)).count()
+    };
+    // No avalanche; every simultaneity is between the exclusive part-type sensors s_c1, s_c2, s_c3.
+    assert_eq!(count("avalanche", None), 0);
+    assert_eq!(count("simultaneity", None), count("simultaneity", Some("exclusive")));
+    assert!(closed
+        .iter()
+        .filter(|f| f["problem"] == "simultaneity")
+        .all(|f| f["events"][0].as_str().unwrap().starts_with("s_c")));
+    assert_eq!(
+        (count("choice", None), count("inexact-synchronisation", None), count("simultaneity", None)),
+        (217, 2624, 2280)
+    );
+}

@@ -17,7 +17,7 @@ fn cell_args() -> Vec<String> {
     for s in ["S1", "S2_6", "S3", "S4", "S5", "S7"] {
         args.extend(["--sup".into(), format!("examples/cell/published/{s}.xmd")]);
     }
-    args.extend(["--seed".into(), "1".into()]);
+    args.extend(["--seed".into(), "1".into(), "--board".into(), "examples/cell/pico.toml".into()]);
     args
 }
 

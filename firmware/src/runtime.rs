@@ -58,7 +58,7 @@ pub struct Config {
     /// What a fault does.
     pub on_fault: FaultPolicy,
     /// Random draws between two reseeds of the generator (0: never reseed).
-    pub reseed_every: u32,
+    pub reseed_every: u16,
 }
 
 /// The counters the link's STATUS answer reports, in that order.
@@ -131,7 +131,8 @@ pub struct Runtime<'t, P, E, const W: usize, const N: usize> {
     counters: Counters,
     overflow_mark: u32,
     safe: bool,
-    config: Config,
+    guard: bool,
+    on_fault: FaultPolicy,
     policy: P,
     rng: Rng<E>,
 }
@@ -155,7 +156,8 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
             counters: Counters::default(),
             overflow_mark: 0,
             safe: false,
-            config,
+            guard: config.guard,
+            on_fault: config.on_fault,
             policy,
             rng: Rng::new(entropy, config.reseed_every),
         };
@@ -228,7 +230,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
         let Some(c) = self.policy.choose(view, &enabled, &mut self.rng) else {
             return Decision::Idle;
         };
-        if self.config.guard && pending() {
+        if self.guard && pending() {
             self.counters.guard_redecisions = self.counters.guard_redecisions.wrapping_add(1);
             return Decision::Redecide;
         }
@@ -331,7 +333,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     }
 
     fn fault(&mut self) {
-        if self.config.on_fault == FaultPolicy::SafeState {
+        if self.on_fault == FaultPolicy::SafeState {
             self.safe = true;
         }
     }

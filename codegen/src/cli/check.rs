@@ -6,11 +6,11 @@ use std::process::ExitCode;
 
 use serde_json::{json, Value};
 
-use codegen::check::{run as check, scopes, Finding, Problem};
-use codegen::formats::read_path;
-use codegen::model::{Automaton, Kind};
+use codegen::check::{run as check, scopes, Finding, Problem, Shape};
+use codegen::model::Automaton;
 use codegen::synth::{product, Config};
 
+use super::set::{is_manifest, ClosedLoop};
 use super::Error;
 
 /// Check a closed loop for avalanche, choice, inexact synchronisation and simultaneity problems.
@@ -21,7 +21,8 @@ use super::Error;
 /// from the initial state. Exit status 1 when a requested check finds something.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Model files (.xmd, .ads, .gen, .wmod).
+    /// A project manifest (TOML; supervisors as listed, else synthesised local modular), or model files
+    /// (.xmd, .ads, .gen, .wmod).
     #[arg(required_unless_present = "supervisors")]
     files: Vec<PathBuf>,
     /// Supervisor model files.
@@ -34,7 +35,7 @@ pub struct Args {
     #[arg(long, default_value_t = 5)]
     max: usize,
     /// Print JSON (schema 1): scopes (name, states, transitions, findings: problem, state, events, trace,
-    /// detail), failed.
+    /// shape, detail), failed.
     #[arg(long)]
     json: bool,
 }
@@ -56,19 +57,11 @@ struct Checked {
 /// Runs `check`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
     let problems = if args.checks.is_empty() { Problem::ALL.to_vec() } else { args.checks.clone() };
-    let (mut plants, mut supervisors) = (Vec::new(), Vec::new());
-    for f in &args.files {
-        for a in read_path(f)? {
-            if a.kind == Kind::Supervisor {
-                supervisors.push(a)
-            } else {
-                plants.push(a)
-            }
-        }
-    }
-    for f in &args.supervisors {
-        supervisors.extend(read_path(f)?);
-    }
+    let closed = match args.files.as_slice() {
+        [one] if is_manifest(one) => ClosedLoop::from_manifest(one)?,
+        files => ClosedLoop::from_files(files, &[], &args.supervisors)?,
+    };
+    let (plants, supervisors) = (closed.plants, closed.supervisors);
     let cfg = Config::default();
     let mut checked = Vec::new();
     for scope in scopes(&plants, &supervisors) {
@@ -106,7 +99,26 @@ fn write_text(out: &mut impl Write, c: &Checked, problems: &[Problem], max: usiz
             writeln!(out, "  {}: none", p.name())?;
             continue;
         }
-        writeln!(out, "  {}: {} finding(s)", p.name(), of.len())?;
+        let mut shapes: Vec<(Shape, usize)> = Vec::new();
+        let mut pairs: Vec<&[String]> = of.iter().map(|f| f.events.as_slice()).collect();
+        pairs.sort_unstable();
+        pairs.dedup();
+        for f in &of {
+            match shapes.iter_mut().find(|(s, _)| *s == f.shape) {
+                Some((_, n)) => *n += 1,
+                None => shapes.push((f.shape, 1)),
+            }
+        }
+        shapes.sort_unstable();
+        let shapes: Vec<String> = shapes.iter().map(|(s, n)| format!("{} {n}", s.name())).collect();
+        writeln!(
+            out,
+            "  {}: {} finding(s) over {} event set(s) ({})",
+            p.name(),
+            of.len(),
+            pairs.len(),
+            shapes.join(", ")
+        )?;
         for f in of.iter().take(max) {
             writeln!(out, "    {f}")?;
         }
@@ -130,6 +142,7 @@ fn to_json(checked: &[Checked], failed: bool) -> Value {
                         "state": f.state,
                         "events": f.events,
                         "trace": f.trace,
+                        "shape": f.shape.name(),
                         "detail": f.detail,
                     })
                 })

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use codegen::emit::{emit, Input, OnFault, Options, Policy, Provenance};
+use codegen::emit::{emit, BoardSpec, Input, OnFault, Options, Policy, Provenance};
 use codegen::formats::read_path;
 use codegen::model::Automaton;
 use codegen::pack::{offset, PackSet};
@@ -43,7 +43,10 @@ pub struct Args {
     input_buffer: usize,
     /// Random draws between two reseeds (0: never).
     #[arg(long, default_value_t = 1024)]
-    reseed_every: u32,
+    reseed_every: u16,
+    /// A TOML file with a `[board]` table: the pin map of a real board.
+    #[arg(long, value_name = "FILE")]
+    board: Option<PathBuf>,
     /// The Rust file to write.
     #[arg(short, long, value_name = "FILE")]
     output: PathBuf,
@@ -62,6 +65,13 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     };
     let plants = read(&args.plants)?;
     let supervisors = read(&args.supervisors)?;
+    let board = match &args.board {
+        Some(path) => {
+            inputs.push(Input::read(path).map_err(|e| format!("{}: {e}", path.display()))?);
+            Some(read_board(path)?)
+        }
+        None => None,
+    };
     let packed = offset::encode(&PackSet::new(plants, supervisors)?)?;
     let options = Options {
         name: args.name.clone(),
@@ -71,6 +81,7 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
         on_fault: args.on_fault,
         input_buffer: args.input_buffer,
         reseed_every: args.reseed_every,
+        board,
     };
     let provenance = Provenance { inputs, command: command(&args) };
     let text = emit(&packed, &options, &provenance)?;
@@ -89,5 +100,19 @@ fn command(args: &Args) -> String {
     words.push(format!("--on-fault {}", args.on_fault.name()));
     words.push(format!("--input-buffer {}", args.input_buffer));
     words.push(format!("--reseed-every {}", args.reseed_every));
+    if let Some(board) = &args.board {
+        words.push(format!("--board {}", board.display()));
+    }
     words.join(" ").replace('\\', "/")
+}
+
+/// The `[board]` table of a TOML file.
+fn read_board(path: &std::path::Path) -> Result<BoardSpec, Error> {
+    #[derive(serde::Deserialize)]
+    struct File {
+        board: BoardSpec,
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let file: File = toml::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(file.board)
 }

@@ -124,7 +124,9 @@ pub struct Options {
     /// Input buffer capacity in events.
     pub input_buffer: usize,
     /// Random draws between two reseeds (0: never).
-    pub reseed_every: u32,
+    pub reseed_every: u16,
+    /// Pin map for a real board (`[board]`); without it the board tables are empty.
+    pub board: Option<super::BoardSpec>,
 }
 
 impl Default for Options {
@@ -137,6 +139,7 @@ impl Default for Options {
             on_fault: OnFault::default(),
             input_buffer: 32,
             reseed_every: 1024,
+            board: None,
         }
     }
 }

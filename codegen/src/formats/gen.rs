@@ -33,7 +33,7 @@ pub fn read(file: &Path, text: &str) -> Result<Automaton, ParseError> {
     let mut r = Reader {
         t: Tokens::new(file, text),
         b: Builder::new(file, file_stem(file), Kind::Unknown),
-        index: FastMap::default(),
+        index: StateIndex::default(),
     };
     r.generator()?;
     r.b.finish()
@@ -43,7 +43,7 @@ struct Reader<'t> {
     t: Tokens<'t>,
     b: Builder<'t>,
     /// libFAUDES state index → our state id.
-    index: FastMap<u64, StateId>,
+    index: StateIndex,
 }
 
 impl<'t> Reader<'t> {
@@ -165,7 +165,7 @@ impl<'t> Reader<'t> {
         if self.b.state_count() as u64 >= MAX_STATES {
             return Err(self.t.error(line, format!("more than {MAX_STATES} states")));
         }
-        if self.index.contains_key(&index) {
+        if self.index.get(index).is_some() {
             return Err(self.t.error(line, format!("state index {index} is declared twice")));
         }
         let id = self.b.state(name, false, line)?;
@@ -256,8 +256,7 @@ impl<'t> Reader<'t> {
         match tok {
             Token::Int(i) => self
                 .index
-                .get(&i)
-                .copied()
+                .get(i)
                 .ok_or_else(|| self.t.error(line, format!("state index {i} is not declared in <States>"))),
             Token::Str(s) => self.b.state_named(&s, line),
             other => Err(self
@@ -318,6 +317,39 @@ impl<'t> Reader<'t> {
             None => {
                 let line = self.t.line()?;
                 Err(self.t.error(line, format!("file ends inside <{section}>")))
+            }
+        }
+    }
+}
+
+/// libFAUDES state indices to our ids: a vector for the usual dense `1..=n`, a map for indices far
+/// beyond the number of states (so a stray `<States> 4000000000 </States>` costs one entry, not 16 GB).
+#[derive(Default)]
+struct StateIndex {
+    dense: Vec<Option<StateId>>,
+    sparse: FastMap<u64, StateId>,
+}
+
+impl StateIndex {
+    fn get(&self, index: u64) -> Option<StateId> {
+        match usize::try_from(index).ok().and_then(|i| self.dense.get(i)) {
+            Some(&Some(id)) => Some(id),
+            _ => self.sparse.get(&index).copied(),
+        }
+    }
+
+    fn insert(&mut self, index: u64, id: StateId) {
+        // Dense while the vector stays within a few times the number of states declared so far.
+        let bound = 1024 + 4 * (id.index() as u64 + 1);
+        match usize::try_from(index) {
+            Ok(i) if index < bound => {
+                if i >= self.dense.len() {
+                    self.dense.resize(i + 1, None);
+                }
+                self.dense[i] = Some(id);
+            }
+            _ => {
+                self.sparse.insert(index, id);
             }
         }
     }
@@ -430,6 +462,18 @@ mod tests {
                 t.into()
             ))
         );
+    }
+
+    #[test]
+    fn far_indices_mix_with_dense_ones() {
+        let text = "<Generator> <Alphabet> a </Alphabet> <States> 3000 1 2 </States>
+            <TransRel> 3000 a 1 1 a 3000 </TransRel> <InitStates> 3000 </InitStates> </Generator>";
+        let a = read(Path::new("far.gen"), text).unwrap();
+        assert_eq!(
+            names(&a),
+            [("3000", "a", "1"), ("1", "a", "3000")].map(|(s, e, t)| (s.into(), e.into(), t.into()))
+        );
+        assert_eq!(a.initial, a.state_id("3000"));
     }
 
     #[test]
