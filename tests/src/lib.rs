@@ -116,9 +116,11 @@ where
 pub struct Scratch(PathBuf);
 
 impl Scratch {
-    /// A fresh directory named after `tag` and the process.
+    /// A fresh directory named after `tag`, the process and a counter.
     pub fn new(tag: &str) -> Scratch {
-        let dir = std::env::temp_dir().join(format!("end-to-end-{tag}-{}", std::process::id()));
+        static COUNTER: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+        let n = COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let dir = std::env::temp_dir().join(format!("end-to-end-{tag}-{}-{n}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
         Scratch(dir)

@@ -52,7 +52,7 @@ pub struct RunArgs {
     #[arg(long, value_name = "PER_MILLE", default_value_t = 600)]
     pub guide: u32,
     /// Delay before each plant event, in microseconds: MIN..MAX (uniform).
-    #[arg(long, value_name = "MIN..MAX", value_parser = parse_delay, default_value = "0..400")]
+    #[arg(long, value_name = "MIN..MAX", value_parser = parse_delay, default_value = "0..100")]
     pub delay_us: Delay,
     /// Print the report as JSON (schema version in its `schema` field).
     #[arg(long)]
@@ -94,7 +94,6 @@ impl RunArgs {
     /// The closed-loop options, with the manifest's seed unless `--seed` overrides it.
     pub fn options(&self, manifest_seed: u64) -> Options {
         Options {
-            events: self.events,
             plant: PlantConfig {
                 seed: self.seed.unwrap_or(manifest_seed),
                 delay_us: (self.delay_us.0, self.delay_us.1),
@@ -103,7 +102,7 @@ impl RunArgs {
                 race_per_mille: self.race,
                 guide_per_mille: self.guide,
             },
-            ..Options::default()
+            ..Options::for_events(self.events)
         }
     }
 }

@@ -28,7 +28,7 @@ impl Default for PlantConfig {
     fn default() -> Self {
         PlantConfig {
             seed: 1,
-            delay_us: (0, 400),
+            delay_us: (0, 100),
             burst_per_mille: 100,
             burst_max: 4,
             race_per_mille: 100,
