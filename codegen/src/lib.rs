@@ -6,8 +6,13 @@
 #![deny(missing_docs)]
 
 pub mod check;
+pub mod emit;
 pub mod formats;
+pub mod link;
 pub mod manifest;
 pub mod model;
+pub mod monitor;
 pub mod pack;
+pub mod plant;
+pub mod qemu;
 pub mod synth;

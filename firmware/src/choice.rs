@@ -8,40 +8,78 @@
 //! | [`GlobalQueue`] | 1 B | one cursor over all controllable events in id order |
 //! | [`RandomGlobalQueue`] | 4·W B | a random order of all controllable events per round |
 //! | [`LocalQueue`] | 1 + S B | a cursor per choice site |
-//! | [`RandomLocalQueue`] | 4 + 4·S B | a random order per choice site and round |
+//! | [`RandomLocalQueue`] | 4·W·S B | a random order per choice site and round |
 //!
 //! W is the word count of an event bitset, S the number of choice sites with two or more controllable
 //! out-events ([`crate::table::SupervisorSet::sites`]); a site with one such event needs no memory.
 //!
-//! A *choice site* is a state of the plant that owns the event. The local policies first pick a plant
-//! among those that own an enabled event (cyclically, or in a random order per round), then the plant's
-//! current state picks among its own enabled events, in the order its transition records list them. So a
-//! choice made in one place never starves another, which a single global cursor can do: in the livelock
-//! example of the design notes a global queue cycles 1, 3, 1, 3 and never reaches the marked state, while a
-//! local queue runs 1, 3, 4, 1, 2, 4, 1, 3, 1.
+//! A *choice site* is a state of the plant that generates the event. The local policies first pick a
+//! plant among those that generate an enabled event (`local-queue`: cyclically; `random-local-queue`:
+//! uniformly, so that no interleaving of the plants is ruled out — a fixed plant order would keep the
+//! closed loop out of states a machine reaches only by waiting), then the plant's current state picks
+//! among its own enabled events in event-id order (the order of its transition records). So a choice made in one place never starves another, which a single global
+//! cursor can do: in the livelock example of the design notes a global queue cycles 1, 3, 1, 3 and never
+//! reaches the marked state, while a local queue runs 1, 3, 4, 1, 2, 4, 1, 3, 1.
 //!
 //! The random queues draw their order lazily: a round is the set of events not yet taken, and each pick
-//! is uniform among the enabled events still in the round (a new round starts when none is). Every
-//! event enabled at each visit is thus taken once per round, in a random order, and no permutation has
-//! to be stored.
+//! is uniform among the enabled events still in the round (a new round starts when none is). Every event
+//! enabled at each visit is thus taken once per round, in a random order, and no permutation is stored.
+//!
+//! Every policy works on bitsets; only `random-local-queue` reads the chosen plant's records, to start a
+//! site's round.
 
 use crate::event_set::EventSet;
 use crate::rng::{Entropy, Rng};
-use crate::table::{SupervisorSet, MAX_SITE_EVENTS, NO_OWNER};
+use crate::table::SupervisorSet;
 
-/// What a policy may look at: the tables and the automata's current states.
+/// What a policy may look at besides the enabled set.
 #[derive(Clone, Copy)]
-pub struct View<'a> {
+pub struct View<'a, const W: usize> {
     /// The tables.
-    pub set: &'a SupervisorSet,
+    pub set: &'a SupervisorSet<'a>,
     /// Current state offset of every automaton.
     pub states: &'a [u16],
+    /// Number of plants (the first automata).
+    pub plants: usize,
+}
+
+impl<const W: usize> View<'_, W> {
+    /// The controllable events plant `p` generates.
+    fn generated(&self, p: usize) -> EventSet<W> {
+        let mut set = EventSet::EMPTY;
+        if let Some(words) = self.set.plant_events.get(p * W..p * W + W) {
+            set.0.copy_from_slice(words);
+        }
+        set
+    }
+
+    /// The events plant `p`'s current state has transitions for.
+    fn out(&self, p: usize) -> EventSet<W> {
+        let mut out = EventSet::EMPTY;
+        if let (Some(a), Some(&state)) = (self.set.automata.get(p), self.states.get(p)) {
+            for r in a.records(state).chunks_exact(3) {
+                out.insert(r[0]);
+            }
+        }
+        out
+    }
+
+    /// Index of plant `p`'s current state in the site table, if that state is a choice site.
+    fn site(&self, p: usize) -> Option<usize> {
+        let state = *self.states.get(p)?;
+        self.set.site(u8::try_from(p).ok()?, state)
+    }
 }
 
 /// A choice policy.
 pub trait Policy<const W: usize> {
-    /// One event of `enabled` (non-empty), or `None` when `enabled` is empty.
-    fn choose<E: Entropy>(&mut self, view: View<'_>, enabled: &EventSet<W>, rng: &mut Rng<E>) -> Option<u8>;
+    /// One event of `enabled`, or `None` when `enabled` is empty.
+    fn choose<E: Entropy>(
+        &mut self,
+        view: View<'_, W>,
+        enabled: &EventSet<W>,
+        rng: &mut Rng<E>,
+    ) -> Option<u8>;
 
     /// Back to the state after boot (on a link reset).
     fn reset(&mut self);
@@ -52,7 +90,7 @@ pub trait Policy<const W: usize> {
 pub struct First;
 
 impl<const W: usize> Policy<W> for First {
-    fn choose<E: Entropy>(&mut self, _: View<'_>, enabled: &EventSet<W>, _: &mut Rng<E>) -> Option<u8> {
+    fn choose<E: Entropy>(&mut self, _: View<'_, W>, enabled: &EventSet<W>, _: &mut Rng<E>) -> Option<u8> {
         enabled.first()
     }
 
@@ -64,8 +102,8 @@ impl<const W: usize> Policy<W> for First {
 pub struct Random;
 
 impl<const W: usize> Policy<W> for Random {
-    fn choose<E: Entropy>(&mut self, _: View<'_>, enabled: &EventSet<W>, rng: &mut Rng<E>) -> Option<u8> {
-        enabled.nth(rng.below(enabled.len()))
+    fn choose<E: Entropy>(&mut self, _: View<'_, W>, enabled: &EventSet<W>, rng: &mut Rng<E>) -> Option<u8> {
+        pick(enabled, rng)
     }
 
     fn reset(&mut self) {}
@@ -78,7 +116,7 @@ pub struct GlobalQueue {
 }
 
 impl<const W: usize> Policy<W> for GlobalQueue {
-    fn choose<E: Entropy>(&mut self, _: View<'_>, enabled: &EventSet<W>, _: &mut Rng<E>) -> Option<u8> {
+    fn choose<E: Entropy>(&mut self, _: View<'_, W>, enabled: &EventSet<W>, _: &mut Rng<E>) -> Option<u8> {
         let c = enabled.next_cyclic(self.cursor)?;
         self.cursor = c.wrapping_add(1);
         Some(c)
@@ -102,15 +140,14 @@ impl<const W: usize> Default for RandomGlobalQueue<W> {
 }
 
 impl<const W: usize> Policy<W> for RandomGlobalQueue<W> {
-    fn choose<E: Entropy>(&mut self, view: View<'_>, enabled: &EventSet<W>, rng: &mut Rng<E>) -> Option<u8> {
-        let mut candidates = enabled.and(&self.round);
-        if candidates.is_empty() {
-            self.round = EventSet::from_words(view.set.controllable).unwrap_or(EventSet::EMPTY);
-            candidates = *enabled;
-        }
-        let c = candidates.nth(rng.below(candidates.len()))?;
-        self.round.remove(c);
-        Some(c)
+    fn choose<E: Entropy>(
+        &mut self,
+        view: View<'_, W>,
+        enabled: &EventSet<W>,
+        rng: &mut Rng<E>,
+    ) -> Option<u8> {
+        let all = EventSet::from_words(view.set.controllable).unwrap_or(EventSet::EMPTY);
+        pick_from_round(&mut self.round, enabled, all, rng)
     }
 
     fn reset(&mut self) {
@@ -132,24 +169,24 @@ impl<const S: usize> Default for LocalQueue<S> {
 }
 
 impl<const W: usize, const S: usize> Policy<W> for LocalQueue<S> {
-    fn choose<E: Entropy>(&mut self, view: View<'_>, enabled: &EventSet<W>, _: &mut Rng<E>) -> Option<u8> {
-        let plants = view.set.plant_count();
-        for i in 0..plants {
-            let p = (usize::from(self.plant_cursor) + i) % plants;
-            let site = SiteEvents::at(view, p, enabled);
-            if site.enabled == 0 {
-                continue;
-            }
-            let k = match site.slot.and_then(|s| self.cursors.get_mut(s)) {
+    fn choose<E: Entropy>(&mut self, view: View<'_, W>, enabled: &EventSet<W>, _: &mut Rng<E>) -> Option<u8> {
+        for i in 0..view.plants {
+            let p = (usize::from(self.plant_cursor) + i) % view.plants;
+            let candidates = enabled.and(&view.generated(p));
+            let c = match view.site(p).and_then(|s| self.cursors.get_mut(s)) {
                 Some(cursor) => {
-                    let k = first_cyclic(site.enabled, *cursor);
-                    *cursor = if k + 1 >= site.count { 0 } else { k + 1 };
-                    k
+                    let c = candidates.next_cyclic(*cursor);
+                    if let Some(c) = c {
+                        *cursor = c.wrapping_add(1);
+                    }
+                    c
                 }
-                None => site.enabled.trailing_zeros() as u8,
+                None => candidates.first(),
             };
-            self.plant_cursor = u8::try_from((p + 1) % plants).unwrap_or(0);
-            return site.event(k);
+            if let Some(c) = c {
+                self.plant_cursor = u8::try_from((p + 1) % view.plants).unwrap_or(0);
+                return Some(c);
+            }
         }
         enabled.first()
     }
@@ -159,39 +196,43 @@ impl<const W: usize, const S: usize> Policy<W> for LocalQueue<S> {
     }
 }
 
-/// `random-local-queue` (the default): plants in a random order per round, then at each choice site its
-/// events in a random order per round.
+/// `random-local-queue` (the default): a plant drawn uniformly among those with enabled events, then at
+/// its choice site the events in a random order per round.
 #[derive(Clone, Debug)]
-pub struct RandomLocalQueue<const S: usize> {
-    plant_round: u32,
-    rounds: [u32; S],
+pub struct RandomLocalQueue<const W: usize, const S: usize> {
+    rounds: [EventSet<W>; S],
 }
 
-impl<const S: usize> Default for RandomLocalQueue<S> {
+impl<const W: usize, const S: usize> Default for RandomLocalQueue<W, S> {
     fn default() -> Self {
-        Self { plant_round: 0, rounds: [0; S] }
+        Self { rounds: [EventSet::EMPTY; S] }
     }
 }
 
-impl<const W: usize, const S: usize> Policy<W> for RandomLocalQueue<S> {
-    fn choose<E: Entropy>(&mut self, view: View<'_>, enabled: &EventSet<W>, rng: &mut Rng<E>) -> Option<u8> {
-        let plants = view.set.plant_count().min(32);
-        let mut with_events = 0u32;
+impl<const W: usize, const S: usize> Policy<W> for RandomLocalQueue<W, S> {
+    fn choose<E: Entropy>(
+        &mut self,
+        view: View<'_, W>,
+        enabled: &EventSet<W>,
+        rng: &mut Rng<E>,
+    ) -> Option<u8> {
+        let plants = view.plants.min(32);
+        let mut with_events = EventSet::<1>::EMPTY;
         for p in 0..plants {
-            if SiteEvents::at(view, p, enabled).enabled != 0 {
-                with_events |= 1 << p;
+            if !enabled.and(&view.generated(p)).is_empty() {
+                with_events.0[0] |= 1 << p;
             }
         }
-        if with_events == 0 {
+        let Some(p) = pick(&with_events, rng) else {
             return enabled.first();
-        }
-        let p = pick_from_round(&mut self.plant_round, with_events, all_below(plants), rng);
-        let site = SiteEvents::at(view, usize::from(p), enabled);
-        let k = match site.slot.and_then(|s| self.rounds.get_mut(s)) {
-            Some(round) => pick_from_round(round, site.enabled, all_below(usize::from(site.count)), rng),
-            None => pick_bit(site.enabled, rng),
         };
-        site.event(k)
+        let p = usize::from(p);
+        let generated = view.generated(p);
+        let candidates = enabled.and(&generated);
+        match view.site(p).and_then(|s| self.rounds.get_mut(s)) {
+            Some(round) => pick_from_round(round, &candidates, generated.and(&view.out(p)), rng),
+            None => pick(&candidates, rng),
+        }
     }
 
     fn reset(&mut self) {
@@ -199,84 +240,28 @@ impl<const W: usize, const S: usize> Policy<W> for RandomLocalQueue<S> {
     }
 }
 
-/// The owned controllable out-events of one plant's current state.
-struct SiteEvents {
-    /// Transition records of the state.
-    records: &'static [u8],
-    /// Owner table, to skip events the plant does not own.
-    owner: &'static [u8],
-    plant: u8,
-    /// How many owned controllable out-events the state has (at most [`MAX_SITE_EVENTS`] counted).
-    count: u8,
-    /// Bit `k`: the `k`-th of them is enabled.
-    enabled: u32,
-    /// The site's index in the site table, when it has two or more.
-    slot: Option<usize>,
-}
-
-impl SiteEvents {
-    fn at<const W: usize>(view: View<'_>, plant: usize, enabled: &EventSet<W>) -> Self {
-        let (set, owner) = (view.set, view.set.owner);
-        let state = view.states.get(plant).copied().unwrap_or(0);
-        let records = set.automata.get(plant).map_or(&[][..], |a| a.records(state));
-        let plant = u8::try_from(plant).unwrap_or(NO_OWNER);
-        let (mut count, mut bits) = (0u8, 0u32);
-        for r in records.chunks_exact(3) {
-            if owner.get(usize::from(r[0])) == Some(&plant) && usize::from(count) < MAX_SITE_EVENTS {
-                if enabled.contains(r[0]) {
-                    bits |= 1 << count;
-                }
-                count += 1;
-            }
-        }
-        let slot = if count >= 2 { set.site(plant, state) } else { None };
-        Self { records, owner, plant, count, enabled: bits, slot }
-    }
-
-    /// The `k`-th owned controllable out-event.
-    fn event(&self, k: u8) -> Option<u8> {
-        self.records
-            .chunks_exact(3)
-            .map(|r| r[0])
-            .filter(|&e| self.owner.get(usize::from(e)) == Some(&self.plant))
-            .nth(usize::from(k))
+/// A uniformly drawn event of `set` (no draw when there is nothing to choose).
+fn pick<E: Entropy, const W: usize>(set: &EventSet<W>, rng: &mut Rng<E>) -> Option<u8> {
+    match set.len() {
+        0 | 1 => set.first(),
+        n => set.nth(rng.below(n)),
     }
 }
 
-/// The lowest set bit of `bits` (non-zero) at or after `from`, wrapping around.
-fn first_cyclic(bits: u32, from: u8) -> u8 {
-    let upper = if from >= 32 { 0 } else { bits & (u32::MAX << from) };
-    let b = if upper != 0 { upper } else { bits };
-    b.trailing_zeros() as u8
-}
-
-/// `n` low bits set.
-fn all_below(n: usize) -> u32 {
-    if n >= 32 {
-        u32::MAX
-    } else {
-        (1 << n) - 1
-    }
-}
-
-/// A uniformly drawn set bit of `bits` (non-zero).
-fn pick_bit<E: Entropy>(bits: u32, rng: &mut Rng<E>) -> u8 {
-    let mut w = bits;
-    for _ in 0..rng.below(bits.count_ones()) {
-        w &= w - 1;
-    }
-    w.trailing_zeros() as u8
-}
-
-/// Draws from `candidates ∩ round` (refilling `round` with `all` when that is empty) and takes the drawn
-/// bit out of the round.
-fn pick_from_round<E: Entropy>(round: &mut u32, candidates: u32, all: u32, rng: &mut Rng<E>) -> u8 {
-    let mut pool = candidates & *round;
-    if pool == 0 {
+/// Draws from `candidates ∩ round` (starting a new round, `all`, when that is empty) and takes the drawn
+/// event out of the round.
+fn pick_from_round<E: Entropy, const W: usize>(
+    round: &mut EventSet<W>,
+    candidates: &EventSet<W>,
+    all: EventSet<W>,
+    rng: &mut Rng<E>,
+) -> Option<u8> {
+    let mut pool = candidates.and(round);
+    if pool.is_empty() {
         *round = all;
-        pool = candidates;
+        pool = *candidates;
     }
-    let k = pick_bit(pool, rng);
-    *round &= !(1 << k);
-    k
+    let c = pick(&pool, rng)?;
+    round.remove(c);
+    Some(c)
 }

@@ -109,6 +109,15 @@ impl<const W: usize> EventSet<W> {
         self
     }
 
+    /// The union of both sets.
+    #[must_use]
+    pub fn or(mut self, other: &Self) -> Self {
+        for (a, b) in self.0.iter_mut().zip(other.0.iter()) {
+            *a |= b;
+        }
+        self
+    }
+
     /// The events of `self` that are not in `other`.
     #[must_use]
     pub fn and_not(mut self, other: &Self) -> Self {
@@ -159,6 +168,7 @@ mod tests {
             prop_assert_eq!(sa.is_empty(), a.is_empty());
             prop_assert_eq!(sa.nth(n), a.iter().nth(n as usize).copied());
             prop_assert_eq!(sa.and(&sb).iter().collect::<BTreeSet<_>>(), &a & &b);
+            prop_assert_eq!(sa.or(&sb).iter().collect::<BTreeSet<_>>(), &a | &b);
             prop_assert_eq!(sa.and_not(&sb).iter().collect::<BTreeSet<_>>(), &a - &b);
             let cyclic = a.range(from..).next().or_else(|| a.iter().next()).copied();
             prop_assert_eq!(sa.next_cyclic(from), cyclic);

@@ -9,8 +9,10 @@
 //!
 //! Cost does not depend on the set's state count: a state is held as the offset of its record in the
 //! table, so taking a transition reads one state's records and nothing else; an event touches only the
-//! automata that hold it ([`SupervisorSet::holders`]); the enabled set is one bitset intersection per
-//! automaton.
+//! automata that hold it ([`SupervisorSet::holders`]). The enabled set starts as the controllable events
+//! and shrinks automaton by automaton, plants first: an automaton whose alphabet holds none of the events
+//! still enabled costs one bitset test, the others one scan of their current state's records. Since the
+//! plants come first and can take only a few controllable events at a time, most supervisors are skipped.
 //!
 //! # Examples
 //!
@@ -22,7 +24,7 @@
 //! use firmware::table::{Automaton, Role, SupervisorSet};
 //!
 //! // One plant: state 0 –start(0)→ state 1 (offset 4) –done(1)→ state 0; start is controllable.
-//! static SET: SupervisorSet = SupervisorSet {
+//! static SET: SupervisorSet<'static> = SupervisorSet {
 //!     event_names: &["start", "done"],
 //!     controllable: &[0b01],
 //!     automata: &[Automaton {
@@ -30,7 +32,7 @@
 //!         block: &[1, 0, 0, 4, 1, 1, 0, 0], alphabet: &[0b11],
 //!     }],
 //!     holders: &[1, 1],
-//!     owner: &[0, 0xFF],
+//!     plant_events: &[0b01],
 //!     sites: &[],
 //! };
 //! let config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 0 };
@@ -55,7 +57,7 @@ pub struct Config {
     /// What a fault does.
     pub on_fault: FaultPolicy,
     /// Random draws between two reseeds of the generator (0: never reseed).
-    pub reseed_every: u32,
+    pub reseed_every: u16,
 }
 
 /// The counters the link's STATUS answer reports, in that order.
@@ -119,27 +121,37 @@ pub enum Decision {
 
 /// The runtime over a set of `N` automata and events in `W`-word bitsets, choosing with policy `P`.
 pub struct Runtime<'t, P, E, const W: usize, const N: usize> {
-    set: &'t SupervisorSet,
+    set: &'t SupervisorSet<'t>,
     states: [u16; N],
+    plants: u8,
     counters: Counters,
     overflow_mark: u32,
     safe: bool,
-    config: Config,
+    guard: bool,
+    on_fault: FaultPolicy,
     policy: P,
     rng: Rng<E>,
 }
 
 impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P, E, W, N> {
     /// A runtime in the initial states; refuses tables whose sizes are not `W` and `N`.
-    pub fn new(set: &'t SupervisorSet, config: Config, policy: P, entropy: E) -> Result<Self, TableError> {
+    pub fn new(
+        set: &'t SupervisorSet<'t>,
+        config: Config,
+        policy: P,
+        entropy: E,
+    ) -> Result<Self, TableError> {
         set.check(W, N)?;
         let mut rt = Self {
             set,
             states: [0; N],
+            // At most MAX_AUTOMATA (32) automata: `check` passed.
+            plants: u8::try_from(set.plant_count()).unwrap_or(0),
             counters: Counters::default(),
             overflow_mark: 0,
             safe: false,
-            config,
+            guard: config.guard,
+            on_fault: config.on_fault,
             policy,
             rng: Rng::new(entropy, config.reseed_every),
         };
@@ -199,11 +211,14 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
             return Decision::Halted;
         }
         let enabled = self.enabled();
-        let view = View { set: self.set, states: &self.states };
+        if enabled.is_empty() {
+            return Decision::Idle;
+        }
+        let view = View { set: self.set, states: &self.states, plants: usize::from(self.plants) };
         let Some(c) = self.policy.choose(view, &enabled, &mut self.rng) else {
             return Decision::Idle;
         };
-        if self.config.guard && pending() {
+        if self.guard && pending() {
             self.counters.guard_redecisions = self.counters.guard_redecisions.wrapping_add(1);
             return Decision::Redecide;
         }
@@ -217,10 +232,13 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
 
     /// The controllable events every automaton holding them can take now.
     pub fn enabled(&self) -> EventSet<W> {
-        let controllable = self.controllable();
-        let mut enabled = controllable;
+        let mut enabled = self.controllable();
         for (a, &state) in self.set.automata.iter().zip(&self.states) {
-            let mut blocked = words::<W>(a.alphabet).and(&controllable);
+            let relevant = words::<W>(a.alphabet).and(&enabled);
+            if relevant.is_empty() {
+                continue;
+            }
+            let mut blocked = relevant;
             for r in a.records(state).chunks_exact(3) {
                 blocked.remove(r[0]);
             }
@@ -244,8 +262,15 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
         &self.states
     }
 
+    /// Puts every automaton in the state at the given offset, as [`Runtime::states`] reported it (a
+    /// checkpoint; host tools replay or explore from it). Counters and the policy's memory are kept. An
+    /// offset that is no state of its block makes every later event of that automaton unexpected.
+    pub fn restore(&mut self, states: &[u16; N]) {
+        self.states = *states;
+    }
+
     /// The tables.
-    pub fn set(&self) -> &'t SupervisorSet {
+    pub fn set(&self) -> &'t SupervisorSet<'t> {
         self.set
     }
 
@@ -255,11 +280,12 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
         while holders != 0 {
             let a = holders.trailing_zeros() as usize;
             holders &= holders - 1;
-            let (Some(aut), Some(state)) = (self.set.automata.get(a), self.states.get_mut(a)) else {
+            let (Some(aut), Some(&state)) = (self.set.automata.get(a), self.states.get(a)) else {
                 continue;
             };
-            match aut.step(*state, event) {
-                Some(target) => *state = target,
+            // `a < N` here: `states` has N entries.
+            match aut.step(state, event) {
+                Some(target) => self.states[a] = target,
                 None => stuck = stuck.or(u8::try_from(a).ok()),
             }
         }
@@ -277,7 +303,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     }
 
     fn fault(&mut self) {
-        if self.config.on_fault == FaultPolicy::SafeState {
+        if self.on_fault == FaultPolicy::SafeState {
             self.safe = true;
         }
     }

@@ -16,19 +16,13 @@
 //! # Side tables
 //!
 //! Beside the blocks, a set carries what makes the hot path independent of the set's size: per event the
-//! automata that hold it ([`SupervisorSet::holders`], so an event touches only those), per controllable
-//! event the plant that owns it and the *choice sites* of the local-queue policies
-//! ([`SupervisorSet::owner`], [`SupervisorSet::sites`]; see [`crate::choice`]). A set has at most
-//! [`MAX_AUTOMATA`] automata, and a choice site at most [`MAX_SITE_EVENTS`] controllable out-events.
+//! automata that hold it ([`SupervisorSet::holders`], so an event touches only those), per plant the
+//! controllable events it generates and the *choice sites* of the local-queue policies
+//! ([`SupervisorSet::plant_events`], [`SupervisorSet::sites`]; see [`crate::choice`]). A set has at most
+//! [`MAX_AUTOMATA`] automata.
 
 /// Most automata in one set: one bit each in a `u32` of [`SupervisorSet::holders`].
 pub const MAX_AUTOMATA: usize = 32;
-
-/// Most controllable out-events of one choice site: one bit each in a `u32` round of the random policies.
-pub const MAX_SITE_EVENTS: usize = 32;
-
-/// [`SupervisorSet::owner`] of an event no plant generates (every uncontrollable event).
-pub const NO_OWNER: u8 = 0xFF;
 
 /// What an automaton does in the loop.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -42,39 +36,40 @@ pub enum Role {
 
 /// One automaton of the set in the `offset` layout.
 #[derive(Clone, Copy, Debug)]
-pub struct Automaton {
+pub struct Automaton<'t> {
     /// Name, for logs and reports.
-    pub name: &'static str,
+    pub name: &'t str,
     /// Plant or supervisor.
     pub role: Role,
     /// Offset of the initial state within [`Automaton::block`].
     pub initial: u16,
     /// The states and transitions, as described in the module documentation.
-    pub block: &'static [u8],
+    pub block: &'t [u8],
     /// Bitset over global event ids (bit `e % 32` of word `e / 32`): the automaton's alphabet. An event
     /// outside it never moves or blocks the automaton.
-    pub alphabet: &'static [u32],
+    pub alphabet: &'t [u32],
 }
 
-/// The whole set the firmware runs: plants and supervisors over one event numbering.
+/// The whole set the firmware runs: plants and supervisors over one event numbering. On the target every
+/// slice is a `static` in flash (`'t = 'static`); on the host the tables may be borrowed from owned data.
 #[derive(Clone, Copy, Debug)]
-pub struct SupervisorSet {
+pub struct SupervisorSet<'t> {
     /// Event names by global id.
-    pub event_names: &'static [&'static str],
+    pub event_names: &'t [&'t str],
     /// Bitset over global event ids: the controllable ones.
-    pub controllable: &'static [u32],
+    pub controllable: &'t [u32],
     /// Plants first, then supervisors, in manifest order.
-    pub automata: &'static [Automaton],
+    pub automata: &'t [Automaton<'t>],
     /// Per global event id: bit `a` set when automaton `a` has the event in its alphabet.
-    pub holders: &'static [u32],
-    /// Per global event id: the index of the plant that generates it (the first plant holding it), or
-    /// [`NO_OWNER`] for uncontrollable events.
-    pub owner: &'static [u8],
+    pub holders: &'t [u32],
+    /// Per plant, a bitset of `controllable.len()` words: the controllable events it generates (those
+    /// of its alphabet no earlier plant holds). Every controllable event belongs to exactly one plant.
+    pub plant_events: &'t [u32],
     /// The choice sites with two or more controllable out-events, sorted by automaton then state.
-    pub sites: &'static [Site],
+    pub sites: &'t [Site],
 }
 
-/// A choice site: a state of a plant where two or more controllable events it owns leave.
+/// A choice site: a state of a plant where two or more controllable events it generates leave.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub struct Site {
     /// Index of the plant in [`SupervisorSet::automata`].
@@ -85,6 +80,7 @@ pub struct Site {
 
 /// Why a set cannot run with a runtime of the given sizes (a table emitted for another build).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum TableError {
     /// The automaton count differs from the runtime's, or exceeds [`MAX_AUTOMATA`].
     Automata,
@@ -96,7 +92,7 @@ pub enum TableError {
     Sites,
 }
 
-impl SupervisorSet {
+impl SupervisorSet<'_> {
     /// Checks the sizes a runtime with `words` bitset words and `automata` automata relies on.
     pub fn check(&self, words: usize, automata: usize) -> Result<(), TableError> {
         if self.automata.len() != automata || automata > MAX_AUTOMATA {
@@ -106,7 +102,7 @@ impl SupervisorSet {
         if events > 32 * words
             || self.controllable.len() != words
             || self.holders.len() != events
-            || self.owner.len() != events
+            || self.plant_events.len() != words * self.plant_count()
             || self.automata.iter().any(|a| a.alphabet.len() != words)
         {
             return Err(TableError::EventWords);
@@ -133,16 +129,18 @@ impl SupervisorSet {
     }
 }
 
-impl Automaton {
+impl<'t> Automaton<'t> {
     /// The offset of the state reached from the state at `state` by `event`, or `None` when the state
     /// has no such transition (or `state` is not a state offset of this block).
+    #[inline]
     pub fn step(&self, state: u16, event: u8) -> Option<u16> {
         self.records(state).chunks_exact(3).find(|r| r[0] == event).map(|r| u16::from_be_bytes([r[1], r[2]]))
     }
 
     /// The transition records `[event][target_hi][target_lo]` of the state at `state` (empty when
     /// `state` is not a state offset of this block).
-    pub fn records(&self, state: u16) -> &'static [u8] {
+    #[inline]
+    pub fn records(&self, state: u16) -> &'t [u8] {
         let block = self.block;
         let at = usize::from(state);
         let Some(&n) = block.get(at) else { return &[] };
@@ -164,7 +162,7 @@ mod tests {
     static BLOCK: [u8; 8] = [1, 0, 0, 4, 1, 1, 0, 0];
     static ALPHABET: [u32; 1] = [0b11];
 
-    fn toggle() -> Automaton {
+    fn toggle() -> Automaton<'static> {
         Automaton { name: "T", role: Role::Plant, initial: 0, block: &BLOCK, alphabet: &ALPHABET }
     }
 

@@ -66,7 +66,7 @@ fn random_and_random_local_queue_reach_4_and_take_every_transition_on_every_seed
     for seed in 0..300 {
         for (name, v) in [
             ("random", run(Random, seed, 60)),
-            ("random-local-queue", run(RandomLocalQueue::<2>::default(), seed, 60)),
+            ("random-local-queue", run(RandomLocalQueue::<1, 2>::default(), seed, 60)),
         ] {
             assert!(v.contains(&4), "{name} seed {seed}: {v:?}");
             for (from, to) in [(1, 3), (1, 2), (3, 4), (3, 1)] {
@@ -82,7 +82,7 @@ fn random_and_random_local_queue_reach_4_and_take_every_transition_on_every_seed
 #[test]
 fn random_local_queue_takes_each_site_event_once_per_round() {
     // At state 1 the two events alternate per round: in any two consecutive visits of a round both occur.
-    let v = run(RandomLocalQueue::<2>::default(), 5, 400);
+    let v = run(RandomLocalQueue::<1, 2>::default(), 5, 400);
     let from1: Vec<usize> = v.windows(2).filter(|w| w[0] == 1 && w[1] != 1).map(|w| w[1]).collect::<Vec<_>>();
     for pair in from1.chunks_exact(2) {
         assert_ne!(pair[0], pair[1], "{from1:?}");

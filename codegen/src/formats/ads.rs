@@ -9,7 +9,7 @@
 //! An optional **event map** gives labels names: one `label name` pair per line (`#` comments and
 //! blank lines allowed). With a map, the alphabet is the map's events (in its order) followed by any
 //! label the transitions use that the map lacks; without one, it is the labels the transitions use,
-//! in increasing order, named by their numbers. [`write`] produces a map whenever the labels alone
+//! in increasing order, named by their numbers. [`write()`] produces a map whenever the labels alone
 //! would lose information (names that are not TCT labels, or events no transition uses).
 
 use std::collections::{BTreeSet, HashMap};
@@ -97,7 +97,7 @@ pub fn read(file: &Path, text: &str, event_map: Option<(&Path, &str)>) -> Result
                     ));
                 }
                 for s in 0..n {
-                    b.state(&s.to_string(), false, line)?;
+                    b.state(s.to_string(), false, line)?;
                 }
                 if n > 0 {
                     b.initial(StateId::from_u32(0), line)?;
@@ -138,7 +138,7 @@ pub fn read(file: &Path, text: &str, event_map: Option<(&Path, &str)>) -> Result
         events.insert(label, b.event(&label.to_string(), label % 2 == 1, 1)?);
     }
     for (source, label, target, line) in transitions {
-        b.transition(source, events[&label], target, line)?;
+        b.transition(source, events[&label], target, line);
     }
     b.finish()
 }

@@ -1,19 +1,24 @@
 //! Builds an [`Automaton`] while a reader walks a file, so that every broken invariant is reported
 //! with the line that broke it.
 
-use std::collections::HashMap;
+use std::borrow::Cow;
 use std::path::Path;
 
+use super::hash::FastMap;
 use super::ParseError;
-use crate::model::{Automaton, EventId, Kind, ModelError, StateId};
+use crate::model::{Automaton, EventId, Kind, ModelError, StateId, Transition};
 
 /// An automaton under construction, with name indexes and the file it comes from.
+///
+/// State names are indexed by `Cow`s that borrow from the text being read when they can: reading a
+/// large file then looks names up in the (compact) text rather than in scattered allocations.
 pub(crate) struct Builder<'f> {
     file: &'f Path,
     automaton: Automaton,
-    states: HashMap<String, StateId>,
-    events: HashMap<String, EventId>,
-    successor: HashMap<(StateId, EventId), StateId>,
+    states: FastMap<Cow<'f, str>, StateId>,
+    events: FastMap<String, EventId>,
+    /// Transitions with the line each came from, checked for determinism in [`Builder::finish`].
+    transitions: Vec<(Transition, usize)>,
 }
 
 impl<'f> Builder<'f> {
@@ -22,19 +27,25 @@ impl<'f> Builder<'f> {
         Builder {
             file,
             automaton: Automaton::new(name, kind),
-            states: HashMap::new(),
-            events: HashMap::new(),
-            successor: HashMap::new(),
+            states: FastMap::default(),
+            events: FastMap::default(),
+            transitions: Vec::new(),
         }
     }
 
     /// Adds a state, refusing a second state with the same name.
-    pub(crate) fn state(&mut self, name: &str, marked: bool, line: usize) -> Result<StateId, ParseError> {
-        if self.states.contains_key(name) {
-            return Err(self.err(line, ModelError::DuplicateState(name.to_owned())));
+    pub(crate) fn state(
+        &mut self,
+        name: impl Into<Cow<'f, str>>,
+        marked: bool,
+        line: usize,
+    ) -> Result<StateId, ParseError> {
+        let name = name.into();
+        if self.states.contains_key(&name) {
+            return Err(self.err(line, ModelError::DuplicateState(name.into_owned())));
         }
-        let id = self.automaton.add_state(name, marked).map_err(|e| self.err(line, e))?;
-        self.states.insert(name.to_owned(), id);
+        let id = self.automaton.add_state(name.as_ref(), marked).map_err(|e| self.err(line, e))?;
+        self.states.insert(name, id);
         Ok(id)
     }
 
@@ -51,6 +62,22 @@ impl<'f> Builder<'f> {
         let id = self.automaton.add_event(name, controllable).map_err(|e| self.err(line, e))?;
         self.events.insert(name.to_owned(), id);
         Ok(id)
+    }
+
+    /// The state called `name`, or an error at `line`.
+    pub(crate) fn state_named(&self, name: &str, line: usize) -> Result<StateId, ParseError> {
+        self.states
+            .get(name)
+            .copied()
+            .ok_or_else(|| self.err(line, ModelError::UnknownState(name.to_owned())))
+    }
+
+    /// The event called `name`, or an error at `line`.
+    pub(crate) fn event_named(&self, name: &str, line: usize) -> Result<EventId, ParseError> {
+        self.events
+            .get(name)
+            .copied()
+            .ok_or_else(|| self.err(line, ModelError::UnknownEvent(name.to_owned())))
     }
 
     /// Number of states so far.
@@ -87,39 +114,39 @@ impl<'f> Builder<'f> {
         }
     }
 
-    /// Adds a transition, refusing one that makes the automaton nondeterministic.
-    pub(crate) fn transition(
-        &mut self,
-        source: StateId,
-        event: EventId,
-        target: StateId,
-        line: usize,
-    ) -> Result<(), ParseError> {
-        if let Some(&other) = self.successor.get(&(source, event)) {
-            if other == target {
-                return Ok(());
-            }
-            let a = &self.automaton;
-            return Err(self.err(
-                line,
-                ModelError::Nondeterministic {
-                    state: a.states[source.index()].name.clone(),
-                    event: a.events[event.index()].name.clone(),
-                    first: a.states[other.index()].name.clone(),
-                    second: a.states[target.index()].name.clone(),
-                },
-            ));
-        }
-        self.successor.insert((source, event), target);
-        self.automaton.add_transition(source, event, target);
-        Ok(())
+    /// Adds a transition; [`Builder::finish`] refuses it if it makes the automaton nondeterministic.
+    pub(crate) fn transition(&mut self, source: StateId, event: EventId, target: StateId, line: usize) {
+        self.transitions.push((Transition { source, event, target }, line));
     }
 
-    /// Validates and canonicalizes the automaton.
-    pub(crate) fn finish(self) -> Result<Automaton, ParseError> {
+    /// Checks determinism (naming the later of two conflicting lines), sorts and deduplicates the
+    /// transitions, and checks that a non-empty automaton has an initial state.
+    pub(crate) fn finish(mut self) -> Result<Automaton, ParseError> {
+        self.transitions.sort_unstable();
+        for pair in self.transitions.windows(2) {
+            let ((t, l1), (u, l2)) = (pair[0], pair[1]);
+            if (t.source, t.event) == (u.source, u.event) && t.target != u.target {
+                let a = &self.automaton;
+                let (first, second) = if l1 <= l2 { (t.target, u.target) } else { (u.target, t.target) };
+                return Err(self.err(
+                    l1.max(l2),
+                    ModelError::Nondeterministic {
+                        state: a.states[t.source.index()].name.clone(),
+                        event: a.events[t.event.index()].name.clone(),
+                        first: a.states[first.index()].name.clone(),
+                        second: a.states[second.index()].name.clone(),
+                    },
+                ));
+            }
+        }
         let mut a = self.automaton;
-        a.validate().map_err(|e| ParseError::model(self.file, None, e))?;
-        a.canonicalize();
+        if !a.states.is_empty() && a.initial.is_none() {
+            return Err(ParseError::model(self.file, None, ModelError::MissingInitial(a.name)));
+        }
+        // Names were checked unique as they came and every id was made here, so with determinism
+        // checked above the automaton passes `Automaton::validate` (the tests assert it).
+        a.transitions = self.transitions.into_iter().map(|(t, _)| t).collect();
+        a.transitions.dedup();
         Ok(a)
     }
 

@@ -3,22 +3,36 @@
 //! | format | extension | reads | writes | automata per file |
 //! |---|---|---|---|---|
 //! | IDES3 / Nadzoru | `.xmd` | [`xmd::read`] | [`xmd::write`] | one |
+//! | libFAUDES / DESTool | `.gen` | [`gen::read`] | [`gen::write`] | one |
+//! | Supremica / Waters | `.wmod` | [`wmod::read`] | [`wmod::write`] | one per component |
 //! | TCT | `.ads` / `.ADS` (+ event map) | [`ads::read`] | [`ads::write`] | one |
+//! | Graphviz | `.dot` | — | [`dot::write`] | any |
 //!
 //! [`read_path`] picks the format from the extension (case-insensitive) and, failing that, from the
-//! content. Every reader returns automata that passed [`Automaton::validate`] and were
-//! [canonicalized](Automaton::canonicalize), or a [`ParseError`] naming the file and the line; no input
-//! makes a reader panic. Single-automaton formats name the automaton after the file stem.
+//! content. Every reader returns automata that pass [`Automaton::validate`] and are
+//! [canonical](Automaton::canonicalize), or a [`ParseError`] naming the file and the line; no input
+//! makes a reader panic ([`check_reader`] states this contract as code, for the fuzz targets and tests).
+//! Single-automaton formats name the automaton after the file stem; [`write_path`] refuses, with a
+//! [`WriteError`], what a format cannot hold (several automata in a single-automaton format, names the
+//! format would change).
 
 pub mod ads;
 mod builder;
+mod contract;
+mod decode;
 pub mod dot;
 mod error;
+pub mod gen;
+mod gen_tokens;
+mod hash;
+pub mod wmod;
 pub mod xmd;
 mod xml;
 
 use std::path::Path;
 
+pub use contract::check_reader;
+use decode::decode;
 use error::ErrorKind;
 pub use error::{ParseError, WriteError};
 
@@ -31,6 +45,10 @@ pub enum Format {
     Xmd,
     /// TCT `.ADS` text.
     Ads,
+    /// libFAUDES `.gen` tokens.
+    Gen,
+    /// Supremica `.wmod` XML.
+    Wmod,
 }
 
 impl Format {
@@ -40,6 +58,8 @@ impl Format {
         match ext.as_str() {
             "xmd" => Some(Format::Xmd),
             "ads" => Some(Format::Ads),
+            "gen" => Some(Format::Gen),
+            "wmod" => Some(Format::Wmod),
             _ => None,
         }
     }
@@ -47,6 +67,12 @@ impl Format {
     /// The format the content looks like, if any.
     pub fn sniff(text: &str) -> Option<Format> {
         let head = text.trim_start();
+        if head.starts_with("<Generator") || text.contains("<TransRel>") {
+            return Some(Format::Gen);
+        }
+        if head.starts_with('<') && text.contains("<Module") {
+            return Some(Format::Wmod);
+        }
         if head.starts_with('<') && text.contains("<model") {
             return Some(Format::Xmd);
         }
@@ -69,6 +95,7 @@ pub fn read_path(path: &Path) -> Result<Vec<Automaton>, ParseError> {
 pub fn read_path_with_events(path: &Path, event_map: Option<&Path>) -> Result<Vec<Automaton>, ParseError> {
     let bytes = read_file(path)?;
     let text = decode(path, &bytes)?;
+    let text = text.as_ref();
     let format = detect(path, text)?;
     if format != Format::Ads {
         if let Some(map) = event_map {
@@ -93,20 +120,22 @@ pub fn read_path_with_events(path: &Path, event_map: Option<&Path>) -> Result<Ve
         (Some(p), Some(bytes)) => Some((p, decode(p, bytes)?)),
         _ => None,
     };
-    Ok(vec![ads::read(path, text, map)?])
+    Ok(vec![ads::read(path, text, map.as_ref().map(|(p, t)| (*p, t.as_ref())))?])
 }
 
 /// Reads every automaton in `bytes`, the content of a file called `path` (used for the format and
 /// errors). Touches no other file: an `.ADS` file is read without an event map.
 pub fn read_bytes(path: &Path, bytes: &[u8]) -> Result<Vec<Automaton>, ParseError> {
     let text = decode(path, bytes)?;
-    read_text(path, text, detect(path, text)?)
+    read_text(path, &text, detect(path, &text)?)
 }
 
 fn read_text(path: &Path, text: &str, format: Format) -> Result<Vec<Automaton>, ParseError> {
     match format {
         Format::Xmd => Ok(vec![xmd::read(path, text)?]),
         Format::Ads => Ok(vec![ads::read(path, text, None)?]),
+        Format::Gen => Ok(vec![gen::read(path, text)?]),
+        Format::Wmod => wmod::read(path, text),
     }
 }
 
@@ -123,10 +152,24 @@ fn read_file(path: &Path) -> Result<Vec<u8>, ParseError> {
 /// Writes `automata` to `path` in the format its extension names (`.dot` too).
 pub fn write_path(path: &Path, automata: &[Automaton]) -> Result<(), WriteError> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let unrepresentable = |msg| WriteError::Unrepresentable { file: path.to_path_buf(), msg };
     let text = match ext.as_deref() {
         Some("dot") => dot::write(automata),
-        Some("xmd") => xmd::write(single(path, "xmd", automata)?),
+        Some("xmd") => {
+            let a = single(path, "xmd", automata)?;
+            xml::check_names(a).map_err(unrepresentable)?;
+            xmd::write(a)
+        }
+        Some("gen") => {
+            let a = single(path, "gen", automata)?;
+            gen::check(a).map_err(unrepresentable)?;
+            gen::write(a)
+        }
         Some("ads") => return ads::write_files(path, single(path, "ads", automata)?),
+        Some("wmod") => {
+            automata.iter().try_for_each(xml::check_names).map_err(unrepresentable)?;
+            wmod::write(&file_stem(path), automata).map_err(unrepresentable)?
+        }
         _ => return Err(WriteError::UnknownFormat(path.to_path_buf())),
     };
     write_file(path, &text)
@@ -149,16 +192,64 @@ fn write_file(path: &Path, text: &str) -> Result<(), WriteError> {
     std::fs::write(path, text).map_err(|source| WriteError::Io { file: path.to_path_buf(), source })
 }
 
-/// `bytes` as UTF-8 text (a leading byte-order mark dropped), or an error at the first bad byte's line.
-fn decode<'b>(path: &Path, bytes: &'b [u8]) -> Result<&'b str, ParseError> {
-    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
-    std::str::from_utf8(bytes).map_err(|e| {
-        let line = 1 + bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count();
-        ParseError::new(path, Some(line), ErrorKind::NotUtf8)
-    })
-}
-
 /// The automaton name a single-automaton file gives: its stem (`cell/S1.xmd` → `S1`).
 fn file_stem(path: &Path) -> String {
     path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::Kind;
+
+    fn scratch(name: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("codegen-formats-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        dir.join(name)
+    }
+
+    fn one_state(state: &str) -> Automaton {
+        let mut a = Automaton::new("A", Kind::Plant);
+        a.initial = Some(a.add_state(state, true).unwrap());
+        a
+    }
+
+    #[test]
+    fn write_path_refuses_what_the_format_cannot_hold() {
+        let two = [one_state("s"), one_state("t")];
+        let err = write_path(&scratch("two.xmd"), &two).unwrap_err().to_string();
+        assert!(err.ends_with("two.xmd: xmd holds one automaton, got 2"), "{err}");
+        let err = write_path(&scratch("hash.gen"), &[one_state("s#1")]).unwrap_err().to_string();
+        assert!(err.contains("state name 's#1' contains '#'"), "{err}");
+        let err = write_path(&scratch("space.xmd"), &[one_state(" s")]).unwrap_err().to_string();
+        assert!(err.contains("name ' s' cannot be written to XML unchanged"), "{err}");
+        let err =
+            write_path(&scratch("two.wmod"), &[one_state("s"), one_state("t")]).unwrap_err().to_string();
+        assert!(err.ends_with("two automata are called 'A'"), "{err}");
+    }
+
+    #[test]
+    fn ads_sidecar_event_map_is_written_and_read_back() {
+        let mut a = one_state("s");
+        let go = a.add_event("go", true).unwrap();
+        let s = crate::model::StateId::new(0).unwrap();
+        a.add_transition(s, go, s);
+        let path = scratch("loop.ADS");
+        write_path(&path, std::slice::from_ref(&a)).unwrap();
+        assert!(ads::event_map_for(&path).is_file());
+        let back = read_path(&path).unwrap().remove(0);
+        assert_eq!(back.events, a.events);
+        let without = read_path_with_events(&path, Some(&scratch("missing.events"))).unwrap_err();
+        assert!(without.is_io(), "{without}");
+    }
+
+    #[test]
+    fn content_decides_when_the_extension_does_not() {
+        let xmd = b"<?xml version=\"1.0\"?><model type=\"FSA\"><data></data></model>";
+        assert_eq!(read_bytes(Path::new("x.txt"), xmd).unwrap()[0].states.len(), 0);
+        let gen = b"<Generator> <States> s </States> <InitStates> s </InitStates> </Generator>";
+        assert_eq!(read_bytes(Path::new("noext"), gen).unwrap()[0].states.len(), 1);
+        let msg = read_bytes(Path::new("x.txt"), b"hello").unwrap_err().to_string();
+        assert!(msg.starts_with("x.txt: unknown format"), "{msg}");
+    }
 }

@@ -233,6 +233,19 @@ impl fmt::Display for Report {
                 }
             }
         }
+        if let Some(Ok(ms)) =
+            self.measured.iter().find(|m| m.layout == Layout::MemorySafe).map(|m| &m.supervisors)
+        {
+            let controllability =
+                ms.side_tables.iter().find(|(n, _)| *n == "controllability").map_or(0, |t| t.1);
+            writeln!(
+                f,
+                "  memory-safe transition vector {} + controllability vector {} = {} bytes (the paper's column)",
+                ms.blocks(),
+                controllability,
+                ms.blocks() + controllability
+            )?;
+        }
         writeln!(f)?;
         writeln!(f, "paper's columns (supervisors; e = {}):", events.len())?;
         writeln!(

@@ -47,7 +47,7 @@ pub fn assert_round_trip(set: &PackSet, decoded: &[Automaton]) {
 }
 
 /// A random deterministic automaton over events `e0..e{pool}` (even ids controllable).
-fn arb_automaton(name: String, pool: usize, max_states: usize) -> impl Strategy<Value = Automaton> {
+pub fn arb_automaton(name: String, pool: usize, max_states: usize) -> impl Strategy<Value = Automaton> {
     (1..=max_states, proptest::collection::vec(any::<bool>(), pool)).prop_flat_map(move |(n, used)| {
         let alphabet: Vec<usize> = (0..pool).filter(|&i| used[i]).collect();
         let slots = n * alphabet.len();
@@ -85,4 +85,15 @@ pub fn arb_set(max_states: usize) -> impl Strategy<Value = PackSet> {
         let sups: Vec<_> = (0..s).map(|i| arb_automaton(format!("S{i}"), pool, max_states)).collect();
         (plants, sups).prop_map(|(p, s)| PackSet::new(p, s).unwrap())
     })
+}
+
+/// Flips bytes of `bytes` at the given (wrapped) positions to the given values.
+pub fn corrupt(bytes: &mut [u8], edits: &[(usize, u8)]) {
+    if bytes.is_empty() {
+        return;
+    }
+    let len = bytes.len();
+    for &(at, v) in edits {
+        bytes[at % len] = v;
+    }
 }

@@ -3,9 +3,12 @@
 //! example of the design notes.
 #![allow(dead_code)]
 
-use firmware::table::{Automaton, Role, Site, SupervisorSet, NO_OWNER};
+use firmware::table::{Automaton, Role, Site, SupervisorSet};
+
+const NO_OWNER: u8 = 0xFF;
 
 /// An automaton given by its states, global-id transitions and alphabet.
+#[derive(Clone, Debug)]
 pub struct Spec {
     pub role: Role,
     pub states: usize,
@@ -51,8 +54,12 @@ fn bits(events: impl IntoIterator<Item = u8>) -> Vec<u32> {
 
 /// Encodes `specs` (plants first) over `events` names, the first `controllable` flags true where
 /// controllable; at most 32 events. Leaks the tables (tests only).
-pub fn encode(names: &[&'static str], controllable: &[bool], specs: &[Spec]) -> &'static SupervisorSet {
-    let automata: Vec<Automaton> = specs
+pub fn encode(
+    names: &[&'static str],
+    controllable: &[bool],
+    specs: &[Spec],
+) -> &'static SupervisorSet<'static> {
+    let automata: Vec<Automaton<'static>> = specs
         .iter()
         .enumerate()
         .map(|(i, s)| Automaton {
@@ -75,6 +82,12 @@ pub fn encode(names: &[&'static str], controllable: &[bool], specs: &[Spec]) -> 
             }
         })
         .collect();
+    let plant_events: Vec<u32> = specs
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.role == Role::Plant)
+        .flat_map(|(i, _)| bits((0..names.len() as u8).filter(|&e| owner[usize::from(e)] == i as u8)))
+        .collect();
     let mut sites = Vec::new();
     for (i, s) in specs.iter().enumerate().filter(|(_, s)| s.role == Role::Plant) {
         let offs = offsets(s);
@@ -92,7 +105,7 @@ pub fn encode(names: &[&'static str], controllable: &[bool], specs: &[Spec]) -> 
         ),
         automata: Box::leak(automata.into_boxed_slice()),
         holders: Box::leak(holders.into_boxed_slice()),
-        owner: Box::leak(owner.into_boxed_slice()),
+        plant_events: Box::leak(plant_events.into_boxed_slice()),
         sites: Box::leak(sites.into_boxed_slice()),
     }))
 }
@@ -105,7 +118,7 @@ pub const TO1: u8 = 3;
 
 /// The livelock example (states 1–4 as indices 0–3; 4 marked): 1 –a→ 3, 1 –b→ 2, 3 –a→ 4, 3 –b→ 1
 /// controllable; 2 –to4→ 4 and 4 –to1→ 1 uncontrollable. One plant, no supervisor.
-pub fn livelock() -> (&'static SupervisorSet, Spec) {
+pub fn livelock() -> (&'static SupervisorSet<'static>, Spec) {
     let spec = Spec {
         role: Role::Plant,
         states: 4,

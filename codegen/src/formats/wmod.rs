@@ -1,0 +1,410 @@
+//! Supremica / Waters `.wmod` modules (also written by UltraDES and ESCET): one automaton per
+//! `<SimpleComponent>`.
+//!
+//! Events come from `<EventDecl>` (`Kind` CONTROLLABLE or UNCONTROLLABLE; the PROPOSITION
+//! `:accepting` marks states). A component's alphabet is the events on its edges plus those in the
+//! graph's own `<LabelBlock>` (declared but blocked), in declaration order; its `Kind` (PLANT, SPEC,
+//! SUPERVISOR) sets [`Kind`]. Nodes list their propositions in an `<EventList>`; a component that
+//! mentions `:accepting` nowhere has every state marked (Supremica's rule).
+//!
+//! Only plain modules are read. Variables, parameters, constants, `foreach` blocks, instances, indexed
+//! names, guards and actions, group nodes and other propositions change the meaning of the graph;
+//! they are refused with the element and its line, never flattened silently. Layout elements are skipped.
+
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use roxmltree::{Document, Node};
+
+use super::builder::Builder;
+use super::xml::{self, escape};
+use super::ParseError;
+use crate::model::{Automaton, EventTable, Kind};
+
+/// The marking proposition.
+const ACCEPTING: &str = ":accepting";
+
+/// Elements that only draw the graph.
+const LAYOUT: [&str; 11] = [
+    "PointGeometry",
+    "Point",
+    "LabelGeometry",
+    "SplineGeometry",
+    "InitialArrowGeometry",
+    "StartPointGeometry",
+    "EndPointGeometry",
+    "ColorGeometry",
+    "Color",
+    "BoxGeometry",
+    "Box",
+];
+
+/// Elements of a plain module, with what they hold.
+const PLAIN: [&str; 13] = [
+    "Module",
+    "Comment",
+    "EventDeclList",
+    "EventDecl",
+    "ComponentList",
+    "SimpleComponent",
+    "Graph",
+    "NodeList",
+    "SimpleNode",
+    "EdgeList",
+    "Edge",
+    "LabelBlock",
+    "SimpleIdentifier",
+];
+
+/// Reads every `<SimpleComponent>` of a module from the text of a `.wmod` file.
+pub fn read(file: &Path, text: &str) -> Result<Vec<Automaton>, ParseError> {
+    let doc = xml::parse(file, text)?;
+    let root = doc.root_element();
+    let line = |n: Node| xml::line(&doc, n);
+    if root.tag_name().name() != "Module" {
+        return Err(ParseError::syntax(
+            file,
+            line(root),
+            format!("expected a <Module> root element, found <{}>", root.tag_name().name()),
+        ));
+    }
+    for n in root.descendants().filter(Node::is_element) {
+        let name = n.tag_name().name();
+        if !PLAIN.contains(&name) && !LAYOUT.contains(&name) && name != "EventList" {
+            return Err(ParseError::unsupported(file, line(n), format!("{} ({})", element(n), why(name))));
+        }
+    }
+    let mut events: Vec<(&str, bool)> = Vec::new();
+    let mut propositions: Vec<&str> = Vec::new();
+    for d in root.descendants().filter(|n| n.has_tag_name("EventDecl")) {
+        let name = attr(file, &doc, d, "Name")?;
+        match attr(file, &doc, d, "Kind")? {
+            "CONTROLLABLE" => events.push((name, true)),
+            "UNCONTROLLABLE" => events.push((name, false)),
+            "PROPOSITION" => propositions.push(name),
+            kind => {
+                return Err(ParseError::unsupported(
+                    file,
+                    line(d),
+                    format!("{}: event kind {kind}", element(d)),
+                ));
+            }
+        }
+    }
+    let mut automata = Vec::new();
+    let mut seen: HashMap<&str, usize> = HashMap::new();
+    for c in root.descendants().filter(|n| n.has_tag_name("SimpleComponent")) {
+        let name = attr(file, &doc, c, "Name")?;
+        if let Some(first) = seen.insert(name, line(c)) {
+            return Err(ParseError::syntax(
+                file,
+                line(c),
+                format!("second component '{name}' (first on line {first})"),
+            ));
+        }
+        automata.push(component(file, &doc, c, &events, &propositions)?);
+    }
+    Ok(automata)
+}
+
+fn component(
+    file: &Path,
+    doc: &Document,
+    c: Node,
+    events: &[(&str, bool)],
+    propositions: &[&str],
+) -> Result<Automaton, ParseError> {
+    let line = |n: Node| xml::line(doc, n);
+    let kind = match attr(file, doc, c, "Kind")? {
+        "PLANT" => Kind::Plant,
+        "SPEC" => Kind::Spec,
+        "SUPERVISOR" => Kind::Supervisor,
+        other => {
+            return Err(ParseError::unsupported(
+                file,
+                line(c),
+                format!("{}: component kind {other}", element(c)),
+            ))
+        }
+    };
+    let mut b = Builder::new(file, attr(file, doc, c, "Name")?, kind);
+    let graph = c.children().find(|n| n.has_tag_name("Graph"));
+    let Some(graph) = graph else { return b.finish() };
+    let labels = |parent| labels(file, doc, parent);
+    let nodes = children(graph, "NodeList", "SimpleNode");
+    let edges = children(graph, "EdgeList", "Edge");
+
+    // The alphabet: events on edges and blocked events, in declaration order.
+    let mut used: HashMap<&str, usize> = HashMap::new();
+    let mut accepting_in_alphabet = false;
+    for (name, at) in edges
+        .iter()
+        .map(|&e| labels(e))
+        .chain([labels(graph)])
+        .collect::<Result<Vec<_>, _>>()?
+        .into_iter()
+        .flatten()
+    {
+        if name == ACCEPTING {
+            accepting_in_alphabet = true;
+        } else if !events.iter().any(|(e, _)| *e == name) {
+            return Err(ParseError::syntax(
+                file,
+                at,
+                format!("event '{name}' is not declared in <EventDeclList>"),
+            ));
+        } else {
+            used.entry(name).or_insert(at);
+        }
+    }
+    for &(name, controllable) in events {
+        if let Some(&at) = used.get(name) {
+            b.event(name, controllable, at)?;
+        }
+    }
+
+    let mut any_accepting = accepting_in_alphabet;
+    for &n in &nodes {
+        let at = line(n);
+        let mut marked = false;
+        for p in n
+            .children()
+            .filter(|e| e.has_tag_name("EventList"))
+            .flat_map(|l| l.children())
+            .filter(Node::is_element)
+        {
+            let name = attr(file, doc, p, "Name")?;
+            if name != ACCEPTING {
+                let what =
+                    if propositions.contains(&name) { "proposition" } else { "undeclared proposition" };
+                return Err(ParseError::unsupported(
+                    file,
+                    line(p),
+                    format!("{what} '{name}' on node (only {ACCEPTING} is supported)"),
+                ));
+            }
+            marked = true;
+        }
+        any_accepting |= marked;
+        let s = b.state(attr(file, doc, n, "Name")?, marked, at)?;
+        if n.attribute("Initial") == Some("true") {
+            b.initial(s, at)?;
+        }
+    }
+    if !any_accepting {
+        b.mark_all();
+    }
+    for &e in &edges {
+        let at = line(e);
+        let source = b.state_named(attr(file, doc, e, "Source")?, at)?;
+        let target = b.state_named(attr(file, doc, e, "Target")?, at)?;
+        for (name, label_at) in labels(e)? {
+            if name == ACCEPTING {
+                return Err(ParseError::syntax(
+                    file,
+                    label_at,
+                    format!("proposition {ACCEPTING} labels an edge"),
+                ));
+            }
+            let event = b.event_named(name, label_at)?;
+            b.transition(source, event, target, label_at);
+        }
+    }
+    b.finish()
+}
+
+/// The `item` children of `parent`'s `list` children (`<NodeList><SimpleNode/>…`).
+fn children<'a, 'i>(parent: Node<'a, 'i>, list: &str, item: &str) -> Vec<Node<'a, 'i>> {
+    let items = parent.children().filter(|n| n.has_tag_name(list)).flat_map(|l| l.children());
+    items.filter(|n| n.has_tag_name(item)).collect()
+}
+
+/// The names (and lines) in `parent`'s `<LabelBlock>`.
+fn labels<'a>(
+    file: &Path,
+    doc: &Document,
+    parent: Node<'a, '_>,
+) -> Result<Vec<(&'a str, usize)>, ParseError> {
+    children(parent, "LabelBlock", "SimpleIdentifier")
+        .into_iter()
+        .map(|s| Ok((attr(file, doc, s, "Name")?, xml::line(doc, s))))
+        .collect()
+}
+
+/// `<Tag Name="...">` for messages.
+fn element(n: Node) -> String {
+    match n.attribute("Name") {
+        Some(name) => format!("<{} Name=\"{name}\">", n.tag_name().name()),
+        None => format!("<{}>", n.tag_name().name()),
+    }
+}
+
+/// Why an element is refused.
+fn why(tag: &str) -> &'static str {
+    match tag {
+        "VariableComponent" | "VariableRange" | "VariableInitial" | "VariableMarking" => "variables",
+        "GuardActionBlock" | "Guards" | "Actions" => "guards and actions",
+        "ForeachComponent" | "ForeachEvent" => "foreach blocks",
+        "Instance" | "ParameterBinding" | "ParameterList" | "SimpleParameter" | "EventParameter"
+        | "IntParameter" => "parameters and module instances",
+        "ConstantAliasList" | "ConstantAlias" | "ConstantAliasExpression" => "constants",
+        "IndexedIdentifier" | "QualifiedIdentifier" => "indexed or qualified names",
+        "GroupNode" => "group nodes",
+        _ => "not a plain automaton element; this reader takes flat modules only",
+    }
+}
+
+fn attr<'a>(file: &Path, doc: &Document, n: Node<'a, '_>, name: &str) -> Result<&'a str, ParseError> {
+    n.attribute(name).ok_or_else(|| {
+        ParseError::syntax(
+            file,
+            xml::line(doc, n),
+            format!("<{}> has no '{name}' attribute", n.tag_name().name()),
+        )
+    })
+}
+
+/// Writes `automata` as one module called `module`: every event declared once, one component each
+/// (kind unknown is written as PLANT), `:accepting` on marked nodes.
+///
+/// Events in an alphabet but on no edge go into the graph's own label block, and an automaton without
+/// marked states lists `:accepting` there, so that reading the module back gives the same automata.
+/// Fails when one event is controllable in one automaton and uncontrollable in another, or two
+/// automata share a name.
+pub fn write(module: &str, automata: &[Automaton]) -> Result<String, String> {
+    let table = EventTable::build(automata).map_err(|e| e.to_string())?;
+    let mut names = std::collections::HashSet::new();
+    if let Some(a) = automata.iter().find(|a| !names.insert(a.name.as_str())) {
+        return Err(format!("two automata are called '{}'", a.name));
+    }
+    let mut out = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    let _ = writeln!(
+        out,
+        "<Module xmlns=\"http://waters.sourceforge.net/xsd/module\" xmlns:B=\"http://waters.sourceforge.net/xsd/base\" Name=\"{}\">",
+        escape(module)
+    );
+    out.push_str("<EventDeclList>\n");
+    let _ = writeln!(out, "<EventDecl Kind=\"PROPOSITION\" Name=\"{ACCEPTING}\"/>");
+    for id in table.ids() {
+        let kind = if table.is_controllable(id) { "CONTROLLABLE" } else { "UNCONTROLLABLE" };
+        let _ = writeln!(out, "<EventDecl Kind=\"{kind}\" Name=\"{}\"/>", escape(table.name(id)));
+    }
+    out.push_str("</EventDeclList>\n<ComponentList>\n");
+    for a in automata {
+        component_xml(&mut out, a);
+    }
+    out.push_str("</ComponentList>\n</Module>\n");
+    Ok(out)
+}
+
+fn component_xml(out: &mut String, a: &Automaton) {
+    let kind = match a.kind {
+        Kind::Spec => "SPEC",
+        Kind::Supervisor => "SUPERVISOR",
+        Kind::Plant | Kind::Unknown => "PLANT",
+    };
+    let _ = writeln!(out, "<SimpleComponent Kind=\"{kind}\" Name=\"{}\">\n<Graph>", escape(&a.name));
+    let mut on_edge = vec![false; a.events.len()];
+    a.transitions.iter().for_each(|t| on_edge[t.event.index()] = true);
+    let mut blocked: Vec<&str> =
+        a.events.iter().zip(&on_edge).filter(|(_, &u)| !u).map(|(e, _)| e.name.as_str()).collect();
+    if !a.states.is_empty() && a.marked_count() == 0 {
+        blocked.push(ACCEPTING);
+    }
+    if !blocked.is_empty() {
+        out.push_str("<LabelBlock>\n");
+        for name in blocked {
+            let _ = writeln!(out, "<SimpleIdentifier Name=\"{}\"/>", escape(name));
+        }
+        out.push_str("</LabelBlock>\n");
+    }
+    out.push_str("<NodeList>\n");
+    for (i, s) in a.states.iter().enumerate() {
+        let initial = if a.initial.is_some_and(|x| x.index() == i) { " Initial=\"true\"" } else { "" };
+        let _ = write!(out, "<SimpleNode{initial} Name=\"{}\"", escape(&s.name));
+        if s.marked {
+            let _ = writeln!(
+                out,
+                ">\n<EventList>\n<SimpleIdentifier Name=\"{ACCEPTING}\"/>\n</EventList>\n</SimpleNode>"
+            );
+        } else {
+            out.push_str("/>\n");
+        }
+    }
+    out.push_str("</NodeList>\n<EdgeList>\n");
+    for t in &a.transitions {
+        let _ = writeln!(
+            out,
+            "<Edge Source=\"{}\" Target=\"{}\">\n<LabelBlock>\n<SimpleIdentifier Name=\"{}\"/>\n</LabelBlock>\n</Edge>",
+            escape(&a.states[t.source.index()].name),
+            escape(&a.states[t.target.index()].name),
+            escape(&a.events[t.event.index()].name)
+        );
+    }
+    out.push_str("</EdgeList>\n</Graph>\n</SimpleComponent>\n");
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn module(components: &str) -> String {
+        format!(
+            r#"<?xml version="1.0" encoding="UTF-8"?>
+<Module xmlns="http://waters.sourceforge.net/xsd/module" Name="m">
+<EventDeclList>
+<EventDecl Kind="PROPOSITION" Name=":accepting"/>
+<EventDecl Kind="CONTROLLABLE" Name="go"/>
+<EventDecl Kind="UNCONTROLLABLE" Name="done"/>
+</EventDeclList>
+<ComponentList>{components}</ComponentList>
+</Module>"#
+        )
+    }
+
+    const MACHINE: &str = r#"
+<SimpleComponent Kind="SPEC" Name="M"><Graph><NodeList>
+<SimpleNode Initial="true" Name="idle"/><SimpleNode Name="busy"/>
+</NodeList><EdgeList>
+<Edge Source="idle" Target="busy"><LabelBlock><SimpleIdentifier Name="go"/></LabelBlock></Edge>
+<Edge Source="busy" Target="idle"><LabelBlock><SimpleIdentifier Name="done"/></LabelBlock></Edge>
+</EdgeList></Graph></SimpleComponent>"#;
+
+    #[test]
+    fn component_without_accepting_has_every_state_marked() {
+        let a = read(Path::new("m.wmod"), &module(MACHINE)).unwrap();
+        assert_eq!(a.len(), 1);
+        assert_eq!((a[0].name.as_str(), a[0].kind, a[0].marked_count()), ("M", Kind::Spec, 2));
+        assert!(a[0].events[a[0].event_id("go").unwrap().index()].controllable);
+    }
+
+    #[test]
+    fn accepting_on_one_node_marks_only_that_node() {
+        let text = module(&MACHINE.replace(
+            r#"<SimpleNode Name="busy"/>"#,
+            r#"<SimpleNode Name="busy"><EventList><SimpleIdentifier Name=":accepting"/></EventList></SimpleNode>"#,
+        ));
+        let a = read(Path::new("m.wmod"), &text).unwrap().remove(0);
+        assert_eq!(a.states.iter().map(|s| s.marked).collect::<Vec<_>>(), [false, true]);
+    }
+
+    #[test]
+    fn guards_are_refused_by_element_and_line() {
+        let text = module(&MACHINE.replace(
+            "<LabelBlock><SimpleIdentifier Name=\"go\"/></LabelBlock>",
+            "<LabelBlock><SimpleIdentifier Name=\"go\"/></LabelBlock>\n<GuardActionBlock/>",
+        ));
+        let msg = read(Path::new("m.wmod"), &text).unwrap_err().to_string();
+        assert_eq!(msg, "m.wmod: line 13: unsupported: <GuardActionBlock> (guards and actions)");
+    }
+
+    #[test]
+    fn write_then_read_keeps_unmarked_automata_and_unused_events() {
+        let mut a = read(Path::new("m.wmod"), &module(MACHINE)).unwrap().remove(0);
+        a.states.iter_mut().for_each(|s| s.marked = false);
+        a.add_event("spare", true).unwrap();
+        let back = read(Path::new("m.wmod"), &write("m", std::slice::from_ref(&a)).unwrap()).unwrap();
+        assert_eq!(back, [a]);
+    }
+}

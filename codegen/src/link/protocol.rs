@@ -1,0 +1,129 @@
+//! The UART protocol between the virtual plant (host) and the firmware: one byte per event, a few
+//! control bytes, and a decoder for what the firmware sends.
+//!
+//! Bytes `0x00..=0xEF` are event ids: host → firmware an uncontrollable event the plant produced,
+//! firmware → host a command the firmware fired. Control bytes: [`RESET`], [`STATUS`], [`EXIT`],
+//! [`READY`], [`SAFE`], [`HOLD`], [`GO`] (see each). The firmware's side is in `firmware/src/link.rs`.
+
+use crate::monitor::FirmwareCounters;
+
+/// Largest event id a byte can carry.
+pub const MAX_EVENT: u8 = 0xEF;
+/// Host → firmware: automata to their initial states, counters to zero; answered by [`READY`].
+pub const RESET: u8 = 0xF0;
+/// Host → firmware: asks for the counters. Firmware → host: followed by six little-endian `u32`
+/// (events in, commands out, unexpected, overflows, guard re-decisions, unknown bytes).
+pub const STATUS: u8 = 0xF1;
+/// Host → firmware: leave QEMU through semihosting (status 0, or 1 in the safe state).
+pub const EXIT: u8 = 0xF2;
+/// Firmware → host: ready, once at boot and after every [`RESET`].
+pub const READY: u8 = 0xF3;
+/// Firmware → host: a fault put it in the safe state; it stopped deciding.
+pub const SAFE: u8 = 0xF4;
+/// Host → firmware: stop taking decisions (events keep filling the input buffer).
+pub const HOLD: u8 = 0xF5;
+/// Host → firmware: resume taking decisions.
+pub const GO: u8 = 0xF6;
+
+/// Bytes of a STATUS answer after its leading byte.
+const STATUS_LEN: usize = 24;
+
+/// One message from the firmware.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Frame {
+    /// A command (event id) the firmware fired.
+    Command(u8),
+    /// [`READY`].
+    Ready,
+    /// [`SAFE`].
+    Safe,
+    /// A complete [`STATUS`] answer.
+    Status(FirmwareCounters),
+    /// A byte the protocol does not define in this direction.
+    Unknown(u8),
+}
+
+/// Turns the firmware's byte stream into [`Frame`]s, one byte at a time (a STATUS answer may arrive
+/// split over several reads).
+///
+/// # Examples
+///
+/// ```
+/// use codegen::link::protocol::{Decoder, Frame, READY};
+///
+/// let mut d = Decoder::default();
+/// assert_eq!(d.push(READY), Some(Frame::Ready));
+/// assert_eq!(d.push(3), Some(Frame::Command(3)));
+/// ```
+#[derive(Clone, Debug, Default)]
+pub struct Decoder {
+    status: Option<Vec<u8>>,
+}
+
+impl Decoder {
+    /// Feeds one byte; returns a frame when one is complete.
+    pub fn push(&mut self, byte: u8) -> Option<Frame> {
+        if let Some(buf) = &mut self.status {
+            buf.push(byte);
+            if buf.len() < STATUS_LEN {
+                return None;
+            }
+            let word = |i: usize| {
+                u64::from(u32::from_le_bytes([buf[4 * i], buf[4 * i + 1], buf[4 * i + 2], buf[4 * i + 3]]))
+            };
+            let counters = FirmwareCounters {
+                events_in: word(0),
+                commands_out: word(1),
+                unexpected: word(2),
+                overflows: word(3),
+                guard_redecisions: word(4),
+                unknown_bytes: word(5),
+            };
+            self.status = None;
+            return Some(Frame::Status(counters));
+        }
+        Some(match byte {
+            0..=MAX_EVENT => Frame::Command(byte),
+            READY => Frame::Ready,
+            SAFE => Frame::Safe,
+            STATUS => {
+                self.status = Some(Vec::with_capacity(STATUS_LEN));
+                return None;
+            }
+            other => Frame::Unknown(other),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn status_answer_split_anywhere_decodes() {
+        let mut bytes = vec![7, STATUS];
+        for v in [1u32, 2, 3, 4, 5, 0x0102_0304] {
+            bytes.extend_from_slice(&v.to_le_bytes());
+        }
+        bytes.push(SAFE);
+        let mut d = Decoder::default();
+        let frames: Vec<_> = bytes.iter().filter_map(|&b| d.push(b)).collect();
+        let expected = FirmwareCounters {
+            events_in: 1,
+            commands_out: 2,
+            unexpected: 3,
+            overflows: 4,
+            guard_redecisions: 5,
+            unknown_bytes: 0x0102_0304,
+        };
+        assert_eq!(frames, [Frame::Command(7), Frame::Status(expected), Frame::Safe]);
+    }
+
+    #[test]
+    fn reserved_bytes_are_unknown_in_this_direction() {
+        let mut d = Decoder::default();
+        assert_eq!(d.push(HOLD), Some(Frame::Unknown(HOLD)));
+        assert_eq!(d.push(0xFF), Some(Frame::Unknown(0xFF)));
+        assert_eq!(d.push(MAX_EVENT), Some(Frame::Command(MAX_EVENT)));
+    }
+}

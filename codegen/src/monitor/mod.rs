@@ -1,0 +1,23 @@
+//! Verdicts on a closed-loop run: safety, liveness, coverage and link health.
+//!
+//! The [`Monitor`] sees every event the link carries — the plant's uncontrollable events as they are sent,
+//! the controller's commands as they arrive — and checks each one against plants ‖ supervisors:
+//!
+//! - **safety**: no command a supervisor disables or the plant cannot take, every uncontrollable event
+//!   accepted by the supervisors (a refused one means a supervisor is not controllable);
+//! - **liveness**: the marked states of the closed loop keep being reached (visits, longest gap);
+//! - **coverage**: which controllable transitions of each supervisor were taken, out of those reachable in
+//!   plants ‖ supervisors (computed by exploring the closed loop);
+//! - **link**: desynchronisations (commands decided before the controller read the plant's latest events),
+//!   resets, and the firmware's own counters (overflows, guard re-decisions, unexpected events), from
+//!   which events lost silently are derived.
+//!
+//! The figures end up in a [`Report`], printed as a table or as JSON.
+
+mod coverage;
+mod judge;
+mod report;
+
+pub use coverage::{Edge, Graph, Taken, TooLarge};
+pub use judge::{Monitor, Verdict};
+pub use report::{CoverageLine, FirmwareCounters, Report, SCHEMA};

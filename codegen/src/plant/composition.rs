@@ -1,0 +1,248 @@
+//! A set of automata run side by side over one global event numbering, stepped one event at a time.
+//!
+//! This is the synchronous product *tracked*, not built: the state is one local state per member, an event
+//! moves every member whose alphabet holds it and is refused when one of them has no transition for it.
+//! The virtual plant runs the plant subsystems this way, the monitor the closed loop plants ‖ supervisors.
+
+use crate::model::{Automaton, EventId, EventTable, ModelError, StateId};
+
+/// One automaton of a [`Composition`], with its transitions re-indexed by global event id.
+#[derive(Clone, Debug)]
+struct Member {
+    /// Whether each global event is in the member's alphabet.
+    alphabet: Vec<bool>,
+    /// Per state: `(global event, target)` sorted by event, for binary search.
+    delta: Vec<Vec<(u32, u32)>>,
+    marked: Vec<bool>,
+    initial: u32,
+    state_names: Vec<String>,
+}
+
+/// Automata composed over one [`EventTable`]; see the module documentation.
+///
+/// # Examples
+///
+/// ```
+/// use codegen::model::{Automaton, EventTable, Kind};
+/// use codegen::plant::Composition;
+///
+/// let mut m = Automaton::new("M", Kind::Plant);
+/// let idle = m.add_state("idle", true).unwrap();
+/// let busy = m.add_state("busy", false).unwrap();
+/// let start = m.add_event("start", true).unwrap();
+/// let done = m.add_event("done", false).unwrap();
+/// m.initial = Some(idle);
+/// m.add_transition(idle, start, busy);
+/// m.add_transition(busy, done, idle);
+///
+/// let table = EventTable::build([&m]).unwrap();
+/// let c = Composition::new(&[&m], &table).unwrap();
+/// let mut state = c.initial();
+/// assert!(c.step(&mut state, table.id("start").unwrap()));
+/// assert!(!c.step(&mut state, table.id("start").unwrap()), "busy machines do not start");
+/// assert!(!c.is_marked(&state));
+/// ```
+#[derive(Clone, Debug)]
+pub struct Composition {
+    members: Vec<Member>,
+    names: Vec<String>,
+    events: usize,
+}
+
+impl Composition {
+    /// Composes `automata` over `table`, which must hold every event of every automaton.
+    pub fn new(automata: &[&Automaton], table: &EventTable) -> Result<Self, ModelError> {
+        let mut members = Vec::with_capacity(automata.len());
+        for a in automata {
+            a.validate()?;
+            let global = table.global_ids(a).ok_or_else(|| {
+                let missing = a.events.iter().find(|e| table.id(&e.name).is_none());
+                ModelError::UnknownEvent(missing.map_or_else(String::new, |e| e.name.clone()))
+            })?;
+            let mut alphabet = vec![false; table.len()];
+            for g in &global {
+                alphabet[g.index()] = true;
+            }
+            let mut delta = vec![Vec::new(); a.states.len()];
+            for t in &a.transitions {
+                delta[t.source.index()].push((global[t.event.index()].as_u32(), t.target.as_u32()));
+            }
+            for out in &mut delta {
+                out.sort_unstable();
+            }
+            let initial = a.initial.ok_or_else(|| ModelError::MissingInitial(a.name.clone()))?;
+            members.push(Member {
+                alphabet,
+                delta,
+                marked: a.states.iter().map(|s| s.marked).collect(),
+                initial: initial.as_u32(),
+                state_names: a.states.iter().map(|s| s.name.clone()).collect(),
+            });
+        }
+        Ok(Composition {
+            members,
+            names: automata.iter().map(|a| a.name.clone()).collect(),
+            events: table.len(),
+        })
+    }
+
+    /// Number of member automata.
+    pub fn len(&self) -> usize {
+        self.members.len()
+    }
+
+    /// Whether there is no member (then every event is allowed and every state marked).
+    pub fn is_empty(&self) -> bool {
+        self.members.is_empty()
+    }
+
+    /// Number of global events.
+    pub fn event_count(&self) -> usize {
+        self.events
+    }
+
+    /// The name of member `i`.
+    pub fn name(&self, i: usize) -> &str {
+        &self.names[i]
+    }
+
+    /// The name of local state `state` of member `i`.
+    pub fn state_name(&self, i: usize, state: u32) -> &str {
+        self.members[i].state_names.get(state as usize).map_or("?", String::as_str)
+    }
+
+    /// The initial state: every member in its initial state.
+    pub fn initial(&self) -> Vec<u32> {
+        self.members.iter().map(|m| m.initial).collect()
+    }
+
+    /// Whether member `i` has `event` in its alphabet.
+    pub fn has_event(&self, i: usize, event: EventId) -> bool {
+        self.members[i].alphabet.get(event.index()).copied().unwrap_or(false)
+    }
+
+    /// Where member `i` goes from its local `state` on `event`, if it has that transition.
+    pub fn local_step(&self, i: usize, state: u32, event: EventId) -> Option<u32> {
+        let out = self.members[i].delta.get(state as usize)?;
+        let e = event.as_u32();
+        out.binary_search_by_key(&e, |&(ev, _)| ev).ok().map(|k| out[k].1)
+    }
+
+    /// Whether `event` can happen in `state`: every member holding it has a transition for it. An event
+    /// outside every alphabet (or outside the table) is refused, as the firmware refuses unknown ids.
+    pub fn allows(&self, state: &[u32], event: EventId) -> bool {
+        if event.index() >= self.events {
+            return false;
+        }
+        self.members
+            .iter()
+            .enumerate()
+            .all(|(i, m)| !m.alphabet[event.index()] || self.local_step(i, state[i], event).is_some())
+    }
+
+    /// Takes `event` in `state` when [`Composition::allows`] it; returns whether it did. A refused event
+    /// leaves `state` unchanged.
+    pub fn step(&self, state: &mut [u32], event: EventId) -> bool {
+        if !self.allows(state, event) {
+            return false;
+        }
+        for (i, m) in self.members.iter().enumerate() {
+            if m.alphabet[event.index()] {
+                if let Some(t) = self.local_step(i, state[i], event) {
+                    state[i] = t;
+                }
+            }
+        }
+        true
+    }
+
+    /// The names of the members that refuse `event` in `state` (for messages).
+    pub fn refusers(&self, state: &[u32], event: EventId) -> Vec<&str> {
+        (0..self.members.len())
+            .filter(|&i| self.has_event(i, event) && self.local_step(i, state[i], event).is_none())
+            .map(|i| self.names[i].as_str())
+            .collect()
+    }
+
+    /// The events [`Composition::allows`] in `state`, in id order.
+    pub fn enabled(&self, state: &[u32]) -> Vec<EventId> {
+        (0..self.events).map(|e| EventId::from_u32(e as u32)).filter(|&e| self.allows(state, e)).collect()
+    }
+
+    /// Whether every member is in a marked state.
+    pub fn is_marked(&self, state: &[u32]) -> bool {
+        self.members.iter().zip(state).all(|(m, &s)| m.marked.get(s as usize).copied().unwrap_or(false))
+    }
+
+    /// The local state of member `i` in `state`, as a model id.
+    pub fn local_state(&self, state: &[u32], i: usize) -> StateId {
+        StateId::from_u32(state[i])
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use crate::model::Kind;
+
+    /// Builds an automaton from `(source, event, target)` triples; events in `controllable` are
+    /// controllable, states in `marked` are marked, state 0 is initial.
+    pub(crate) fn automaton(
+        name: &str,
+        kind: Kind,
+        states: usize,
+        marked: &[usize],
+        controllable: &[&str],
+        transitions: &[(usize, &str, usize)],
+    ) -> Automaton {
+        let mut a = Automaton::new(name, kind);
+        for s in 0..states {
+            a.add_state(s.to_string(), marked.contains(&s)).unwrap();
+        }
+        for &(_, e, _) in transitions {
+            if a.event_id(e).is_none() {
+                a.add_event(e, controllable.contains(&e)).unwrap();
+            }
+        }
+        for &(s, e, t) in transitions {
+            let e = a.event_id(e).unwrap();
+            a.add_transition(StateId::new(s).unwrap(), e, StateId::new(t).unwrap());
+        }
+        a.initial = Some(StateId::new(0).unwrap());
+        a
+    }
+
+    /// The classic small machine: idle –start→ busy –done→ idle.
+    pub(crate) fn machine(name: &str, start: &str, done: &str) -> Automaton {
+        automaton(name, Kind::Plant, 2, &[0], &[start], &[(0, start, 1), (1, done, 0)])
+    }
+
+    #[test]
+    fn shared_events_synchronise_and_private_ones_interleave() {
+        let m1 = machine("M1", "a1", "b1");
+        let m2 = machine("M2", "a2", "b2");
+        // A one-slot buffer between the machines: b1 fills it, a2 empties it.
+        let buf = automaton("B", Kind::Spec, 2, &[0], &["a2"], &[(0, "b1", 1), (1, "a2", 0)]);
+        let table = EventTable::build([&m1, &m2, &buf]).unwrap();
+        let c = Composition::new(&[&m1, &m2, &buf], &table).unwrap();
+        let id = |n| table.id(n).unwrap();
+        let mut s = c.initial();
+        assert_eq!(c.enabled(&s), [id("a1")]);
+        assert!(c.step(&mut s, id("a1")));
+        assert!(c.step(&mut s, id("b1")));
+        assert_eq!(c.enabled(&s), [id("a1"), id("a2")]);
+        assert!(!c.step(&mut s.clone(), id("b1")), "M1 is idle");
+        assert_eq!(c.refusers(&s, id("b1")), ["M1", "B"]);
+        assert!(c.step(&mut s, id("a2")));
+        assert_eq!(s, [0, 1, 0]);
+        assert!(!c.is_marked(&s));
+    }
+
+    #[test]
+    fn unknown_event_is_refused_not_a_panic() {
+        let m = machine("M", "a", "b");
+        let table = EventTable::build([&m]).unwrap();
+        let c = Composition::new(&[&m], &table).unwrap();
+        assert!(!c.allows(&c.initial(), EventId::from_u32(200)));
+    }
+}

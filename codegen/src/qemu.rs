@@ -1,0 +1,301 @@
+//! Runs a firmware image under `qemu-system-arm` with its UART0 on a Unix socket, and makes sure the
+//! emulator never outlives its owner.
+//!
+//! QEMU is started with `-serial unix:<dir>/uart0.sock,server=on,wait=on` (no port to allocate, so tests
+//! run in parallel; the guest waits until the host connects), semihosting on (the firmware exits QEMU
+//! with a status and logs to QEMU's stdout) and, by default, `-icount shift=7,sleep=off` (deterministic
+//! virtual time that races ahead while the guest sleeps in `wfi`). The child is killed when the [`Qemu`]
+//! value is dropped, when its deadline passes (a watchdog thread), and — on Linux — when the thread that
+//! started it dies (`PR_SET_PDEATHSIG`).
+
+use std::io::Read;
+use std::os::unix::process::CommandExt;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, ExitStatus, Stdio};
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::{Arc, Condvar, Mutex};
+use std::time::{Duration, Instant};
+
+use crate::link::StreamLink;
+
+/// How to start QEMU.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct QemuConfig {
+    /// The emulator binary.
+    pub program: String,
+    /// Machine (`-machine`).
+    pub machine: String,
+    /// CPU (`-cpu`).
+    pub cpu: String,
+    /// `-icount shift=N,sleep=off` when set.
+    pub icount_shift: Option<u8>,
+    /// Hard limit on the emulator's life.
+    pub timeout: Duration,
+}
+
+impl Default for QemuConfig {
+    fn default() -> Self {
+        QemuConfig {
+            program: "qemu-system-arm".into(),
+            machine: "lm3s6965evb".into(),
+            cpu: "cortex-m3".into(),
+            icount_shift: Some(7),
+            timeout: Duration::from_secs(600),
+        }
+    }
+}
+
+/// QEMU could not be started or connected to.
+#[derive(Debug, thiserror::Error)]
+pub enum QemuError {
+    /// Spawning failed (not installed?).
+    #[error("cannot start {program}: {source} (run scripts/setup.sh to install it)")]
+    Spawn {
+        /// The program.
+        program: String,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The scratch directory for the socket could not be made.
+    #[error("cannot create {}: {source}", path.display())]
+    Scratch {
+        /// The directory.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// QEMU exited before its UART socket accepted a connection.
+    #[error("qemu exited early ({status}): {stderr}")]
+    Exited {
+        /// Exit status.
+        status: ExitStatus,
+        /// What it printed on stderr.
+        stderr: String,
+    },
+    /// The socket did not accept a connection in time.
+    #[error("qemu's UART socket {} did not come up: {source}", path.display())]
+    Connect {
+        /// The socket.
+        path: PathBuf,
+        /// The last connection error.
+        source: std::io::Error,
+    },
+}
+
+/// A running emulator; see the module documentation.
+#[derive(Debug)]
+pub struct Qemu {
+    child: Arc<Mutex<Child>>,
+    /// Set (and notified) when the owner is done, so the watchdog stops.
+    done: Arc<(Mutex<bool>, Condvar)>,
+    dir: PathBuf,
+    stdout: Arc<Mutex<Vec<u8>>>,
+    stderr: Arc<Mutex<Vec<u8>>>,
+    /// The thread reading stderr, joined when QEMU exits early so its message is complete.
+    stderr_reader: Option<std::thread::JoinHandle<()>>,
+}
+
+impl Qemu {
+    /// Boots `kernel` (an ELF) and connects to its UART0.
+    pub fn start(kernel: &Path, config: &QemuConfig) -> Result<(Self, StreamLink), QemuError> {
+        static COUNTER: AtomicU32 = AtomicU32::new(0);
+        let dir = std::env::temp_dir().join(format!(
+            "codegen-qemu-{}-{}",
+            std::process::id(),
+            COUNTER.fetch_add(1, Ordering::Relaxed)
+        ));
+        std::fs::create_dir_all(&dir).map_err(|source| QemuError::Scratch { path: dir.clone(), source })?;
+        let socket = dir.join("uart0.sock");
+        let mut cmd = Command::new(&config.program);
+        cmd.args(["-cpu", &config.cpu, "-machine", &config.machine, "-display", "none", "-monitor", "none"])
+            .arg("-serial")
+            .arg(format!("unix:{},server=on,wait=on", socket.display()))
+            .args(["-semihosting-config", "enable=on,target=native"]);
+        if let Some(shift) = config.icount_shift {
+            cmd.arg("-icount").arg(format!("shift={shift},sleep=off"));
+        }
+        cmd.arg("-kernel").arg(kernel).stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::piped());
+        // SAFETY: the closure runs in the forked child before exec and only calls `prctl`, which is
+        // async-signal-safe; it touches no memory of the parent.
+        unsafe {
+            cmd.pre_exec(|| {
+                if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL) != 0 {
+                    return Err(std::io::Error::last_os_error());
+                }
+                Ok(())
+            });
+        }
+        let mut child =
+            cmd.spawn().map_err(|source| QemuError::Spawn { program: config.program.clone(), source })?;
+        let (stdout, _) = collect(child.stdout.take());
+        let (stderr, stderr_reader) = collect(child.stderr.take());
+        let child = Arc::new(Mutex::new(child));
+        let done = Arc::new((Mutex::new(false), Condvar::new()));
+        watchdog(Arc::clone(&child), Arc::clone(&done), config.timeout);
+        let mut qemu = Qemu { child, done, dir, stdout, stderr, stderr_reader };
+        let link = qemu.connect(&socket)?;
+        Ok((qemu, link))
+    }
+
+    fn connect(&mut self, socket: &Path) -> Result<StreamLink, QemuError> {
+        let deadline = Instant::now() + Duration::from_secs(10);
+        loop {
+            match StreamLink::unix(socket) {
+                Ok(link) => return Ok(link),
+                Err(source) => {
+                    if let Some(status) = self.try_status() {
+                        if let Some(reader) = self.stderr_reader.take() {
+                            let _ = reader.join();
+                        }
+                        return Err(QemuError::Exited { status, stderr: self.stderr() });
+                    }
+                    if Instant::now() >= deadline {
+                        return Err(QemuError::Connect { path: socket.to_owned(), source });
+                    }
+                    std::thread::sleep(Duration::from_millis(10));
+                }
+            }
+        }
+    }
+
+    /// The exit status, if QEMU has exited.
+    pub fn try_status(&self) -> Option<ExitStatus> {
+        self.child.lock().ok()?.try_wait().ok().flatten()
+    }
+
+    /// Waits up to `timeout` for QEMU to exit (after the firmware was told to leave); kills it when the
+    /// time is up and returns `None`.
+    pub fn wait(&mut self, timeout: Duration) -> Option<ExitStatus> {
+        let deadline = Instant::now() + timeout;
+        loop {
+            if let Some(status) = self.try_status() {
+                return Some(status);
+            }
+            if Instant::now() >= deadline {
+                self.kill();
+                return None;
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+    }
+
+    /// What QEMU printed on stdout so far (semihosting output of the firmware).
+    pub fn stdout(&self) -> String {
+        self.stdout.lock().map(|b| String::from_utf8_lossy(&b).into_owned()).unwrap_or_default()
+    }
+
+    /// What QEMU printed on stderr so far.
+    pub fn stderr(&self) -> String {
+        self.stderr.lock().map(|b| String::from_utf8_lossy(&b).into_owned()).unwrap_or_default()
+    }
+
+    fn kill(&self) {
+        if let Ok(mut child) = self.child.lock() {
+            let _ = child.kill();
+            let _ = child.wait();
+        }
+    }
+}
+
+impl Drop for Qemu {
+    fn drop(&mut self) {
+        self.kill();
+        let (flag, cvar) = &*self.done;
+        if let Ok(mut done) = flag.lock() {
+            *done = true;
+            cvar.notify_all();
+        }
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
+}
+
+/// Reads a child's pipe to the end in a thread, into a shared buffer.
+fn collect(
+    pipe: Option<impl Read + Send + 'static>,
+) -> (Arc<Mutex<Vec<u8>>>, Option<std::thread::JoinHandle<()>>) {
+    let buf = Arc::new(Mutex::new(Vec::new()));
+    let mut reader = None;
+    if let Some(mut pipe) = pipe {
+        let out = Arc::clone(&buf);
+        reader = Some(std::thread::spawn(move || {
+            let mut chunk = [0u8; 4096];
+            while let Ok(n) = pipe.read(&mut chunk) {
+                if n == 0 {
+                    break;
+                }
+                if let Ok(mut b) = out.lock() {
+                    b.extend_from_slice(&chunk[..n]);
+                }
+            }
+        }));
+    }
+    (buf, reader)
+}
+
+/// Kills `child` after `timeout` unless `done` is set first.
+fn watchdog(child: Arc<Mutex<Child>>, done: Arc<(Mutex<bool>, Condvar)>, timeout: Duration) {
+    std::thread::spawn(move || {
+        let (flag, cvar) = &*done;
+        let Ok(guard) = flag.lock() else { return };
+        let Ok((guard, _)) = cvar.wait_timeout_while(guard, timeout, |d| !*d) else { return };
+        if !*guard {
+            if let Ok(mut c) = child.lock() {
+                let _ = c.kill();
+                let _ = c.wait();
+            }
+        }
+    });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A stand-in for QEMU: a shell script that behaves like it for the wrapper (creates the socket
+    /// named in its `-serial` argument, then lives until killed).
+    fn fake_qemu(dir: &Path, body: &str) -> String {
+        let path = dir.join("fake-qemu.sh");
+        std::fs::write(&path, format!("#!/bin/sh\n{body}\n")).unwrap();
+        std::fs::set_permissions(&path, std::os::unix::fs::PermissionsExt::from_mode(0o755)).unwrap();
+        path.display().to_string()
+    }
+
+    #[test]
+    fn missing_emulator_is_a_clear_error() {
+        let config = QemuConfig { program: "/nonexistent/qemu".into(), ..QemuConfig::default() };
+        let err = Qemu::start(Path::new("fw.elf"), &config).unwrap_err().to_string();
+        assert!(err.starts_with("cannot start /nonexistent/qemu"), "{err}");
+    }
+
+    #[test]
+    fn early_exit_reports_stderr() {
+        let scratch = std::env::temp_dir().join(format!("qemu-test-{}-a", std::process::id()));
+        std::fs::create_dir_all(&scratch).unwrap();
+        let program = fake_qemu(&scratch, "echo 'no such machine' >&2; exit 3");
+        let err = Qemu::start(Path::new("fw.elf"), &QemuConfig { program, ..QemuConfig::default() })
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("no such machine"), "{err}");
+        std::fs::remove_dir_all(scratch).unwrap();
+    }
+
+    #[test]
+    fn watchdog_kills_a_hung_emulator() {
+        let scratch = std::env::temp_dir().join(format!("qemu-test-{}-b", std::process::id()));
+        std::fs::create_dir_all(&scratch).unwrap();
+        // Find the socket path after "-serial", listen on it with python, then hang.
+        let program = fake_qemu(
+            &scratch,
+            r#"while [ "$1" != "-serial" ]; do shift; done
+sock=$(echo "$2" | sed 's/^unix://; s/,.*//')
+exec python3 -c "import socket,sys,time; s=socket.socket(socket.AF_UNIX); s.bind(sys.argv[1]); s.listen(1); c=s.accept(); time.sleep(600)" "$sock""#,
+        );
+        let config = QemuConfig { program, timeout: Duration::from_secs(3), ..QemuConfig::default() };
+        let (mut qemu, _link) = Qemu::start(Path::new("fw.elf"), &config).unwrap();
+        assert!(qemu.try_status().is_none());
+        std::thread::sleep(Duration::from_millis(3500));
+        assert!(qemu.try_status().is_some(), "the watchdog killed it");
+        assert!(qemu.wait(Duration::from_millis(10)).is_some());
+        std::fs::remove_dir_all(scratch).unwrap();
+    }
+}

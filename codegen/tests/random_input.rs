@@ -1,0 +1,92 @@
+//! The readers' contract ([`check_reader`]) under random and mutated input, on the stable toolchain.
+//! (`fuzz/` runs the same check under libFuzzer on nightly.)
+
+use std::path::Path;
+
+use codegen::formats::check_reader;
+use proptest::prelude::*;
+
+const SEEDS: [(&str, &[u8]); 4] = [
+    ("seed.xmd", include_bytes!("../../examples/cell/published/S1.xmd")),
+    ("seed.ADS", include_bytes!("data/TEST.ADS")),
+    ("seed.gen", include_bytes!("data/plant1.gen")),
+    ("seed.wmod", include_bytes!("data/kyllercg_digit_sequence_detector.wmod")),
+];
+
+/// A seed file with a few random edits: bytes replaced, inserted or deleted, or the tail cut off.
+fn mutated() -> impl Strategy<Value = (&'static str, Vec<u8>)> {
+    let edits = prop::collection::vec((0u8..4, any::<prop::sample::Index>(), any::<u8>()), 1..8);
+    (prop::sample::select(SEEDS.to_vec()), edits).prop_map(|((name, text), edits)| {
+        let mut bytes = text.to_vec();
+        for (op, at, byte) in edits {
+            let i = at.index(bytes.len().max(1));
+            match op {
+                0 if !bytes.is_empty() => bytes[i] = byte,
+                1 => bytes.insert(i.min(bytes.len()), byte),
+                2 if !bytes.is_empty() => {
+                    bytes.remove(i);
+                }
+                _ => bytes.truncate(i),
+            }
+        }
+        (name, bytes)
+    })
+}
+
+/// Bytes made mostly of the format's own punctuation, so that random input reaches past the first token.
+fn soup() -> impl Strategy<Value = Vec<u8>> {
+    let pieces = prop::sample::select(vec![
+        "<",
+        ">",
+        "/",
+        "\"",
+        "=",
+        " ",
+        "\n",
+        "%",
+        "+C+",
+        "#",
+        "1",
+        "0",
+        "99999999999999999999",
+        "a",
+        "<Generator>",
+        "</Generator>",
+        "<States>",
+        "</States>",
+        "<TransRel>",
+        "</TransRel>",
+        "<Alphabet>",
+        "</Alphabet>",
+        "<Consecutive>",
+        "</Consecutive>",
+        "<InitStates>",
+        "</InitStates>",
+        "State size",
+        "Marker states:",
+        "Transitions:",
+        "*",
+        "\u{e9}",
+        "\u{ff}",
+    ]);
+    prop::collection::vec(pieces, 0..60).prop_map(|p| p.concat().into_bytes())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 2000, ..ProptestConfig::default() })]
+
+    #[test]
+    fn mutated_model_files_keep_the_contract((name, bytes) in mutated()) {
+        check_reader(Path::new(name), &bytes);
+    }
+
+    #[test]
+    fn random_bytes_keep_the_contract(bytes in prop::collection::vec(any::<u8>(), 0..256), ext in 0usize..4) {
+        check_reader(Path::new(SEEDS[ext].0), &bytes);
+    }
+
+    #[test]
+    fn token_soup_keeps_the_contract(bytes in soup(), ext in 0usize..4) {
+        check_reader(Path::new(SEEDS[ext].0), &bytes);
+    }
+}

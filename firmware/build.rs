@@ -1,0 +1,29 @@
+//! Chooses the tables the Cortex-M applications include and the memory layout they link with.
+//!
+//! Tables: the file named by the `SCT_TABLES` environment variable (absolute, or relative to the
+//! workspace root), else the committed `src/generated/cell.rs` (which a codegen test keeps
+//! byte-identical to `codegen emit examples/cell/cell.toml`). The applications read the chosen path from
+//! `SCT_TABLES_FILE`. Memory layout: the root `memory.x` (lm3s6965evb) for thumbv7m; `boards/pico/memory.x`
+//! for the RP2040 (thumbv6m).
+
+use std::env;
+use std::path::PathBuf;
+
+fn main() {
+    let crate_dir = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").unwrap_or_default());
+    let root = crate_dir.parent().map(PathBuf::from).unwrap_or_default();
+    println!("cargo:rerun-if-env-changed=SCT_TABLES");
+    let tables = match env::var_os("SCT_TABLES") {
+        Some(p) => root.join(PathBuf::from(p)),
+        None => crate_dir.join("src/generated/cell.rs"),
+    };
+    println!("cargo:rerun-if-changed={}", tables.display());
+    println!("cargo:rustc-env=SCT_TABLES_FILE={}", tables.display());
+
+    let target = env::var("TARGET").unwrap_or_default();
+    let memory_dir = if target.starts_with("thumbv6m") { crate_dir.join("boards/pico") } else { root };
+    if target.starts_with("thumb") {
+        println!("cargo:rerun-if-changed={}", memory_dir.join("memory.x").display());
+        println!("cargo:rustc-link-search={}", memory_dir.display());
+    }
+}

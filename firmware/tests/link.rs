@@ -1,0 +1,188 @@
+//! The link protocol and every fault path, driven through `Link::service` as the QEMU application does.
+
+mod common;
+
+use common::{livelock, A, B, TO1, TO4};
+use firmware::choice::LocalQueue;
+use firmware::fault::FaultPolicy;
+use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
+use firmware::link::{self, Hold, Link, Note, Poll, Port};
+use firmware::rng::SeedEntropy;
+use firmware::runtime::{Config, Runtime};
+use firmware::table::SupervisorSet;
+
+/// Records what the link sends and notes.
+#[derive(Default)]
+struct Wire {
+    sent: Vec<u8>,
+    notes: Vec<Note>,
+}
+
+impl Port for Wire {
+    fn send(&mut self, byte: u8) {
+        self.sent.push(byte);
+    }
+
+    fn note(&mut self, note: Note) {
+        self.notes.push(note);
+    }
+}
+
+type Rt = Runtime<'static, LocalQueue<2>, SeedEntropy, 1, 1>;
+
+fn runtime(set: &'static SupervisorSet<'static>, on_fault: FaultPolicy) -> Rt {
+    let config = Config { guard: true, on_fault, reseed_every: 0 };
+    Rt::new(set, config, LocalQueue::default(), SeedEntropy::new(1)).unwrap()
+}
+
+/// Services until idle or exit; returns the last poll.
+fn settle(link: &mut Link, rt: &mut Rt, rx: &mut InputConsumer<'_>, hold: &Hold, wire: &mut Wire) -> Poll {
+    for _ in 0..100 {
+        match link.service(rt, rx, hold, wire) {
+            Poll::Busy => {}
+            other => return other,
+        }
+    }
+    panic!("link never settled");
+}
+
+fn send(tx: &mut InputProducer<'_>, hold: &Hold, bytes: &[u8]) {
+    for &b in bytes {
+        if let Some(b) = hold.filter(b) {
+            tx.push(b).unwrap();
+        }
+    }
+}
+
+fn status(sent: &[u8]) -> [u32; 6] {
+    assert_eq!(sent[0], link::STATUS, "{sent:?}");
+    let mut out = [0; 6];
+    for (i, w) in out.iter_mut().enumerate() {
+        *w = u32::from_le_bytes(sent[1 + 4 * i..5 + 4 * i].try_into().unwrap());
+    }
+    out
+}
+
+#[test]
+fn commands_status_reset_and_exit() {
+    let (set, _) = livelock();
+    let mut rt = runtime(set, FaultPolicy::Continue);
+    let mut q = InputQueue::<8>::new();
+    let (mut tx, mut rx) = q.split();
+    let (hold, mut link, mut wire) = (Hold::new(), Link::new(), Wire::default());
+    assert_eq!(settle(&mut link, &mut rt, &mut rx, &hold, &mut wire), Poll::Idle);
+    assert_eq!(wire.sent, [A, A], "1 -a-> 3 -a-> 4");
+    send(&mut tx, &hold, &[TO1]);
+    settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+    assert_eq!(wire.sent[2..], [B], "local queue at 1 now takes b");
+    wire.sent.clear();
+    send(&mut tx, &hold, &[link::STATUS]);
+    settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+    assert_eq!(status(&wire.sent), [1, 3, 0, 0, 0, 0]);
+    wire.sent.clear();
+    send(&mut tx, &hold, &[link::RESET, link::STATUS]);
+    settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+    assert_eq!(wire.sent[0], link::READY);
+    assert_eq!(status(&wire.sent[1..]), [0, 0, 0, 0, 0, 0]);
+    assert_eq!(wire.sent[26..], [A, A], "back in state 1 with fresh cursors");
+    send(&mut tx, &hold, &[link::EXIT]);
+    assert_eq!(settle(&mut link, &mut rt, &mut rx, &hold, &mut wire), Poll::Exit(0));
+}
+
+#[test]
+fn hold_queues_a_burst_and_go_releases_it() {
+    let (set, _) = livelock();
+    let mut rt = runtime(set, FaultPolicy::Continue);
+    let mut q = InputQueue::<8>::new();
+    let (mut tx, mut rx) = q.split();
+    let (hold, mut link, mut wire) = (Hold::new(), Link::new(), Wire::default());
+    send(&mut tx, &hold, &[link::HOLD]);
+    assert_eq!(settle(&mut link, &mut rt, &mut rx, &hold, &mut wire), Poll::Idle);
+    assert!(wire.sent.is_empty(), "held: no decision");
+    send(&mut tx, &hold, &[link::GO]);
+    settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+    assert_eq!(wire.sent, [A, A]);
+    // Held again, a burst of two inputs is applied in order before the next decision.
+    send(&mut tx, &hold, &[link::HOLD, TO1]);
+    settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+    send(&mut tx, &hold, &[link::GO]);
+    settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+    assert_eq!(wire.sent[2..], [B]);
+}
+
+#[test]
+fn guard_drops_a_choice_when_an_input_arrived() {
+    let (set, _) = livelock();
+    let mut rt = runtime(set, FaultPolicy::Continue);
+    assert_eq!(rt.decide(|| true), firmware::runtime::Decision::Redecide);
+    assert_eq!(rt.counters().guard_redecisions, 1);
+    assert_eq!(rt.counters().commands_out, 0);
+    let config = Config { guard: false, on_fault: FaultPolicy::Continue, reseed_every: 0 };
+    let mut unguarded = Rt::new(set, config, LocalQueue::default(), SeedEntropy::new(1)).unwrap();
+    assert_eq!(unguarded.decide(|| true), firmware::runtime::Decision::Fired(A));
+}
+
+#[test]
+fn faults_are_counted_and_continue_keeps_deciding() {
+    let (set, _) = livelock();
+    let mut rt = runtime(set, FaultPolicy::Continue);
+    let mut q = InputQueue::<4>::new();
+    let (mut tx, mut rx) = q.split();
+    let (hold, mut link, mut wire) = (Hold::new(), Link::new(), Wire::default());
+    settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+    // In state 4: to4 is unexpected; 0xF9 and event 200 are unknown; a (controllable) from the host too.
+    send(&mut tx, &hold, &[TO4, 0xF9, 200]);
+    settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+    send(&mut tx, &hold, &[A]);
+    for b in [TO1, TO1] {
+        if tx.push(b).is_err() {
+            tx.count_overflow();
+        }
+    }
+    tx.count_overflow();
+    settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+    assert_eq!(
+        wire.notes.iter().filter(|n| matches!(n, Note::Unexpected { event: TO4, automaton: 0 })).count(),
+        1
+    );
+    assert_eq!(wire.notes.iter().filter(|n| matches!(n, Note::Unknown(_))).count(), 3);
+    let c = rt.counters();
+    // The second to1 finds the plant back in 1, where it is unexpected too.
+    assert_eq!((c.unexpected, c.unknown_bytes, c.overflows, c.events_in), (2, 3, 1, 3));
+    assert!(!rt.is_safe());
+    assert!(!wire.sent.contains(&link::SAFE));
+    assert_eq!(wire.sent.last(), Some(&B), "still deciding after the faults");
+}
+
+#[test]
+fn each_fault_enters_the_safe_state_which_reset_leaves() {
+    let (set, _) = livelock();
+    type Inject = fn(&mut InputProducer<'_>);
+    let faults: [(&str, Inject); 4] = [
+        ("unexpected", |tx| tx.push(TO4).unwrap()),
+        ("unknown control byte", |tx| tx.push(0xF7).unwrap()),
+        ("event beyond the set", |tx| tx.push(77).unwrap()),
+        ("overflow", |tx| tx.count_overflow()),
+    ];
+    for (what, inject) in faults {
+        let mut rt = runtime(set, FaultPolicy::SafeState);
+        let mut q = InputQueue::<4>::new();
+        let (mut tx, mut rx) = q.split();
+        let (hold, mut link, mut wire) = (Hold::new(), Link::new(), Wire::default());
+        settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+        assert_eq!(wire.sent, [A, A], "{what}");
+        inject(&mut tx);
+        tx.push(TO1).unwrap();
+        settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+        assert_eq!(wire.sent[2..], [link::SAFE], "{what}: SAFE once, no decision after");
+        tx.push(link::STATUS).unwrap();
+        settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+        assert_eq!(wire.sent[3], link::STATUS, "{what}: no second SAFE");
+        tx.push(link::EXIT).unwrap();
+        assert_eq!(settle(&mut link, &mut rt, &mut rx, &hold, &mut wire), Poll::Exit(1), "{what}");
+        wire.sent.clear();
+        tx.push(link::RESET).unwrap();
+        settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+        assert_eq!(wire.sent, [link::READY, A, A], "{what}: reset leaves the safe state");
+    }
+}

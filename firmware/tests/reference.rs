@@ -1,0 +1,144 @@
+//! The runtime against a brute-force reference on random small sets: the same states after every input,
+//! every fired event enabled by the definition (every automaton holding it can take it), idle exactly when
+//! nothing is enabled, the same counters — under every choice policy.
+
+mod common;
+
+use common::{encode, offsets, Spec};
+use firmware::choice::{First, GlobalQueue, LocalQueue, Policy, Random, RandomGlobalQueue, RandomLocalQueue};
+use firmware::fault::FaultPolicy;
+use firmware::rng::SeedEntropy;
+use firmware::runtime::{Applied, Config, Decision, Runtime};
+use firmware::table::Role;
+use proptest::prelude::*;
+
+const NAMES: [&str; 6] = ["e0", "e1", "e2", "e3", "e4", "e5"];
+
+/// A random deterministic automaton over the 6 events.
+fn spec(role: Role) -> impl Strategy<Value = Spec> {
+    (1usize..5, proptest::collection::vec(any::<bool>(), 6)).prop_flat_map(move |(states, alpha)| {
+        let alphabet: Vec<u8> = (0..6u8).filter(|&e| alpha[usize::from(e)]).collect();
+        let cells = states * alphabet.len();
+        (
+            Just(states),
+            Just(alphabet),
+            proptest::collection::vec(proptest::option::weighted(0.6, 0..states), cells),
+        )
+            .prop_map(move |(states, alphabet, targets)| {
+                let mut transitions = Vec::new();
+                for s in 0..states {
+                    for (i, &e) in alphabet.iter().enumerate() {
+                        if let Some(t) = targets[s * alphabet.len() + i] {
+                            transitions.push((s, e, t));
+                        }
+                    }
+                }
+                Spec { role, states, initial: 0, transitions, alphabet }
+            })
+    })
+}
+
+#[derive(Clone, Debug)]
+enum Op {
+    Input(u8),
+    Decide,
+}
+
+fn ops() -> impl Strategy<Value = Vec<Op>> {
+    proptest::collection::vec(prop_oneof![(0u8..7).prop_map(Op::Input), Just(Op::Decide)], 0..40)
+}
+
+fn delta(spec: &Spec, state: usize, event: u8) -> Option<usize> {
+    spec.transitions.iter().find(|t| t.0 == state && t.1 == event).map(|t| t.2)
+}
+
+fn check<P: Policy<1> + Default>(
+    specs: &[Spec],
+    controllable: &[bool],
+    ops: &[Op],
+) -> Result<(), TestCaseError> {
+    let set = encode(&NAMES, controllable, specs);
+    let config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 5 };
+    // N is fixed at 4 here: pad with automata that hold nothing.
+    let mut rt = Runtime::<P, _, 1, 4>::new(set, config, P::default(), SeedEntropy::new(9)).unwrap();
+    let offs: Vec<Vec<u16>> = specs.iter().map(offsets).collect();
+    let mut states = vec![0usize; specs.len()];
+    let (mut events_in, mut unexpected, mut unknown) = (0, 0, 0);
+    let enabled_ref = |states: &[usize]| -> Vec<u8> {
+        (0..6u8)
+            .filter(|&e| controllable[usize::from(e)])
+            .filter(|&e| {
+                specs.iter().zip(states).all(|(s, &q)| !s.alphabet.contains(&e) || delta(s, q, e).is_some())
+            })
+            .collect()
+    };
+    for op in ops {
+        match *op {
+            Op::Input(e) => {
+                let got = rt.apply(e);
+                if e >= 6 || controllable[usize::from(e)] {
+                    unknown += 1;
+                    prop_assert_eq!(got, Applied::Unknown);
+                } else {
+                    events_in += 1;
+                    let mut stuck = None;
+                    for (a, s) in specs.iter().enumerate().filter(|(_, s)| s.alphabet.contains(&e)) {
+                        match delta(s, states[a], e) {
+                            Some(t) => states[a] = t,
+                            None => stuck = stuck.or(Some(a as u8)),
+                        }
+                    }
+                    match stuck {
+                        None => prop_assert_eq!(got, Applied::Taken),
+                        Some(automaton) => {
+                            unexpected += 1;
+                            prop_assert_eq!(got, Applied::Unexpected { automaton });
+                        }
+                    }
+                }
+            }
+            Op::Decide => {
+                let enabled = enabled_ref(&states);
+                match rt.decide(|| false) {
+                    Decision::Fired(c) => {
+                        prop_assert!(enabled.contains(&c), "fired {} not in {:?}", c, enabled);
+                        for (a, s) in specs.iter().enumerate().filter(|(_, s)| s.alphabet.contains(&c)) {
+                            states[a] = delta(s, states[a], c).unwrap();
+                        }
+                    }
+                    Decision::Idle => prop_assert!(enabled.is_empty(), "idle with {:?} enabled", enabled),
+                    other => prop_assert!(false, "unexpected {:?}", other),
+                }
+            }
+        }
+        for (a, &q) in states.iter().enumerate() {
+            prop_assert_eq!(rt.states()[a], offs[a][q]);
+        }
+    }
+    let c = rt.counters();
+    prop_assert_eq!((c.events_in, c.unexpected, c.unknown_bytes), (events_in, unexpected, unknown));
+    Ok(())
+}
+
+fn sets() -> impl Strategy<Value = (Vec<Spec>, Vec<bool>)> {
+    (
+        proptest::collection::vec(spec(Role::Plant), 2),
+        proptest::collection::vec(spec(Role::Supervisor), 2),
+        proptest::collection::vec(any::<bool>(), 6),
+    )
+        .prop_map(|(plants, sups, controllable)| (plants.into_iter().chain(sups).collect(), controllable))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+
+    #[test]
+    fn runtime_agrees_with_the_definition_under_every_policy((specs, controllable) in sets(), ops in ops()) {
+        check::<First>(&specs, &controllable, &ops)?;
+        check::<Random>(&specs, &controllable, &ops)?;
+        check::<GlobalQueue>(&specs, &controllable, &ops)?;
+        check::<RandomGlobalQueue<1>>(&specs, &controllable, &ops)?;
+        check::<LocalQueue<8>>(&specs, &controllable, &ops)?;
+        check::<RandomLocalQueue<1, 8>>(&specs, &controllable, &ops)?;
+    }
+}
