@@ -16,6 +16,9 @@
 //! guard = true                                  # inexact-synchronisation guard
 //! on_fault = "continue"                         # continue | safe-state
 //! input_buffer = 32
+//!
+//! [board]                                       # optional: pins of a real board, see `emit::board`
+//! name = "pico"
 //! ```
 //!
 //! Paths are relative to the manifest file. Unknown keys are refused, so a typo is an error rather than a
@@ -78,35 +81,7 @@ pub enum ManifestError {
     },
 }
 
-/// The choice policy of the runtime (see the firmware's `choice` module).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Policy {
-    /// The first enabled controllable event in table order.
-    First,
-    /// A random enabled controllable event.
-    Random,
-    /// The enabled event that waited longest, over all supervisors.
-    GlobalQueue,
-    /// Random among the events that waited longest, over all supervisors.
-    RandomGlobalQueue,
-    /// The enabled event that waited longest, per supervisor.
-    LocalQueue,
-    /// Random among the events that waited longest, per supervisor.
-    #[default]
-    RandomLocalQueue,
-}
-
-/// What the runtime does on a fault (unexpected event, buffer overflow, unknown byte).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum OnFault {
-    /// Count it and go on.
-    #[default]
-    Continue,
-    /// Turn all outputs off and stop deciding.
-    SafeState,
-}
+pub use crate::emit::{OnFault, Policy};
 
 /// The `[runtime]` section.
 #[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
@@ -165,6 +140,9 @@ pub struct Manifest {
     /// Runtime settings.
     #[serde(default)]
     pub runtime: Runtime,
+    /// Pin map for a real board (see [`crate::emit::board`]).
+    #[serde(default)]
+    pub board: Option<crate::emit::BoardSpec>,
     /// The manifest file itself (set by [`Manifest::load`]).
     #[serde(skip)]
     pub file: PathBuf,

@@ -105,3 +105,23 @@ fn dot_writes_to_a_file_or_stdout() {
     assert!(codegen(&["dot", &g1, "-o", file.to_str().unwrap()]).status.success());
     assert_eq!(std::fs::read_to_string(file).unwrap(), text);
 }
+
+#[test]
+fn inspect_reads_the_tct_seed_with_its_published_figures() {
+    let out = codegen(&["inspect", "--json", &repo("codegen/tests/data/TEST.ADS")]);
+    assert!(out.status.success());
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let o = &json[0];
+    let figures = ["states", "transitions", "events", "controllable"].map(|k| o[k].as_u64().unwrap());
+    assert_eq!(figures, [5, 13, 6, 3]);
+    assert_eq!((o["kind"].as_str(), o["initial"].as_str()), (Some("unknown"), Some("0")));
+}
+
+#[test]
+fn inspect_names_the_component_kinds_of_a_module() {
+    let out =
+        codegen(&["inspect", "--json", &repo("codegen/tests/data/kyllercg_digit_sequence_detector.wmod")]);
+    assert!(out.status.success());
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!((json[0]["name"].as_str(), json[0]["kind"].as_str()), (Some("Automato"), Some("plant")));
+}

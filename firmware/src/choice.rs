@@ -25,7 +25,8 @@
 //! is uniform among the enabled events still in the round (a new round starts when none is). Every event
 //! enabled at each visit is thus taken once per round, in a random order, and no permutation is stored.
 //!
-//! Every policy works on bitsets only; none reads a transition record.
+//! Every policy works on bitsets; only `random-local-queue` reads the chosen plant's records, to start a
+//! site's round.
 
 use crate::event_set::EventSet;
 use crate::rng::{Entropy, Rng};
@@ -38,8 +39,6 @@ pub struct View<'a, const W: usize> {
     pub set: &'a SupervisorSet<'a>,
     /// Current state offset of every automaton.
     pub states: &'a [u16],
-    /// Per automaton, the controllable events of its alphabet its current state has no transition for.
-    pub blocked: &'a [EventSet<W>],
     /// Number of plants (the first automata).
     pub plants: usize,
 }
@@ -52,6 +51,17 @@ impl<const W: usize> View<'_, W> {
             set.0.copy_from_slice(words);
         }
         set
+    }
+
+    /// The events plant `p`'s current state has transitions for.
+    fn out(&self, p: usize) -> EventSet<W> {
+        let mut out = EventSet::EMPTY;
+        if let (Some(a), Some(&state)) = (self.set.automata.get(p), self.states.get(p)) {
+            for r in a.records(state).chunks_exact(3) {
+                out.insert(r[0]);
+            }
+        }
+        out
     }
 
     /// Index of plant `p`'s current state in the site table, if that state is a choice site.
@@ -220,13 +230,7 @@ impl<const W: usize, const S: usize> Policy<W> for RandomLocalQueue<W, S> {
         let generated = view.generated(p);
         let candidates = enabled.and(&generated);
         match view.site(p).and_then(|s| self.rounds.get_mut(s)) {
-            Some(round) => {
-                let all = match view.blocked.get(p) {
-                    Some(b) => generated.and_not(b),
-                    None => generated,
-                };
-                pick_from_round(round, &candidates, all, rng)
-            }
+            Some(round) => pick_from_round(round, &candidates, generated.and(&view.out(p)), rng),
             None => pick(&candidates, rng),
         }
     }
@@ -236,9 +240,12 @@ impl<const W: usize, const S: usize> Policy<W> for RandomLocalQueue<W, S> {
     }
 }
 
-/// A uniformly drawn event of `set`.
+/// A uniformly drawn event of `set` (no draw when there is nothing to choose).
 fn pick<E: Entropy, const W: usize>(set: &EventSet<W>, rng: &mut Rng<E>) -> Option<u8> {
-    set.nth(rng.below(set.len()))
+    match set.len() {
+        0 | 1 => set.first(),
+        n => set.nth(rng.below(n)),
+    }
 }
 
 /// Draws from `candidates ∩ round` (starting a new round, `all`, when that is empty) and takes the drawn

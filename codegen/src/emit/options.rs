@@ -3,8 +3,10 @@
 
 use std::fmt;
 
-/// A choice policy of the runtime (`firmware::choice`); `random-local-queue` is the default.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+/// A choice policy of the runtime (`firmware::choice`); `random-local-queue` is the default. Also the
+/// manifest's `[runtime] policy`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum Policy {
     /// Lowest enabled event id.
     First,
@@ -80,8 +82,9 @@ impl fmt::Display for Policy {
     }
 }
 
-/// The reaction to a fault (`firmware::fault::FaultPolicy`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+/// The reaction to a fault (`firmware::fault::FaultPolicy`); the manifest's `[runtime] on_fault`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum OnFault {
     /// Count, report, keep deciding.
     #[default]

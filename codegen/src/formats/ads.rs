@@ -9,7 +9,7 @@
 //! An optional **event map** gives labels names: one `label name` pair per line (`#` comments and
 //! blank lines allowed). With a map, the alphabet is the map's events (in its order) followed by any
 //! label the transitions use that the map lacks; without one, it is the labels the transitions use,
-//! in increasing order, named by their numbers. [`write`] produces a map whenever the labels alone
+//! in increasing order, named by their numbers. [`write()`] produces a map whenever the labels alone
 //! would lose information (names that are not TCT labels, or events no transition uses).
 
 use std::collections::{BTreeSet, HashMap};

@@ -376,7 +376,8 @@ pub(crate) fn check(a: &Automaton) -> Result<(), String> {
     }
 }
 
-/// Writes `a` as a `.gen` generator with quoted names (see [`check`] for the one name it cannot hold).
+/// Writes `a` as a `.gen` generator with quoted names. A state name containing `#` does not read back
+/// unchanged ([`write_path`](super::write_path) refuses it).
 pub fn write(a: &Automaton) -> String {
     let mut out =
         String::with_capacity(64 + 16 * a.events.len() + 8 * a.states.len() + 24 * a.transitions.len());

@@ -6,11 +6,15 @@
 //! | libFAUDES / DESTool | `.gen` | [`gen::read`] | [`gen::write`] | one |
 //! | Supremica / Waters | `.wmod` | [`wmod::read`] | [`wmod::write`] | one per component |
 //! | TCT | `.ads` / `.ADS` (+ event map) | [`ads::read`] | [`ads::write`] | one |
+//! | Graphviz | `.dot` | — | [`dot::write`] | any |
 //!
 //! [`read_path`] picks the format from the extension (case-insensitive) and, failing that, from the
-//! content. Every reader returns automata that passed [`Automaton::validate`] and were
-//! [canonicalized](Automaton::canonicalize), or a [`ParseError`] naming the file and the line; no input
-//! makes a reader panic. Single-automaton formats name the automaton after the file stem.
+//! content. Every reader returns automata that pass [`Automaton::validate`] and are
+//! [canonical](Automaton::canonicalize), or a [`ParseError`] naming the file and the line; no input
+//! makes a reader panic ([`check_reader`] states this contract as code, for the fuzz targets and tests).
+//! Single-automaton formats name the automaton after the file stem; [`write_path`] refuses, with a
+//! [`WriteError`], what a format cannot hold (several automata in a single-automaton format, names the
+//! format would change).
 
 pub mod ads;
 mod builder;
