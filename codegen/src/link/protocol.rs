@@ -7,23 +7,8 @@
 
 use crate::monitor::FirmwareCounters;
 
-/// Largest event id a byte can carry.
-pub const MAX_EVENT: u8 = 0xEF;
-/// Host → firmware: automata to their initial states, counters to zero; answered by [`READY`].
-pub const RESET: u8 = 0xF0;
-/// Host → firmware: asks for the counters. Firmware → host: followed by six little-endian `u32`
-/// (events in, commands out, unexpected, overflows, guard re-decisions, unknown bytes).
-pub const STATUS: u8 = 0xF1;
-/// Host → firmware: leave QEMU through semihosting (status 0, or 1 in the safe state).
-pub const EXIT: u8 = 0xF2;
-/// Firmware → host: ready, once at boot and after every [`RESET`].
-pub const READY: u8 = 0xF3;
-/// Firmware → host: a fault put it in the safe state; it stopped deciding.
-pub const SAFE: u8 = 0xF4;
-/// Host → firmware: stop taking decisions (events keep filling the input buffer).
-pub const HOLD: u8 = 0xF5;
-/// Host → firmware: resume taking decisions.
-pub const GO: u8 = 0xF6;
+// The byte values are the firmware's own (`firmware::link`), so the two ends cannot drift apart.
+pub use firmware::link::{EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS};
 
 /// Bytes of a STATUS answer after its leading byte.
 const STATUS_LEN: usize = 24;
