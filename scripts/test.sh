@@ -6,3 +6,11 @@ bash scripts/setup.sh
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets -- -D warnings
 cargo test --workspace
+bash scripts/reference/differential.sh
+# The firmware for both targets (lints included), then the cost binary under QEMU as a smoke test: it runs
+# the runtime on the cell's tables and exits non-zero on an unexpected event.
+cargo clippy -p firmware --features qemu --target thumbv7m-none-eabi --release --bins -- -D warnings
+cargo clippy -p firmware --features pico --target thumbv6m-none-eabi --release --bins -- -D warnings
+cargo qemu-build
+cargo pico-build
+cargo qemu-cost

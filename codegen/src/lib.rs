@@ -9,6 +9,7 @@ pub mod check;
 pub mod emit;
 pub mod formats;
 pub mod link;
+pub mod manifest;
 pub mod model;
 pub mod monitor;
 pub mod pack;

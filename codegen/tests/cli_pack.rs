@@ -58,3 +58,117 @@ fn pack_text_shows_2347_and_refuses_unknown_layouts() {
     args.extend(["--layout".to_owned(), "dense".to_owned()]);
     assert_eq!(codegen(&args).status.code(), Some(2));
 }
+
+#[test]
+fn check_finds_the_seed_avalanche_and_exits_1() {
+    let out = codegen(&[
+        "check".into(),
+        repo("codegen/tests/data/TEST.ADS"),
+        "--check".into(),
+        "avalanche".into(),
+        "--json".into(),
+    ]);
+    assert_eq!(out.status.code(), Some(1), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let events: Vec<_> =
+        json["scopes"][0]["findings"].as_array().unwrap().iter().map(|f| f["events"][0].clone()).collect();
+    assert_eq!(events, ["1", "2", "3"]);
+    assert_eq!(json["failed"], true);
+}
+
+#[test]
+fn check_livelock_reports_choice_at_1_and_3_with_traces() {
+    let out =
+        codegen(&["check".into(), repo("examples/livelock/livelock.xmd"), "--check".into(), "choice".into()]);
+    assert_eq!(out.status.code(), Some(1));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("choice at state 1 on a, b: a·b reaches 1, b·a is undefined (trace: ε)"), "{text}");
+    assert!(text.contains("choice at state 3 on a, b: a·b is undefined, b·a reaches 3 (trace: a)"), "{text}");
+    // A check that finds nothing exits 0.
+    let quiet = codegen(&[
+        "check".into(),
+        repo("examples/livelock/livelock.xmd"),
+        "--check".into(),
+        "simultaneity".into(),
+    ]);
+    assert_eq!(quiet.status.code(), Some(0));
+}
+
+#[test]
+fn check_cell_closed_loop_and_local_scopes() {
+    let mut args = vec!["check".to_owned()];
+    args.extend(["G1", "G2", "G3", "G4"].iter().map(|g| repo(&format!("examples/cell/plants/{g}.xmd"))));
+    args.push("--sup".into());
+    args.extend(
+        ["S1", "S2_6", "S3", "S4", "S5", "S7"]
+            .iter()
+            .map(|s| repo(&format!("examples/cell/published/{s}.xmd"))),
+    );
+    args.push("--json".into());
+    let json: serde_json::Value = serde_json::from_slice(&codegen(&args).stdout).unwrap();
+    let scopes = json["scopes"].as_array().unwrap();
+    assert_eq!(scopes.len(), 7);
+    // The closed loop is the monolithic supervisor's size: 3420 states, 11 808 transitions.
+    assert_eq!((scopes[0]["states"].as_u64(), scopes[0]["transitions"].as_u64()), (Some(3420), Some(11_808)));
+    assert_eq!(scopes[1]["name"], "S1 with local plant G1, G2");
+    let avalanche =
+        scopes[0]["findings"].as_array().unwrap().iter().filter(|f| f["problem"] == "avalanche").count();
+    assert_eq!(avalanche, 0);
+}
+
+#[test]
+fn pack_manifest_synthesises_and_adds_the_modular_and_monolithic_rows() {
+    let out = codegen(&["pack".into(), repo("examples/cell/cell.toml"), "--json".into()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["paper"]["memory_safe"], 2347);
+    let rows: Vec<_> = json["comparisons"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| {
+            (
+                c["approach"].as_str().unwrap().to_owned(),
+                c["states"].as_u64().unwrap(),
+                c["memory_safe"].as_u64().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        rows,
+        [
+            ("local modular".into(), 233, 2347),
+            ("modular".into(), 1072, 20_253),
+            ("monolithic".into(), 3420, 38_867)
+        ]
+    );
+}
+
+#[test]
+fn check_manifest_livelock_and_cell_summary() {
+    let out = codegen(&[
+        "check".into(),
+        repo("examples/livelock/livelock.toml"),
+        "--check".into(),
+        "choice".into(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let out = codegen(&["check".into(), repo("examples/cell/cell.toml"), "--json".into()]);
+    assert_eq!(out.status.code(), Some(1));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let closed = json["scopes"][0]["findings"].as_array().unwrap();
+    let count = |p: &str, shape: Option<&str>| {
+        closed.iter().filter(|f| f["problem"] == p && shape.is_none_or(|s| f["shape"] == s)).count()
+    };
+    // No avalanche; every simultaneity is between the exclusive part-type sensors s_c1, s_c2, s_c3.
+    assert_eq!(count("avalanche", None), 0);
+    assert_eq!(count("simultaneity", None), count("simultaneity", Some("exclusive")));
+    assert!(closed
+        .iter()
+        .filter(|f| f["problem"] == "simultaneity")
+        .all(|f| f["events"][0].as_str().unwrap().starts_with("s_c")));
+    assert_eq!(
+        (count("choice", None), count("inexact-synchronisation", None), count("simultaneity", None)),
+        (217, 2624, 2280)
+    );
+}

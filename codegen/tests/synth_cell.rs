@@ -44,6 +44,29 @@ fn local_modular_supervisors_are_the_published_ones() {
 }
 
 #[test]
+fn reduced_supervisors_keep_the_closed_loop() {
+    let cfg = Config::default();
+    let plants = plants();
+    let r = synth::local_modular(&plants, &specs(), &cfg).unwrap();
+    for s in &r.supervisors {
+        let local: Vec<Automaton> = plants.iter().filter(|p| s.plants.contains(&p.name)).cloned().collect();
+        let reduced = synth::reduce(&local, &s.automaton, &cfg).unwrap();
+        assert!(reduced.states.len() < s.automaton.states.len(), "{}", s.automaton.name);
+        let closed = |sup: &Automaton| {
+            let mut parts = local.clone();
+            parts.push(sup.clone());
+            synth::product(&parts, &cfg).unwrap()
+        };
+        assert_eq!(
+            language::equal(&closed(&reduced), &closed(&s.automaton)).unwrap(),
+            None,
+            "{}",
+            s.automaton.name
+        );
+    }
+}
+
+#[test]
 fn monolithic_supervisor_has_the_published_size() {
     let s = synth::monolithic(&plants(), &specs(), &Config::default()).unwrap();
     assert_eq!((s.automaton.states.len(), s.automaton.transitions.len()), (3420, 11808));

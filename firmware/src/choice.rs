@@ -8,15 +8,16 @@
 //! | [`GlobalQueue`] | 1 B | one cursor over all controllable events in id order |
 //! | [`RandomGlobalQueue`] | 4·W B | a random order of all controllable events per round |
 //! | [`LocalQueue`] | 1 + S B | a cursor per choice site |
-//! | [`RandomLocalQueue`] | 4 + 4·W·S B | a random order per choice site and round |
+//! | [`RandomLocalQueue`] | 4·W·S B | a random order per choice site and round |
 //!
 //! W is the word count of an event bitset, S the number of choice sites with two or more controllable
 //! out-events ([`crate::table::SupervisorSet::sites`]); a site with one such event needs no memory.
 //!
 //! A *choice site* is a state of the plant that generates the event. The local policies first pick a
-//! plant among those that generate an enabled event (cyclically, or in a random order per round), then
-//! the plant's current state picks among its own enabled events in event-id order (the order of its
-//! transition records). So a choice made in one place never starves another, which a single global
+//! plant among those that generate an enabled event (`local-queue`: cyclically; `random-local-queue`:
+//! uniformly, so that no interleaving of the plants is ruled out — a fixed plant order would keep the
+//! closed loop out of states a machine reaches only by waiting), then the plant's current state picks
+//! among its own enabled events in event-id order (the order of its transition records). So a choice made in one place never starves another, which a single global
 //! cursor can do: in the livelock example of the design notes a global queue cycles 1, 3, 1, 3 and never
 //! reaches the marked state, while a local queue runs 1, 3, 4, 1, 2, 4, 1, 3, 1.
 //!
@@ -24,7 +25,8 @@
 //! is uniform among the enabled events still in the round (a new round starts when none is). Every event
 //! enabled at each visit is thus taken once per round, in a random order, and no permutation is stored.
 //!
-//! Every policy works on bitsets only; none reads a transition record.
+//! Every policy works on bitsets; only `random-local-queue` reads the chosen plant's records, to start a
+//! site's round.
 
 use crate::event_set::EventSet;
 use crate::rng::{Entropy, Rng};
@@ -37,8 +39,6 @@ pub struct View<'a, const W: usize> {
     pub set: &'a SupervisorSet<'a>,
     /// Current state offset of every automaton.
     pub states: &'a [u16],
-    /// Per automaton, the controllable events of its alphabet its current state has no transition for.
-    pub blocked: &'a [EventSet<W>],
     /// Number of plants (the first automata).
     pub plants: usize,
 }
@@ -51,6 +51,17 @@ impl<const W: usize> View<'_, W> {
             set.0.copy_from_slice(words);
         }
         set
+    }
+
+    /// The events plant `p`'s current state has transitions for.
+    fn out(&self, p: usize) -> EventSet<W> {
+        let mut out = EventSet::EMPTY;
+        if let (Some(a), Some(&state)) = (self.set.automata.get(p), self.states.get(p)) {
+            for r in a.records(state).chunks_exact(3) {
+                out.insert(r[0]);
+            }
+        }
+        out
     }
 
     /// Index of plant `p`'s current state in the site table, if that state is a choice site.
@@ -185,17 +196,16 @@ impl<const W: usize, const S: usize> Policy<W> for LocalQueue<S> {
     }
 }
 
-/// `random-local-queue` (the default): plants in a random order per round, then at each choice site its
-/// events in a random order per round.
+/// `random-local-queue` (the default): a plant drawn uniformly among those with enabled events, then at
+/// its choice site the events in a random order per round.
 #[derive(Clone, Debug)]
 pub struct RandomLocalQueue<const W: usize, const S: usize> {
-    plant_round: EventSet<1>,
     rounds: [EventSet<W>; S],
 }
 
 impl<const W: usize, const S: usize> Default for RandomLocalQueue<W, S> {
     fn default() -> Self {
-        Self { plant_round: EventSet::EMPTY, rounds: [EventSet::EMPTY; S] }
+        Self { rounds: [EventSet::EMPTY; S] }
     }
 }
 
@@ -213,21 +223,14 @@ impl<const W: usize, const S: usize> Policy<W> for RandomLocalQueue<W, S> {
                 with_events.0[0] |= 1 << p;
             }
         }
-        let all_plants = EventSet([if plants >= 32 { u32::MAX } else { (1 << plants) - 1 }]);
-        let Some(p) = pick_from_round(&mut self.plant_round, &with_events, all_plants, rng) else {
+        let Some(p) = pick(&with_events, rng) else {
             return enabled.first();
         };
         let p = usize::from(p);
         let generated = view.generated(p);
         let candidates = enabled.and(&generated);
         match view.site(p).and_then(|s| self.rounds.get_mut(s)) {
-            Some(round) => {
-                let all = match view.blocked.get(p) {
-                    Some(b) => generated.and_not(b),
-                    None => generated,
-                };
-                pick_from_round(round, &candidates, all, rng)
-            }
+            Some(round) => pick_from_round(round, &candidates, generated.and(&view.out(p)), rng),
             None => pick(&candidates, rng),
         }
     }
@@ -237,9 +240,12 @@ impl<const W: usize, const S: usize> Policy<W> for RandomLocalQueue<W, S> {
     }
 }
 
-/// A uniformly drawn event of `set`.
+/// A uniformly drawn event of `set` (no draw when there is nothing to choose).
 fn pick<E: Entropy, const W: usize>(set: &EventSet<W>, rng: &mut Rng<E>) -> Option<u8> {
-    set.nth(rng.below(set.len()))
+    match set.len() {
+        0 | 1 => set.first(),
+        n => set.nth(rng.below(n)),
+    }
 }
 
 /// Draws from `candidates ∩ round` (starting a new round, `all`, when that is empty) and takes the drawn

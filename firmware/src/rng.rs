@@ -24,21 +24,23 @@ pub trait Entropy {
 }
 
 /// Deterministic entropy from a 64-bit seed (the manifest's `seed`): a splitmix64 stream, so that the
-/// same seed gives the same run (QEMU, host tests).
+/// same seed gives the same run (QEMU, host tests). Held as two words so that it needs no 8-byte
+/// alignment in the runtime's RAM.
 #[derive(Clone, Debug)]
-pub struct SeedEntropy(u64);
+pub struct SeedEntropy([u32; 2]);
 
 impl SeedEntropy {
     /// The stream of `seed`.
     pub const fn new(seed: u64) -> Self {
-        Self(seed)
+        Self([seed as u32, (seed >> 32) as u32])
     }
 }
 
 impl Entropy for SeedEntropy {
     fn entropy(&mut self) -> u32 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
+        let next = (u64::from(self.0[1]) << 32 | u64::from(self.0[0])).wrapping_add(0x9E37_79B9_7F4A_7C15);
+        self.0 = [next as u32, (next >> 32) as u32];
+        let mut z = next;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
         (z ^ (z >> 31)) as u32
@@ -49,8 +51,8 @@ impl Entropy for SeedEntropy {
 #[derive(Clone, Debug)]
 pub struct Rng<E> {
     state: u32,
-    draws_left: u32,
-    reseed_every: u32,
+    draws_left: u16,
+    reseed_every: u16,
     entropy: E,
 }
 
@@ -59,7 +61,7 @@ const NONZERO: u32 = 0x6D2B_79F5;
 
 impl<E: Entropy> Rng<E> {
     /// A generator seeded from `entropy`, reseeded every `reseed_every` draws (0: never).
-    pub fn new(entropy: E, reseed_every: u32) -> Self {
+    pub fn new(entropy: E, reseed_every: u16) -> Self {
         let mut rng = Self { state: NONZERO, draws_left: reseed_every, reseed_every, entropy };
         rng.reseed();
         rng

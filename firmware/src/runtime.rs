@@ -9,11 +9,10 @@
 //!
 //! Cost does not depend on the set's state count: a state is held as the offset of its record in the
 //! table, so taking a transition reads one state's records and nothing else; an event touches only the
-//! automata that hold it ([`SupervisorSet::holders`]). Each automaton's *blocked* set (the controllable
-//! events of its alphabet its current state cannot take) is kept in RAM; a move only marks the automaton
-//! dirty, and the next decision refreshes the dirty ones from the records of their states. So an input
-//! costs one record scan per automaton holding it, the enabled set one bitset union per automaton, and
-//! the choice policies read no record at all.
+//! automata that hold it ([`SupervisorSet::holders`]). The enabled set starts as the controllable events
+//! and shrinks automaton by automaton, plants first: an automaton whose alphabet holds none of the events
+//! still enabled costs one bitset test, the others one scan of their current state's records. Since the
+//! plants come first and can take only a few controllable events at a time, most supervisors are skipped.
 //!
 //! # Examples
 //!
@@ -58,7 +57,7 @@ pub struct Config {
     /// What a fault does.
     pub on_fault: FaultPolicy,
     /// Random draws between two reseeds of the generator (0: never reseed).
-    pub reseed_every: u32,
+    pub reseed_every: u16,
 }
 
 /// The counters the link's STATUS answer reports, in that order.
@@ -124,14 +123,12 @@ pub enum Decision {
 pub struct Runtime<'t, P, E, const W: usize, const N: usize> {
     set: &'t SupervisorSet<'t>,
     states: [u16; N],
-    blocked: [EventSet<W>; N],
-    /// Bit `a`: automaton `a` moved since its blocked set was computed.
-    dirty: u32,
     plants: u8,
     counters: Counters,
     overflow_mark: u32,
     safe: bool,
-    config: Config,
+    guard: bool,
+    on_fault: FaultPolicy,
     policy: P,
     rng: Rng<E>,
 }
@@ -148,14 +145,13 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
         let mut rt = Self {
             set,
             states: [0; N],
-            blocked: [EventSet::EMPTY; N],
-            dirty: 0,
             // At most MAX_AUTOMATA (32) automata: `check` passed.
             plants: u8::try_from(set.plant_count()).unwrap_or(0),
             counters: Counters::default(),
             overflow_mark: 0,
             safe: false,
-            config,
+            guard: config.guard,
+            on_fault: config.on_fault,
             policy,
             rng: Rng::new(entropy, config.reseed_every),
         };
@@ -168,7 +164,6 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
         for (s, a) in self.states.iter_mut().zip(self.set.automata) {
             *s = a.initial;
         }
-        self.dirty = u32::MAX;
         self.counters = Counters::default();
         self.safe = false;
         self.policy.reset();
@@ -219,16 +214,11 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
         if enabled.is_empty() {
             return Decision::Idle;
         }
-        let view = View {
-            set: self.set,
-            states: &self.states,
-            blocked: &self.blocked,
-            plants: usize::from(self.plants),
-        };
+        let view = View { set: self.set, states: &self.states, plants: usize::from(self.plants) };
         let Some(c) = self.policy.choose(view, &enabled, &mut self.rng) else {
             return Decision::Idle;
         };
-        if self.config.guard && pending() {
+        if self.guard && pending() {
             self.counters.guard_redecisions = self.counters.guard_redecisions.wrapping_add(1);
             return Decision::Redecide;
         }
@@ -241,13 +231,20 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     }
 
     /// The controllable events every automaton holding them can take now.
-    pub fn enabled(&mut self) -> EventSet<W> {
-        self.refresh();
-        let mut blocked = EventSet::EMPTY;
-        for b in &self.blocked {
-            blocked = blocked.or(b);
+    pub fn enabled(&self) -> EventSet<W> {
+        let mut enabled = self.controllable();
+        for (a, &state) in self.set.automata.iter().zip(&self.states) {
+            let relevant = words::<W>(a.alphabet).and(&enabled);
+            if relevant.is_empty() {
+                continue;
+            }
+            let mut blocked = relevant;
+            for r in a.records(state).chunks_exact(3) {
+                blocked.remove(r[0]);
+            }
+            enabled = enabled.and_not(&blocked);
         }
-        self.controllable().and_not(&blocked)
+        enabled
     }
 
     /// The counters.
@@ -263,6 +260,13 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     /// Current state offset of every automaton.
     pub fn states(&self) -> &[u16; N] {
         &self.states
+    }
+
+    /// Puts every automaton in the state at the given offset, as [`Runtime::states`] reported it (a
+    /// checkpoint; host tools replay or explore from it). Counters and the policy's memory are kept. An
+    /// offset that is no state of its block makes every later event of that automaton unexpected.
+    pub fn restore(&mut self, states: &[u16; N]) {
+        self.states = *states;
     }
 
     /// The tables.
@@ -281,35 +285,11 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
             };
             // `a < N` here: `states` has N entries.
             match aut.step(state, event) {
-                Some(target) => {
-                    self.states[a] = target;
-                    self.dirty |= 1 << a;
-                }
+                Some(target) => self.states[a] = target,
                 None => stuck = stuck.or(u8::try_from(a).ok()),
             }
         }
         stuck
-    }
-
-    /// Recomputes the blocked set of every automaton that moved since the last refresh.
-    fn refresh(&mut self) {
-        let controllable = self.controllable();
-        let mut dirty = self.dirty & (u32::MAX >> (32 - N.clamp(1, 32)));
-        self.dirty = 0;
-        while dirty != 0 {
-            let a = dirty.trailing_zeros() as usize;
-            dirty &= dirty - 1;
-            let (Some(aut), Some(&state), Some(b)) =
-                (self.set.automata.get(a), self.states.get(a), self.blocked.get_mut(a))
-            else {
-                continue;
-            };
-            let mut blocked = words::<W>(aut.alphabet).and(&controllable);
-            for r in aut.records(state).chunks_exact(3) {
-                blocked.remove(r[0]);
-            }
-            *b = blocked;
-        }
     }
 
     fn controllable(&self) -> EventSet<W> {
@@ -323,7 +303,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     }
 
     fn fault(&mut self) {
-        if self.config.on_fault == FaultPolicy::SafeState {
+        if self.on_fault == FaultPolicy::SafeState {
             self.safe = true;
         }
     }

@@ -3,7 +3,7 @@
 //! A controller that runs every enabled transition of one scan in rung order would take both steps on one
 //! occurrence of σ. Self-loops never count: taking one twice changes nothing.
 
-use super::{paths::Paths, Finding, Problem};
+use super::{paths::Paths, Finding, Problem, Shape};
 
 /// One finding per avalanche event, at the nearest state where its double step starts.
 pub fn find(paths: &Paths) -> Vec<Finding> {
@@ -21,6 +21,7 @@ pub fn find(paths: &Paths) -> Vec<Finding> {
                     state: a.states[p.index()].name.clone(),
                     events: vec![name.clone()],
                     trace: paths.trace(p),
+                    shape: Shape::Chain,
                     detail: format!(
                         "{name} leads to {} and again to {}",
                         a.states[q.index()].name,

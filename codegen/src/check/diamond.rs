@@ -6,7 +6,7 @@
 //! one an *inexact synchronisation* (delay insensitivity), two uncontrollable ones a *simultaneity*
 //! (interleave insensitivity).
 
-use super::{paths::Paths, Finding, Problem};
+use super::{paths::Paths, Finding, Problem, Shape};
 use crate::model::{EventId, StateId};
 
 /// Every state and pair of the kinds in `problems` where the diamond does not close, nearest state first,
@@ -26,12 +26,13 @@ pub fn find(paths: &Paths, problems: &[Problem]) -> Vec<Finding> {
                 if !problems.contains(&problem) {
                     continue;
                 }
-                if let Some(detail) = open(paths, s, x, y) {
+                if let Some((shape, detail)) = open(paths, s, x, y) {
                     found.push(Finding {
                         problem,
                         state: a.states[s.index()].name.clone(),
                         events: vec![a.events[x.index()].name.clone(), a.events[y.index()].name.clone()],
                         trace: paths.trace(s),
+                        shape,
                         detail,
                     });
                 }
@@ -41,8 +42,8 @@ pub fn find(paths: &Paths, problems: &[Problem]) -> Vec<Finding> {
     found
 }
 
-/// Why the diamond x·y / y·x at `s` does not close, or `None` when it does.
-fn open(paths: &Paths, s: StateId, x: EventId, y: EventId) -> Option<String> {
+/// How and why the diamond x·y / y·x at `s` does not close, or `None` when it does.
+fn open(paths: &Paths, s: StateId, x: EventId, y: EventId) -> Option<(Shape, String)> {
     let a = paths.automaton();
     let both = |first, second| paths.step(s, first).and_then(|m| paths.step(m, second));
     let name = |e: EventId| &a.events[e.index()].name;
@@ -51,10 +52,13 @@ fn open(paths: &Paths, s: StateId, x: EventId, y: EventId) -> Option<String> {
         None => "is undefined".to_owned(),
     };
     let (xy, yx) = (both(x, y), both(y, x));
-    match (xy, yx) {
-        (Some(p), Some(q)) if p == q => None,
-        _ => Some(format!("{}·{} {}, {}·{} {}", name(x), name(y), state(xy), name(y), name(x), state(yx))),
-    }
+    let shape = match (xy, yx) {
+        (Some(p), Some(q)) if p == q => return None,
+        (Some(_), Some(_)) => Shape::Diverging,
+        (None, None) => Shape::Exclusive,
+        _ => Shape::OneOrder,
+    };
+    Some((shape, format!("{}·{} {}, {}·{} {}", name(x), name(y), state(xy), name(y), name(x), state(yx))))
 }
 
 #[cfg(test)]
@@ -71,6 +75,7 @@ mod tests {
         assert_eq!(found[0].detail, "a·b reaches 1, b·a is undefined");
         assert_eq!(found[1].detail, "a·b is undefined, b·a reaches 3");
         assert_eq!(found[1].trace, ["a"]);
+        assert!(found.iter().all(|f| f.shape == Shape::OneOrder));
     }
 
     #[test]
@@ -93,6 +98,7 @@ mod tests {
         let found = find(&Paths::new(&broken), &Problem::ALL);
         assert_eq!(found.len(), 1);
         assert_eq!(found[0].problem, Problem::InexactSynchronisation);
+        assert_eq!(found[0].shape, Shape::Diverging);
         assert!(find(&Paths::new(&broken), &[Problem::Choice]).is_empty());
     }
 }

@@ -37,6 +37,32 @@ impl Problem {
     }
 }
 
+/// How a diamond fails to close; tells a race from events that exclude each other.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Shape {
+    /// One event after the other (avalanche: the same event twice).
+    Chain,
+    /// Neither order is defined: after one event the other is no longer possible (e.g. sensors of
+    /// exclusive part types). If both still happen, the model cannot follow.
+    Exclusive,
+    /// Only one order is defined: the other order is refused by the loop.
+    OneOrder,
+    /// Both orders are defined but end in different states.
+    Diverging,
+}
+
+impl Shape {
+    /// The name reports print.
+    pub fn name(self) -> &'static str {
+        match self {
+            Shape::Chain => "chain",
+            Shape::Exclusive => "exclusive",
+            Shape::OneOrder => "one-order",
+            Shape::Diverging => "diverging",
+        }
+    }
+}
+
 /// One occurrence of a problem.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Finding {
@@ -48,6 +74,8 @@ pub struct Finding {
     pub events: Vec<String>,
     /// A shortest trace from the initial state to [`Finding::state`].
     pub trace: Vec<String>,
+    /// How the diamond fails ([`Shape::Chain`] for avalanche).
+    pub shape: Shape,
     /// What goes wrong, e.g. `a·b reaches 1, b·a is undefined`.
     pub detail: String,
 }

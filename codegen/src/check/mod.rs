@@ -21,7 +21,7 @@ mod scope;
 #[cfg(test)]
 mod testing;
 
-pub use finding::{Finding, Problem};
+pub use finding::{Finding, Problem, Shape};
 pub use scope::{scopes, Scope};
 
 use crate::model::Automaton;

@@ -1,11 +1,16 @@
 //! Command-line interface: the argument structure (clap derive) and the dispatch to one module per
 //! subcommand.
 
+mod check;
 mod convert;
 mod dot;
 mod emit;
 mod inspect;
 mod pack;
+mod plant;
+mod run;
+mod set;
+mod synth;
 
 use std::error::Error as StdError;
 use std::process::ExitCode;
@@ -32,7 +37,11 @@ enum Command {
     Convert(convert::Args),
     Dot(dot::Args),
     Pack(pack::Args),
+    Check(check::Args),
     Emit(emit::Args),
+    Synth(synth::Args),
+    Plant(plant::Args),
+    Run(run::Args),
 }
 
 /// Runs the chosen subcommand; `Ok` carries its exit status (0, or 1 when a check failed).
@@ -42,7 +51,11 @@ pub fn run(cli: Cli) -> Result<ExitCode, Error> {
         Command::Convert(args) => convert::run(args),
         Command::Dot(args) => dot::run(args),
         Command::Pack(args) => pack::run(args),
+        Command::Check(args) => check::run(args),
         Command::Emit(args) => emit::run(args),
+        Command::Synth(args) => synth::run(args),
+        Command::Plant(args) => plant::run(args),
+        Command::Run(args) => run::run(args),
     }
 }
 

@@ -4,10 +4,10 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use codegen::formats::read_path;
-use codegen::model::Automaton;
-use codegen::pack::{report::Report, Layout, PackSet};
+use codegen::pack::{comparison::modular_and_monolithic, report::Report, Layout, PackSet};
+use codegen::synth::Config;
 
+use super::set::ClosedLoop;
 use super::Error;
 
 /// Report the size of a supervisor set in every table layout.
@@ -18,12 +18,20 @@ use super::Error;
 /// memory-safe columns.
 #[derive(Debug, clap::Args)]
 pub struct Args {
+    /// Project manifest (TOML): its plants and its supervisors (listed, else synthesised local modular
+    /// from its specifications, which also give the modular and monolithic rows).
+    #[arg(required_unless_present = "plants", conflicts_with_all = ["plants", "supervisors", "specs"])]
+    manifest: Option<PathBuf>,
     /// Plant model files, in order (their events are numbered first).
-    #[arg(long = "plant", num_args = 1.., required = true)]
+    #[arg(long = "plant", num_args = 1..)]
     plants: Vec<PathBuf>,
     /// Supervisor model files, in order.
     #[arg(long = "sup", num_args = 1..)]
     supervisors: Vec<PathBuf>,
+    /// Specification model files: with them the report adds the paper's columns for the modular and
+    /// monolithic supervisors, synthesised from the plants and these specifications.
+    #[arg(long = "spec", num_args = 1..)]
+    specs: Vec<PathBuf>,
     /// Report only this layout (memory-safe, offset or compact).
     #[arg(long, value_parser = parse_layout)]
     layout: Option<Layout>,
@@ -40,23 +48,23 @@ fn parse_layout(name: &str) -> Result<Layout, String> {
     })
 }
 
-/// Every automaton of every file, in order.
-fn read_all(files: &[PathBuf]) -> Result<Vec<Automaton>, Error> {
-    let mut out = Vec::new();
-    for f in files {
-        out.extend(read_path(f)?);
-    }
-    Ok(out)
-}
-
 /// Runs `pack`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
-    let set = PackSet::new(read_all(&args.plants)?, read_all(&args.supervisors)?)?;
+    let closed = match &args.manifest {
+        Some(path) => ClosedLoop::from_manifest(path)?,
+        None => ClosedLoop::from_files(&args.plants, &args.specs, &args.supervisors)?,
+    };
+    let set = PackSet::new(closed.plants.clone(), closed.supervisors)?;
+    let comparisons = if closed.specs.is_empty() {
+        Vec::new()
+    } else {
+        modular_and_monolithic(&closed.plants, &closed.specs, set.events().len(), &Config::default())
+    };
     let layouts: Vec<Layout> = match args.layout {
         Some(l) => vec![l],
         None => Layout::ALL.to_vec(),
     };
-    let report = Report::new(set, &layouts, Vec::new());
+    let report = Report::new(set, &layouts, comparisons);
     let mut out = std::io::stdout().lock();
     if args.json {
         // Serialised first so a closed pipe surfaces as an io::Error, which `main` treats as success.

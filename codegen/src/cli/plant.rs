@@ -47,8 +47,12 @@ pub struct RunArgs {
     /// Races: chance (per mille) that the plant answers a command at once, racing the next decision.
     #[arg(long, value_name = "PER_MILLE", default_value_t = 100)]
     pub race: u32,
+    /// Steering: chance (per mille) that the plant picks the event that brings the closed loop nearest
+    /// to a supervisor transition not covered yet.
+    #[arg(long, value_name = "PER_MILLE", default_value_t = 600)]
+    pub guide: u32,
     /// Delay before each plant event, in microseconds: MIN..MAX (uniform).
-    #[arg(long, value_name = "MIN..MAX", value_parser = parse_delay, default_value = "0..400")]
+    #[arg(long, value_name = "MIN..MAX", value_parser = parse_delay, default_value = "0..100")]
     pub delay_us: Delay,
     /// Print the report as JSON (schema version in its `schema` field).
     #[arg(long)]
@@ -90,15 +94,15 @@ impl RunArgs {
     /// The closed-loop options, with the manifest's seed unless `--seed` overrides it.
     pub fn options(&self, manifest_seed: u64) -> Options {
         Options {
-            events: self.events,
             plant: PlantConfig {
                 seed: self.seed.unwrap_or(manifest_seed),
                 delay_us: (self.delay_us.0, self.delay_us.1),
                 burst_per_mille: self.burst.per_mille,
                 burst_max: self.burst.max,
                 race_per_mille: self.race,
+                guide_per_mille: self.guide,
             },
-            ..Options::default()
+            ..Options::for_events(self.events)
         }
     }
 }
@@ -109,7 +113,7 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     let options = args.run.options(project.runtime.seed);
     let mut link = args.connect.connect().map_err(|e| format!("connecting to {:?}: {e}", args.connect))?;
     let mut progress = Progress::new(options.events);
-    let report = attach(&mut link, &project.set, &project.name, &options, &mut |r| progress.show(r));
+    let report = attach(&mut link, &project.set, &project.runtime.name, &options, &mut |r| progress.show(r));
     progress.clear();
     finish(&report?, args.run.json)
 }

@@ -30,11 +30,15 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     let scratch = Scratch::new()?;
     let tables = scratch.0.join("tables.rs");
     std::fs::write(&tables, project.emit()?).map_err(|e| format!("{}: {e}", tables.display()))?;
-    eprintln!("codegen run: building the {} firmware for QEMU", project.name);
+    eprintln!("codegen run: building the {} firmware for QEMU", project.runtime.name);
     let elf = build_qemu_image(&tables, &scratch.0.join("firmware.elf"))?;
-    eprintln!("codegen run: closed loop under QEMU for {} events, plant seed {}", options.events, options.plant.seed);
+    eprintln!(
+        "codegen run: closed loop under QEMU for {} events, plant seed {}",
+        options.events, options.plant.seed
+    );
     let mut progress = Progress::new(options.events);
-    let report = run_under_qemu(&elf, &project.set, &project.name, &options, &mut |r| progress.show(r));
+    let report =
+        run_under_qemu(&elf, &project.set, &project.runtime.name, &options, &mut |r| progress.show(r));
     progress.clear();
     finish(&report?, args.run.json)
 }

@@ -3,8 +3,10 @@
 
 use std::fmt;
 
-/// A choice policy of the runtime (`firmware::choice`); `random-local-queue` is the default.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+/// A choice policy of the runtime (`firmware::choice`); `random-local-queue` is the default. Also the
+/// manifest's `[runtime] policy`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum Policy {
     /// Lowest enabled event id.
     First,
@@ -57,7 +59,7 @@ impl Policy {
             Policy::GlobalQueue => 1,
             Policy::RandomGlobalQueue => 4 * words,
             Policy::LocalQueue => 1 + sites,
-            Policy::RandomLocalQueue => 4 + 4 * words * sites,
+            Policy::RandomLocalQueue => 4 * words * sites,
         }
     }
 
@@ -80,8 +82,9 @@ impl fmt::Display for Policy {
     }
 }
 
-/// The reaction to a fault (`firmware::fault::FaultPolicy`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+/// The reaction to a fault (`firmware::fault::FaultPolicy`); the manifest's `[runtime] on_fault`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum OnFault {
     /// Count, report, keep deciding.
     #[default]
@@ -124,7 +127,9 @@ pub struct Options {
     /// Input buffer capacity in events.
     pub input_buffer: usize,
     /// Random draws between two reseeds (0: never).
-    pub reseed_every: u32,
+    pub reseed_every: u16,
+    /// Pin map for a real board (`[board]`); without it the board tables are empty.
+    pub board: Option<super::BoardSpec>,
 }
 
 impl Default for Options {
@@ -137,6 +142,7 @@ impl Default for Options {
             on_fault: OnFault::default(),
             input_buffer: 32,
             reseed_every: 1024,
+            board: None,
         }
     }
 }

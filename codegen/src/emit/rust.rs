@@ -6,13 +6,15 @@ use std::fmt::Write as _;
 use crate::pack::offset::{Packed, NAME as LAYOUT};
 use crate::pack::Role;
 
+use super::board::{BoardSpec, SamplingSpec};
 use super::options::{Options, Policy};
 use super::provenance::Provenance;
 use super::side::{EmitError, SideTables};
 
 /// Rust source for `firmware`'s applications (`include!`d inside a module): constants `NAME`,
 /// `EVENT_WORDS`, `AUTOMATA`, `SITES`, `INPUT_SLOTS`, `SEED`, `CONFIG`, the type `Policy`, a module
-/// `event` with one `u8` constant per event, and the `static SET: firmware::table::SupervisorSet`.
+/// `event` with one `u8` constant per event, the `static SET: firmware::table::SupervisorSet`, and the
+/// board tables `BOARD`, `INPUT_PINS`, `INPUT_PULLS`, `OUTPUT_PINS` (empty without a `[board]`).
 /// Deterministic: the same arguments give the same bytes.
 pub fn emit(packed: &Packed, options: &Options, provenance: &Provenance) -> Result<String, EmitError> {
     let side = SideTables::of(packed)?;
@@ -22,6 +24,15 @@ pub fn emit(packed: &Packed, options: &Options, provenance: &Provenance) -> Resu
     let mut out = String::new();
     header(&mut out, packed, &side, options, provenance);
     body(&mut out, packed, &side, options);
+    let none = BoardSpec {
+        name: String::from("none"),
+        sampling: SamplingSpec::Interrupt,
+        sample_period_us: None,
+        inputs: Vec::new(),
+        outputs: Vec::new(),
+    };
+    out.push('\n');
+    out.push_str(&options.board.as_ref().unwrap_or(&none).rust(packed)?);
     Ok(out)
 }
 

@@ -27,6 +27,9 @@ pub enum EmitError {
         /// Event name.
         event: String,
     },
+    /// The `[board]` section does not fit the set.
+    #[error(transparent)]
+    Board(#[from] super::BoardError),
     /// The input buffer capacity is 0 or too large for the firmware's queue.
     #[error("input buffer of {capacity} events: it must hold 1 to 65535")]
     InputBuffer {

@@ -1,6 +1,7 @@
-//! Which controllable transitions of each supervisor the closed loop can take, and which it took.
+//! Which controllable transitions of each supervisor the closed loop can take, which it took, and how
+//! far the closed loop is from one it has not taken yet.
 
-use std::collections::{BTreeSet, HashMap};
+use std::collections::{BTreeSet, HashMap, VecDeque};
 
 use crate::model::EventId;
 use crate::plant::Composition;
@@ -8,7 +9,7 @@ use crate::plant::Composition;
 /// A supervisor transition, as (local source state, global event id).
 pub type Edge = (u32, u32);
 
-/// The closed loop has more reachable states than [`reachable_controllable`] was allowed to visit.
+/// The closed loop has more reachable states than [`Graph::explore`] was allowed to visit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
 #[error("closed loop exceeds the exploration limit of {limit} states")]
 pub struct TooLarge {
@@ -16,42 +17,120 @@ pub struct TooLarge {
     pub limit: usize,
 }
 
-/// For every member in `supervisors` (indices into `closed`), the controllable transitions it takes in
-/// some reachable state of `closed` (plants ‖ supervisors). A transition counts once per (supervisor
-/// state, event), however many closed-loop states reach it.
-///
-/// Explores breadth first from the initial state and stops with [`TooLarge`] past `limit` states.
-pub fn reachable_controllable(
-    closed: &Composition,
-    supervisors: std::ops::Range<usize>,
-    controllable: &[bool],
-    limit: usize,
-) -> Result<Vec<BTreeSet<Edge>>, TooLarge> {
-    let mut out = vec![BTreeSet::new(); supervisors.len()];
-    let initial = closed.initial();
-    let mut seen: HashMap<Vec<u32>, ()> = HashMap::from([(initial.clone(), ())]);
-    let mut queue = std::collections::VecDeque::from([initial]);
-    while let Some(state) = queue.pop_front() {
-        for e in closed.enabled(&state) {
-            if controllable[e.index()] {
+/// The reachable part of a composition, explicit: states numbered in breadth-first order from the
+/// initial state (number 0), with their outgoing transitions.
+#[derive(Clone, Debug)]
+pub struct Graph {
+    index: HashMap<Vec<u32>, u32>,
+    states: Vec<Vec<u32>>,
+    /// Per state: `(global event, target state number)`.
+    out: Vec<Vec<(u32, u32)>>,
+}
+
+impl Graph {
+    /// Explores `closed` breadth first from its initial state; stops with [`TooLarge`] past `limit`
+    /// states.
+    pub fn explore(closed: &Composition, limit: usize) -> Result<Graph, TooLarge> {
+        let initial = closed.initial();
+        let mut g =
+            Graph { index: HashMap::from([(initial.clone(), 0)]), states: vec![initial], out: Vec::new() };
+        let mut next = 0;
+        while next < g.states.len() {
+            let state = g.states[next].clone();
+            let mut out = Vec::new();
+            for e in closed.enabled(&state) {
+                let mut target = state.clone();
+                closed.step(&mut target, e);
+                let id = match g.index.get(&target) {
+                    Some(&id) => id,
+                    None => {
+                        if g.states.len() >= limit {
+                            return Err(TooLarge { limit });
+                        }
+                        let id = g.states.len() as u32;
+                        g.index.insert(target.clone(), id);
+                        g.states.push(target);
+                        id
+                    }
+                };
+                out.push((e.as_u32(), id));
+            }
+            g.out.push(out);
+            next += 1;
+        }
+        Ok(g)
+    }
+
+    /// Number of reachable states.
+    pub fn len(&self) -> usize {
+        self.states.len()
+    }
+
+    /// Whether the graph is empty (never: the initial state is always there).
+    pub fn is_empty(&self) -> bool {
+        self.states.is_empty()
+    }
+
+    /// The number of `state`, when it is reachable.
+    pub fn id(&self, state: &[u32]) -> Option<u32> {
+        self.index.get(state).copied()
+    }
+
+    /// The state reached from state number `from` by `event`, if any.
+    pub fn next(&self, from: u32, event: EventId) -> Option<u32> {
+        let out = self.out.get(from as usize)?;
+        out.iter().find(|&&(e, _)| e == event.as_u32()).map(|&(_, t)| t)
+    }
+
+    /// For every member in `supervisors` (indices into `closed`, which the graph explored), the
+    /// controllable transitions it takes in some reachable state. A transition counts once per
+    /// (supervisor state, event), however many closed-loop states reach it.
+    pub fn controllable_edges(
+        &self,
+        closed: &Composition,
+        supervisors: std::ops::Range<usize>,
+        controllable: &[bool],
+    ) -> Vec<BTreeSet<Edge>> {
+        let mut out = vec![BTreeSet::new(); supervisors.len()];
+        for (state, edges) in self.states.iter().zip(&self.out) {
+            for &(e, _) in edges.iter().filter(|&&(e, _)| controllable[e as usize]) {
                 for (k, i) in supervisors.clone().enumerate() {
-                    if closed.has_event(i, e) {
-                        out[k].insert((state[i], e.as_u32()));
+                    if closed.has_event(i, EventId::from_u32(e)) {
+                        out[k].insert((state[i], e));
                     }
                 }
             }
-            let mut next = state.clone();
-            closed.step(&mut next, e);
-            if !seen.contains_key(&next) {
-                if seen.len() >= limit {
-                    return Err(TooLarge { limit });
-                }
-                seen.insert(next.clone(), ());
-                queue.push_back(next);
+        }
+        out
+    }
+
+    /// Per state number: the fewest events to a state where `wanted` holds for one of its transitions
+    /// (`u32::MAX` when none can be reached). Breadth first over the reversed transitions.
+    pub fn distances(&self, wanted: impl Fn(&[u32], u32) -> bool) -> Vec<u32> {
+        let mut into: Vec<Vec<u32>> = vec![Vec::new(); self.states.len()];
+        for (s, edges) in self.out.iter().enumerate() {
+            for &(_, t) in edges {
+                into[t as usize].push(s as u32);
             }
         }
+        let mut dist = vec![u32::MAX; self.states.len()];
+        let mut queue = VecDeque::new();
+        for (s, (state, edges)) in self.states.iter().zip(&self.out).enumerate() {
+            if edges.iter().any(|&(e, _)| wanted(state, e)) {
+                dist[s] = 0;
+                queue.push_back(s as u32);
+            }
+        }
+        while let Some(s) = queue.pop_front() {
+            for &p in &into[s as usize] {
+                if dist[p as usize] == u32::MAX {
+                    dist[p as usize] = dist[s as usize] + 1;
+                    queue.push_back(p);
+                }
+            }
+        }
+        dist
     }
-    Ok(out)
 }
 
 /// Controllable supervisor transitions taken during a run.
@@ -67,14 +146,22 @@ impl Taken {
     }
 
     /// Records command `event` taken in closed-loop `state`, for every supervisor (members from
-    /// `first_supervisor` on) holding it.
-    pub fn record(&mut self, closed: &Composition, first_supervisor: usize, state: &[u32], event: EventId) {
+    /// `first_supervisor` on) holding it; returns whether any of them took a transition for the first time.
+    pub fn record(
+        &mut self,
+        closed: &Composition,
+        first_supervisor: usize,
+        state: &[u32],
+        event: EventId,
+    ) -> bool {
+        let mut new = false;
         for (k, set) in self.edges.iter_mut().enumerate() {
             let i = first_supervisor + k;
             if closed.has_event(i, event) {
-                set.insert((state[i], event.as_u32()));
+                new |= set.insert((state[i], event.as_u32()));
             }
         }
+        new
     }
 
     /// The transitions taken by supervisor `k`.
@@ -90,15 +177,21 @@ mod tests {
     use crate::plant::composition::tests::{automaton, machine};
 
     #[test]
-    fn only_transitions_the_closed_loop_reaches_count() {
+    fn only_transitions_the_closed_loop_reaches_count_and_distances_lead_to_them() {
         let m = machine("M", "a", "b");
         // The supervisor allows `a` from its state 0 and, in a state the loop never reaches, `a` again.
         let s = automaton("S", Kind::Supervisor, 3, &[0], &["a"], &[(0, "a", 1), (1, "b", 0), (2, "a", 0)]);
         let table = EventTable::build([&m, &s]).unwrap();
         let closed = Composition::new(&[&m, &s], &table).unwrap();
         let controllable: Vec<_> = table.ids().map(|e| table.is_controllable(e)).collect();
-        let r = reachable_controllable(&closed, 1..2, &controllable, 100).unwrap();
-        assert_eq!(r, [BTreeSet::from([(0, table.id("a").unwrap().as_u32())])]);
-        assert_eq!(reachable_controllable(&closed, 1..2, &controllable, 1), Err(TooLarge { limit: 1 }));
+        let g = Graph::explore(&closed, 100).unwrap();
+        assert_eq!(g.len(), 2);
+        let a = table.id("a").unwrap();
+        assert_eq!(g.controllable_edges(&closed, 1..2, &controllable), [BTreeSet::from([(0, a.as_u32())])]);
+        assert_eq!(Graph::explore(&closed, 1).unwrap_err(), TooLarge { limit: 1 });
+        let d = g.distances(|_, e| e == a.as_u32());
+        assert_eq!(d, [0, 1]);
+        assert_eq!(g.next(0, a), Some(1));
+        assert_eq!(g.id(&[1, 1]), Some(1));
     }
 }

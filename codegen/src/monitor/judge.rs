@@ -2,7 +2,7 @@
 
 use std::collections::{BTreeSet, VecDeque};
 
-use super::coverage::{reachable_controllable, Taken};
+use super::coverage::{Edge, Graph, Taken};
 use super::report::{CoverageLine, FirmwareCounters, Report};
 use crate::model::{Automaton, EventId, EventTable, ModelError};
 use crate::plant::Composition;
@@ -64,8 +64,11 @@ pub struct Monitor {
     first_unread: u64,
     sent: u64,
     window_us: u64,
-    reachable: Option<Vec<BTreeSet<(u32, u32)>>>,
+    graph: Option<Graph>,
+    reachable: Option<Vec<BTreeSet<Edge>>>,
     taken: Taken,
+    /// Per closed-loop state number: events to the nearest transition not taken yet (empty: stale).
+    distance: Vec<u32>,
     report: Report,
     gap: u64,
 }
@@ -82,7 +85,8 @@ impl Monitor {
         let closed = Composition::new(&all, table)?;
         let controllable: Vec<bool> = table.ids().map(|e| table.is_controllable(e)).collect();
         let sups = plants.len()..all.len();
-        let reachable = reachable_controllable(&closed, sups.clone(), &controllable, EXPLORATION_LIMIT).ok();
+        let graph = Graph::explore(&closed, EXPLORATION_LIMIT).ok();
+        let reachable = graph.as_ref().map(|g| g.controllable_edges(&closed, sups.clone(), &controllable));
         let physical = closed.initial();
         let mut report = Report {
             coverage: supervisors
@@ -107,8 +111,10 @@ impl Monitor {
             first_unread: 0,
             sent: 0,
             window_us,
+            graph,
             reachable,
             taken: Taken::new(supervisors.len()),
+            distance: Vec::new(),
             report,
             gap: 0,
             closed,
@@ -160,7 +166,9 @@ impl Monitor {
             return self.violation(format!("command '{name}' disabled by {refusers}"));
         }
         let verdict = if self.closed.allows(&self.physical, event) {
-            self.taken.record(&self.closed, self.plants, &self.physical, event);
+            if self.taken.record(&self.closed, self.plants, &self.physical, event) {
+                self.distance.clear();
+            }
             self.closed.step(&mut self.physical, event);
             self.views = views;
             Verdict::Ok
@@ -184,6 +192,27 @@ impl Monitor {
         self.forget_read();
         self.after_event();
         verdict
+    }
+
+    /// How many events the closed loop would be, after the plant's `event` in the current state, from
+    /// the nearest reachable controllable supervisor transition not taken yet; `None` when no such
+    /// transition is left (or the closed loop was too large to explore). The plant uses it to steer
+    /// towards what the run has not covered.
+    pub fn distance_after(&mut self, event: EventId) -> Option<u32> {
+        let graph = self.graph.as_ref()?;
+        if self.distance.is_empty() {
+            let (closed, taken, plants, controllable) =
+                (&self.closed, &self.taken, self.plants, &self.controllable);
+            self.distance = graph.distances(|state, e| {
+                controllable[e as usize]
+                    && (plants..closed.len()).any(|i| {
+                        closed.has_event(i, EventId::from_u32(e))
+                            && !taken.of(i - plants).contains(&(state[i], e))
+                    })
+            });
+        }
+        let next = graph.next(graph.id(&self.physical)?, event)?;
+        self.distance.get(next as usize).copied().filter(|&d| d != u32::MAX)
     }
 
     /// The link was reset: plant, controller and monitor are back in the initial state.
@@ -265,6 +294,9 @@ impl Monitor {
         for (k, line) in self.report.coverage.iter_mut().enumerate() {
             line.taken = self.taken.of(k).len();
         }
+        if self.report.full_coverage_at.is_none() && self.report.full_coverage() {
+            self.report.full_coverage_at = Some(self.report.events);
+        }
     }
 
     fn violation(&mut self, message: String) -> Verdict {
@@ -283,17 +315,19 @@ impl Monitor {
         self.names.get(event.index()).map_or("?", String::as_str)
     }
 
-    /// Controllable supervisor transitions reachable in the closed loop but not taken yet, as
-    /// `(supervisor, state index, event name)` (empty when the closed loop was too large to explore).
-    pub fn untaken(&self) -> Vec<(String, u32, String)> {
-        let Some(reachable) = &self.reachable else { return Vec::new() };
+    /// Lists the reachable controllable supervisor transitions not taken (the first few) in the report;
+    /// call once the run is over.
+    pub fn list_uncovered(&mut self) {
+        let Some(reachable) = &self.reachable else { return };
         let mut out = Vec::new();
         for (k, edges) in reachable.iter().enumerate() {
-            for &(s, e) in edges.difference(self.taken.of(k)) {
-                out.push((self.closed.name(self.plants + k).to_owned(), s, self.names[e as usize].clone()));
+            let sup = self.plants + k;
+            for &(s, e) in edges.difference(self.taken.of(k)).take(MAX_FINDINGS.saturating_sub(out.len())) {
+                let state = self.closed.state_name(sup, s);
+                out.push(format!("{}: {state} --{}-->", self.closed.name(sup), self.names[e as usize]));
             }
         }
-        out
+        self.report.uncovered = out;
     }
 }
 
@@ -343,7 +377,8 @@ mod tests {
         assert_eq!(r.coverage[0].reachable, Some(2));
         assert_eq!(r.marked_visits, 3, "all idle and the buffer empty after each b2");
         assert_eq!(r.longest_marked_gap, 3);
-        assert!(m.untaken().is_empty());
+        m.list_uncovered();
+        assert!(m.report().uncovered.is_empty());
     }
 
     #[test]

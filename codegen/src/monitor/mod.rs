@@ -18,6 +18,6 @@ mod coverage;
 mod judge;
 mod report;
 
-pub use coverage::{reachable_controllable, Edge, Taken, TooLarge};
+pub use coverage::{Edge, Graph, Taken, TooLarge};
 pub use judge::{Monitor, Verdict};
 pub use report::{CoverageLine, FirmwareCounters, Report, SCHEMA};

@@ -86,6 +86,11 @@ pub struct Report {
     pub marked_at_end: bool,
     /// Per supervisor: controllable transitions taken / reachable.
     pub coverage: Vec<CoverageLine>,
+    /// The event count at which every reachable controllable supervisor transition had been taken.
+    pub full_coverage_at: Option<u64>,
+    /// Reachable controllable supervisor transitions not taken, as `supervisor: state --event-->`
+    /// (the first few).
+    pub uncovered: Vec<String>,
     /// Input-buffer overflows the firmware reported.
     pub overflows: u64,
     /// Events sent that the firmware neither took nor reported as overflow (lost silently).
@@ -169,11 +174,18 @@ impl fmt::Display for Report {
             self.garbled
         )?;
         let width = self.coverage.iter().map(|c| c.supervisor.len()).max().unwrap_or(0).max(10);
-        writeln!(f, "  coverage  {:<width$}  taken / reachable", "supervisor")?;
+        match self.full_coverage_at {
+            Some(n) => writeln!(f, "  coverage  complete after {n} events")?,
+            None => writeln!(f, "  coverage  incomplete")?,
+        }
+        writeln!(f, "            {:<width$}  taken / reachable", "supervisor")?;
         for c in &self.coverage {
             let reachable = c.reachable.map_or_else(|| "?".to_owned(), |r| r.to_string());
             let mark = if c.reachable == Some(c.taken) { "" } else { "  (incomplete)" };
             writeln!(f, "            {:<width$}  {:>5} / {reachable}{mark}", c.supervisor, c.taken)?;
+        }
+        for u in &self.uncovered {
+            writeln!(f, "            not taken: {u}")?;
         }
         Ok(())
     }

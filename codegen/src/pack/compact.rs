@@ -231,6 +231,21 @@ mod tests {
 
     proptest::proptest! {
         #[test]
+        fn corrupted_streams_never_panic(set in arb_set(20), edits in proptest::collection::vec((0usize..4096, proptest::num::u8::ANY), 1..6)) {
+            let mut packed = encode(&set).unwrap();
+            for b in &mut packed.automata {
+                crate::pack::testing::corrupt(&mut b.block, &edits);
+                crate::pack::testing::corrupt(&mut b.directory, &edits);
+                crate::pack::testing::corrupt(&mut b.alphabet, &edits);
+            }
+            // Corruption is either reported or still decodes to valid automata; it never panics.
+            if let Ok(automata) = decode(&packed) {
+                for a in automata {
+                    proptest::prop_assert_eq!(a.validate(), Ok(()));
+                }
+            }
+        }
+        #[test]
         fn random_sets_round_trip_and_size_formula(set in arb_set(40)) {
             let packed = encode(&set).unwrap();
             assert_round_trip(&set, &decode(&packed).unwrap());

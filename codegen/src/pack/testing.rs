@@ -86,3 +86,14 @@ pub fn arb_set(max_states: usize) -> impl Strategy<Value = PackSet> {
         (plants, sups).prop_map(|(p, s)| PackSet::new(p, s).unwrap())
     })
 }
+
+/// Flips bytes of `bytes` at the given (wrapped) positions to the given values.
+pub fn corrupt(bytes: &mut [u8], edits: &[(usize, u8)]) {
+    if bytes.is_empty() {
+        return;
+    }
+    let len = bytes.len();
+    for &(at, v) in edits {
+        bytes[at % len] = v;
+    }
+}

@@ -41,6 +41,17 @@ impl Default for Options {
     }
 }
 
+impl Options {
+    /// The default options for a run of `events` events, with QEMU's deadline stretched to match: one
+    /// minute plus 10 ms per event (a floor of 100 events per second, well below what the loop sustains).
+    pub fn for_events(events: u64) -> Self {
+        let mut options = Options { events, ..Options::default() };
+        options.qemu.timeout = Duration::from_secs(60)
+            + Duration::from_millis(10).saturating_mul(u32::try_from(events).unwrap_or(u32::MAX));
+        options
+    }
+}
+
 /// A closed-loop run failed (as opposed to finding violations, which are in its report).
 #[derive(Debug, thiserror::Error)]
 pub enum ClosedLoopError {

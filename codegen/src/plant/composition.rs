@@ -15,6 +15,7 @@ struct Member {
     delta: Vec<Vec<(u32, u32)>>,
     marked: Vec<bool>,
     initial: u32,
+    state_names: Vec<String>,
 }
 
 /// Automata composed over one [`EventTable`]; see the module documentation.
@@ -75,6 +76,7 @@ impl Composition {
                 delta,
                 marked: a.states.iter().map(|s| s.marked).collect(),
                 initial: initial.as_u32(),
+                state_names: a.states.iter().map(|s| s.name.clone()).collect(),
             });
         }
         Ok(Composition {
@@ -102,6 +104,11 @@ impl Composition {
     /// The name of member `i`.
     pub fn name(&self, i: usize) -> &str {
         &self.names[i]
+    }
+
+    /// The name of local state `state` of member `i`.
+    pub fn state_name(&self, i: usize, state: u32) -> &str {
+        self.members[i].state_names.get(state as usize).map_or("?", String::as_str)
     }
 
     /// The initial state: every member in its initial state.

@@ -11,6 +11,7 @@
 pub mod closed_loop;
 pub(crate) mod composition;
 pub mod image;
+pub mod project;
 mod rng;
 pub mod session;
 mod simulator;

@@ -168,6 +168,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         self.hold_and_collect(true)?;
         let seconds = self.start.elapsed().as_secs_f64();
         let garbled = self.garbled;
+        self.monitor.list_uncovered();
         let report = self.monitor.report_mut();
         report.garbled = garbled;
         report.finish(seconds);
@@ -182,7 +183,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         let mut bytes = Vec::with_capacity(n + 1);
         let t = self.micros();
         while bytes.len() < n {
-            let Some(e) = self.plant.emit_one() else { break };
+            let Some(e) = self.plant.emit_one(|_| None) else { break };
             self.monitor.uncontrollable(e, t);
             bytes.push(e.as_u32() as u8);
         }
@@ -198,18 +199,23 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
     }
 
     fn emit(&mut self) -> Result<(), SessionError> {
-        let events = self.plant.emit();
-        if events.is_empty() {
+        let len = self.plant.burst_len();
+        let t = self.micros();
+        let mut bytes = Vec::with_capacity(len);
+        let mut violated = false;
+        while bytes.len() < len && !violated {
+            let monitor = &mut *self.monitor;
+            let Some(e) = self.plant.emit_one(|e| monitor.distance_after(e)) else { break };
+            bytes.push(e.as_u32() as u8);
+            violated = self.monitor.uncontrollable(e, t) == Verdict::Violation;
+        }
+        if bytes.is_empty() {
             self.next_emit = None;
             return Ok(());
         }
-        let bytes: Vec<u8> = events.iter().map(|e| e.as_u32() as u8).collect();
         self.link.send(&bytes)?;
-        let t = self.micros();
-        for e in events {
-            if self.monitor.uncontrollable(e, t) == Verdict::Violation {
-                return self.sync(true);
-            }
+        if violated {
+            return self.sync(true);
         }
         self.last_activity = Instant::now();
         self.next_emit = Some(Instant::now() + Duration::from_micros(self.plant.next_delay_us(false)));

@@ -19,11 +19,21 @@ pub struct PlantConfig {
     /// Chance (per mille) that the plant answers a command at once instead of after a delay, so its event
     /// races the controller's next decision (inexact synchronisation).
     pub race_per_mille: u32,
+    /// Chance (per mille) that the plant picks its next event by the rank the caller gives (the monitor's
+    /// distance to a transition not covered yet) rather than by its activities' durations.
+    pub guide_per_mille: u32,
 }
 
 impl Default for PlantConfig {
     fn default() -> Self {
-        PlantConfig { seed: 1, delay_us: (0, 400), burst_per_mille: 100, burst_max: 4, race_per_mille: 100 }
+        PlantConfig {
+            seed: 1,
+            delay_us: (0, 100),
+            burst_per_mille: 100,
+            burst_max: 4,
+            race_per_mille: 100,
+            guide_per_mille: 600,
+        }
     }
 }
 
@@ -74,7 +84,15 @@ pub struct VirtualPlant {
     state: Vec<u32>,
     rng: Rng,
     config: PlantConfig,
+    /// Plant time, in emitted events.
+    clock: u64,
+    /// Per global event: when the uncontrollable event, enabled since some time, is due.
+    due: Vec<Option<u64>>,
 }
+
+/// Longest activity duration, in plant events, as a power of two: a duration is drawn uniformly below
+/// `2^k` with `k` itself uniform in `0..=MAX_SCALE_LOG2`, so short and long activities mix.
+const MAX_SCALE_LOG2: u64 = 5;
 
 impl VirtualPlant {
     /// A plant made of `plants` over the global numbering of `table`, in its initial state.
@@ -86,6 +104,8 @@ impl VirtualPlant {
             controllable: table.ids().map(|e| table.is_controllable(e)).collect(),
             names: table.ids().map(|e| table.name(e).to_owned()).collect(),
             rng: Rng::new(config.seed),
+            clock: 0,
+            due: vec![None; table.len()],
             config,
         })
     }
@@ -109,6 +129,7 @@ impl VirtualPlant {
     /// Back to the initial state (the random stream goes on: a reset is part of the run).
     pub fn reset(&mut self) {
         self.state = self.plants.initial();
+        self.due.fill(None);
     }
 
     /// Takes a command from the controller when it is a controllable event the plant can take now.
@@ -135,14 +156,10 @@ impl VirtualPlant {
     /// burst of several, each enabled after the ones before it. Empty when no uncontrollable event is
     /// possible.
     pub fn emit(&mut self) -> Vec<EventId> {
-        let len = if self.config.burst_max >= 2 && self.rng.chance(self.config.burst_per_mille) {
-            self.rng.between(2, self.config.burst_max as u64) as usize
-        } else {
-            1
-        };
+        let len = self.burst_len();
         let mut out = Vec::with_capacity(len);
         while out.len() < len {
-            match self.emit_one() {
+            match self.emit_one(|_| None) {
                 Some(e) => out.push(e),
                 None => break,
             }
@@ -150,13 +167,46 @@ impl VirtualPlant {
         out
     }
 
-    /// Produces and takes one uncontrollable event, drawn uniformly among those possible now.
-    pub fn emit_one(&mut self) -> Option<EventId> {
-        let enabled = self.enabled_uncontrollable();
-        if enabled.is_empty() {
-            return None;
+    /// How many events the next emission holds: 1, or with the configured chance a burst of 2 or more.
+    pub fn burst_len(&mut self) -> usize {
+        if self.config.burst_max >= 2 && self.rng.chance(self.config.burst_per_mille) {
+            self.rng.between(2, self.config.burst_max as u64) as usize
+        } else {
+            1
         }
-        let e = enabled[self.rng.below(enabled.len() as u64) as usize];
+    }
+
+    /// Produces and takes one uncontrollable event: the one due first among those possible now.
+    ///
+    /// Each uncontrollable event is an activity of the plant (a machine working, a part travelling):
+    /// when it becomes possible it gets a random duration, counted in plant events, drawn from a mix of
+    /// short and long scales; the first to finish happens. So a long machining can see several parts
+    /// arrive and leave, which a uniform draw at each step would almost never produce. Ties go to the
+    /// lower event id. With the configured chance, `rank` decides first (lowest rank wins; `None` ranks
+    /// last).
+    pub fn emit_one(&mut self, mut rank: impl FnMut(EventId) -> Option<u32>) -> Option<EventId> {
+        let enabled = self.enabled_uncontrollable();
+        let mut possible = vec![false; self.due.len()];
+        for &e in &enabled {
+            possible[e.index()] = true;
+            if self.due[e.index()].is_none() {
+                let scale = 1u64 << self.rng.between(0, MAX_SCALE_LOG2);
+                self.due[e.index()] = Some(self.clock + self.rng.below(scale));
+            }
+        }
+        for (d, p) in self.due.iter_mut().zip(&possible) {
+            if !p {
+                *d = None;
+            }
+        }
+        let guided = self.rng.chance(self.config.guide_per_mille);
+        let e = enabled
+            .into_iter()
+            .map(|e| (if guided { rank(e).unwrap_or(u32::MAX) } else { 0 }, self.due[e.index()], e))
+            .min()?
+            .2;
+        self.due[e.index()] = None;
+        self.clock += 1;
         self.plants.step(&mut self.state, e);
         Some(e)
     }

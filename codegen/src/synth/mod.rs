@@ -26,6 +26,7 @@ pub mod check;
 mod config;
 mod dfa;
 mod error;
+pub mod families;
 pub mod language;
 mod minimize;
 mod product;

@@ -1,0 +1,252 @@
+//! `codegen synth`: synthesise local modular (or monolithic) supervisors and report their sizes.
+
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::Arc;
+
+use codegen::formats::{read_path, write_path};
+use codegen::manifest::Manifest;
+use codegen::model::{Automaton, Kind};
+use codegen::synth::{self, Config, LocalModularResult, Observer, Supervisor};
+use serde_json::json;
+
+use super::Error;
+
+/// Version of the `--json` output; raised when a field changes meaning or disappears.
+const JSON_SCHEMA: u32 = 1;
+
+/// Synthesise supervisors from plants and specifications.
+///
+/// By default: local modular synthesis (one supervisor per specification against the plant subsystems
+/// that share events with it), the conflict check, and the merge of conflicting specifications until the
+/// set is nonconflicting. Prints a table of supervisor, specifications, local plant, states and
+/// transitions with the totals and the conflict verdict. Exit status 1 when the set is left conflicting
+/// (only with --no-merge).
+#[derive(Debug, clap::Args)]
+#[command(group = clap::ArgGroup::new("input").required(true).args(["manifest", "plants"]))]
+pub struct Args {
+    /// Project manifest (TOML) naming the plants and specifications.
+    manifest: Option<PathBuf>,
+    /// Plant subsystem files (instead of a manifest).
+    #[arg(long = "plant", num_args = 1.., requires = "specs")]
+    plants: Vec<PathBuf>,
+    /// Specification files (with --plant).
+    #[arg(long = "spec", num_args = 1..)]
+    specs: Vec<PathBuf>,
+    /// Synthesise the one monolithic supervisor instead.
+    #[arg(long)]
+    monolithic: bool,
+    /// Reduce each supervisor against its (local) plant (Su–Wonham, as TCT supreduce).
+    #[arg(long)]
+    reduce: bool,
+    /// Report conflicting supervisors instead of merging their specifications.
+    #[arg(long)]
+    no_merge: bool,
+    /// Stop when a product or supervisor exceeds this many states.
+    #[arg(long, default_value_t = Config::default().state_limit)]
+    state_limit: usize,
+    /// Print JSON: schema, supervisors (name, specs, plants, states, transitions), nonconflicting, merged,
+    /// total_states, total_transitions.
+    #[arg(long)]
+    json: bool,
+    /// Write every supervisor to DIR/<name>.xmd.
+    #[arg(short = 'o', long = "out", value_name = "DIR")]
+    out: Option<PathBuf>,
+}
+
+/// Spinner on stderr naming the stage and the states built so far.
+struct Progress(indicatif::ProgressBar);
+
+impl Observer for Progress {
+    fn states(&self, what: &str, states: usize) {
+        self.0.set_message(format!("{what}: {states} states"));
+    }
+
+    fn stage(&self, what: &str) {
+        self.0.set_message(what.to_owned());
+    }
+}
+
+fn read_all(files: &[PathBuf], kind: Kind) -> Result<Vec<Automaton>, Error> {
+    let mut out = Vec::new();
+    for f in files {
+        out.extend(read_path(f)?.into_iter().map(|mut a| {
+            a.kind = kind;
+            a
+        }));
+    }
+    Ok(out)
+}
+
+/// One row of the report, with the size before reduction when reduced.
+struct Row {
+    supervisor: Supervisor,
+    unreduced: Option<(usize, usize)>,
+}
+
+/// Runs `synth`.
+pub fn run(args: Args) -> Result<ExitCode, Error> {
+    let (name, plants, specs) = match &args.manifest {
+        Some(path) => {
+            let m = Manifest::load(path)?;
+            let set = m.read_automata()?;
+            (m.name, set.plants, set.specs)
+        }
+        None => {
+            ("synth".to_owned(), read_all(&args.plants, Kind::Plant)?, read_all(&args.specs, Kind::Spec)?)
+        }
+    };
+    if specs.is_empty() {
+        return Err("no specification to synthesise a supervisor for".into());
+    }
+    let bar = std::io::stderr().is_terminal().then(|| {
+        let b = indicatif::ProgressBar::new_spinner();
+        b.enable_steady_tick(std::time::Duration::from_millis(120));
+        b
+    });
+    let cfg = Config {
+        state_limit: args.state_limit,
+        merge_conflicting: !args.no_merge,
+        observer: bar.clone().map(|b| Arc::new(Progress(b)) as Arc<dyn Observer>),
+    };
+    let result = if args.monolithic {
+        let s = synth::monolithic(&plants, &specs, &cfg)?;
+        LocalModularResult { supervisors: vec![s], nonconflicting: true, merged: Vec::new() }
+    } else {
+        synth::local_modular(&plants, &specs, &cfg)?
+    };
+    let (nonconflicting, merged) = (result.nonconflicting, result.merged);
+    let mut rows = Vec::new();
+    for mut s in result.supervisors {
+        let mut unreduced = None;
+        if args.reduce {
+            let local: Vec<Automaton> =
+                plants.iter().filter(|p| s.plants.contains(&p.name)).cloned().collect();
+            cfg.observer.as_ref().inspect(|o| o.stage(&format!("reducing {}", s.automaton.name)));
+            let r = synth::reduce(&local, &s.automaton, &cfg)?;
+            unreduced = Some((s.automaton.states.len(), s.automaton.transitions.len()));
+            s.automaton = r;
+        }
+        rows.push(Row { supervisor: s, unreduced });
+    }
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    if let Some(dir) = &args.out {
+        write_all(dir, &rows)?;
+    }
+    let mut out = std::io::stdout().lock();
+    if args.json {
+        let text = serde_json::to_string_pretty(&to_json(&name, &rows, nonconflicting, &merged))?;
+        writeln!(out, "{text}")?;
+    } else {
+        write_table(&mut out, &rows, nonconflicting, &merged)?;
+    }
+    out.flush()?;
+    Ok(if nonconflicting { ExitCode::SUCCESS } else { ExitCode::from(1) })
+}
+
+fn write_all(dir: &Path, rows: &[Row]) -> Result<(), Error> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    for r in rows {
+        let a = &r.supervisor.automaton;
+        write_path(&dir.join(format!("{}.xmd", a.name)), std::slice::from_ref(a))?;
+    }
+    Ok(())
+}
+
+fn totals(rows: &[Row]) -> (usize, usize) {
+    rows.iter().fold((0, 0), |(s, t), r| {
+        (s + r.supervisor.automaton.states.len(), t + r.supervisor.automaton.transitions.len())
+    })
+}
+
+fn to_json(name: &str, rows: &[Row], nonconflicting: bool, merged: &[Vec<String>]) -> serde_json::Value {
+    let (states, transitions) = totals(rows);
+    let supervisors: Vec<_> = rows
+        .iter()
+        .map(|r| {
+            let a = &r.supervisor.automaton;
+            let mut o = json!({
+                "name": a.name,
+                "specs": r.supervisor.specs,
+                "plants": r.supervisor.plants,
+                "states": a.states.len(),
+                "transitions": a.transitions.len(),
+            });
+            if let Some((s, t)) = r.unreduced {
+                o["unreduced_states"] = json!(s);
+                o["unreduced_transitions"] = json!(t);
+            }
+            o
+        })
+        .collect();
+    json!({
+        "schema": JSON_SCHEMA,
+        "name": name,
+        "supervisors": supervisors,
+        "nonconflicting": nonconflicting,
+        "merged": merged,
+        "total_states": states,
+        "total_transitions": transitions,
+    })
+}
+
+fn write_table(
+    out: &mut impl Write,
+    rows: &[Row],
+    nonconflicting: bool,
+    merged: &[Vec<String>],
+) -> std::io::Result<()> {
+    let reduced = rows.iter().any(|r| r.unreduced.is_some());
+    let mut lines: Vec<[String; 6]> = vec![[
+        "supervisor".into(),
+        "specs".into(),
+        "local plant".into(),
+        "states".into(),
+        "transitions".into(),
+        if reduced { "before reduction".into() } else { String::new() },
+    ]];
+    for r in rows {
+        let a = &r.supervisor.automaton;
+        lines.push([
+            a.name.clone(),
+            r.supervisor.specs.join(","),
+            r.supervisor.plants.join(","),
+            a.states.len().to_string(),
+            a.transitions.len().to_string(),
+            r.unreduced.map(|(s, t)| format!("{s}/{t}")).unwrap_or_default(),
+        ]);
+    }
+    let (states, transitions) = totals(rows);
+    lines.push([
+        "total".into(),
+        String::new(),
+        String::new(),
+        states.to_string(),
+        transitions.to_string(),
+        String::new(),
+    ]);
+    let width: Vec<usize> =
+        (0..6).map(|c| lines.iter().map(|l| l[c].chars().count()).max().unwrap_or(0)).collect();
+    for l in &lines {
+        let mut line = String::new();
+        for c in 0..6 {
+            let pad = width[c] - l[c].chars().count();
+            if c >= 3 {
+                line.push_str(&" ".repeat(pad));
+                line.push_str(&l[c]);
+            } else {
+                line.push_str(&l[c]);
+                line.push_str(&" ".repeat(pad));
+            }
+            line.push_str("  ");
+        }
+        writeln!(out, "{}", line.trim_end())?;
+    }
+    for group in merged {
+        writeln!(out, "merged: {} (their supervisors conflicted)", group.join(" + "))?;
+    }
+    writeln!(out, "{}", if nonconflicting { "nonconflicting" } else { "conflicting" })
+}

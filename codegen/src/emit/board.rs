@@ -1,0 +1,291 @@
+//! The manifest's `[board]` section: which GPIO makes which uncontrollable event and which controllable
+//! event drives which GPIO, checked against the set's events and written as `firmware::board` tables.
+//!
+//! ```toml
+//! [board]
+//! name = "pico"
+//! sampling = "interrupt"          # or "timer", with sample_period_us
+//! [[board.inputs]]
+//! event = "s_c1"
+//! pin = 2
+//! edge = "rising"                 # rising | falling | both
+//! pull = "up"                     # floating | up | down
+//! [[board.outputs]]
+//! event = "e1_lig"
+//! pin = 16
+//! action = "set"                  # set | clear | pulse (with pulse_ms)
+//! ```
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+use serde::Deserialize;
+
+use crate::pack::offset::Packed;
+
+/// Highest GPIO number a board table may name (one bit per pin in a `u32` sample).
+pub const MAX_PIN: u8 = 31;
+
+/// The `[board]` section.
+#[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoardSpec {
+    /// Board name, for logs.
+    pub name: String,
+    /// How inputs are read.
+    #[serde(default)]
+    pub sampling: SamplingSpec,
+    /// Sampling period in microseconds (timer sampling only).
+    pub sample_period_us: Option<u32>,
+    /// Input pins, in the order the firmware checks them.
+    #[serde(default)]
+    pub inputs: Vec<InputSpec>,
+    /// Output actions.
+    #[serde(default)]
+    pub outputs: Vec<OutputSpec>,
+}
+
+/// How inputs are read.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SamplingSpec {
+    /// GPIO edge interrupts.
+    #[default]
+    Interrupt,
+    /// Timer sampling.
+    Timer,
+}
+
+/// One input pin.
+#[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InputSpec {
+    /// The uncontrollable event an edge makes.
+    pub event: String,
+    /// GPIO number.
+    pub pin: u8,
+    /// `rising`, `falling` or `both`.
+    pub edge: String,
+    /// `floating` (default), `up` or `down`.
+    #[serde(default = "floating")]
+    pub pull: String,
+}
+
+fn floating() -> String {
+    String::from("floating")
+}
+
+/// One output action.
+#[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// The controllable event that runs it.
+    pub event: String,
+    /// GPIO number.
+    pub pin: u8,
+    /// `set`, `clear` or `pulse`.
+    pub action: String,
+    /// Pulse length in milliseconds (`pulse` only).
+    pub pulse_ms: Option<u16>,
+}
+
+/// A `[board]` section that does not fit the set.
+#[derive(Debug, thiserror::Error, PartialEq, Eq)]
+pub enum BoardError {
+    /// An event name the set does not have.
+    #[error("board: event '{0}' is not an event of the set")]
+    UnknownEvent(String),
+    /// An input mapped to a controllable event, or an output to an uncontrollable one.
+    #[error("board: event '{event}' is {what}")]
+    WrongKind {
+        /// Event name.
+        event: String,
+        /// What is wrong.
+        what: &'static str,
+    },
+    /// A pin number beyond [`MAX_PIN`].
+    #[error("board: pin {0} is beyond GPIO {MAX_PIN}")]
+    Pin(u8),
+    /// A pin used as input and output, or with two pulls.
+    #[error("board: pin {0} is used both as input and output, or with two different pulls")]
+    PinConflict(u8),
+    /// An unknown edge, pull or action word, or a missing or stray parameter.
+    #[error("board: {0}")]
+    Value(String),
+}
+
+impl BoardSpec {
+    /// Rust source for `BOARD`, `INPUT_PINS`, `INPUT_PULLS` and `OUTPUT_PINS` over `packed`'s events.
+    pub fn rust(&self, packed: &Packed) -> Result<String, BoardError> {
+        let id = |name: &str| -> Result<usize, BoardError> {
+            packed
+                .event_names
+                .iter()
+                .position(|n| n == name)
+                .ok_or_else(|| BoardError::UnknownEvent(name.into()))
+        };
+        let controllable =
+            |e: usize| packed.controllable.get(e / 32).is_some_and(|w| w & (1 << (e % 32)) != 0);
+        let pin = |p: u8| if p > MAX_PIN { Err(BoardError::Pin(p)) } else { Ok(p) };
+        let mut pulls: BTreeMap<u8, &'static str> = BTreeMap::new();
+        let mut inputs = Vec::new();
+        for i in &self.inputs {
+            let e = id(&i.event)?;
+            if controllable(e) {
+                return Err(BoardError::WrongKind {
+                    event: i.event.clone(),
+                    what: "controllable: it cannot be an input",
+                });
+            }
+            let edge = match i.edge.as_str() {
+                "rising" => "Rising",
+                "falling" => "Falling",
+                "both" => "Both",
+                other => return Err(BoardError::Value(format!("edge '{other}' (rising, falling or both)"))),
+            };
+            let pull = match i.pull.as_str() {
+                "floating" => "Floating",
+                "up" => "Up",
+                "down" => "Down",
+                other => return Err(BoardError::Value(format!("pull '{other}' (floating, up or down)"))),
+            };
+            let p = pin(i.pin)?;
+            if *pulls.entry(p).or_insert(pull) != pull {
+                return Err(BoardError::PinConflict(p));
+            }
+            inputs.push(format!(
+                "firmware::board::Input {{ pin: {p}, edge: firmware::board::Edge::{edge}, pull: firmware::board::Pull::{pull}, event: {e} }}"
+            ));
+        }
+        let mut out_pins = BTreeMap::new();
+        let mut outputs = Vec::new();
+        for o in &self.outputs {
+            let e = id(&o.event)?;
+            if !controllable(e) {
+                return Err(BoardError::WrongKind {
+                    event: o.event.clone(),
+                    what: "uncontrollable: it cannot drive an output",
+                });
+            }
+            let action = match (o.action.as_str(), o.pulse_ms) {
+                ("set", None) => "Set".to_string(),
+                ("clear", None) => "Clear".to_string(),
+                ("pulse", Some(ms)) => format!("Pulse {{ ms: {ms} }}"),
+                (other, _) => {
+                    return Err(BoardError::Value(format!(
+                        "action '{other}' with pulse_ms {:?} (set, clear, or pulse with pulse_ms)",
+                        o.pulse_ms
+                    )))
+                }
+            };
+            let p = pin(o.pin)?;
+            if pulls.contains_key(&p) {
+                return Err(BoardError::PinConflict(p));
+            }
+            out_pins.insert(p, ());
+            outputs.push(format!(
+                "firmware::board::Output {{ pin: {p}, action: firmware::board::Action::{action}, event: {e} }}"
+            ));
+        }
+        let sampling = match (self.sampling, self.sample_period_us) {
+            (SamplingSpec::Interrupt, None) => "firmware::board::Sampling::Interrupt".to_string(),
+            (SamplingSpec::Timer, Some(us)) if us > 0 => {
+                format!("firmware::board::Sampling::Timer {{ period_us: {us} }}")
+            }
+            _ => {
+                return Err(BoardError::Value(
+                    "sample_period_us (> 0) goes with sampling = \"timer\" only".into(),
+                ))
+            }
+        };
+        let mut s = String::new();
+        let list = |items: &[String]| items.iter().map(|i| format!("        {i},\n")).collect::<String>();
+        let _ = writeln!(s, "/// The board's pin map (`[board]`).");
+        let _ = writeln!(s, "pub static BOARD: firmware::board::Board<'static> = firmware::board::Board {{");
+        let _ = writeln!(s, "    name: {:?},", self.name);
+        let _ = writeln!(s, "    sampling: {sampling},");
+        let _ = writeln!(s, "    inputs: &[\n{}    ],", list(&inputs));
+        let _ = writeln!(s, "    outputs: &[\n{}    ],", list(&outputs));
+        let _ = writeln!(s, "}};");
+        let ins: Vec<String> = pulls.keys().map(u8::to_string).collect();
+        let in_pulls: Vec<String> = pulls.values().map(|p| format!("firmware::board::Pull::{p}")).collect();
+        let outs: Vec<String> = out_pins.keys().map(u8::to_string).collect();
+        let _ = writeln!(s, "/// Distinct input GPIOs, ascending.");
+        let _ = writeln!(s, "pub const INPUT_PINS: [u8; {}] = [{}];", ins.len(), ins.join(", "));
+        let _ = writeln!(s, "/// Bias of each input GPIO.");
+        let _ = writeln!(
+            s,
+            "pub const INPUT_PULLS: [firmware::board::Pull; {}] = [{}];",
+            ins.len(),
+            in_pulls.join(", ")
+        );
+        let _ = writeln!(s, "/// Distinct output GPIOs, ascending.");
+        let _ = writeln!(s, "pub const OUTPUT_PINS: [u8; {}] = [{}];", outs.len(), outs.join(", "));
+        Ok(s)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn packed() -> Packed {
+        Packed { event_names: vec!["go".into(), "done".into()], controllable: vec![0b01], automata: vec![] }
+    }
+
+    fn spec(text: &str) -> BoardSpec {
+        #[derive(Deserialize)]
+        struct File {
+            board: BoardSpec,
+        }
+        toml::from_str::<File>(text).unwrap().board
+    }
+
+    const OK: &str = r#"
+        [board]
+        name = "t"
+        [[board.inputs]]
+        event = "done"
+        pin = 3
+        edge = "falling"
+        pull = "up"
+        [[board.outputs]]
+        event = "go"
+        pin = 5
+        action = "pulse"
+        pulse_ms = 20
+    "#;
+
+    #[test]
+    fn writes_the_pin_map() {
+        let rust = spec(OK).rust(&packed()).unwrap();
+        assert!(rust.contains("Input { pin: 3, edge: firmware::board::Edge::Falling, pull: firmware::board::Pull::Up, event: 1 }"));
+        assert!(
+            rust.contains("Output { pin: 5, action: firmware::board::Action::Pulse { ms: 20 }, event: 0 }")
+        );
+        assert!(rust.contains("pub const INPUT_PINS: [u8; 1] = [3];"));
+        assert!(rust.contains("pub const OUTPUT_PINS: [u8; 1] = [5];"));
+    }
+
+    #[test]
+    fn refuses_what_does_not_fit() {
+        let cases = [
+            (OK.replace("\"done\"", "\"nope\""), BoardError::UnknownEvent("nope".into())),
+            (
+                OK.replace("event = \"done\"", "event = \"go\""),
+                BoardError::WrongKind { event: "go".into(), what: "controllable: it cannot be an input" },
+            ),
+            (OK.replace("pin = 3", "pin = 40"), BoardError::Pin(40)),
+            (OK.replace("pin = 3", "pin = 5"), BoardError::PinConflict(5)),
+        ];
+        for (text, err) in cases {
+            assert_eq!(spec(&text).rust(&packed()), Err(err));
+        }
+        assert!(matches!(spec(&OK.replace("falling", "up")).rust(&packed()), Err(BoardError::Value(_))));
+        assert!(matches!(spec(&OK.replace("pulse_ms = 20", "")).rust(&packed()), Err(BoardError::Value(_))));
+        let timer = OK.replace("name = \"t\"", "name = \"t\"\nsampling = \"timer\"");
+        assert!(matches!(spec(&timer).rust(&packed()), Err(BoardError::Value(_))));
+        let timer = timer.replace("sampling = \"timer\"", "sampling = \"timer\"\nsample_period_us = 500");
+        assert!(spec(&timer).rust(&packed()).unwrap().contains("Timer { period_us: 500 }"));
+    }
+}

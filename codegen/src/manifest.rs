@@ -1,0 +1,289 @@
+//! The project manifest: a supervisor set as users describe it, in TOML.
+//!
+//! ```toml
+//! name = "cell"
+//! plants = ["plants/G1.xmd", "plants/G2.xmd"]   # any supported format
+//! specs = ["specs/E1.xmd"]
+//! supervisors = []                              # ready supervisors (optional)
+//!
+//! [events.e1_lig]                               # optional per-event override
+//! controllable = true
+//!
+//! [runtime]                                     # all optional
+//! policy = "random-local-queue"                 # first | random | global-queue | random-global-queue
+//!                                               # | local-queue | random-local-queue
+//! seed = 1
+//! guard = true                                  # inexact-synchronisation guard
+//! on_fault = "continue"                         # continue | safe-state
+//! input_buffer = 32
+//!
+//! [board]                                       # optional: pins of a real board, see `emit::board`
+//! name = "pico"
+//! ```
+//!
+//! Paths are relative to the manifest file. Unknown keys are refused, so a typo is an error rather than a
+//! silently ignored setting. Every error names the manifest file and the key it is about.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+use crate::formats::{read_path, ParseError};
+use crate::model::{Automaton, EventTable, Kind, ModelError};
+
+/// Why a manifest could not be loaded or its automata read.
+#[derive(Debug, thiserror::Error)]
+pub enum ManifestError {
+    /// The manifest file could not be read.
+    #[error("{}: {source}", file.display())]
+    Read {
+        /// The manifest file.
+        file: PathBuf,
+        /// What the system said.
+        source: std::io::Error,
+    },
+    /// The manifest is not valid TOML or does not follow the schema.
+    #[error("{}:{line}: {message}", file.display())]
+    Syntax {
+        /// The manifest file.
+        file: PathBuf,
+        /// Line of the offending key or value (1-based; 0 when unknown).
+        line: usize,
+        /// What is wrong, naming the key.
+        message: String,
+    },
+    /// A model file named by the manifest could not be read.
+    #[error("{}: {key}: {source}", file.display())]
+    Model {
+        /// The manifest file.
+        file: PathBuf,
+        /// The key naming the model file, such as `plants[2]`.
+        key: String,
+        /// The reader's error (it names the model file and line).
+        source: ParseError,
+    },
+    /// An `[events.NAME]` override names an event no automaton of the manifest has.
+    #[error("{}: events.{event}: no automaton of the manifest has this event", file.display())]
+    UnknownEvent {
+        /// The manifest file.
+        file: PathBuf,
+        /// The event named by the override.
+        event: String,
+    },
+    /// The automata disagree on an event's controllability (and no override settles it).
+    #[error("{}: {source}", file.display())]
+    Inconsistent {
+        /// The manifest file.
+        file: PathBuf,
+        /// Which event, where.
+        source: ModelError,
+    },
+}
+
+pub use crate::emit::{OnFault, Policy};
+
+/// The `[runtime]` section.
+#[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Runtime {
+    /// Choice policy.
+    pub policy: Policy,
+    /// Seed of the random policies.
+    pub seed: u64,
+    /// Whether the inexact-synchronisation guard is on.
+    pub guard: bool,
+    /// Reaction to faults.
+    pub on_fault: OnFault,
+    /// Capacity of the input event buffer.
+    pub input_buffer: usize,
+}
+
+impl Default for Runtime {
+    fn default() -> Self {
+        Runtime {
+            policy: Policy::default(),
+            seed: 0,
+            guard: true,
+            on_fault: OnFault::default(),
+            input_buffer: 32,
+        }
+    }
+}
+
+/// An `[events.NAME]` override.
+#[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EventOverride {
+    /// Controllability to use in every automaton that has the event.
+    pub controllable: bool,
+}
+
+/// A parsed manifest. Paths are kept as written; [`Manifest::resolve`] makes them usable.
+#[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Manifest {
+    /// Name of the supervisor set.
+    pub name: String,
+    /// Plant subsystem files.
+    #[serde(default)]
+    pub plants: Vec<PathBuf>,
+    /// Specification files.
+    #[serde(default)]
+    pub specs: Vec<PathBuf>,
+    /// Ready supervisor files.
+    #[serde(default)]
+    pub supervisors: Vec<PathBuf>,
+    /// Per-event overrides, by event name.
+    #[serde(default)]
+    pub events: BTreeMap<String, EventOverride>,
+    /// Runtime settings.
+    #[serde(default)]
+    pub runtime: Runtime,
+    /// Pin map for a real board (see [`crate::emit::board`]).
+    #[serde(default)]
+    pub board: Option<crate::emit::BoardSpec>,
+    /// The manifest file itself (set by [`Manifest::load`]).
+    #[serde(skip)]
+    pub file: PathBuf,
+}
+
+/// The automata of a manifest, read, with their kinds set and the event overrides applied.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ModelSet {
+    /// Plant subsystems, in manifest order.
+    pub plants: Vec<Automaton>,
+    /// Specifications, in manifest order.
+    pub specs: Vec<Automaton>,
+    /// Ready supervisors, in manifest order.
+    pub supervisors: Vec<Automaton>,
+}
+
+impl Manifest {
+    /// Reads and parses the manifest at `path`.
+    pub fn load(path: &Path) -> Result<Manifest, ManifestError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|source| ManifestError::Read { file: path.to_owned(), source })?;
+        Manifest::parse(path, &text)
+    }
+
+    /// Parses manifest `text`; `path` is where it came from (errors name it, paths resolve against it).
+    pub fn parse(path: &Path, text: &str) -> Result<Manifest, ManifestError> {
+        let mut m: Manifest = toml::from_str(text).map_err(|e| ManifestError::Syntax {
+            file: path.to_owned(),
+            line: e.span().map_or(0, |s| {
+                text.as_bytes()[..s.start.min(text.len())].iter().filter(|&&b| b == b'\n').count() + 1
+            }),
+            message: e.message().to_owned(),
+        })?;
+        m.file = path.to_owned();
+        Ok(m)
+    }
+
+    /// `p` relative to the manifest's folder (absolute paths stay as they are).
+    pub fn resolve(&self, p: &Path) -> PathBuf {
+        self.file.parent().unwrap_or(Path::new("")).join(p)
+    }
+
+    /// Reads every plant, specification and supervisor file, sets each automaton's kind, applies the
+    /// event overrides and checks that every event has one controllability across the set.
+    pub fn read_automata(&self) -> Result<ModelSet, ManifestError> {
+        let read = |key: &str, files: &[PathBuf], kind: Kind| -> Result<Vec<Automaton>, ManifestError> {
+            let mut out = Vec::new();
+            for (i, f) in files.iter().enumerate() {
+                let automata = read_path(&self.resolve(f)).map_err(|source| ManifestError::Model {
+                    file: self.file.clone(),
+                    key: format!("{key}[{i}]"),
+                    source,
+                })?;
+                out.extend(automata.into_iter().map(|mut a| {
+                    a.kind = kind;
+                    a
+                }));
+            }
+            Ok(out)
+        };
+        let mut set = ModelSet {
+            plants: read("plants", &self.plants, Kind::Plant)?,
+            specs: read("specs", &self.specs, Kind::Spec)?,
+            supervisors: read("supervisors", &self.supervisors, Kind::Supervisor)?,
+        };
+        for (event, o) in &self.events {
+            let mut found = false;
+            for a in set.plants.iter_mut().chain(&mut set.specs).chain(&mut set.supervisors) {
+                if let Some(id) = a.event_id(event) {
+                    a.events[id.index()].controllable = o.controllable;
+                    found = true;
+                }
+            }
+            if !found {
+                return Err(ManifestError::UnknownEvent { file: self.file.clone(), event: event.clone() });
+            }
+        }
+        EventTable::build(set.plants.iter().chain(&set.specs).chain(&set.supervisors))
+            .map_err(|source| ManifestError::Inconsistent { file: self.file.clone(), source })?;
+        Ok(set)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cell() -> PathBuf {
+        [env!("CARGO_MANIFEST_DIR"), "..", "examples", "cell", "cell.toml"].iter().collect()
+    }
+
+    #[test]
+    fn the_cell_manifest_loads_with_paths_relative_to_it() {
+        let m = Manifest::load(&cell()).unwrap();
+        assert_eq!(m.name, "cell");
+        assert_eq!(m.runtime.policy, Policy::RandomLocalQueue);
+        assert_eq!(m.runtime.seed, 1);
+        let set = m.read_automata().unwrap();
+        assert_eq!((set.plants.len(), set.specs.len(), set.supervisors.len()), (4, 7, 0));
+        assert!(set.plants.iter().all(|a| a.kind == Kind::Plant));
+        assert_eq!(set.specs[1].name, "E2");
+    }
+
+    #[test]
+    fn unknown_keys_are_named_with_their_line() {
+        let err =
+            Manifest::parse(Path::new("m.toml"), "name = \"x\"\n[runtime]\npolicy = \"first\"\nsed = 3\n")
+                .unwrap_err()
+                .to_string();
+        assert!(err.starts_with("m.toml:4: unknown field `sed`"), "{err}");
+        let err = Manifest::parse(Path::new("m.toml"), "name = \"x\"\n[runtime]\npolicy = \"fastest\"\n")
+            .unwrap_err()
+            .to_string();
+        assert!(err.starts_with("m.toml:3: unknown variant `fastest`"), "{err}");
+    }
+
+    #[test]
+    fn model_errors_name_the_key_and_overrides_must_exist() {
+        let dir = cell();
+        let m = Manifest::parse(&dir, "name = \"x\"\nplants = [\"plants/G1.xmd\", \"plants/nope.xmd\"]\n")
+            .unwrap();
+        let err = m.read_automata().unwrap_err().to_string();
+        assert!(err.contains("cell.toml: plants[1]: ") && err.contains("nope.xmd"), "{err}");
+        let m = Manifest::parse(
+            &dir,
+            "name = \"x\"\nplants = [\"plants/G1.xmd\"]\n[events.zz]\ncontrollable = true\n",
+        )
+        .unwrap();
+        let err = m.read_automata().unwrap_err().to_string();
+        assert!(err.ends_with("cell.toml: events.zz: no automaton of the manifest has this event"), "{err}");
+    }
+
+    #[test]
+    fn an_override_changes_controllability_everywhere() {
+        let m = Manifest::parse(
+            &cell(),
+            "name = \"x\"\nplants = [\"plants/G1.xmd\"]\n[events.e1_lig]\ncontrollable = false\n",
+        )
+        .unwrap();
+        let set = m.read_automata().unwrap();
+        let g1 = &set.plants[0];
+        assert!(!g1.events[g1.event_id("e1_lig").unwrap().index()].controllable);
+    }
+}

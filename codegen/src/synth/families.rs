@@ -1,0 +1,322 @@
+//! Generated synthesis instances of any size, for benchmarks and differential tests against the reference
+//! tools: the classic transfer line, the small factory generalised to n machines with breakdown and repair,
+//! cat and mouse with k cats, dining philosophers and seeded random systems.
+//!
+//! Every generator is deterministic: the same family and size give the same automata, so the Rust benches
+//! and the scripts that run libFAUDES and TCT on files written from here see identical inputs.
+
+use crate::model::{Automaton, Kind, StateId};
+
+/// Plants and specifications of one generated instance.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Instance {
+    /// Name, such as `factory-5`.
+    pub name: String,
+    /// Plant subsystems.
+    pub plants: Vec<Automaton>,
+    /// Specifications.
+    pub specs: Vec<Automaton>,
+}
+
+/// The families [`generate`] knows, by name.
+pub const FAMILIES: [&str; 5] = ["transfer-line", "factory", "cat-mouse", "philosophers", "random"];
+
+/// The instance of `family` (one of [`FAMILIES`]) with size parameter `n`, or `None` for an unknown family.
+pub fn generate(family: &str, n: usize) -> Option<Instance> {
+    let (plants, specs) = match family {
+        "transfer-line" => transfer_line(n),
+        "factory" => factory(n),
+        "cat-mouse" => cat_mouse(n),
+        "philosophers" => philosophers(n),
+        "random" => random(n),
+        _ => return None,
+    };
+    Some(Instance { name: format!("{family}-{n}"), plants, specs })
+}
+
+/// Builds an automaton from (name, marked) states (the first is initial), (name, controllable) events and
+/// (source, event, target) transitions by index.
+fn build(
+    name: &str,
+    kind: Kind,
+    states: &[(String, bool)],
+    events: &[(String, bool)],
+    delta: &[(usize, usize, usize)],
+) -> Automaton {
+    let mut a = Automaton::new(name, kind);
+    for (s, m) in states {
+        a.states.push(crate::model::State { name: s.clone(), marked: *m });
+    }
+    for (e, c) in events {
+        a.events.push(crate::model::Event { name: e.clone(), controllable: *c });
+    }
+    a.initial = Some(StateId::from_u32(0));
+    for &(s, e, t) in delta {
+        a.add_transition(
+            StateId::from_u32(s as u32),
+            crate::model::EventId::from_u32(e as u32),
+            StateId::from_u32(t as u32),
+        );
+    }
+    a.canonicalize();
+    a
+}
+
+fn states(n: usize) -> Vec<(String, bool)> {
+    (0..n).map(|i| (i.to_string(), i == 0)).collect()
+}
+
+/// `n` machines (start controllable, finish uncontrollable) in a line with a one-slot buffer between
+/// neighbours: no overflow, no underflow.
+fn transfer_line(n: usize) -> (Vec<Automaton>, Vec<Automaton>) {
+    let plants = (1..=n)
+        .map(|i| {
+            let ev = [(format!("s{i}"), true), (format!("f{i}"), false)];
+            build(&format!("M{i}"), Kind::Plant, &states(2), &ev, &[(0, 0, 1), (1, 1, 0)])
+        })
+        .collect();
+    let specs = (1..n)
+        .map(|i| {
+            let ev = [(format!("f{i}"), false), (format!("s{}", i + 1), true)];
+            build(&format!("B{i}"), Kind::Spec, &states(2), &ev, &[(0, 0, 1), (1, 1, 0)])
+        })
+        .collect();
+    (plants, specs)
+}
+
+/// Capacity of each buffer of the small factory.
+const FACTORY_BUFFER: usize = 2;
+
+/// The small factory with `n` machines: each starts (controllable), finishes or breaks down
+/// (uncontrollable) and is repaired (controllable); two-slot buffers between neighbours (no overflow, no
+/// underflow), and a machine is repaired only while the next one is not down.
+fn factory(n: usize) -> (Vec<Automaton>, Vec<Automaton>) {
+    let plants = (1..=n)
+        .map(|i| {
+            let ev = [
+                (format!("s{i}"), true),
+                (format!("f{i}"), false),
+                (format!("b{i}"), false),
+                (format!("r{i}"), true),
+            ];
+            build(
+                &format!("M{i}"),
+                Kind::Plant,
+                &states(3),
+                &ev,
+                &[(0, 0, 1), (1, 1, 0), (1, 2, 2), (2, 3, 0)],
+            )
+        })
+        .collect();
+    let mut specs: Vec<Automaton> = (1..n)
+        .map(|i| {
+            let ev = [(format!("f{i}"), false), (format!("s{}", i + 1), true)];
+            let delta: Vec<_> = (0..FACTORY_BUFFER).flat_map(|k| [(k, 0, k + 1), (k + 1, 1, k)]).collect();
+            build(&format!("B{i}"), Kind::Spec, &states(FACTORY_BUFFER + 1), &ev, &delta)
+        })
+        .collect();
+    specs.extend((1..n).map(|i| {
+        let j = i + 1;
+        let ev = [(format!("b{j}"), false), (format!("r{j}"), true), (format!("r{i}"), true)];
+        build(&format!("R{i}"), Kind::Spec, &states(2), &ev, &[(0, 0, 1), (1, 1, 0), (0, 2, 0)])
+    }));
+    (plants, specs)
+}
+
+/// Doors of the maze: (from room, to room, controllable).
+const CAT_DOORS: [(usize, usize, bool); 7] =
+    [(0, 1, true), (1, 2, true), (2, 0, true), (1, 3, true), (3, 1, true), (3, 4, true), (4, 3, false)];
+const MOUSE_DOORS: [(usize, usize, bool); 6] =
+    [(0, 2, true), (2, 1, true), (1, 0, true), (0, 4, true), (4, 3, true), (3, 0, true)];
+const CAT_HOME: usize = 2;
+const MOUSE_HOME: usize = 4;
+
+fn rooms(home: usize) -> Vec<(String, bool)> {
+    // State 0 is the home room (initial and marked), then the others in order.
+    let mut order = vec![home];
+    order.extend((0..5).filter(|&r| r != home));
+    order.iter().map(|r| (format!("room{r}"), *r == home)).collect()
+}
+
+fn room_index(home: usize, room: usize) -> usize {
+    if room == home {
+        0
+    } else {
+        (0..5).filter(|&r| r != home).position(|r| r == room).unwrap_or(0) + 1
+    }
+}
+
+/// `k` cats and one mouse in the five-room maze; per cat, a specification that it never shares a room with
+/// the mouse, marked when both are home.
+fn cat_mouse(k: usize) -> (Vec<Automaton>, Vec<Automaton>) {
+    let cat_events = |j: usize| -> Vec<(String, bool)> {
+        CAT_DOORS.iter().enumerate().map(|(d, &(_, _, c))| (format!("c{j}_{}", d + 1), c)).collect()
+    };
+    let mouse_events: Vec<(String, bool)> =
+        MOUSE_DOORS.iter().enumerate().map(|(d, &(_, _, c))| (format!("m{}", d + 1), c)).collect();
+    let mut plants: Vec<Automaton> = (1..=k)
+        .map(|j| {
+            let delta: Vec<_> = CAT_DOORS
+                .iter()
+                .enumerate()
+                .map(|(d, &(f, t, _))| (room_index(CAT_HOME, f), d, room_index(CAT_HOME, t)))
+                .collect();
+            build(&format!("Cat{j}"), Kind::Plant, &rooms(CAT_HOME), &cat_events(j), &delta)
+        })
+        .collect();
+    let delta: Vec<_> = MOUSE_DOORS
+        .iter()
+        .enumerate()
+        .map(|(d, &(f, t, _))| (room_index(MOUSE_HOME, f), d, room_index(MOUSE_HOME, t)))
+        .collect();
+    plants.push(build("Mouse", Kind::Plant, &rooms(MOUSE_HOME), &mouse_events, &delta));
+    let specs = (1..=k)
+        .map(|j| {
+            // States: (cat room, mouse room) with different rooms; (home, home) first.
+            let mut pairs = vec![(CAT_HOME, MOUSE_HOME)];
+            for c in 0..5 {
+                for m in 0..5 {
+                    if c != m && (c, m) != (CAT_HOME, MOUSE_HOME) {
+                        pairs.push((c, m));
+                    }
+                }
+            }
+            let id = |c: usize, m: usize| pairs.iter().position(|&p| p == (c, m));
+            let mut events = cat_events(j);
+            events.extend(mouse_events.iter().cloned());
+            let mut delta = Vec::new();
+            for (s, &(c, m)) in pairs.iter().enumerate() {
+                for (d, &(f, t, _)) in CAT_DOORS.iter().enumerate() {
+                    if f == c {
+                        if let Some(x) = id(t, m) {
+                            delta.push((s, d, x));
+                        }
+                    }
+                }
+                for (d, &(f, t, _)) in MOUSE_DOORS.iter().enumerate() {
+                    if f == m {
+                        if let Some(x) = id(c, t) {
+                            delta.push((s, CAT_DOORS.len() + d, x));
+                        }
+                    }
+                }
+            }
+            let st: Vec<(String, bool)> =
+                pairs.iter().map(|&(c, m)| (format!("c{c}m{m}"), (c, m) == (CAT_HOME, MOUSE_HOME))).collect();
+            build(&format!("Apart{j}"), Kind::Spec, &st, &events, &delta)
+        })
+        .collect();
+    (plants, specs)
+}
+
+/// `n` philosophers around a table: each takes the left and the right fork (controllable, either order)
+/// and puts both back after eating (uncontrollable); one specification per fork says one holder at a time.
+fn philosophers(n: usize) -> (Vec<Automaton>, Vec<Automaton>) {
+    let plants = (0..n)
+        .map(|i| {
+            let ev = [(format!("l{i}"), true), (format!("r{i}"), true), (format!("p{i}"), false)];
+            build(
+                &format!("P{i}"),
+                Kind::Plant,
+                &states(4),
+                &ev,
+                &[(0, 0, 1), (0, 1, 3), (1, 1, 2), (3, 0, 2), (2, 2, 0)],
+            )
+        })
+        .collect();
+    let specs = (0..n)
+        .map(|j| {
+            // Fork j is philosopher j's left fork and philosopher j+1's right fork.
+            let k = (j + 1) % n;
+            let ev = [
+                (format!("l{j}"), true),
+                (format!("p{j}"), false),
+                (format!("r{k}"), true),
+                (format!("p{k}"), false),
+            ];
+            build(
+                &format!("F{j}"),
+                Kind::Spec,
+                &states(3),
+                &ev,
+                &[(0, 0, 1), (1, 1, 0), (0, 2, 2), (2, 3, 0)],
+            )
+        })
+        .collect();
+    (plants, specs)
+}
+
+/// A seeded random system: `n` plants of 3–5 states over private events plus a few shared ones, and `n`
+/// specifications of 2–4 states over events of two neighbouring plants.
+fn random(n: usize) -> (Vec<Automaton>, Vec<Automaton>) {
+    let mut rng = XorShift(0x9E37_79B9 ^ n as u64);
+    let plant_events = |i: usize| -> Vec<(String, bool)> {
+        vec![
+            (format!("a{i}"), true),
+            (format!("b{i}"), true),
+            (format!("u{i}"), false),
+            (format!("v{i}"), false),
+        ]
+    };
+    // Plants: a cycle through all states on their first event plus random transitions (two in three
+    // defined), half the states marked. Specifications: every state marked, uncontrollable events always
+    // defined, controllable ones two in three; so supervisors are rarely empty.
+    let mut random_automaton = |name: &str, kind: Kind, events: Vec<(String, bool)>, size: usize| {
+        let plant = kind == Kind::Plant;
+        let st: Vec<(String, bool)> =
+            (0..size).map(|s| (s.to_string(), !plant || s == 0 || rng.below(2) != 0)).collect();
+        let mut delta = Vec::new();
+        for s in 0..size {
+            for (e, (_, controllable)) in events.iter().enumerate() {
+                if plant && e == 0 {
+                    delta.push((s, e, (s + 1) % size));
+                } else if !plant && !controllable || rng.below(3) != 0 {
+                    delta.push((s, e, rng.below(size)));
+                }
+            }
+        }
+        build(name, kind, &st, &events, &delta)
+    };
+    let plants: Vec<Automaton> =
+        (0..n).map(|i| random_automaton(&format!("G{i}"), Kind::Plant, plant_events(i), 2 + i % 3)).collect();
+    let specs = (0..n)
+        .map(|i| {
+            let j = (i + 1) % n;
+            let mut ev = plant_events(i);
+            if j != i {
+                ev.extend(plant_events(j));
+            }
+            random_automaton(&format!("E{i}"), Kind::Spec, ev, 2 + i % 3)
+        })
+        .collect();
+    (plants, specs)
+}
+
+/// A small deterministic generator (xorshift64), so instances do not depend on a random crate's version.
+struct XorShift(u64);
+
+impl XorShift {
+    fn below(&mut self, n: usize) -> usize {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 % n as u64) as usize
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_family_generates_valid_automata() {
+        for family in FAMILIES {
+            let inst = generate(family, 3).unwrap();
+            for a in inst.plants.iter().chain(&inst.specs) {
+                a.validate().unwrap_or_else(|e| panic!("{family}: {}: {e}", a.name));
+            }
+            assert!(crate::model::EventTable::build(inst.plants.iter().chain(&inst.specs)).is_ok());
+        }
+        assert!(generate("nope", 3).is_none());
+    }
+}

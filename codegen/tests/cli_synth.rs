@@ -1,0 +1,59 @@
+//! `codegen synth` end to end: the cell's table, JSON and written supervisors, and the exit statuses.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn codegen(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_codegen")).args(args).output().expect("run codegen")
+}
+
+fn repo(rel: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(rel).display().to_string()
+}
+
+#[test]
+fn the_cell_manifest_gives_the_published_table() {
+    let out = codegen(&["synth", &repo("examples/cell/cell.toml")]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("S2_6        E2,E6  G3,G4           121          360"), "{text}");
+    assert!(text.contains("total                              233          697"), "{text}");
+    assert!(text.ends_with("merged: E2 + E6 (their supervisors conflicted)\nnonconflicting\n"), "{text}");
+}
+
+#[test]
+fn json_lists_supervisors_merges_and_totals_and_out_writes_them() {
+    let dir: PathBuf = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_synth");
+    let _ = std::fs::remove_dir_all(&dir);
+    let plants: Vec<String> = (1..=4).map(|i| repo(&format!("examples/cell/plants/G{i}.xmd"))).collect();
+    let specs: Vec<String> = (1..=7).map(|i| repo(&format!("examples/cell/specs/E{i}.xmd"))).collect();
+    let mut args = vec!["synth", "--json", "-o", dir.to_str().unwrap(), "--plant"];
+    args.extend(plants.iter().map(String::as_str));
+    args.push("--spec");
+    args.extend(specs.iter().map(String::as_str));
+    let out = codegen(&args);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["nonconflicting"], true);
+    assert_eq!(json["merged"], serde_json::json!([["E2", "E6"]]));
+    assert_eq!((json["total_states"].as_u64(), json["total_transitions"].as_u64()), (Some(233), Some(697)));
+    let s5 = &json["supervisors"][4];
+    assert_eq!(s5["name"], "S5");
+    assert_eq!(s5["plants"], serde_json::json!(["G2", "G3"]));
+    assert_eq!((s5["states"].as_u64(), s5["transitions"].as_u64()), (Some(30), Some(74)));
+    let written = codegen::formats::read_path(&dir.join("S2_6.xmd")).unwrap();
+    assert_eq!((written[0].states.len(), written[0].transitions.len()), (121, 360));
+}
+
+#[test]
+fn unmerged_conflict_exits_1_and_bad_input_exits_2() {
+    let out = codegen(&["synth", "--no-merge", &repo("examples/cell/cell.toml")]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8(out.stdout).unwrap().ends_with("\nconflicting\n"));
+    let out = codegen(&["synth", &repo("examples/cell/nope.toml")]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8(out.stderr).unwrap().contains("nope.toml"));
+    let out = codegen(&["synth", "--monolithic", &repo("examples/cell/cell.toml"), "--state-limit", "1000"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8(out.stderr).unwrap().contains("exceeded the state limit of 1000"));
+}

@@ -1,0 +1,76 @@
+//! The emitted tables of the manufacturing cell: the committed `firmware/src/generated/cell.rs` is what
+//! `codegen emit examples/cell/cell.toml` (local modular synthesis, the manifest's `[runtime]` and
+//! `[board]`) writes today, byte for byte, and emitting is deterministic.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// The command that writes the committed file (paths relative to the repository root).
+fn cell_args() -> Vec<String> {
+    vec!["emit".to_string(), "examples/cell/cell.toml".into()]
+}
+
+fn emit_to(out: &Path) {
+    let status = Command::new(env!("CARGO_BIN_EXE_codegen"))
+        .current_dir(root())
+        .args(cell_args())
+        .arg("-o")
+        .arg(out)
+        .status()
+        .unwrap();
+    assert!(status.success());
+}
+
+#[test]
+fn committed_cell_tables_are_fresh_and_emission_is_deterministic() {
+    let dir = std::env::temp_dir().join(format!("emit-cell-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (a, b) = (dir.join("a.rs"), dir.join("b.rs"));
+    emit_to(&a);
+    emit_to(&b);
+    let (a, b) = (std::fs::read(a).unwrap(), std::fs::read(b).unwrap());
+    assert_eq!(a, b, "two runs differ");
+    let committed = std::fs::read(root().join("firmware/src/generated/cell.rs")).unwrap();
+    assert!(
+        a == committed,
+        "firmware/src/generated/cell.rs is stale: regenerate it with `cargo run -p codegen -- {} -o firmware/src/generated/cell.rs`",
+        cell_args().join(" ")
+    );
+    // The command the header records reproduces the file.
+    let text = String::from_utf8(a).unwrap();
+    let recorded = text.lines().find_map(|l| l.strip_prefix("// Command: codegen ")).unwrap();
+    let c = dir.join("c.rs");
+    let status = Command::new(env!("CARGO_BIN_EXE_codegen"))
+        .current_dir(root())
+        .args(recorded.split(' '))
+        .arg("-o")
+        .arg(&c)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    assert_eq!(std::fs::read_to_string(c).unwrap(), text);
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn a_controllable_event_no_plant_generates_is_refused() {
+    let dir = std::env::temp_dir().join(format!("emit-unowned-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // The supervisor S1 alone as "plant" G2: S1's controllable events of G1 belong to no plant.
+    let out = Command::new(env!("CARGO_BIN_EXE_codegen"))
+        .current_dir(root())
+        .args(["emit", "--plant", "examples/cell/plants/G2.xmd", "--sup", "examples/cell/published/S1.xmd"])
+        .arg("-o")
+        .arg(dir.join("x.rs"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("belongs to no plant"), "{stderr}");
+    assert!(!dir.join("x.rs").exists());
+    std::fs::remove_dir_all(dir).ok();
+}

@@ -1,0 +1,275 @@
+//! The supervisor firmware on a Raspberry Pi Pico (RP2040, rp2040-hal): input pins → input buffer by GPIO
+//! edge interrupts or timer sampling (the manifest's `[board] sampling`), the decision loop in `idle`,
+//! commands to output pins (set, clear, timed pulse) through `firmware::board::Outputs` (embedded-hal
+//! traits), defmt over RTT. Flash and run with `cargo pico` (probe-rs); README, "Flash a board".
+//!
+//! Tables and pin map: `SCT_TABLES_FILE` (see `build.rs`), the cell's with `examples/cell/pico.toml` by
+//! default. Randomness: the RP2040's ring-oscillator random bit mixed with the microsecond timer.
+#![no_std]
+#![no_main]
+
+use defmt_rtt as _;
+use panic_probe as _;
+
+/// The emitted tables.
+#[allow(dead_code)]
+mod tables {
+    include!(env!("SCT_TABLES_FILE"));
+}
+
+use firmware::board::Outputs;
+use firmware::link::{Hold, Note, Port, SAFE};
+use firmware::rng::Entropy;
+use rp2040_hal::gpio::{new_pin, DynBankId, DynPinId, DynPullType, FunctionSioInput, FunctionSioOutput, Pin};
+use rp2040_hal::pac;
+
+/// Second-stage bootloader for the Pico's W25Q080 flash.
+#[link_section = ".boot2"]
+#[used]
+static BOOT2: [u8; 256] = rp2040_boot2::BOOT_LOADER_W25Q080;
+
+/// The Pico's crystal.
+const XOSC_HZ: u32 = 12_000_000;
+
+/// Never set: the board has no host link to send HOLD.
+static HOLD: Hold = Hold::new();
+
+type InPin = Pin<DynPinId, FunctionSioInput, DynPullType>;
+type OutPin = Pin<DynPinId, FunctionSioOutput, DynPullType>;
+type Outs = Outputs<OutPin, { tables::OUTPUT_PINS.len() }>;
+
+/// The runtime over the emitted tables.
+type Rt =
+    firmware::runtime::Runtime<'static, tables::Policy, Rosc, { tables::EVENT_WORDS }, { tables::AUTOMATA }>;
+
+/// Entropy from the ring oscillator's random bit and the timer's low microseconds (jitter).
+struct Rosc;
+
+impl Entropy for Rosc {
+    fn entropy(&mut self) -> u32 {
+        // SAFETY: read-only registers (ROSC RANDOMBIT, TIMER TIMERAWL); reading them has no side effect.
+        let (rosc, timer) = unsafe { (&*pac::ROSC::ptr(), &*pac::TIMER::ptr()) };
+        let mut bits = timer.timerawl().read().bits();
+        for _ in 0..32 {
+            bits = bits.rotate_left(1) ^ u32::from(rosc.randombit().read().randombit().bit());
+        }
+        bits
+    }
+}
+
+/// Stops for good after a configuration error (logged); the outputs stay as reset left them (low).
+fn halt(why: &str) -> ! {
+    defmt::error!("halt: {=str}", why);
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
+
+/// GPIO `num` of bank 0 with function `F`.
+fn pin<F: rp2040_hal::gpio::Function>(num: u8) -> Pin<DynPinId, F, DynPullType> {
+    // SAFETY: `codegen emit` writes each GPIO once, either in INPUT_PINS or in OUTPUT_PINS, and this
+    // firmware takes no other pin, so no second instance of this pin exists.
+    let p = unsafe { new_pin(DynPinId { bank: DynBankId::Bank0, num }) };
+    p.into_pull_type::<DynPullType>().try_into_function::<F>().unwrap_or_else(|_| halt("pin function"))
+}
+
+/// The outputs as the link's port: a fired event runs its actions; SAFE turns everything off.
+struct Driver<'a, L>(&'a mut L);
+
+impl<L: rtic::Mutex<T = Outs>> Port for Driver<'_, L> {
+    fn send(&mut self, byte: u8) {
+        let ok = self.0.lock(|o| if byte == SAFE { o.all_off() } else { o.fire(&tables::BOARD, byte) });
+        if ok.is_err() {
+            defmt::error!("output pin error");
+        }
+    }
+
+    fn note(&mut self, note: Note) {
+        match note {
+            Note::Unexpected { event, automaton } => {
+                defmt::warn!("unexpected event {=u8} in automaton {=u8}", event, automaton)
+            }
+            Note::Unknown(byte) => defmt::warn!("unknown event {=u8}", byte),
+            Note::Safe => defmt::error!("fault: safe state, outputs off, deciding stopped"),
+            Note::Redecided => defmt::debug!("guard: input arrived while choosing"),
+        }
+    }
+}
+
+#[rtic::app(device = rp2040_hal::pac)]
+mod app {
+    use super::{halt, pin, tables, Driver, InPin, Outs, Rosc, Rt, HOLD, XOSC_HZ};
+    use embedded_hal::digital::InputPin;
+    use firmware::board::{Edge, Outputs, Pull, Sampling};
+    use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
+    use firmware::link::{Link, Poll};
+    use rp2040_hal::clocks::init_clocks_and_plls;
+    use rp2040_hal::fugit::MicrosDurationU32;
+    use rp2040_hal::gpio::{DynPullType, FunctionSioInput, FunctionSioOutput, Interrupt};
+    use rp2040_hal::timer::{Alarm, Alarm0, Timer};
+    use rp2040_hal::{Sio, Watchdog};
+
+    /// The timer tick: pulses are timed in it, sampling happens every `sample_ticks` of it.
+    const TICK_US: u32 = 1_000;
+
+    #[shared]
+    struct Shared {
+        producer: InputProducer<'static>,
+        outputs: Outs,
+        inputs: [InPin; tables::INPUT_PINS.len()],
+    }
+
+    #[local]
+    struct Local {
+        consumer: InputConsumer<'static>,
+        runtime: Rt,
+        link: Link,
+        alarm: Alarm0,
+        levels: u32,
+        ticks: u32,
+    }
+
+    #[init(local = [queue: InputQueue<{ tables::INPUT_SLOTS }> = InputQueue::new()])]
+    fn init(cx: init::Context) -> (Shared, Local) {
+        let mut pac = cx.device;
+        let mut watchdog = Watchdog::new(pac.WATCHDOG);
+        let Ok(clocks) = init_clocks_and_plls(
+            XOSC_HZ,
+            pac.XOSC,
+            pac.CLOCKS,
+            pac.PLL_SYS,
+            pac.PLL_USB,
+            &mut pac.RESETS,
+            &mut watchdog,
+        ) else {
+            halt("clocks")
+        };
+        let sio = Sio::new(pac.SIO);
+        // Takes IO_BANK0 and PADS_BANK0 out of reset; the pins are then taken one by one by number.
+        let _bank =
+            rp2040_hal::gpio::Pins::new(pac.IO_BANK0, pac.PADS_BANK0, sio.gpio_bank0, &mut pac.RESETS);
+        let mut inputs = tables::INPUT_PINS.map(pin::<FunctionSioInput>);
+        for (p, pull) in inputs.iter_mut().zip(tables::INPUT_PULLS) {
+            p.set_pull_type(match pull {
+                Pull::Floating => DynPullType::None,
+                Pull::Up => DynPullType::Up,
+                Pull::Down => DynPullType::Down,
+            });
+        }
+        if tables::BOARD.sampling == Sampling::Interrupt {
+            for i in tables::BOARD.inputs {
+                let Some(p) = inputs.iter().find(|p| p.id().num == i.pin) else { continue };
+                if matches!(i.edge, Edge::Rising | Edge::Both) {
+                    p.set_interrupt_enabled(Interrupt::EdgeHigh, true);
+                }
+                if matches!(i.edge, Edge::Falling | Edge::Both) {
+                    p.set_interrupt_enabled(Interrupt::EdgeLow, true);
+                }
+            }
+        }
+        let out_pins = tables::OUTPUT_PINS.map(pin::<FunctionSioOutput>);
+        let mut outputs = Outputs::new(out_pins, tables::OUTPUT_PINS);
+        if outputs.all_off().is_err() {
+            halt("output pins");
+        }
+        let mut timer = Timer::new(pac.TIMER, &mut pac.RESETS, &clocks);
+        let Some(mut alarm) = timer.alarm_0() else { halt("alarm 0") };
+        if alarm.schedule(MicrosDurationU32::micros(TICK_US)).is_err() {
+            halt("alarm schedule");
+        }
+        alarm.enable_interrupt();
+
+        let (producer, consumer) = cx.local.queue.split();
+        let runtime = match Rt::new(&tables::SET, tables::CONFIG, tables::Policy::default(), Rosc) {
+            Ok(rt) => rt,
+            Err(e) => {
+                defmt::error!("tables do not fit this build: {}", e);
+                halt("tables")
+            }
+        };
+        let levels = sample(&mut inputs);
+        defmt::info!(
+            "{=str} on {=str}: {=usize} automata, {=usize} inputs, {=usize} outputs",
+            tables::NAME,
+            tables::BOARD.name,
+            tables::SET.automata.len(),
+            tables::BOARD.inputs.len(),
+            tables::BOARD.outputs.len()
+        );
+        (
+            Shared { producer, outputs, inputs },
+            Local { consumer, runtime, link: Link::new(), alarm, levels, ticks: 0 },
+        )
+    }
+
+    /// Bit `n` set when GPIO `n` of the inputs reads high.
+    fn sample(inputs: &mut [InPin]) -> u32 {
+        let mut levels = 0;
+        for p in inputs {
+            if p.is_high().unwrap_or(false) {
+                levels |= 1u32.checked_shl(u32::from(p.id().num)).unwrap_or(0);
+            }
+        }
+        levels
+    }
+
+    /// Queues `event`; counts it as an overflow when the buffer is full (never silent).
+    fn push(q: &mut InputProducer<'static>, event: u8) {
+        if q.push(event).is_err() {
+            q.count_overflow();
+        }
+    }
+
+    /// Edge interrupts: every configured edge of every input pin becomes its event.
+    #[task(binds = IO_IRQ_BANK0, shared = [producer, inputs])]
+    fn edges(cx: edges::Context) {
+        (cx.shared.producer, cx.shared.inputs).lock(|q, inputs| {
+            for p in inputs.iter_mut() {
+                for (kind, rising) in [(Interrupt::EdgeHigh, true), (Interrupt::EdgeLow, false)] {
+                    if p.interrupt_status(kind) {
+                        p.clear_interrupt(kind);
+                        tables::BOARD.edge(p.id().num, rising, |e| push(q, e));
+                    }
+                }
+            }
+        });
+    }
+
+    /// The 1 ms tick: ends pulses; in sampling mode, samples the inputs every period.
+    #[task(binds = TIMER_IRQ_0, shared = [producer, outputs, inputs], local = [alarm, levels, ticks])]
+    fn tick(mut cx: tick::Context) {
+        let alarm = cx.local.alarm;
+        alarm.clear_interrupt();
+        if alarm.schedule(MicrosDurationU32::micros(TICK_US)).is_err() {
+            defmt::error!("alarm schedule");
+        }
+        if cx.shared.outputs.lock(|o| o.tick_ms()).is_err() {
+            defmt::error!("output pin error");
+        }
+        if let Sampling::Timer { period_us } = tables::BOARD.sampling {
+            *cx.local.ticks += 1;
+            if *cx.local.ticks >= (period_us / TICK_US).max(1) {
+                *cx.local.ticks = 0;
+                let now = cx.shared.inputs.lock(|inputs| sample(inputs));
+                let before = core::mem::replace(cx.local.levels, now);
+                cx.shared.producer.lock(|q| tables::BOARD.changes(before, now, |e| push(q, e)));
+            }
+        }
+    }
+
+    /// The decision loop; sleeps in `wfi` while there is nothing to do.
+    #[idle(shared = [outputs], local = [consumer, runtime, link])]
+    fn idle(mut cx: idle::Context) -> ! {
+        let (rx, rt, link) = (cx.local.consumer, cx.local.runtime, cx.local.link);
+        loop {
+            match link.service(rt, rx, &HOLD, &mut Driver(&mut cx.shared.outputs)) {
+                Poll::Busy => {}
+                Poll::Idle | Poll::Exit(_) => cortex_m::interrupt::free(|_| {
+                    if rx.is_empty() {
+                        cortex_m::asm::wfi();
+                    }
+                }),
+            }
+        }
+    }
+}

@@ -1,0 +1,275 @@
+//! The interface level on a real board: which input pin edge is which uncontrollable event, which
+//! controllable event drives which output pin, how inputs are read (edge interrupts or timer sampling),
+//! and the output layer, written against the `embedded-hal` traits so that it runs on any HAL and on the
+//! host with mock pins.
+//!
+//! `codegen emit --board FILE` writes a [`Board`] from the manifest's `[board]` section; a board
+//! application configures the pins it names and calls [`Board::edge`] (interrupt mode) or
+//! [`Board::changes`] (sampling mode) to turn pin activity into events, and [`Outputs`] to run commands.
+//!
+//! # Examples
+//!
+//! ```
+//! use firmware::board::{Board, Edge, Input, Pull, Sampling};
+//!
+//! static INPUTS: [Input; 1] = [Input { pin: 3, edge: Edge::Rising, pull: Pull::Up, event: 7 }];
+//! let board = Board { name: "demo", sampling: Sampling::Interrupt, inputs: &INPUTS, outputs: &[] };
+//! let mut seen = Vec::new();
+//! board.changes(0b0000, 0b1000, |e| seen.push(e));
+//! board.changes(0b1000, 0b0000, |e| seen.push(e));
+//! assert_eq!(seen, [7]);
+//! ```
+
+use embedded_hal::digital::OutputPin;
+
+/// Which level change of an input pin makes its event.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Edge {
+    /// Low to high.
+    Rising,
+    /// High to low.
+    Falling,
+    /// Either.
+    Both,
+}
+
+/// Input pin bias.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pull {
+    /// No pull resistor.
+    Floating,
+    /// Pull-up.
+    Up,
+    /// Pull-down.
+    Down,
+}
+
+/// What a controllable event does to its output pin.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Action {
+    /// Drive high.
+    Set,
+    /// Drive low.
+    Clear,
+    /// Drive high for this many milliseconds, then low.
+    Pulse {
+        /// Pulse length in milliseconds.
+        ms: u16,
+    },
+}
+
+/// How inputs are read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sampling {
+    /// GPIO edge interrupts: every edge is seen, bursts included.
+    Interrupt,
+    /// A timer interrupt samples every input pin with this period; edges shorter than it may be missed
+    /// (the paper's scan-cycle reading).
+    Timer {
+        /// Sampling period in microseconds.
+        period_us: u32,
+    },
+}
+
+/// One input: an edge of `pin` is the uncontrollable event `event`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Input {
+    /// GPIO number.
+    pub pin: u8,
+    /// Which edge counts.
+    pub edge: Edge,
+    /// Bias.
+    pub pull: Pull,
+    /// Global event id.
+    pub event: u8,
+}
+
+/// One output: firing `event` applies `action` to `pin`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Output {
+    /// GPIO number.
+    pub pin: u8,
+    /// What firing does.
+    pub action: Action,
+    /// Global event id (controllable).
+    pub event: u8,
+}
+
+/// The pin map of one board.
+#[derive(Clone, Copy, Debug)]
+pub struct Board<'t> {
+    /// Board name, for logs.
+    pub name: &'t str,
+    /// How inputs are read.
+    pub sampling: Sampling,
+    /// Input pins (an event may have several, a pin may make two events: one per edge).
+    pub inputs: &'t [Input],
+    /// Output actions (a pin may serve several events, e.g. set by one and cleared by another).
+    pub outputs: &'t [Output],
+}
+
+impl Board<'_> {
+    /// Sampling mode: the events of every input whose pin changed from `before` to `now` (bit `n` = level
+    /// of GPIO `n`) in its edge's direction, in input order.
+    pub fn changes(&self, before: u32, now: u32, mut emit: impl FnMut(u8)) {
+        let (rose, fell) = (!before & now, before & !now);
+        for i in self.inputs {
+            let bit = 1u32.checked_shl(u32::from(i.pin)).unwrap_or(0);
+            let hit = match i.edge {
+                Edge::Rising => rose & bit,
+                Edge::Falling => fell & bit,
+                Edge::Both => (rose | fell) & bit,
+            };
+            if hit != 0 {
+                emit(i.event);
+            }
+        }
+    }
+
+    /// Interrupt mode: the events of a `rising` (or falling) edge on `pin`.
+    pub fn edge(&self, pin: u8, rising: bool, mut emit: impl FnMut(u8)) {
+        for i in self.inputs.iter().filter(|i| i.pin == pin) {
+            let hit = match i.edge {
+                Edge::Rising => rising,
+                Edge::Falling => !rising,
+                Edge::Both => true,
+            };
+            if hit {
+                emit(i.event);
+            }
+        }
+    }
+}
+
+/// The output pins of a board, `K` distinct GPIOs, with the pulses in progress.
+pub struct Outputs<P, const K: usize> {
+    pins: [P; K],
+    numbers: [u8; K],
+    /// Milliseconds left per pin of a running pulse (0: none).
+    pulses: [u16; K],
+}
+
+impl<P: OutputPin, const K: usize> Outputs<P, K> {
+    /// The pins, and the GPIO number of each.
+    pub fn new(pins: [P; K], numbers: [u8; K]) -> Self {
+        Self { pins, numbers, pulses: [0; K] }
+    }
+
+    /// Runs every output action of `event`.
+    pub fn fire(&mut self, board: &Board<'_>, event: u8) -> Result<(), P::Error> {
+        for o in board.outputs.iter().filter(|o| o.event == event) {
+            let Some(k) = self.numbers.iter().position(|&n| n == o.pin) else { continue };
+            match o.action {
+                Action::Set => self.pins[k].set_high()?,
+                Action::Clear => self.pins[k].set_low()?,
+                Action::Pulse { ms } => {
+                    self.pins[k].set_high()?;
+                    self.pulses[k] = ms.max(1);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// One millisecond passed: ends the pulses that are due.
+    pub fn tick_ms(&mut self) -> Result<(), P::Error> {
+        for (pin, left) in self.pins.iter_mut().zip(self.pulses.iter_mut()) {
+            if *left > 0 {
+                *left -= 1;
+                if *left == 0 {
+                    pin.set_low()?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Every output low, pulses cancelled (the safe state).
+    pub fn all_off(&mut self) -> Result<(), P::Error> {
+        self.pulses = [0; K];
+        for pin in &mut self.pins {
+            pin.set_low()?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use core::convert::Infallible;
+    use std::cell::RefCell;
+    use std::rc::Rc;
+
+    /// A pin that records its level changes in a shared log, as (gpio, level).
+    struct Mock(u8, Rc<RefCell<Vec<(u8, bool)>>>);
+
+    impl embedded_hal::digital::ErrorType for Mock {
+        type Error = Infallible;
+    }
+
+    impl OutputPin for Mock {
+        fn set_low(&mut self) -> Result<(), Infallible> {
+            self.1.borrow_mut().push((self.0, false));
+            Ok(())
+        }
+        fn set_high(&mut self) -> Result<(), Infallible> {
+            self.1.borrow_mut().push((self.0, true));
+            Ok(())
+        }
+    }
+
+    static INPUTS: [Input; 3] = [
+        Input { pin: 1, edge: Edge::Rising, pull: Pull::Up, event: 10 },
+        Input { pin: 1, edge: Edge::Falling, pull: Pull::Up, event: 11 },
+        Input { pin: 4, edge: Edge::Both, pull: Pull::Floating, event: 12 },
+    ];
+    static OUTPUTS: [Output; 3] = [
+        Output { pin: 7, action: Action::Set, event: 0 },
+        Output { pin: 7, action: Action::Clear, event: 1 },
+        Output { pin: 9, action: Action::Pulse { ms: 2 }, event: 2 },
+    ];
+    static BOARD: Board<'static> = Board {
+        name: "t",
+        sampling: Sampling::Timer { period_us: 1000 },
+        inputs: &INPUTS,
+        outputs: &OUTPUTS,
+    };
+
+    fn events(f: impl FnOnce(&mut dyn FnMut(u8))) -> Vec<u8> {
+        let mut v = Vec::new();
+        f(&mut |e| v.push(e));
+        v
+    }
+
+    #[test]
+    fn sampled_changes_and_interrupt_edges_give_the_same_events() {
+        assert_eq!(events(|e| BOARD.changes(0, 0b10010, e)), [10, 12]);
+        assert_eq!(events(|e| BOARD.changes(0b10010, 0, e)), [11, 12]);
+        assert_eq!(events(|e| BOARD.changes(0b10010, 0b10010, e)), []);
+        assert_eq!(events(|e| BOARD.edge(1, true, e)), [10]);
+        assert_eq!(events(|e| BOARD.edge(1, false, e)), [11]);
+        assert_eq!(events(|e| BOARD.edge(4, false, e)), [12]);
+        assert_eq!(events(|e| BOARD.edge(31, true, e)), []);
+    }
+
+    #[test]
+    fn set_clear_pulse_and_safe_state() {
+        let log = Rc::new(RefCell::new(Vec::new()));
+        let mut out = Outputs::new([Mock(7, log.clone()), Mock(9, log.clone())], [7, 9]);
+        out.fire(&BOARD, 0).unwrap();
+        out.fire(&BOARD, 2).unwrap();
+        out.tick_ms().unwrap();
+        assert_eq!(*log.borrow(), [(7, true), (9, true)]);
+        out.tick_ms().unwrap();
+        assert_eq!(log.borrow().last(), Some(&(9, false)), "pulse of 2 ms ends");
+        out.fire(&BOARD, 1).unwrap();
+        assert_eq!(log.borrow().last(), Some(&(7, false)));
+        out.fire(&BOARD, 2).unwrap();
+        log.borrow_mut().clear();
+        out.all_off().unwrap();
+        out.tick_ms().unwrap();
+        out.tick_ms().unwrap();
+        assert_eq!(*log.borrow(), [(7, false), (9, false)], "pulse cancelled");
+    }
+}

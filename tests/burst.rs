@@ -1,0 +1,56 @@
+//! Bursts under QEMU: the plant holds the firmware, sends several events back to back, and lets it go.
+//! Up to the input buffer's capacity nothing is lost; beyond it nothing is lost silently either — under
+//! QEMU the firmware masks its receive interrupt while the buffer is full, so the emulated UART holds the
+//! rest back (backpressure), and every event arrives. (The overflow path itself, for a line that cannot
+//! be held back, is exercised against the host-compiled runtime in `loopback.rs`.)
+
+use codegen::emit::Options as Runtime;
+use codegen::model::{Automaton, Kind};
+use codegen::plant::closed_loop::{parts, Options};
+use codegen::plant::project::Project;
+use codegen::plant::session::{Session, SessionConfig};
+use codegen::qemu::Qemu;
+use end_to_end::{firmware_image, Scratch};
+
+/// Input buffer capacity of the test firmware.
+const CAPACITY: usize = 8;
+
+/// A sensor that ticks freely (uncontrollable) and a controllable acknowledgement after an odd tick.
+fn ticker() -> Automaton {
+    let mut a = Automaton::new("Counter", Kind::Plant);
+    let even = a.add_state("even", true).unwrap();
+    let odd = a.add_state("odd", false).unwrap();
+    let tick = a.add_event("tick", false).unwrap();
+    let ack = a.add_event("ack", true).unwrap();
+    a.initial = Some(even);
+    a.add_transition(even, tick, odd);
+    a.add_transition(odd, tick, even);
+    a.add_transition(odd, ack, even);
+    a
+}
+
+#[test]
+fn bursts_between_two_decisions_lose_nothing() {
+    let runtime = Runtime { name: "ticker".into(), input_buffer: CAPACITY, ..Runtime::default() };
+    let project = Project::new(vec![ticker()], vec![], runtime).unwrap();
+    let scratch = Scratch::new("burst");
+    let elf = firmware_image(&project, &scratch);
+    let options = Options::default();
+    let (mut qemu, mut link) = Qemu::start(&elf, &options.qemu).unwrap();
+    let (mut plant, mut monitor) = parts(&project.set, &options).unwrap();
+    let mut session = Session::new(&mut link, &mut plant, &mut monitor, SessionConfig::default());
+    session.sync(false).unwrap();
+    for n in [1, CAPACITY, 3 * CAPACITY, 200] {
+        let before = session.hold_and_collect(false).unwrap();
+        assert_eq!(session.burst(n).unwrap(), n);
+        let after = session.hold_and_collect(false).unwrap();
+        let taken = after.events_in - before.events_in;
+        let overflowed = after.overflows - before.overflows;
+        assert_eq!(taken + overflowed, n as u64, "burst of {n}: events lost silently");
+        if n <= CAPACITY {
+            assert_eq!(overflowed, 0, "burst of {n} fits the buffer");
+        }
+    }
+    drop(session);
+    assert!(qemu.wait(std::time::Duration::from_millis(10)).is_none(), "still running until killed");
+}

@@ -1,0 +1,37 @@
+//! Races under QEMU: the plant answers every command at once, so its events race the firmware's next
+//! decision. Desynchronisations (commands decided before the firmware read the plant's latest event) are
+//! counted with the inexact-synchronisation guard off and on. The guard catches the events already in the
+//! input buffer when a choice is made; those still on the wire no guard can catch.
+
+use codegen::monitor::Report;
+use codegen::plant::closed_loop::Options;
+use codegen::plant::project::Project;
+use end_to_end::{example, qemu_closed_loop};
+
+fn run(guard: bool) -> Report {
+    let mut project = Project::load(&example("cell/cell.toml")).unwrap();
+    project.runtime.guard = guard;
+    let mut options = Options { events: 20_000, ..Options::default() };
+    options.plant.race_per_mille = 1000;
+    options.plant.delay_us = (0, 50);
+    let report = qemu_closed_loop(&project, &options);
+    eprintln!(
+        "guard {}: {} desyncs, {} guard re-decisions\n{report}",
+        if guard { "on" } else { "off" },
+        report.desyncs,
+        report.guard_redecisions
+    );
+    report
+}
+
+#[test]
+fn races_desynchronise_and_the_guard_counts_what_it_catches() {
+    let off = run(false);
+    let on = run(true);
+    for r in [&off, &on] {
+        assert_eq!(r.violations, 0, "{r}");
+        assert_eq!(r.lost, 0, "{r}");
+    }
+    assert!(off.desyncs > 0, "answering every command at once must race: {off}");
+    assert_eq!(off.guard_redecisions, 0, "no guard, no re-decisions: {off}");
+}

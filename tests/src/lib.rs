@@ -1,0 +1,154 @@
+//! Support for the end-to-end tests: where the examples are, the cell with its published supervisors,
+//! and the firmware's runtime run in a thread on the host behind an in-memory byte link.
+#![deny(missing_docs)]
+
+use std::path::{Path, PathBuf};
+use std::thread::JoinHandle;
+use std::time::Duration;
+
+use codegen::emit::HostTables;
+use codegen::formats::read_path;
+use codegen::link::memory::MemoryLink;
+use codegen::link::ByteLink;
+use codegen::model::Automaton;
+use codegen::monitor::Report;
+use codegen::pack::PackSet;
+use codegen::plant::closed_loop::{run_under_qemu, Options};
+use codegen::plant::image::build_qemu_image;
+use codegen::plant::project::Project;
+use firmware::choice::Policy;
+use firmware::input_queue::InputQueue;
+use firmware::link::{Hold, Link, Poll, Port, READY};
+use firmware::rng::SeedEntropy;
+use firmware::runtime::{Config, Runtime};
+
+/// The repository root.
+pub fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().map(Path::to_path_buf).unwrap_or_default()
+}
+
+/// A file under `examples/`.
+pub fn example(path: &str) -> PathBuf {
+    root().join("examples").join(path)
+}
+
+fn read_all(paths: &[&str]) -> Vec<Automaton> {
+    paths.iter().flat_map(|p| read_path(&example(p)).unwrap_or_else(|e| panic!("{p}: {e}"))).collect()
+}
+
+/// The manufacturing cell: plants G1..G4 and the paper's published local modular supervisors.
+pub fn published_cell() -> PackSet {
+    let plants =
+        read_all(&["cell/plants/G1.xmd", "cell/plants/G2.xmd", "cell/plants/G3.xmd", "cell/plants/G4.xmd"]);
+    let sups = read_all(&[
+        "cell/published/S1.xmd",
+        "cell/published/S2_6.xmd",
+        "cell/published/S3.xmd",
+        "cell/published/S4.xmd",
+        "cell/published/S5.xmd",
+        "cell/published/S7.xmd",
+    ]);
+    PackSet::new(plants, sups).unwrap_or_else(|e| panic!("cell: {e}"))
+}
+
+/// Collects what the runtime sends, for the thread to forward in one write.
+struct Outbox(Vec<u8>);
+
+impl Port for Outbox {
+    fn send(&mut self, byte: u8) {
+        self.0.push(byte);
+    }
+}
+
+/// Runs the firmware's runtime and link service on `tables` in a thread, as the QEMU application does,
+/// behind `link`: every chunk of bytes received is pushed into an input buffer of `Q - 1` slots before
+/// the loop runs (so a burst larger than the buffer overflows, which the runtime reports), then the loop
+/// serves until it is idle. The thread ends on EXIT (returning its status) or when the host hangs up.
+pub fn spawn_host_firmware<P, const W: usize, const N: usize, const Q: usize>(
+    tables: HostTables,
+    config: Config,
+    policy: P,
+    seed: u64,
+    mut link: MemoryLink,
+) -> JoinHandle<Option<u8>>
+where
+    P: Policy<W> + Send + 'static,
+{
+    std::thread::spawn(move || {
+        let names = tables.names();
+        let automata = tables.automata();
+        let set = tables.set(&names, &automata);
+        let mut rt = Runtime::<P, SeedEntropy, W, N>::new(&set, config, policy, SeedEntropy::new(seed))
+            .unwrap_or_else(|e| panic!("tables do not fit W={W}, N={N}: {e:?}"));
+        let mut queue = InputQueue::<Q>::new();
+        let (mut tx, mut rx) = queue.split();
+        let hold = Hold::new();
+        let mut service = Link::new();
+        let mut out = Outbox(Vec::new());
+        link.send(&[READY]).ok()?;
+        let mut buf = [0u8; 512];
+        let mut idle = false;
+        loop {
+            let wait = if idle { Duration::from_millis(5) } else { Duration::ZERO };
+            let n = link.recv(&mut buf, wait).ok()?;
+            for &b in &buf[..n] {
+                if let Some(b) = hold.filter(b) {
+                    if tx.push(b).is_err() {
+                        tx.count_overflow();
+                    }
+                }
+            }
+            let poll = service.service(&mut rt, &mut rx, &hold, &mut out);
+            if !out.0.is_empty() {
+                link.send(&out.0).ok()?;
+                out.0.clear();
+            }
+            match poll {
+                Poll::Busy => idle = false,
+                Poll::Idle => idle = n == 0,
+                Poll::Exit(status) => return Some(status),
+            }
+        }
+    })
+}
+
+/// A scratch directory of one test, removed when dropped.
+pub struct Scratch(PathBuf);
+
+impl Scratch {
+    /// A fresh directory named after `tag`, the process and a counter.
+    pub fn new(tag: &str) -> Scratch {
+        static COUNTER: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+        let n = COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let dir = std::env::temp_dir().join(format!("end-to-end-{tag}-{}-{n}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+        Scratch(dir)
+    }
+
+    /// The directory.
+    pub fn path(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// Emits `project`'s tables and builds the QEMU firmware on them, in `scratch`; returns the ELF.
+pub fn firmware_image(project: &Project, scratch: &Scratch) -> PathBuf {
+    let tables = scratch.path().join("tables.rs");
+    std::fs::write(&tables, project.emit().unwrap_or_else(|e| panic!("emit: {e}"))).unwrap();
+    build_qemu_image(&tables, &scratch.path().join("firmware.elf")).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Builds `project`'s firmware, boots it under QEMU and runs the closed loop with `options`.
+pub fn qemu_closed_loop(project: &Project, options: &Options) -> Report {
+    let scratch = Scratch::new(&project.runtime.name);
+    let elf = firmware_image(project, &scratch);
+    run_under_qemu(&elf, &project.set, &project.runtime.name, options, &mut |_| {})
+        .unwrap_or_else(|e| panic!("{e}"))
+}
