@@ -18,7 +18,7 @@ pub(crate) struct Builder<'f> {
     states: FastMap<Cow<'f, str>, StateId>,
     events: FastMap<String, EventId>,
     /// Transitions with the line each came from, checked for determinism in [`Builder::finish`].
-    transitions: Vec<(Transition, usize)>,
+    transitions: Vec<(Transition, u32)>,
 }
 
 impl<'f> Builder<'f> {
@@ -116,6 +116,8 @@ impl<'f> Builder<'f> {
 
     /// Adds a transition; [`Builder::finish`] refuses it if it makes the automaton nondeterministic.
     pub(crate) fn transition(&mut self, source: StateId, event: EventId, target: StateId, line: usize) {
+        // Lines beyond u32 saturate: only an error message would show them.
+        let line = u32::try_from(line).unwrap_or(u32::MAX);
         self.transitions.push((Transition { source, event, target }, line));
     }
 
@@ -129,7 +131,7 @@ impl<'f> Builder<'f> {
                 let a = &self.automaton;
                 let (first, second) = if l1 <= l2 { (t.target, u.target) } else { (u.target, t.target) };
                 return Err(self.err(
-                    l1.max(l2),
+                    l1.max(l2) as usize,
                     ModelError::Nondeterministic {
                         state: a.states[t.source.index()].name.clone(),
                         event: a.events[t.event.index()].name.clone(),

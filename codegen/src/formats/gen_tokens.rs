@@ -126,12 +126,18 @@ impl<'t> Tokens<'t> {
     fn quoted(&mut self, line: usize) -> Result<Option<Token<'t>>, ParseError> {
         let rest = &self.text[self.pos + 1..];
         // Like libFAUDES, markup ends a quoted name: a missing quote is reported where it is missing.
-        let end = rest
-            .find(['"', '<', '>'])
+        let mut newlines = 0;
+        let end = rest.bytes().position(|b| {
+            newlines += usize::from(b == b'\n');
+            matches!(b, b'"' | b'<' | b'>')
+        });
+        let end = end
             .filter(|&i| rest.as_bytes()[i] == b'"')
             .ok_or_else(|| self.error(line, "quoted name is never closed"))?;
+        // The quotes are ASCII, so `end` is a character boundary.
         let raw = &rest[..end];
-        self.advance(end + 2);
+        self.line += newlines;
+        self.pos += end + 2;
         Ok(Some(Token::Str(unescape(raw))))
     }
 
