@@ -126,7 +126,7 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
 
 /// Reads `packed` back into automata (plants first), checking every offset and event id.
 ///
-/// States are named by index and unmarked; see [`decoded`](super::decoded).
+/// States are named by index and unmarked: layouts keep no marking, the runtime needs none.
 pub fn decode(packed: &Packed) -> Result<Vec<Automaton>, DecodeError> {
     packed.automata.iter().map(|b| decode_block(b, packed)).collect()
 }
