@@ -159,6 +159,20 @@ pub struct ModelSet {
     pub supervisors: Vec<Automaton>,
 }
 
+impl ModelSet {
+    /// The supervisors this set runs with: its ready supervisors first, then the local modular
+    /// supervisors synthesised from its specifications (none when it has no specifications).
+    pub fn all_supervisors(&self) -> Result<Vec<Automaton>, crate::synth::SynthError> {
+        let mut all = self.supervisors.clone();
+        if !self.specs.is_empty() {
+            let result =
+                crate::synth::local_modular(&self.plants, &self.specs, &crate::synth::Config::default())?;
+            all.extend(result.supervisors.into_iter().map(|s| s.automaton));
+        }
+        Ok(all)
+    }
+}
+
 impl Manifest {
     /// Reads and parses the manifest at `path`.
     pub fn load(path: &Path) -> Result<Manifest, ManifestError> {

@@ -8,7 +8,6 @@ use codegen::formats::read_path;
 use codegen::manifest::Manifest;
 use codegen::model::Automaton;
 use codegen::pack::{offset, PackSet};
-use codegen::synth;
 
 use super::Error;
 
@@ -98,16 +97,11 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     write(&args.output, &text)
 }
 
-/// `emit MANIFEST`: the manifest's ready supervisors, or its local modular ones.
+/// `emit MANIFEST`: the manifest's ready supervisors and the local modular ones of its specifications.
 fn from_manifest(path: &std::path::Path, args: &Args) -> Result<ExitCode, Error> {
     let m = Manifest::load(path)?;
     let set = m.read_automata()?;
-    let supervisors = if set.supervisors.is_empty() {
-        let result = synth::local_modular(&set.plants, &set.specs, &synth::Config::default())?;
-        result.supervisors.into_iter().map(|s| s.automaton).collect()
-    } else {
-        set.supervisors
-    };
+    let supervisors = set.all_supervisors()?;
     let mut inputs = vec![Input::read(path).map_err(|e| format!("{}: {e}", path.display()))?];
     for f in m.plants.iter().chain(&m.specs).chain(&m.supervisors) {
         let file = m.resolve(f);

@@ -5,7 +5,6 @@ use std::path::{Path, PathBuf};
 use codegen::formats::read_path;
 use codegen::manifest::Manifest;
 use codegen::model::{Automaton, Kind};
-use codegen::synth::{local_modular, Config};
 
 use super::Error;
 
@@ -20,15 +19,10 @@ pub struct ClosedLoop {
 }
 
 impl ClosedLoop {
-    /// Reads the manifest at `path`; without ready supervisors, synthesises the local modular ones.
+    /// Reads the manifest at `path`: its ready supervisors, then those synthesised from its specifications.
     pub fn from_manifest(path: &Path) -> Result<ClosedLoop, Error> {
         let set = Manifest::load(path)?.read_automata()?;
-        let supervisors = if set.supervisors.is_empty() && !set.specs.is_empty() {
-            let result = local_modular(&set.plants, &set.specs, &Config::default())?;
-            result.supervisors.into_iter().map(|s| s.automaton).collect()
-        } else {
-            set.supervisors
-        };
+        let supervisors = set.all_supervisors()?;
         Ok(ClosedLoop { plants: set.plants, specs: set.specs, supervisors })
     }
 

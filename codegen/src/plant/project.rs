@@ -4,11 +4,10 @@
 
 use std::path::Path;
 
-use crate::emit::{self, EmitError, Input, OnFault, Policy, Provenance};
-use crate::manifest::{self, Manifest, ManifestError};
+use crate::emit::{self, EmitError, Input, Provenance};
+use crate::manifest::{Manifest, ManifestError};
 use crate::model::Automaton;
 use crate::pack::{offset, PackError, PackSet};
-use crate::synth;
 
 /// A manifest's supervisor set with everything the closed loop and the firmware build need.
 #[derive(Clone, Debug)]
@@ -49,29 +48,16 @@ impl Project {
     pub fn load(manifest: &Path) -> Result<Self, ProjectError> {
         let m = Manifest::load(manifest)?;
         let models = m.read_automata()?;
-        let mut supervisors = models.supervisors;
-        if !models.specs.is_empty() {
-            let result = synth::local_modular(&models.plants, &models.specs, &synth::Config::default())?;
-            supervisors.extend(result.supervisors.into_iter().map(|s| s.automaton));
-        } else if supervisors.is_empty() && models.plants.is_empty() {
+        let supervisors = models.all_supervisors()?;
+        if supervisors.is_empty() && models.plants.is_empty() {
             return Err(ProjectError::Nothing { file: m.file.clone() });
         }
         let runtime = emit::Options {
             name: m.name.clone(),
-            policy: match m.runtime.policy {
-                manifest::Policy::First => Policy::First,
-                manifest::Policy::Random => Policy::Random,
-                manifest::Policy::GlobalQueue => Policy::GlobalQueue,
-                manifest::Policy::RandomGlobalQueue => Policy::RandomGlobalQueue,
-                manifest::Policy::LocalQueue => Policy::LocalQueue,
-                manifest::Policy::RandomLocalQueue => Policy::RandomLocalQueue,
-            },
+            policy: m.runtime.policy,
             seed: m.runtime.seed,
             guard: m.runtime.guard,
-            on_fault: match m.runtime.on_fault {
-                manifest::OnFault::Continue => OnFault::Continue,
-                manifest::OnFault::SafeState => OnFault::SafeState,
-            },
+            on_fault: m.runtime.on_fault,
             input_buffer: m.runtime.input_buffer,
             ..emit::Options::default()
         };
