@@ -121,10 +121,15 @@ impl SideTables {
 /// A packed set with its side tables, owned on the host, from which a runtime [`SupervisorSet`] can be
 /// borrowed: the virtual plant and the host tests run the firmware's runtime on it.
 ///
-/// ```ignore
-/// let host = HostTables::new(packed)?;
+/// ```
+/// # use codegen::{emit::HostTables, pack::{offset, PackSet}};
+/// # fn borrow(set: &PackSet) -> Result<(), Box<dyn std::error::Error>> {
+/// let host = HostTables::new(offset::encode(set)?)?;
 /// let (names, automata) = (host.names(), host.automata());
-/// let set = host.set(&names, &automata);
+/// let runtime_set = host.set(&names, &automata);
+/// # let _ = runtime_set;
+/// # Ok(())
+/// # }
 /// ```
 #[derive(Clone, Debug)]
 pub struct HostTables {
