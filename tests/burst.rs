@@ -5,29 +5,14 @@
 //! be held back, is exercised against the host-compiled runtime in `loopback.rs`.)
 
 use codegen::emit::Options as Runtime;
-use codegen::model::{Automaton, Kind};
 use codegen::plant::closed_loop::{parts, Options};
 use codegen::plant::project::Project;
 use codegen::plant::session::{Session, SessionConfig};
 use codegen::qemu::Qemu;
-use end_to_end::{firmware_image, Scratch};
+use end_to_end::{firmware_image, ticker, Scratch};
 
 /// Input buffer capacity of the test firmware.
 const CAPACITY: usize = 8;
-
-/// A sensor that ticks freely (uncontrollable) and a controllable acknowledgement after an odd tick.
-fn ticker() -> Automaton {
-    let mut a = Automaton::new("Counter", Kind::Plant);
-    let even = a.add_state("even", true).unwrap();
-    let odd = a.add_state("odd", false).unwrap();
-    let tick = a.add_event("tick", false).unwrap();
-    let ack = a.add_event("ack", true).unwrap();
-    a.initial = Some(even);
-    a.add_transition(even, tick, odd);
-    a.add_transition(odd, tick, even);
-    a.add_transition(odd, ack, even);
-    a
-}
 
 #[test]
 fn bursts_between_two_decisions_lose_nothing() {

@@ -5,11 +5,11 @@ use codegen::emit::HostTables;
 use codegen::link::memory;
 use codegen::link::protocol::EXIT;
 use codegen::link::ByteLink;
-use codegen::model::{Automaton, Kind, StateId};
+use codegen::model::StateId;
 use codegen::pack::{offset, PackSet};
 use codegen::plant::closed_loop::{attach, parts, Options};
 use codegen::plant::session::{Session, SessionConfig};
-use end_to_end::{published_cell, spawn_host_firmware};
+use end_to_end::{published_cell, spawn_host_firmware, ticker};
 use firmware::choice::{Random, RandomLocalQueue};
 use firmware::fault::FaultPolicy;
 use firmware::runtime::Config;
@@ -40,24 +40,16 @@ fn cell_closed_loop_is_safe_live_and_covers_every_supervisor_transition() {
     assert_eq!(report.firmware.events_in, report.uncontrollable, "{report}");
 }
 
-/// A sensor that ticks freely (uncontrollable) and a controllable acknowledgement after an odd tick.
-fn ticker() -> PackSet {
-    let mut a = Automaton::new("Counter", Kind::Plant);
-    let even = a.add_state("even", true).unwrap();
-    let odd = a.add_state("odd", false).unwrap();
-    let tick = a.add_event("tick", false).unwrap();
-    let ack = a.add_event("ack", true).unwrap();
-    a.initial = Some(even);
-    a.add_transition(even, tick, odd);
-    a.add_transition(odd, tick, even);
-    a.add_transition(odd, ack, even);
+/// The ticker plant alone, packed.
+fn ticker_set() -> PackSet {
+    let a = ticker();
     assert_eq!(a.state_id("odd"), Some(StateId::new(1).unwrap()));
     PackSet::new(vec![a], vec![]).unwrap()
 }
 
 /// HOLD, a burst of `n` events, GO; returns (events the firmware took, overflows it reported).
 fn burst(n: usize) -> (u64, u64) {
-    let set = ticker();
+    let set = ticker_set();
     let tables = HostTables::new(offset::encode(&set).unwrap()).unwrap();
     let (mut host, target) = memory::pair();
     // 8 input slots: 7 events fit.

@@ -10,7 +10,7 @@ use codegen::emit::HostTables;
 use codegen::formats::read_path;
 use codegen::link::memory::MemoryLink;
 use codegen::link::ByteLink;
-use codegen::model::Automaton;
+use codegen::model::{Automaton, Kind};
 use codegen::monitor::Report;
 use codegen::pack::PackSet;
 use codegen::plant::closed_loop::{run_under_qemu, Options};
@@ -151,4 +151,19 @@ pub fn qemu_closed_loop(project: &Project, options: &Options) -> Report {
     let elf = firmware_image(project, &scratch);
     run_under_qemu(&elf, &project.set, &project.runtime.name, options, &mut |_| {})
         .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// A sensor that ticks freely (uncontrollable `tick`) and a controllable acknowledgement `ack` after an odd
+/// tick: the smallest plant whose input buffer a burst of ticks can fill.
+pub fn ticker() -> Automaton {
+    let mut a = Automaton::new("Counter", Kind::Plant);
+    let even = a.add_state("even", true).unwrap();
+    let odd = a.add_state("odd", false).unwrap();
+    let tick = a.add_event("tick", false).unwrap();
+    let ack = a.add_event("ack", true).unwrap();
+    a.initial = Some(even);
+    a.add_transition(even, tick, odd);
+    a.add_transition(odd, tick, even);
+    a.add_transition(odd, ack, even);
+    a
 }
