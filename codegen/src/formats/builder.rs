@@ -10,13 +10,17 @@ use crate::model::{Automaton, EventId, Kind, ModelError, StateId, Transition};
 
 /// An automaton under construction, with name indexes and the file it comes from.
 ///
-/// State names are indexed by `Cow`s that borrow from the text being read when they can: reading a
-/// large file then looks names up in the (compact) text rather than in scattered allocations.
+/// State names of at most [`SHORT`] bytes are indexed by their bytes packed into two words, so that a
+/// lookup compares integers in the map's own bucket (the usual `q123`-style names in large files);
+/// longer names are indexed by `Cow`s that borrow from the text being read when they can.
 pub(crate) struct Builder<'f> {
     file: &'f Path,
     automaton: Automaton,
-    states: FastMap<Cow<'f, str>, StateId>,
+    short_states: FastMap<(u64, u64), StateId>,
+    long_states: FastMap<Cow<'f, str>, StateId>,
     events: FastMap<String, EventId>,
+    /// The events of at most [`SHORT`] bytes again, by [`pack`]ed name: every transition looks one up.
+    short_events: FastMap<(u64, u64), EventId>,
     /// Transitions with the line each came from, checked for determinism in [`Builder::finish`].
     transitions: Vec<(Transition, u32)>,
 }
@@ -27,8 +31,10 @@ impl<'f> Builder<'f> {
         Builder {
             file,
             automaton: Automaton::new(name, kind),
-            states: FastMap::default(),
+            short_states: FastMap::default(),
+            long_states: FastMap::default(),
             events: FastMap::default(),
+            short_events: FastMap::default(),
             transitions: Vec::new(),
         }
     }
@@ -41,11 +47,18 @@ impl<'f> Builder<'f> {
         line: usize,
     ) -> Result<StateId, ParseError> {
         let name = name.into();
-        if self.states.contains_key(&name) {
+        let known = match pack(&name) {
+            Some(key) => self.short_states.contains_key(&key),
+            None => self.long_states.contains_key(&name),
+        };
+        if known {
             return Err(self.err(line, ModelError::DuplicateState(name.into_owned())));
         }
         let id = self.automaton.add_state(name.as_ref(), marked).map_err(|e| self.err(line, e))?;
-        self.states.insert(name, id);
+        match pack(&name) {
+            Some(key) => self.short_states.insert(key, id),
+            None => self.long_states.insert(name, id),
+        };
         Ok(id)
     }
 
@@ -61,23 +74,30 @@ impl<'f> Builder<'f> {
         }
         let id = self.automaton.add_event(name, controllable).map_err(|e| self.err(line, e))?;
         self.events.insert(name.to_owned(), id);
+        if let Some(key) = pack(name) {
+            self.short_events.insert(key, id);
+        }
         Ok(id)
     }
 
     /// The state called `name`, or an error at `line`.
     pub(crate) fn state_named(&self, name: &str, line: usize) -> Result<StateId, ParseError> {
-        self.states
-            .get(name)
-            .copied()
-            .ok_or_else(|| self.err(line, ModelError::UnknownState(name.to_owned())))
+        match pack(name) {
+            Some(key) => self.short_states.get(&key),
+            None => self.long_states.get(name),
+        }
+        .copied()
+        .ok_or_else(|| self.err(line, ModelError::UnknownState(name.to_owned())))
     }
 
     /// The event called `name`, or an error at `line`.
     pub(crate) fn event_named(&self, name: &str, line: usize) -> Result<EventId, ParseError> {
-        self.events
-            .get(name)
-            .copied()
-            .ok_or_else(|| self.err(line, ModelError::UnknownEvent(name.to_owned())))
+        match pack(name) {
+            Some(key) => self.short_events.get(&key),
+            None => self.events.get(name),
+        }
+        .copied()
+        .ok_or_else(|| self.err(line, ModelError::UnknownEvent(name.to_owned())))
     }
 
     /// Number of states so far.
@@ -154,5 +174,46 @@ impl<'f> Builder<'f> {
 
     fn err(&self, line: usize, e: impl Into<ModelError>) -> ParseError {
         ParseError::model(self.file, Some(line), e.into())
+    }
+}
+
+/// The longest state name indexed by [`pack`]ed bytes.
+const SHORT: usize = 15;
+
+/// A name of at most [`SHORT`] bytes packed into two words: the bytes, zero-padded, with the length in
+/// the last byte (so that names differing only by trailing zero bytes stay apart).
+fn pack(name: &str) -> Option<(u64, u64)> {
+    let bytes = name.as_bytes();
+    if bytes.len() > SHORT {
+        return None;
+    }
+    let mut word = [0u8; 16];
+    word[..bytes.len()].copy_from_slice(bytes);
+    word[15] = bytes.len() as u8;
+    let (lo, hi) = word.split_at(8);
+    Some((u64::from_le_bytes(lo.try_into().ok()?), u64::from_le_bytes(hi.try_into().ok()?)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn short_and_long_names_stay_apart() {
+        let mut b = Builder::new(Path::new("t"), "t", Kind::Unknown);
+        let names = ["a", "a\0", "", "exactly15bytes!", "sixteen_bytes_xx", "a_much_longer_state_name"];
+        for (i, n) in names.iter().enumerate() {
+            assert_eq!(b.state(*n, false, 1).unwrap().index(), i);
+        }
+        for (i, n) in names.iter().enumerate() {
+            assert_eq!(b.state_named(n, 1).unwrap().index(), i);
+            assert!(b.state(*n, false, 2).is_err(), "{n:?} is a duplicate");
+        }
+        assert!(b.state_named("b", 1).is_err());
+        b.event("e", true, 1).unwrap();
+        b.event("an_event_name_over_15", false, 1).unwrap();
+        assert_eq!(b.event_named("an_event_name_over_15", 1).unwrap().index(), 1);
+        assert_eq!(b.event_named("e", 1).unwrap().index(), 0);
+        assert!(b.event("e", false, 2).is_err() && b.event_named("f", 1).is_err());
     }
 }

@@ -126,9 +126,10 @@ impl<'t> Tokens<'t> {
     fn quoted(&mut self, line: usize) -> Result<Option<Token<'t>>, ParseError> {
         let rest = &self.text[self.pos + 1..];
         // Like libFAUDES, markup ends a quoted name: a missing quote is reported where it is missing.
-        let mut newlines = 0;
+        let (mut newlines, mut entities) = (0, false);
         let end = rest.bytes().position(|b| {
             newlines += usize::from(b == b'\n');
+            entities |= b == b'&';
             matches!(b, b'"' | b'<' | b'>')
         });
         let end = end
@@ -138,7 +139,8 @@ impl<'t> Tokens<'t> {
         let raw = &rest[..end];
         self.line += newlines;
         self.pos += end + 2;
-        Ok(Some(Token::Str(unescape(raw))))
+        // The scan above saw every byte: names without '&' skip `unescape`'s own search.
+        Ok(Some(Token::Str(if entities { unescape(raw) } else { Cow::Borrowed(raw) })))
     }
 
     fn option(&mut self, line: usize) -> Result<Option<Token<'t>>, ParseError> {
