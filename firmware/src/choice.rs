@@ -17,7 +17,7 @@
 //! plant among those that generate an enabled event (`local-queue`: cyclically; `random-local-queue`:
 //! uniformly, so that no interleaving of the plants is ruled out — a fixed plant order would keep the
 //! closed loop out of states a machine reaches only by waiting), then the plant's current state picks
-//! among its own enabled events in event-id order (the order of its transition records). So a choice made in one place never starves another, which a single global
+//! among its own enabled events in event-id order (the order of its out-mask). So a choice made in one place never starves another, which a single global
 //! cursor can do: in the livelock example of the design notes a global queue cycles 1, 3, 1, 3 and never
 //! reaches the marked state, while a local queue runs 1, 3, 4, 1, 2, 4, 1, 3, 1.
 //!
@@ -25,7 +25,7 @@
 //! is uniform among the enabled events still in the round (a new round starts when none is). Every event
 //! enabled at each visit is thus taken once per round, in a random order, and no permutation is stored.
 //!
-//! Every policy works on bitsets; only `random-local-queue` reads the chosen plant's records, to start a
+//! Every policy works on bitsets; only `random-local-queue` reads the chosen plant's out-mask, to start a
 //! site's round.
 
 use crate::event_set::EventSet;
@@ -36,32 +36,26 @@ use crate::table::SupervisorSet;
 #[derive(Clone, Copy)]
 pub struct View<'a, const W: usize> {
     /// The tables.
-    pub set: &'a SupervisorSet<'a>,
-    /// Current state offset of every automaton.
+    pub set: &'a SupervisorSet<'a, W>,
+    /// Current state handle of every automaton.
     pub states: &'a [u16],
-    /// Number of plants (the first automata).
-    pub plants: usize,
 }
 
 impl<const W: usize> View<'_, W> {
+    /// Number of plants (the first automata).
+    fn plants(&self) -> usize {
+        usize::from(self.set.plants)
+    }
+
     /// The controllable events plant `p` generates.
     fn generated(&self, p: usize) -> EventSet<W> {
-        let mut set = EventSet::EMPTY;
-        if let Some(words) = self.set.plant_events.get(p * W..p * W + W) {
-            set.0.copy_from_slice(words);
-        }
-        set
+        EventSet(self.set.plant_events.get(p).copied().unwrap_or([0; W]))
     }
 
     /// The events plant `p`'s current state has transitions for.
     fn out(&self, p: usize) -> EventSet<W> {
-        let mut out = EventSet::EMPTY;
-        if let (Some(a), Some(&state)) = (self.set.automata.get(p), self.states.get(p)) {
-            for r in a.records(state).chunks_exact(3) {
-                out.insert(r[0]);
-            }
-        }
-        out
+        let state = self.states.get(p).and_then(|&h| self.set.state(p, h));
+        EventSet(state.map_or([0; W], |s| *s.mask))
     }
 
     /// Index of plant `p`'s current state in the site table, if that state is a choice site.
@@ -146,7 +140,7 @@ impl<const W: usize> Policy<W> for RandomGlobalQueue<W> {
         enabled: &EventSet<W>,
         rng: &mut Rng<E>,
     ) -> Option<u8> {
-        let all = EventSet::from_words(view.set.controllable).unwrap_or(EventSet::EMPTY);
+        let all = EventSet(view.set.controllable);
         pick_from_round(&mut self.round, enabled, all, rng)
     }
 
@@ -170,8 +164,9 @@ impl<const S: usize> Default for LocalQueue<S> {
 
 impl<const W: usize, const S: usize> Policy<W> for LocalQueue<S> {
     fn choose<E: Entropy>(&mut self, view: View<'_, W>, enabled: &EventSet<W>, _: &mut Rng<E>) -> Option<u8> {
-        for i in 0..view.plants {
-            let p = (usize::from(self.plant_cursor) + i) % view.plants;
+        let plants = view.plants();
+        for i in 0..plants {
+            let p = (usize::from(self.plant_cursor) + i) % plants;
             let candidates = enabled.and(&view.generated(p));
             let c = match view.site(p).and_then(|s| self.cursors.get_mut(s)) {
                 Some(cursor) => {
@@ -184,7 +179,7 @@ impl<const W: usize, const S: usize> Policy<W> for LocalQueue<S> {
                 None => candidates.first(),
             };
             if let Some(c) = c {
-                self.plant_cursor = u8::try_from((p + 1) % view.plants).unwrap_or(0);
+                self.plant_cursor = u8::try_from((p + 1) % plants).unwrap_or(0);
                 return Some(c);
             }
         }
@@ -216,7 +211,7 @@ impl<const W: usize, const S: usize> Policy<W> for RandomLocalQueue<W, S> {
         enabled: &EventSet<W>,
         rng: &mut Rng<E>,
     ) -> Option<u8> {
-        let plants = view.plants.min(32);
+        let plants = view.plants().min(32);
         let mut with_events = EventSet::<1>::EMPTY;
         for p in 0..plants {
             if !enabled.and(&view.generated(p)).is_empty() {

@@ -24,17 +24,6 @@ impl<const W: usize> EventSet<W> {
     /// The empty set.
     pub const EMPTY: Self = Self([0; W]);
 
-    /// The set whose words are `words`; `None` when the slice does not hold exactly `W` words (a table
-    /// emitted for another event count).
-    pub fn from_words(words: &[u32]) -> Option<Self> {
-        let mut set = Self::EMPTY;
-        if words.len() != W {
-            return None;
-        }
-        set.0.copy_from_slice(words);
-        Some(set)
-    }
-
     /// Adds `event`; ids beyond the set's range are ignored (they cannot be table events).
     pub fn insert(&mut self, event: u8) {
         if let Some(w) = self.0.get_mut(usize::from(event / 32)) {
@@ -187,7 +176,5 @@ mod tests {
         assert!(s.contains(31));
         s.remove(31);
         assert!(s.is_empty());
-        assert_eq!(EventSet::<1>::from_words(&[1, 2]), None);
-        assert_eq!(EventSet::<2>::from_words(&[1, 2]).map(|s| s.len()), Some(2));
     }
 }

@@ -7,12 +7,15 @@
 //! only disable, and the *interface* (the caller: [`crate::link`] or a board's pin layer) turns input
 //! signals into [`Runtime::apply`] calls and fired events into outputs.
 //!
-//! Cost does not depend on the set's state count: a state is held as the offset of its record in the
-//! table, so taking a transition reads one state's records and nothing else; an event touches only the
-//! automata that hold it ([`SupervisorSet::holders`]). The enabled set starts as the controllable events
-//! and shrinks automaton by automaton, plants first: an automaton whose alphabet holds none of the events
-//! still enabled costs one bitset test, the others one scan of their current state's records. Since the
-//! plants come first and can take only a few controllable events at a time, most supervisors are skipped.
+//! Cost does not depend on the set's state count: a state is held as the handle of its record in the
+//! table (`ranked` layout, [`crate::table`]), so taking a transition is a mask test, a rank and one load;
+//! an event touches only the automata that hold it ([`SupervisorSet::holders`]). The enabled set is the
+//! controllable events masked, automaton by automaton, by the current state's out-mask (or-ed with the
+//! events outside the automaton's alphabet): one mask per automaton, no scan.
+//!
+//! The tables are checked once in [`Runtime::new`] ([`SupervisorSet::check`]); the hot path then reads
+//! them without bounds checks. Everything from outside — input events, restored states — is checked
+//! where it enters.
 //!
 //! # Examples
 //!
@@ -21,18 +24,19 @@
 //! use firmware::fault::FaultPolicy;
 //! use firmware::rng::SeedEntropy;
 //! use firmware::runtime::{Config, Decision, Runtime};
-//! use firmware::table::{Automaton, Role, SupervisorSet};
+//! use firmware::table::{Automaton, SupervisorSet};
 //!
-//! // One plant: state 0 –start(0)→ state 1 (offset 4) –done(1)→ state 0; start is controllable.
-//! static SET: SupervisorSet<'static> = SupervisorSet {
-//!     event_names: &["start", "done"],
-//!     controllable: &[0b01],
-//!     automata: &[Automaton {
-//!         name: "M", role: Role::Plant, initial: 0,
-//!         block: &[1, 0, 0, 4, 1, 1, 0, 0], alphabet: &[0b11],
-//!     }],
+//! // One plant: state 0 –start(0)→ state 1 –done(1)→ state 0; start is controllable. Out-masks {start}
+//! // (id 0) and {done} (id 1); records [id][target], one byte each, so state 1 is handle 2.
+//! static SET: SupervisorSet<'static, 1> = SupervisorSet {
+//!     controllable: [0b01],
+//!     plants: 1,
+//!     automata: &[Automaton { start: 0, initial: 0, scale: 1, wide: false, alphabet: [0b11] }],
+//!     blocks: &[0, 2, 1, 0],
+//!     masks: &[[0b01], [0b10]],
+//!     wide_ids: false,
 //!     holders: &[1, 1],
-//!     plant_events: &[0b01],
+//!     plant_events: &[[0b01]],
 //!     sites: &[],
 //! };
 //! let config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 0 };
@@ -47,7 +51,7 @@ use crate::choice::{Policy, View};
 use crate::event_set::EventSet;
 use crate::fault::FaultPolicy;
 use crate::rng::{Entropy, Rng};
-use crate::table::{SupervisorSet, TableError};
+use crate::table::{bit, SupervisorSet, TableError};
 
 /// Run-time options (manifest `[runtime]`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -121,9 +125,8 @@ pub enum Decision {
 
 /// The runtime over a set of `N` automata and events in `W`-word bitsets, choosing with policy `P`.
 pub struct Runtime<'t, P, E, const W: usize, const N: usize> {
-    set: &'t SupervisorSet<'t>,
+    set: &'t SupervisorSet<'t, W>,
     states: [u16; N],
-    plants: u8,
     counters: Counters,
     overflow_mark: u32,
     safe: bool,
@@ -134,19 +137,17 @@ pub struct Runtime<'t, P, E, const W: usize, const N: usize> {
 }
 
 impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P, E, W, N> {
-    /// A runtime in the initial states; refuses tables whose sizes are not `W` and `N`.
+    /// A runtime in the initial states; refuses tables that are broken or not of `N` automata.
     pub fn new(
-        set: &'t SupervisorSet<'t>,
+        set: &'t SupervisorSet<'t, W>,
         config: Config,
         policy: P,
         entropy: E,
     ) -> Result<Self, TableError> {
-        set.check(W, N)?;
+        set.check(N)?;
         let mut rt = Self {
             set,
             states: [0; N],
-            // At most MAX_AUTOMATA (32) automata: `check` passed.
-            plants: u8::try_from(set.plant_count()).unwrap_or(0),
             counters: Counters::default(),
             overflow_mark: 0,
             safe: false,
@@ -170,12 +171,12 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     }
 
     /// Step 1 of the loop for one input: applies uncontrollable `event` to every automaton holding it.
+    #[inline(never)]
     pub fn apply(&mut self, event: u8) -> Applied {
-        let controllable = self.controllable();
         let Some(&holders) = self.set.holders.get(usize::from(event)) else {
             return self.unknown();
         };
-        if controllable.contains(event) {
+        if bit(&self.set.controllable, event) {
             return self.unknown();
         }
         self.counters.events_in = self.counters.events_in.wrapping_add(1);
@@ -206,6 +207,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
 
     /// Steps 2–6 of the loop: computes the enabled set, chooses, checks the guard (`pending` says
     /// whether an input is waiting) and fires.
+    #[inline(never)]
     pub fn decide(&mut self, pending: impl FnOnce() -> bool) -> Decision {
         if self.safe {
             return Decision::Halted;
@@ -214,7 +216,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
         if enabled.is_empty() {
             return Decision::Idle;
         }
-        let view = View { set: self.set, states: &self.states, plants: usize::from(self.plants) };
+        let view = View { set: self.set, states: &self.states };
         let Some(c) = self.policy.choose(view, &enabled, &mut self.rng) else {
             return Decision::Idle;
         };
@@ -232,19 +234,16 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
 
     /// The controllable events every automaton holding them can take now.
     pub fn enabled(&self) -> EventSet<W> {
-        let mut enabled = self.controllable();
-        for (a, &state) in self.set.automata.iter().zip(&self.states) {
-            let relevant = words::<W>(a.alphabet).and(&enabled);
-            if relevant.is_empty() {
-                continue;
+        let mut enabled = self.set.controllable;
+        for (aut, &handle) in self.set.automata.iter().zip(&self.states) {
+            // SAFETY: `new` checked the set; `handle` is the initial handle or a target (`take`), or was
+            // checked by `restore`.
+            let state = unsafe { self.set.state_unchecked(aut, handle) };
+            for ((e, m), al) in enabled.iter_mut().zip(state.mask).zip(&aut.alphabet) {
+                *e &= m | !al;
             }
-            let mut blocked = relevant;
-            for r in a.records(state).chunks_exact(3) {
-                blocked.remove(r[0]);
-            }
-            enabled = enabled.and_not(&blocked);
         }
-        enabled
+        EventSet(enabled)
     }
 
     /// The counters.
@@ -257,43 +256,51 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
         self.safe
     }
 
-    /// Current state offset of every automaton.
+    /// Current state handle of every automaton.
     pub fn states(&self) -> &[u16; N] {
         &self.states
     }
 
-    /// Puts every automaton in the state at the given offset, as [`Runtime::states`] reported it (a
-    /// checkpoint; host tools replay or explore from it). Counters and the policy's memory are kept. An
-    /// offset that is no state of its block makes every later event of that automaton unexpected.
-    pub fn restore(&mut self, states: &[u16; N]) {
+    /// Puts every automaton in the state with the given handle, as [`Runtime::states`] reported it (a
+    /// checkpoint; host tools replay or explore from it). Counters and the policy's memory are kept.
+    /// Refuses, changing nothing, a handle that is no state of its automaton.
+    pub fn restore(&mut self, states: &[u16; N]) -> Result<(), TableError> {
+        for (a, &h) in states.iter().enumerate() {
+            if !self.set.is_state(a, h) {
+                // At most MAX_AUTOMATA automata: the index fits a byte.
+                return Err(TableError::Block(a as u8));
+            }
+        }
         self.states = *states;
+        Ok(())
     }
 
     /// The tables.
-    pub fn set(&self) -> &'t SupervisorSet<'t> {
+    pub fn set(&self) -> &'t SupervisorSet<'t, W> {
         self.set
     }
 
-    /// Moves every automaton of `holders` by `event`; the first that cannot, if any.
+    /// Moves every automaton of `holders` by `event`; the first that cannot, if any (it stays).
+    #[inline(always)]
     fn take(&mut self, event: u8, mut holders: u32) -> Option<u8> {
         let mut stuck = None;
         while holders != 0 {
             let a = holders.trailing_zeros() as usize;
             holders &= holders - 1;
-            let (Some(aut), Some(&state)) = (self.set.automata.get(a), self.states.get(a)) else {
-                continue;
-            };
-            // `a < N` here: `states` has N entries.
-            match aut.step(state, event) {
-                Some(target) => self.states[a] = target,
-                None => stuck = stuck.or(u8::try_from(a).ok()),
+            // SAFETY: `new` checked that every holder bit names one of the N automata, and the handles
+            // are valid as in `enabled`.
+            unsafe {
+                let aut = self.set.automata.get_unchecked(a);
+                let handle = self.states.get_unchecked_mut(a);
+                let state = self.set.state_unchecked(aut, *handle);
+                if state.has(event) {
+                    *handle = self.set.target_unchecked(&state, event);
+                } else if stuck.is_none() {
+                    stuck = Some(a as u8);
+                }
             }
         }
         stuck
-    }
-
-    fn controllable(&self) -> EventSet<W> {
-        words(self.set.controllable)
     }
 
     fn unknown(&mut self) -> Applied {
@@ -307,13 +314,4 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
             self.safe = true;
         }
     }
-}
-
-/// A table bitset as a set (lengths are checked once in [`Runtime::new`]).
-fn words<const W: usize>(table: &[u32]) -> EventSet<W> {
-    let mut set = EventSet::EMPTY;
-    for (w, t) in set.0.iter_mut().zip(table) {
-        *w = *t;
-    }
-    set
 }
