@@ -39,6 +39,8 @@ pub struct View<'a, const W: usize> {
     pub set: &'a SupervisorSet<'a, W>,
     /// Current state handle of every automaton.
     pub states: &'a [u16],
+    /// Out-mask of every automaton's current state.
+    pub masks: &'a [[u32; W]],
 }
 
 impl<const W: usize> View<'_, W> {
@@ -54,8 +56,7 @@ impl<const W: usize> View<'_, W> {
 
     /// The events plant `p`'s current state has transitions for.
     fn out(&self, p: usize) -> EventSet<W> {
-        let state = self.states.get(p).and_then(|&h| self.set.state(p, h));
-        EventSet(state.map_or([0; W], |s| *s.mask))
+        EventSet(self.masks.get(p).copied().unwrap_or([0; W]))
     }
 
     /// Index of plant `p`'s current state in the site table, if that state is a choice site.
@@ -211,10 +212,9 @@ impl<const W: usize, const S: usize> Policy<W> for RandomLocalQueue<W, S> {
         enabled: &EventSet<W>,
         rng: &mut Rng<E>,
     ) -> Option<u8> {
-        let plants = view.plants().min(32);
         let mut with_events = EventSet::<1>::EMPTY;
-        for p in 0..plants {
-            if !enabled.and(&view.generated(p)).is_empty() {
+        for (p, generated) in view.set.plant_events.iter().enumerate().take(32) {
+            if !enabled.and(&EventSet(*generated)).is_empty() {
                 with_events.0[0] |= 1 << p;
             }
         }
@@ -224,8 +224,13 @@ impl<const W: usize, const S: usize> Policy<W> for RandomLocalQueue<W, S> {
         let p = usize::from(p);
         let generated = view.generated(p);
         let candidates = enabled.and(&generated);
+        // The plant's state is a choice site when two or more of its events leave it.
+        let offered = generated.and(&view.out(p));
+        if !offered.several() {
+            return candidates.first();
+        }
         match view.site(p).and_then(|s| self.rounds.get_mut(s)) {
-            Some(round) => pick_from_round(round, &candidates, generated.and(&view.out(p)), rng),
+            Some(round) => pick_from_round(round, &candidates, offered, rng),
             None => pick(&candidates, rng),
         }
     }
@@ -237,9 +242,10 @@ impl<const W: usize, const S: usize> Policy<W> for RandomLocalQueue<W, S> {
 
 /// A uniformly drawn event of `set` (no draw when there is nothing to choose).
 fn pick<E: Entropy, const W: usize>(set: &EventSet<W>, rng: &mut Rng<E>) -> Option<u8> {
-    match set.len() {
-        0 | 1 => set.first(),
-        n => set.nth(rng.below(n)),
+    if set.several() {
+        set.nth(rng.below(set.len()))
+    } else {
+        set.first()
     }
 }
 

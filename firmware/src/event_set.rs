@@ -45,7 +45,21 @@ impl<const W: usize> EventSet<W> {
 
     /// Whether the set is empty.
     pub fn is_empty(&self) -> bool {
-        self.0.iter().all(|&w| w == 0)
+        self.0.iter().fold(0, |any, &w| any | w) == 0
+    }
+
+    /// Whether the set holds two events or more (cheaper than counting them).
+    pub fn several(&self) -> bool {
+        let mut seen = false;
+        for &w in &self.0 {
+            if w != 0 {
+                if seen || w & (w - 1) != 0 {
+                    return true;
+                }
+                seen = true;
+            }
+        }
+        false
     }
 
     /// Number of events in the set.
@@ -154,6 +168,7 @@ mod tests {
             let (sa, sb) = (set_of(&a), set_of(&b));
             prop_assert_eq!(sa.iter().collect::<Vec<_>>(), a.iter().copied().collect::<Vec<_>>());
             prop_assert_eq!(sa.len() as usize, a.len());
+            prop_assert_eq!(sa.several(), a.len() >= 2);
             prop_assert_eq!(sa.is_empty(), a.is_empty());
             prop_assert_eq!(sa.nth(n), a.iter().nth(n as usize).copied());
             prop_assert_eq!(sa.and(&sb).iter().collect::<BTreeSet<_>>(), &a & &b);

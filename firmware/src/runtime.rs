@@ -34,7 +34,6 @@
 //!     automata: &[Automaton { start: 0, initial: 0, scale: 1, wide: false, alphabet: [0b11] }],
 //!     blocks: &[0, 2, 1, 0],
 //!     masks: &[[0b01], [0b10]],
-//!     wide_ids: false,
 //!     holders: &[1, 1],
 //!     plant_events: &[[0b01]],
 //!     sites: &[],
@@ -51,7 +50,7 @@ use crate::choice::{Policy, View};
 use crate::event_set::EventSet;
 use crate::fault::FaultPolicy;
 use crate::rng::{Entropy, Rng};
-use crate::table::{bit, SupervisorSet, TableError};
+use crate::table::{bit, Event, SupervisorSet, TableError};
 
 /// Run-time options (manifest `[runtime]`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -127,6 +126,9 @@ pub enum Decision {
 pub struct Runtime<'t, P, E, const W: usize, const N: usize> {
     set: &'t SupervisorSet<'t, W>,
     states: [u16; N],
+    /// The out-mask of every automaton's current state, kept with `states`: the enabled set and a step
+    /// read it from RAM instead of through the tables.
+    masks: [[u32; W]; N],
     counters: Counters,
     overflow_mark: u32,
     safe: bool,
@@ -148,6 +150,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
         let mut rt = Self {
             set,
             states: [0; N],
+            masks: [[0; W]; N],
             counters: Counters::default(),
             overflow_mark: 0,
             safe: false,
@@ -162,9 +165,8 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
 
     /// Automata to their initial states, counters to zero, policy to its boot state, safe state left.
     pub fn reset(&mut self) {
-        for (s, a) in self.states.iter_mut().zip(self.set.automata) {
-            *s = a.initial;
-        }
+        let initial: [u16; N] = core::array::from_fn(|a| self.set.automata.get(a).map_or(0, |a| a.initial));
+        self.enter(initial);
         self.counters = Counters::default();
         self.safe = false;
         self.policy.reset();
@@ -216,7 +218,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
         if enabled.is_empty() {
             return Decision::Idle;
         }
-        let view = View { set: self.set, states: &self.states };
+        let view = View { set: self.set, states: &self.states, masks: &self.masks };
         let Some(c) = self.policy.choose(view, &enabled, &mut self.rng) else {
             return Decision::Idle;
         };
@@ -235,11 +237,8 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     /// The controllable events every automaton holding them can take now.
     pub fn enabled(&self) -> EventSet<W> {
         let mut enabled = self.set.controllable;
-        for (aut, &handle) in self.set.automata.iter().zip(&self.states) {
-            // SAFETY: `new` checked the set; `handle` is the initial handle or a target (`take`), or was
-            // checked by `restore`.
-            let state = unsafe { self.set.state_unchecked(aut, handle) };
-            for ((e, m), al) in enabled.iter_mut().zip(state.mask).zip(&aut.alphabet) {
+        for (aut, mask) in self.set.automata.iter().zip(&self.masks) {
+            for ((e, m), al) in enabled.iter_mut().zip(mask).zip(&aut.alphabet) {
                 *e &= m | !al;
             }
         }
@@ -271,8 +270,17 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
                 return Err(TableError::Block(a as u8));
             }
         }
-        self.states = *states;
+        self.enter(*states);
         Ok(())
+    }
+
+    /// Puts the automata in `states`, which `new` or `restore` proved to be states.
+    fn enter(&mut self, states: [u16; N]) {
+        self.states = states;
+        for ((mask, aut), &h) in self.masks.iter_mut().zip(self.set.automata).zip(&states) {
+            // SAFETY: `new` checked the set, and `h` is the initial handle or was checked by `restore`.
+            *mask = *unsafe { self.set.mask_unchecked(aut, h) };
+        }
     }
 
     /// The tables.
@@ -280,27 +288,11 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
         self.set
     }
 
-    /// Moves every automaton of `holders` by `event`; the first that cannot, if any (it stays).
+    /// Moves every automaton of `holders` by `event`, an event of the set; the first that cannot, if
+    /// any (it stays).
     #[inline(always)]
-    fn take(&mut self, event: u8, mut holders: u32) -> Option<u8> {
-        let mut stuck = None;
-        while holders != 0 {
-            let a = holders.trailing_zeros() as usize;
-            holders &= holders - 1;
-            // SAFETY: `new` checked that every holder bit names one of the N automata, and the handles
-            // are valid as in `enabled`.
-            unsafe {
-                let aut = self.set.automata.get_unchecked(a);
-                let handle = self.states.get_unchecked_mut(a);
-                let state = self.set.state_unchecked(aut, *handle);
-                if state.has(event) {
-                    *handle = self.set.target_unchecked(&state, event);
-                } else if stuck.is_none() {
-                    stuck = Some(a as u8);
-                }
-            }
-        }
-        stuck
+    fn take(&mut self, event: u8, holders: u32) -> Option<u8> {
+        take(self.set, &mut self.states, &mut self.masks, Event::new(event), holders)
     }
 
     fn unknown(&mut self) -> Applied {
@@ -314,4 +306,35 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
             self.safe = true;
         }
     }
+}
+
+/// [`Runtime::take`], out of line and over its parts, so that the compiler knows the stores to
+/// `states` and `masks` leave the set alone and keeps its fields in registers.
+#[inline(never)]
+fn take<const W: usize, const N: usize>(
+    set: &SupervisorSet<'_, W>,
+    states: &mut [u16; N],
+    masks: &mut [[u32; W]; N],
+    event: Event,
+    mut holders: u32,
+) -> Option<u8> {
+    let mut stuck = 0u32;
+    while holders != 0 {
+        let a = holders.trailing_zeros() as usize;
+        let this = holders & holders.wrapping_neg();
+        holders ^= this;
+        // SAFETY: `Runtime::new` checked the set: every holder bit names one of the N automata and event
+        // ids are below 32 · W; every handle in `states` is the initial one, checked by `restore` or a
+        // target read here, and `masks[a]` is its out-mask.
+        unsafe {
+            let mask = masks.get_unchecked_mut(a);
+            if event.in_set_unchecked(mask) {
+                set.advance(set.automata.get_unchecked(a), states.get_unchecked_mut(a), mask, event);
+            } else {
+                stuck |= this;
+            }
+        }
+    }
+    // At most MAX_AUTOMATA (32) automata: the index fits a byte.
+    (stuck != 0).then(|| stuck.trailing_zeros() as u8)
 }

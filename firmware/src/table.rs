@@ -8,19 +8,19 @@
 //! automaton is a byte block (a slice of [`SupervisorSet::blocks`]) holding one record per state:
 //!
 //! ```text
-//! [mask id: 1 byte, or 2 bytes little-endian when SupervisorSet::wide_ids]
-//! [target handle, for every event of the mask in increasing id order: 1 byte, or 2 bytes
-//!  little-endian when Automaton::wide]
+//! [mask id]
+//! [target handle, for every event of the mask in increasing id order]
 //! ```
 //!
 //! A state is named by its *handle* `h`: its record starts at byte `h · scale` of the block
 //! ([`Automaton::scale`]); records start on multiples of `scale` and the bytes between two records are
 //! padding. The target of event `e` from a state is its `r`-th target, `r` the number of mask bits
-//! below `e` (its rank). So a step is a mask test, a rank and one load, whatever the state count; the
+//! below `e` (its rank). Mask ids and handles take 1 byte each, or 2 (little-endian) in a *wide* automaton
+//! ([`Automaton::wide`]). So a step is a mask test, a rank and one load, whatever the state count; the
 //! out-mask also gives at once which controllable events the automaton allows (those of its mask and
 //! those outside its alphabet), so the enabled set costs one mask per automaton, not a scan.
-//! `codegen` picks, per automaton, 1-byte handles with the smallest scale that makes them fit, else
-//! 2-byte handles.
+//! `codegen` makes an automaton narrow when its mask ids fit a byte (the pool lists masks in order of first
+//! use, plants first) and some scale makes its handles fit one, taking the smallest such scale.
 //!
 //! Limits: at most 256 events and [`MAX_AUTOMATA`] automata, 65 536 masks, 65 536 handles per automaton.
 //!
@@ -35,8 +35,8 @@
 //! [`SupervisorSet::check`] proves, once at boot, everything the hot path relies on: every record lies
 //! in its block, every mask id in the pool, every target and initial handle is the start of a record,
 //! every holder bit names an automaton. After it the runtime reads the tables without bounds checks
-//! ([`SupervisorSet::state_unchecked`]); the checked readers ([`SupervisorSet::state`],
-//! [`SupervisorSet::step`]) serve host tools and tests.
+//! ([`SupervisorSet::mask_unchecked`], [`SupervisorSet::target_unchecked`]); the checked readers
+//! ([`SupervisorSet::mask`], [`SupervisorSet::step`]) serve host tools and tests.
 
 /// Most automata in one set: one bit each in a `u32` of [`SupervisorSet::holders`].
 pub const MAX_AUTOMATA: usize = 32;
@@ -53,7 +53,7 @@ pub struct Automaton<const W: usize> {
     pub initial: u16,
     /// Bytes per handle unit: a state's record starts at byte `handle · scale` of the block (≥ 1).
     pub scale: u8,
-    /// Target handles take 2 bytes (little-endian) instead of 1.
+    /// Mask ids and target handles take 2 bytes (little-endian) instead of 1.
     pub wide: bool,
     /// Bitset over global event ids (bit `e % 32` of word `e / 32`): the automaton's alphabet. An event
     /// outside it never moves or blocks the automaton.
@@ -75,8 +75,6 @@ pub struct SupervisorSet<'t, const W: usize> {
     pub blocks: &'t [u8],
     /// The pool of distinct out-masks that records name by id.
     pub masks: &'t [[u32; W]],
-    /// Mask ids take 2 bytes (little-endian) instead of 1.
-    pub wide_ids: bool,
     /// Per global event id (its length is the event count): bit `a` set when automaton `a` has the
     /// event in its alphabet.
     pub holders: &'t [u32],
@@ -113,38 +111,49 @@ pub enum TableError {
     Sites,
 }
 
-/// A state's record, located: its out-mask and where its targets start.
-#[derive(Clone, Copy, Debug)]
-pub struct State<'t, const W: usize> {
-    /// The events leaving the state.
-    pub mask: &'t [u32; W],
-    /// Byte offset of the first target in [`SupervisorSet::blocks`].
-    targets: usize,
-    /// Targets are 2 bytes.
-    wide: bool,
+/// Position of `event`'s target among a state's targets: the bits of its out-mask below `event`.
+#[inline(always)]
+fn rank<const W: usize>(mask: &[u32; W], event: Event) -> usize {
+    let mut r = 0;
+    for (w, &m) in mask.iter().enumerate() {
+        if w < event.word {
+            r += ones(m);
+        } else if w == event.word {
+            r += ones(m & (event.bit - 1));
+        }
+    }
+    r
 }
 
-impl<const W: usize> State<'_, W> {
-    /// Whether `event` leaves the state.
+/// An event id split for bitset access: word index and bit within the word.
+#[derive(Clone, Copy, Debug)]
+pub struct Event {
+    word: usize,
+    bit: u32,
+}
+
+impl Event {
+    /// Splits `event`.
     #[inline(always)]
-    pub fn has(&self, event: u8) -> bool {
-        bit(self.mask, event)
+    pub fn new(event: u8) -> Event {
+        Event { word: usize::from(event / 32), bit: 1 << (event % 32) }
     }
 
-    /// Position of `event`'s target among the state's targets: the mask bits below it.
+    /// Whether the event is in `words` (`false` when its word lies beyond them).
     #[inline(always)]
-    fn rank(&self, event: u8) -> usize {
-        let word = usize::from(event / 32);
-        let below = (1u32 << (event % 32)) - 1;
-        let mut r = 0;
-        for (w, &m) in self.mask.iter().enumerate() {
-            if w < word {
-                r += ones(m);
-            } else if w == word {
-                r += ones(m & below);
-            }
-        }
-        r
+    pub fn in_set<const W: usize>(self, words: &[u32; W]) -> bool {
+        words.get(self.word).is_some_and(|w| w & self.bit != 0)
+    }
+
+    /// Whether the event is in `words`, without a bounds check.
+    ///
+    /// # Safety
+    ///
+    /// The event's id is below `32 · W`.
+    #[inline(always)]
+    pub unsafe fn in_set_unchecked<const W: usize>(self, words: &[u32; W]) -> bool {
+        // SAFETY: the caller's promise.
+        unsafe { words.get_unchecked(self.word) & self.bit != 0 }
     }
 }
 
@@ -163,7 +172,7 @@ fn ones(mut x: u32) -> usize {
 /// Whether bit `event` is set in `words`.
 #[inline(always)]
 pub fn bit<const W: usize>(words: &[u32; W], event: u8) -> bool {
-    words.get(usize::from(event / 32)).is_some_and(|w| w & (1 << (event % 32)) != 0)
+    Event::new(event).in_set(words)
 }
 
 /// The two ways of reading a block: checked (host tools, the boot check) and unchecked (the hot path,
@@ -187,7 +196,7 @@ impl Bytes for Checked<'_> {
     }
 }
 
-/// Reads without bounds checks. Only built by [`SupervisorSet::state_unchecked`], whose contract
+/// Reads without bounds checks. Only built by the `unchecked` readers of [`SupervisorSet`], whose contract
 /// guarantees every offset and id it is asked for is in bounds.
 struct Unchecked<'b>(&'b [u8]);
 
@@ -256,156 +265,152 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         }
         // Every record: in the block, a known mask within the alphabet.
         let mut handles = 0;
-        self.walk(a, |h, state| {
-            let inside = state.mask.iter().zip(&aut.alphabet).all(|(m, al)| m & !al == 0);
+        self.walk(a, |h, _, mask| {
             handles = handles.max(h + 1);
-            if inside {
-                Ok(())
-            } else {
-                Err(())
-            }
+            let inside = mask.iter().zip(&aut.alphabet).all(|(m, al)| m & !al == 0);
+            inside.then_some(()).ok_or(())
         })?;
+        if usize::from(aut.initial) >= handles {
+            return Err(());
+        }
         // Every handle met is a record start, checked 256 handles at a time with a bitmap on the stack.
-        let is_start = |h: u16, starts: &[u32; 8], base: usize| {
-            let i = usize::from(h).wrapping_sub(base);
-            i >= 256 || starts[i / 32] & (1 << (i % 32)) != 0
-        };
         for base in (0..handles).step_by(256) {
             let mut starts = [0u32; 8];
-            self.walk(a, |h, _| {
+            self.walk(a, |h, _, _| {
                 let i = h.wrapping_sub(base);
                 if i < 256 {
                     starts[i / 32] |= 1 << (i % 32);
                 }
                 Ok(())
             })?;
-            let in_range = |h: u16| usize::from(h) >= base && usize::from(h) < base + 256;
-            if in_range(aut.initial) && !is_start(aut.initial, &starts, base) {
+            let starts_record = |h: u16| {
+                let i = usize::from(h).wrapping_sub(base);
+                i >= 256 || starts[i / 32] & (1 << (i % 32)) != 0
+            };
+            if !starts_record(aut.initial) {
                 return Err(());
             }
-            self.walk(a, |_, state| {
-                let n = state.mask.iter().map(|m| m.count_ones() as usize).sum();
+            self.walk(a, |_, at, mask| {
+                let n = mask.iter().map(|m| m.count_ones() as usize).sum();
                 for r in 0..n {
-                    let t = self.target(&Checked(self.blocks), &state, r).ok_or(())?;
-                    if usize::from(t) >= handles || (in_range(t) && !is_start(t, &starts, base)) {
+                    let t = self.target_at(&Checked(self.blocks), aut, at, r).ok_or(())?;
+                    if usize::from(t) >= handles || !starts_record(t) {
                         return Err(());
                     }
                 }
                 Ok(())
             })?;
         }
-        if usize::from(aut.initial) >= handles {
-            return Err(());
-        }
         Ok(())
     }
 
-    /// Calls `f` with the handle and record of every state of automaton `a`, in block order; fails when
-    /// a record leaves the block or names no mask, or `f` fails.
-    fn walk(&self, a: usize, mut f: impl FnMut(usize, State<'t, W>) -> Result<(), ()>) -> Result<(), ()> {
+    /// Calls `f` with the handle, record offset and out-mask of every state of automaton `a`, in block
+    /// order; fails when a record leaves the block or names no mask, or `f` fails.
+    fn walk(&self, a: usize, mut f: impl FnMut(usize, usize, &[u32; W]) -> Result<(), ()>) -> Result<(), ()> {
         let aut = self.automata.get(a).ok_or(())?;
         let (start, end) = self.block(a).ok_or(())?;
         let scale = usize::from(aut.scale).max(1);
         let mut at = start;
         while at < end {
-            let h = (at - start) / scale;
-            let state = self.locate(&Checked(self.blocks), aut, at).ok_or(())?;
-            let n: usize = state.mask.iter().map(|m| m.count_ones() as usize).sum();
-            let next = state.targets + n * if aut.wide { 2 } else { 1 };
+            let mask = self.mask_at(&Checked(self.blocks), aut, at).ok_or(())?;
+            let n: usize = mask.iter().map(|m| m.count_ones() as usize).sum();
+            let next = at + (n + 1) * if aut.wide { 2 } else { 1 };
             if next > end {
                 return Err(());
             }
-            f(h, state)?;
-            at = start + next.saturating_sub(start).div_ceil(scale) * scale;
+            f((at - start) / scale, at, mask)?;
+            at = start + (next - start).div_ceil(scale) * scale;
         }
         Ok(())
     }
 
-    /// The record at byte `at` of [`SupervisorSet::blocks`] (of automaton `aut`).
+    /// Byte offset in [`SupervisorSet::blocks`] of the record of `aut`'s state `handle`.
     #[inline(always)]
-    fn locate<B: Bytes>(&self, read: &B, aut: &Automaton<W>, at: usize) -> Option<State<'t, W>> {
-        let (id, targets) = if self.wide_ids {
-            (u16::from_le_bytes([read.byte(at)?, read.byte(at + 1)?]), at + 2)
-        } else {
-            (u16::from(read.byte(at)?), at + 1)
-        };
-        let mask = read.mask(self.masks, usize::from(id))?;
-        Some(State { mask, targets, wide: aut.wide })
+    fn record(aut: &Automaton<W>, handle: u16) -> usize {
+        aut.start as usize + usize::from(handle) * usize::from(aut.scale)
     }
 
-    /// The `r`-th target handle of `state`.
+    /// The out-mask of the record at byte `at`.
     #[inline(always)]
-    fn target<B: Bytes>(&self, read: &B, state: &State<'t, W>, r: usize) -> Option<u16> {
-        if state.wide {
-            let at = state.targets + 2 * r;
+    fn mask_at<B: Bytes>(&self, read: &B, aut: &Automaton<W>, at: usize) -> Option<&'t [u32; W]> {
+        read.mask(self.masks, usize::from(Self::field(read, aut, at, 0)?))
+    }
+
+    /// Field `i` of the record at byte `at` (the mask id, then the targets), 1 or 2 bytes wide.
+    #[inline(always)]
+    fn field<B: Bytes>(read: &B, aut: &Automaton<W>, at: usize, i: usize) -> Option<u16> {
+        if aut.wide {
+            let at = at + 2 * i;
             Some(u16::from_le_bytes([read.byte(at)?, read.byte(at + 1)?]))
         } else {
-            Some(u16::from(read.byte(state.targets + r)?))
+            Some(u16::from(read.byte(at + i)?))
         }
     }
 
+    /// The `r`-th target handle of the record at byte `at`.
     #[inline(always)]
-    fn state_with<B: Bytes>(&self, read: &B, aut: &Automaton<W>, handle: u16) -> Option<State<'t, W>> {
-        self.locate(read, aut, aut.start as usize + usize::from(handle) * usize::from(aut.scale))
+    fn target_at<B: Bytes>(&self, read: &B, aut: &Automaton<W>, at: usize, r: usize) -> Option<u16> {
+        Self::field(read, aut, at, r + 1)
     }
 
-    #[inline(always)]
-    fn step_with<B: Bytes>(&self, read: &B, state: &State<'t, W>, event: u8) -> Option<u16> {
-        if !state.has(event) {
-            return None;
-        }
-        self.target(read, state, state.rank(event))
-    }
-
-    /// The record of automaton `a`'s state `handle`, or `None` when it lies outside the tables. (A
+    /// The out-mask of automaton `a`'s state `handle`, or `None` when it lies outside the tables. (A
     /// handle that starts no record gives a meaningless but harmless answer.)
-    pub fn state(&self, a: usize, handle: u16) -> Option<State<'t, W>> {
-        self.state_with(&Checked(self.blocks), self.automata.get(a)?, handle)
+    pub fn mask(&self, a: usize, handle: u16) -> Option<&'t [u32; W]> {
+        let aut = self.automata.get(a)?;
+        self.mask_at(&Checked(self.blocks), aut, Self::record(aut, handle))
     }
 
     /// The handle reached from automaton `a`'s state `handle` by `event`, or `None` when the state has
     /// no such transition (or the handle lies outside the tables).
     pub fn step(&self, a: usize, handle: u16, event: u8) -> Option<u16> {
         let read = Checked(self.blocks);
-        let state = self.state_with(&read, self.automata.get(a)?, handle)?;
-        self.step_with(&read, &state, event)
+        let aut = self.automata.get(a)?;
+        let at = Self::record(aut, handle);
+        let mask = self.mask_at(&read, aut, at)?;
+        let event = Event::new(event);
+        if !event.in_set(mask) {
+            return None;
+        }
+        self.target_at(&read, aut, at, rank(mask, event))
     }
 
     /// Whether `handle` starts a record of automaton `a` (a state of it).
     pub fn is_state(&self, a: usize, handle: u16) -> bool {
         let mut found = false;
-        let walked = self.walk(a, |h, _| {
+        let walked = self.walk(a, |h, _, _| {
             found |= h == usize::from(handle);
             Ok(())
         });
         walked.is_ok() && found
     }
 
-    /// The record of automaton `aut`'s state `handle`, read without bounds checks.
+    /// The out-mask of `aut`'s state `handle`, read without bounds checks.
     ///
     /// # Safety
     ///
     /// [`SupervisorSet::check`] returned `Ok` for this set, `aut` is one of its automata and `handle` is
     /// its initial handle or a target handle read from one of its records.
     #[inline(always)]
-    pub unsafe fn state_unchecked(&self, aut: &Automaton<W>, handle: u16) -> State<'t, W> {
-        let read = Unchecked(self.blocks);
-        let located = self.state_with(&read, aut, handle);
-        // SAFETY: `Unchecked` never answers `None`, so neither does `state_with`.
-        unsafe { located.unwrap_unchecked() }
+    pub unsafe fn mask_unchecked(&self, aut: &Automaton<W>, handle: u16) -> &'t [u32; W] {
+        let mask = self.mask_at(&Unchecked(self.blocks), aut, Self::record(aut, handle));
+        // SAFETY: `Unchecked` never answers `None`, so neither does `mask_at`.
+        unsafe { mask.unwrap_unchecked() }
     }
 
-    /// The handle `state` (from [`SupervisorSet::state_unchecked`]) reaches by `event`, which must leave
-    /// it, read without bounds checks.
+    /// Moves `aut` from its state `handle`, whose out-mask is `mask`, by `event`: both become the
+    /// target's. Reads without bounds checks.
     ///
     /// # Safety
     ///
-    /// As for [`SupervisorSet::state_unchecked`], and `state.has(event)`.
+    /// As for [`SupervisorSet::mask_unchecked`]; `mask` is that state's out-mask and holds `event`.
     #[inline(always)]
-    pub unsafe fn target_unchecked(&self, state: &State<'t, W>, event: u8) -> u16 {
-        let target = self.target(&Unchecked(self.blocks), state, state.rank(event));
-        // SAFETY: `Unchecked` never answers `None`, so neither does `target`.
-        unsafe { target.unwrap_unchecked() }
+    pub unsafe fn advance(&self, aut: &Automaton<W>, handle: &mut u16, mask: &mut [u32; W], event: Event) {
+        let read = Unchecked(self.blocks);
+        let target = self.target_at(&read, aut, Self::record(aut, *handle), rank(mask, event));
+        // SAFETY: `Unchecked` never answers `None`, so neither does `target_at`.
+        *handle = unsafe { target.unwrap_unchecked() };
+        // SAFETY: the target of a checked set's record is one of its states.
+        *mask = *unsafe { self.mask_unchecked(aut, *handle) };
     }
 
     /// The index of the site of plant `automaton` in state `state`, if it is one.
@@ -431,7 +436,6 @@ mod tests {
             automata: &AUTOMATA,
             blocks: &BLOCKS,
             masks: &MASKS,
-            wide_ids: false,
             holders: &[1, 1],
             plant_events: &[[0b01]],
             sites: &[],

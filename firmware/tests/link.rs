@@ -30,7 +30,7 @@ impl Port for Wire {
 
 type Rt = Runtime<'static, LocalQueue<2>, SeedEntropy, 1, 1>;
 
-fn runtime(set: &'static SupervisorSet<'static>, on_fault: FaultPolicy) -> Rt {
+fn runtime(set: &'static SupervisorSet<'static, 1>, on_fault: FaultPolicy) -> Rt {
     let config = Config { guard: true, on_fault, reseed_every: 0 };
     Rt::new(set, config, LocalQueue::default(), SeedEntropy::new(1)).unwrap()
 }

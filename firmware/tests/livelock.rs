@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{livelock, offsets};
+use common::{handles, livelock};
 use firmware::choice::{First, GlobalQueue, LocalQueue, Policy, Random, RandomGlobalQueue, RandomLocalQueue};
 use firmware::fault::FaultPolicy;
 use firmware::rng::SeedEntropy;
@@ -15,17 +15,17 @@ const CONFIG: Config = Config { guard: true, on_fault: FaultPolicy::Continue, re
 /// produces its only uncontrollable event.
 fn run<P: Policy<1>>(policy: P, seed: u64, steps: usize) -> Vec<usize> {
     let (set, spec) = livelock();
-    let offs = offsets(&spec);
-    let number = |off: u16| offs.iter().position(|&o| o == off).unwrap() + 1;
+    let hs = handles(&spec);
+    let number = |h: u16| hs.iter().position(|&o| o == h).unwrap() + 1;
     let mut rt = Runtime::<_, _, 1, 1>::new(set, CONFIG, policy, SeedEntropy::new(seed)).unwrap();
     let mut visited = vec![number(rt.states()[0])];
     for _ in 0..steps {
         match rt.decide(|| false) {
             Decision::Fired(_) => {}
             Decision::Idle => {
-                let records = set.automata[0].records(rt.states()[0]);
-                assert_eq!(records.len(), 3, "an idle state has exactly one uncontrollable event");
-                rt.apply(records[0]);
+                let mask = set.mask(0, rt.states()[0]).unwrap()[0];
+                assert_eq!(mask.count_ones(), 1, "an idle state has exactly one uncontrollable event");
+                rt.apply(mask.trailing_zeros() as u8);
             }
             other => panic!("unexpected {other:?}"),
         }

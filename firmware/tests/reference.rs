@@ -4,12 +4,12 @@
 
 mod common;
 
-use common::{encode, offsets, Spec};
+use common::Role;
+use common::{encode, handles, Spec};
 use firmware::choice::{First, GlobalQueue, LocalQueue, Policy, Random, RandomGlobalQueue, RandomLocalQueue};
 use firmware::fault::FaultPolicy;
 use firmware::rng::SeedEntropy;
 use firmware::runtime::{Applied, Config, Decision, Runtime};
-use firmware::table::Role;
 use proptest::prelude::*;
 
 const NAMES: [&str; 6] = ["e0", "e1", "e2", "e3", "e4", "e5"];
@@ -61,7 +61,7 @@ fn check<P: Policy<1> + Default>(
     let config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 5 };
     // N is fixed at 4 here: pad with automata that hold nothing.
     let mut rt = Runtime::<P, _, 1, 4>::new(set, config, P::default(), SeedEntropy::new(9)).unwrap();
-    let offs: Vec<Vec<u16>> = specs.iter().map(offsets).collect();
+    let offs: Vec<Vec<u16>> = specs.iter().map(handles).collect();
     let mut states = vec![0usize; specs.len()];
     let (mut events_in, mut unexpected, mut unknown) = (0, 0, 0);
     let enabled_ref = |states: &[usize]| -> Vec<u8> {
@@ -140,5 +140,49 @@ proptest! {
         check::<RandomGlobalQueue<1>>(&specs, &controllable, &ops)?;
         check::<LocalQueue<8>>(&specs, &controllable, &ops)?;
         check::<RandomLocalQueue<1, 8>>(&specs, &controllable, &ops)?;
+    }
+}
+
+/// Runs `ops` on `set` under the default policy; with debug assertions every unchecked read of the
+/// runtime asserts its bounds, so a set that passed the check but is read out of bounds panics.
+fn exercise(set: &'static firmware::table::SupervisorSet<'static, 1>, ops: &[Op]) {
+    let config = Config { guard: false, on_fault: FaultPolicy::Continue, reseed_every: 3 };
+    let policy = RandomLocalQueue::<1, 8>::default();
+    let Ok(mut rt) = Runtime::<_, _, 1, 4>::new(set, config, policy, SeedEntropy::new(3)) else { return };
+    for op in ops {
+        match *op {
+            Op::Input(e) => {
+                rt.apply(e);
+            }
+            Op::Decide => {
+                rt.decide(|| false);
+            }
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(512))]
+
+    /// Corrupted tables: the boot check refuses them, or the runtime runs on them within bounds.
+    #[test]
+    fn corrupted_tables_are_refused_or_read_in_bounds(
+        (specs, controllable) in sets(),
+        flips in proptest::collection::vec((any::<proptest::sample::Index>(), any::<u8>()), 1..4),
+        ops in ops(),
+    ) {
+        let good = encode(&NAMES, &controllable, &specs);
+        let mut blocks = good.blocks.to_vec();
+        for (at, value) in &flips {
+            if !blocks.is_empty() {
+                let i = at.index(blocks.len());
+                blocks[i] = *value;
+            }
+        }
+        let set = Box::leak(Box::new(firmware::table::SupervisorSet {
+            blocks: Box::leak(blocks.into_boxed_slice()),
+            ..*good
+        }));
+        exercise(set, &ops);
     }
 }

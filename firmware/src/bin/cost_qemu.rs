@@ -78,10 +78,9 @@ fn possible_inputs(rt: &Rt) -> EventSet<{ tables::EVENT_WORDS }> {
     let mut out = EventSet::EMPTY;
     for (e, &holders) in set.holders.iter().enumerate() {
         let Ok(e) = u8::try_from(e) else { break };
-        let controllable =
-            set.controllable.get(usize::from(e / 32)).is_some_and(|w| w & (1 << (e % 32)) != 0);
-        let takes = |a: usize| set.automata[a].step(rt.states()[a], e).is_some();
-        if !controllable && (0..set.automata.len()).filter(|a| holders & (1 << a) != 0).all(takes) {
+        let takes = |a: usize| set.step(a, rt.states()[a], e).is_some();
+        let held = (0..set.automata.len()).filter(|a| holders & (1 << a) != 0);
+        if !firmware::table::bit(&set.controllable, e) && held.into_iter().all(takes) {
             out.insert(e);
         }
     }

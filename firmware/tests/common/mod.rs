@@ -1,9 +1,16 @@
-//! Hand-built tables for the runtime's host tests: an encoder of the `offset` layout for small automata
+//! Hand-built tables for the runtime's host tests: an encoder of the `ranked` layout for small automata
 //! given as transition lists (independent of codegen, which depends on this crate) and the livelock
 //! example of the design notes.
 #![allow(dead_code)]
 
-use firmware::table::{Automaton, Role, Site, SupervisorSet};
+use firmware::table::{Automaton, Site, SupervisorSet};
+
+/// What an automaton does in the loop (plants come first in a set).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Role {
+    Plant,
+    Supervisor,
+}
 
 const NO_OWNER: u8 = 0xFF;
 
@@ -17,63 +24,59 @@ pub struct Spec {
     pub alphabet: Vec<u8>,
 }
 
-/// State offsets of a spec's block, by state index.
-pub fn offsets(spec: &Spec) -> Vec<u16> {
+/// Handles of a spec's states, by state index, in the block `encode` writes (scale 1, 1-byte fields:
+/// a record is the mask id and one byte per transition).
+pub fn handles(spec: &Spec) -> Vec<u16> {
     let mut at = 0u16;
     (0..spec.states)
         .map(|s| {
             let here = at;
-            let n = spec.transitions.iter().filter(|t| t.0 == s).count() as u16;
-            at += 1 + 3 * n;
+            at += 1 + spec.transitions.iter().filter(|t| t.0 == s).count() as u16;
             here
         })
         .collect()
 }
 
-fn block(spec: &Spec) -> Vec<u8> {
-    let offs = offsets(spec);
-    let mut out = Vec::new();
-    for s in 0..spec.states {
-        let ts: Vec<_> = spec.transitions.iter().filter(|t| t.0 == s).collect();
-        out.push(ts.len() as u8);
-        for t in ts {
-            out.push(t.1);
-            out.extend_from_slice(&offs[t.2].to_be_bytes());
-        }
-    }
-    out
+fn bits(events: impl IntoIterator<Item = u8>) -> u32 {
+    events.into_iter().fold(0, |w, e| w | 1 << e)
 }
 
-fn bits(events: impl IntoIterator<Item = u8>) -> Vec<u32> {
-    let mut w = vec![0u32; 1];
-    for e in events {
-        w[usize::from(e / 32)] |= 1 << (e % 32);
-    }
-    w
+fn leak<T>(v: Vec<T>) -> &'static [T] {
+    Box::leak(v.into_boxed_slice())
 }
 
-/// Encodes `specs` (plants first) over `events` names, the first `controllable` flags true where
-/// controllable; at most 32 events. Leaks the tables (tests only).
+/// Encodes `specs` (plants first) over `names.len()` events, `controllable` flags per event; at most 32
+/// events and small automata (1-byte handles). Leaks the tables (tests only).
 pub fn encode(
     names: &[&'static str],
     controllable: &[bool],
     specs: &[Spec],
-) -> &'static SupervisorSet<'static> {
-    let automata: Vec<Automaton<'static>> = specs
-        .iter()
-        .enumerate()
-        .map(|(i, s)| Automaton {
-            name: ["A0", "A1", "A2", "A3", "A4", "A5", "A6", "A7"][i],
-            role: s.role,
-            initial: offsets(s)[s.initial],
-            block: Box::leak(block(s).into_boxed_slice()),
-            alphabet: Box::leak(bits(s.alphabet.iter().copied()).into_boxed_slice()),
-        })
-        .collect();
-    let holders: Vec<u32> = (0..names.len() as u8)
+) -> &'static SupervisorSet<'static, 1> {
+    let events = names.len() as u8;
+    let mut masks: Vec<[u32; 1]> = Vec::new();
+    let mut blocks = Vec::new();
+    let mut automata = Vec::new();
+    for s in specs {
+        let hs = handles(s);
+        let start = blocks.len() as u32;
+        for q in 0..s.states {
+            let mut out: Vec<_> = s.transitions.iter().filter(|t| t.0 == q).collect();
+            out.sort_by_key(|t| t.1);
+            let mask = [bits(out.iter().map(|t| t.1))];
+            let id = masks.iter().position(|m| *m == mask).unwrap_or_else(|| {
+                masks.push(mask);
+                masks.len() - 1
+            });
+            blocks.push(u8::try_from(id).unwrap());
+            blocks.extend(out.iter().map(|t| u8::try_from(hs[t.2]).unwrap()));
+        }
+        let alphabet = [bits(s.alphabet.iter().copied())];
+        automata.push(Automaton { start, initial: hs[s.initial], scale: 1, wide: false, alphabet });
+    }
+    let holders: Vec<u32> = (0..events)
         .map(|e| specs.iter().enumerate().filter(|(_, s)| s.alphabet.contains(&e)).map(|(i, _)| 1 << i).sum())
         .collect();
-    let owner: Vec<u8> = (0..names.len() as u8)
+    let owner: Vec<u8> = (0..events)
         .map(|e| {
             let plant = specs.iter().position(|s| s.role == Role::Plant && s.alphabet.contains(&e));
             match plant {
@@ -82,31 +85,27 @@ pub fn encode(
             }
         })
         .collect();
-    let plant_events: Vec<u32> = specs
-        .iter()
-        .enumerate()
-        .filter(|(_, s)| s.role == Role::Plant)
-        .flat_map(|(i, _)| bits((0..names.len() as u8).filter(|&e| owner[usize::from(e)] == i as u8)))
-        .collect();
+    let plants = specs.iter().take_while(|s| s.role == Role::Plant).count();
+    let plant_events: Vec<[u32; 1]> =
+        (0..plants).map(|i| [bits((0..events).filter(|&e| owner[usize::from(e)] == i as u8))]).collect();
     let mut sites = Vec::new();
-    for (i, s) in specs.iter().enumerate().filter(|(_, s)| s.role == Role::Plant) {
-        let offs = offsets(s);
-        for (st, &off) in offs.iter().enumerate() {
+    for (i, s) in specs.iter().enumerate().take(plants) {
+        for (st, &h) in handles(s).iter().enumerate() {
             let n = s.transitions.iter().filter(|t| t.0 == st && owner[usize::from(t.1)] == i as u8).count();
             if n >= 2 {
-                sites.push(Site { automaton: i as u8, state: off });
+                sites.push(Site { automaton: i as u8, state: h });
             }
         }
     }
     Box::leak(Box::new(SupervisorSet {
-        event_names: Box::leak(names.to_vec().into_boxed_slice()),
-        controllable: Box::leak(
-            bits((0..names.len() as u8).filter(|&e| controllable[usize::from(e)])).into_boxed_slice(),
-        ),
-        automata: Box::leak(automata.into_boxed_slice()),
-        holders: Box::leak(holders.into_boxed_slice()),
-        plant_events: Box::leak(plant_events.into_boxed_slice()),
-        sites: Box::leak(sites.into_boxed_slice()),
+        controllable: [bits((0..events).filter(|&e| controllable[usize::from(e)]))],
+        plants: plants as u8,
+        automata: leak(automata),
+        blocks: leak(blocks),
+        masks: leak(masks),
+        holders: leak(holders),
+        plant_events: leak(plant_events),
+        sites: leak(sites),
     }))
 }
 
@@ -118,7 +117,7 @@ pub const TO1: u8 = 3;
 
 /// The livelock example (states 1–4 as indices 0–3; 4 marked): 1 –a→ 3, 1 –b→ 2, 3 –a→ 4, 3 –b→ 1
 /// controllable; 2 –to4→ 4 and 4 –to1→ 1 uncontrollable. One plant, no supervisor.
-pub fn livelock() -> (&'static SupervisorSet<'static>, Spec) {
+pub fn livelock() -> (&'static SupervisorSet<'static, 1>, Spec) {
     let spec = Spec {
         role: Role::Plant,
         states: 4,

@@ -41,10 +41,10 @@ impl Port for UartPort {
     }
 
     fn note(&mut self, note: Note) {
-        let name = |e: u8| tables::SET.event_names.get(usize::from(e)).copied().unwrap_or("?");
+        let name = |e: u8| tables::EVENT_NAMES.get(usize::from(e)).copied().unwrap_or("?");
         match note {
             Note::Unexpected { event, automaton } => {
-                let a = tables::SET.automata.get(usize::from(automaton)).map_or("?", |a| a.name);
+                let a = tables::AUTOMATON_NAMES.get(usize::from(automaton)).copied().unwrap_or("?");
                 defmt::warn!("unexpected event {=str} in {=str}", name(event), a);
             }
             Note::Unknown(byte) => defmt::warn!("unknown byte {=u8:#x}", byte),
@@ -102,7 +102,7 @@ mod app {
             "{=str}: {=usize} automata, {=usize} events, input buffer {=usize}",
             tables::NAME,
             tables::SET.automata.len(),
-            tables::SET.event_names.len(),
+            tables::SET.events(),
             tables::INPUT_SLOTS - 1
         );
         uart::init();
