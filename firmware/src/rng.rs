@@ -23,27 +23,26 @@ pub trait Entropy {
     fn entropy(&mut self) -> u32;
 }
 
-/// Deterministic entropy from a 64-bit seed (the manifest's `seed`): a splitmix64 stream, so that the
-/// same seed gives the same run (QEMU, host tests). Held as two words so that it needs no 8-byte
-/// alignment in the runtime's RAM.
+/// Deterministic entropy from a seed (the manifest's `seed`): a Weyl sequence through the murmur3
+/// finaliser, so that the same seed gives the same run (QEMU, host tests). The 64-bit seed is folded to
+/// 32 bits: 32-bit arithmetic keeps the reseed small and cheap on a Cortex-M.
 #[derive(Clone, Debug)]
-pub struct SeedEntropy([u32; 2]);
+pub struct SeedEntropy(u32);
 
 impl SeedEntropy {
     /// The stream of `seed`.
     pub const fn new(seed: u64) -> Self {
-        Self([seed as u32, (seed >> 32) as u32])
+        Self(seed as u32 ^ (seed >> 32) as u32)
     }
 }
 
 impl Entropy for SeedEntropy {
     fn entropy(&mut self) -> u32 {
-        let next = (u64::from(self.0[1]) << 32 | u64::from(self.0[0])).wrapping_add(0x9E37_79B9_7F4A_7C15);
-        self.0 = [next as u32, (next >> 32) as u32];
-        let mut z = next;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        (z ^ (z >> 31)) as u32
+        self.0 = self.0.wrapping_add(0x9E37_79B9);
+        let mut z = self.0;
+        z = (z ^ (z >> 16)).wrapping_mul(0x85EB_CA6B);
+        z = (z ^ (z >> 13)).wrapping_mul(0xC2B2_AE35);
+        z ^ (z >> 16)
     }
 }
 

@@ -140,6 +140,7 @@ pub struct Runtime<'t, P, E, const W: usize, const N: usize> {
 
 impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P, E, W, N> {
     /// A runtime in the initial states; refuses tables that are broken or not of `N` automata.
+    #[inline(never)]
     pub fn new(
         set: &'t SupervisorSet<'t, W>,
         config: Config,

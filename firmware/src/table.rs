@@ -255,7 +255,8 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         (start <= end && end <= self.blocks.len()).then_some((start, end))
     }
 
-    /// One automaton: the records tile the block, and every target and the initial handle start one.
+    /// One automaton: the records tile the block, name masks within the alphabet, and every target and
+    /// the initial handle start one — checked 256 handles at a time with a bitmap on the stack.
     fn check_block(&self, a: usize) -> Result<(), ()> {
         let aut = self.automata.get(a).ok_or(())?;
         let (start, end) = self.block(a).ok_or(())?;
@@ -263,50 +264,45 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         if scale == 0 || (end - start).div_ceil(scale) > 1 << 16 {
             return Err(());
         }
-        // Every record: in the block, a known mask within the alphabet.
-        let mut handles = 0;
-        self.walk(a, |h, _, mask| {
-            handles = handles.max(h + 1);
-            let inside = mask.iter().zip(&aut.alphabet).all(|(m, al)| m & !al == 0);
-            inside.then_some(()).ok_or(())
-        })?;
-        if usize::from(aut.initial) >= handles {
-            return Err(());
-        }
-        // Every handle met is a record start, checked 256 handles at a time with a bitmap on the stack.
-        for base in (0..handles).step_by(256) {
+        let (mut base, mut handles) = (0, usize::MAX);
+        while base < handles {
             let mut starts = [0u32; 8];
-            self.walk(a, |h, _, _| {
+            let mut count = 0;
+            self.walk(a, &mut |h, _, mask| {
+                count = h + 1;
                 let i = h.wrapping_sub(base);
                 if i < 256 {
                     starts[i / 32] |= 1 << (i % 32);
                 }
-                Ok(())
+                let inside = mask.iter().zip(&aut.alphabet).all(|(m, al)| m & !al == 0);
+                inside.then_some(()).ok_or(())
             })?;
+            handles = count;
             let starts_record = |h: u16| {
                 let i = usize::from(h).wrapping_sub(base);
-                i >= 256 || starts[i / 32] & (1 << (i % 32)) != 0
+                usize::from(h) < handles && (i >= 256 || starts[i / 32] & (1 << (i % 32)) != 0)
             };
             if !starts_record(aut.initial) {
                 return Err(());
             }
-            self.walk(a, |_, at, mask| {
+            self.walk(a, &mut |_, at, mask| {
                 let n = mask.iter().map(|m| m.count_ones() as usize).sum();
                 for r in 0..n {
                     let t = self.target_at(&Checked(self.blocks), aut, at, r).ok_or(())?;
-                    if usize::from(t) >= handles || !starts_record(t) {
+                    if !starts_record(t) {
                         return Err(());
                     }
                 }
                 Ok(())
             })?;
+            base += 256;
         }
         Ok(())
     }
 
     /// Calls `f` with the handle, record offset and out-mask of every state of automaton `a`, in block
     /// order; fails when a record leaves the block or names no mask, or `f` fails.
-    fn walk(&self, a: usize, mut f: impl FnMut(usize, usize, &[u32; W]) -> Result<(), ()>) -> Result<(), ()> {
+    fn walk(&self, a: usize, f: &mut dyn FnMut(usize, usize, &[u32; W]) -> Result<(), ()>) -> Result<(), ()> {
         let aut = self.automata.get(a).ok_or(())?;
         let (start, end) = self.block(a).ok_or(())?;
         let scale = usize::from(aut.scale).max(1);
@@ -377,7 +373,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     /// Whether `handle` starts a record of automaton `a` (a state of it).
     pub fn is_state(&self, a: usize, handle: u16) -> bool {
         let mut found = false;
-        let walked = self.walk(a, |h, _, _| {
+        let walked = self.walk(a, &mut |h, _, _| {
             found |= h == usize::from(handle);
             Ok(())
         });
@@ -413,9 +409,12 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         *mask = *unsafe { self.mask_unchecked(aut, *handle) };
     }
 
-    /// The index of the site of plant `automaton` in state `state`, if it is one.
+    /// The index of the site of plant `automaton` in state `state`, if it is one. A scan: sites are
+    /// states of the plants, small automata, so there are few, and the scan beats a binary search's
+    /// bookkeeping on them.
     pub fn site(&self, automaton: u8, state: u16) -> Option<usize> {
-        self.sites.binary_search(&Site { automaton, state }).ok()
+        let key = Site { automaton, state };
+        self.sites.iter().position(|s| *s == key)
     }
 }
 
