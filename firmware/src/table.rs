@@ -175,6 +175,9 @@ pub fn bit<const W: usize>(words: &[u32; W], event: u8) -> bool {
     Event::new(event).in_set(words)
 }
 
+/// What [`SupervisorSet::walk`] calls per record: handle, byte offset, out-mask.
+type Visit<'f, const W: usize> = dyn FnMut(usize, usize, &[u32; W]) -> Result<(), ()> + 'f;
+
 /// The two ways of reading a block: checked (host tools, the boot check) and unchecked (the hot path,
 /// after the boot check proved every read in bounds).
 trait Bytes {
@@ -302,7 +305,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
 
     /// Calls `f` with the handle, record offset and out-mask of every state of automaton `a`, in block
     /// order; fails when a record leaves the block or names no mask, or `f` fails.
-    fn walk(&self, a: usize, f: &mut dyn FnMut(usize, usize, &[u32; W]) -> Result<(), ()>) -> Result<(), ()> {
+    fn walk(&self, a: usize, f: &mut Visit<'_, W>) -> Result<(), ()> {
         let aut = self.automata.get(a).ok_or(())?;
         let (start, end) = self.block(a).ok_or(())?;
         let scale = usize::from(aut.scale).max(1);
