@@ -37,8 +37,8 @@ use crate::table::SupervisorSet;
 pub struct View<'a, const W: usize> {
     /// The tables.
     pub set: &'a SupervisorSet<'a, W>,
-    /// Current state handle of every automaton.
-    pub states: &'a [u16],
+    /// Where the record of every automaton's current state starts in the blocks.
+    pub records: &'a [u32],
     /// Out-mask of every automaton's current state.
     pub masks: &'a [[u32; W]],
 }
@@ -61,7 +61,7 @@ impl<const W: usize> View<'_, W> {
 
     /// Index of plant `p`'s current state in the site table, if that state is a choice site.
     fn site(&self, p: usize) -> Option<usize> {
-        let state = *self.states.get(p)?;
+        let state = SupervisorSet::handle_of(self.set.automata.get(p)?, *self.records.get(p)?);
         self.set.site(u8::try_from(p).ok()?, state)
     }
 }

@@ -125,8 +125,10 @@ pub enum Decision {
 /// The runtime over a set of `N` automata and events in `W`-word bitsets, choosing with policy `P`.
 pub struct Runtime<'t, P, E, const W: usize, const N: usize> {
     set: &'t SupervisorSet<'t, W>,
-    states: [u16; N],
-    /// The out-mask of every automaton's current state, kept with `states`: the enabled set and a step
+    /// Where the record of every automaton's current state starts in the blocks: a step reads it
+    /// without computing it from the handle.
+    records: [u32; N],
+    /// The out-mask of every automaton's current state, kept with `records`: the enabled set and a step
     /// read it from RAM instead of through the tables.
     masks: [[u32; W]; N],
     counters: Counters,
@@ -150,7 +152,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
         set.check(N)?;
         let mut rt = Self {
             set,
-            states: [0; N],
+            records: [0; N],
             masks: [[0; W]; N],
             counters: Counters::default(),
             overflow_mark: 0,
@@ -219,7 +221,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
         if enabled.is_empty() {
             return Decision::Idle;
         }
-        let view = View { set: self.set, states: &self.states, masks: &self.masks };
+        let view = View { set: self.set, records: &self.records, masks: &self.masks };
         let Some(c) = self.policy.choose(view, &enabled, &mut self.rng) else {
             return Decision::Idle;
         };
@@ -257,8 +259,12 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     }
 
     /// Current state handle of every automaton.
-    pub fn states(&self) -> &[u16; N] {
-        &self.states
+    pub fn states(&self) -> [u16; N] {
+        let mut out = [0; N];
+        for ((h, aut), &at) in out.iter_mut().zip(self.set.automata).zip(&self.records) {
+            *h = SupervisorSet::handle_of(aut, at);
+        }
+        out
     }
 
     /// Puts every automaton in the state with the given handle, as [`Runtime::states`] reported it (a
@@ -277,8 +283,9 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
 
     /// Puts the automata in `states`, which `new` or `restore` proved to be states.
     fn enter(&mut self, states: [u16; N]) {
-        self.states = states;
-        for ((mask, aut), &h) in self.masks.iter_mut().zip(self.set.automata).zip(&states) {
+        let all = self.records.iter_mut().zip(&mut self.masks).zip(self.set.automata).zip(&states);
+        for (((at, mask), aut), &h) in all {
+            *at = SupervisorSet::record_of(aut, h);
             // SAFETY: `new` checked the set, and `h` is the initial handle or was checked by `restore`.
             *mask = *unsafe { self.set.mask_unchecked(aut, h) };
         }
@@ -293,7 +300,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     /// any (it stays).
     #[inline(always)]
     fn take(&mut self, event: u8, holders: u32) -> Option<u8> {
-        take(self.set, &mut self.states, &mut self.masks, Event::new(event), holders)
+        take(self.set, &mut self.records, &mut self.masks, Event::new(event), holders)
     }
 
     fn unknown(&mut self) -> Applied {
@@ -310,11 +317,11 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
 }
 
 /// [`Runtime::take`], out of line and over its parts, so that the compiler knows the stores to
-/// `states` and `masks` leave the set alone and keeps its fields in registers.
+/// `records` and `masks` leave the set alone and keeps its fields in registers.
 #[inline(never)]
 fn take<const W: usize, const N: usize>(
     set: &SupervisorSet<'_, W>,
-    states: &mut [u16; N],
+    records: &mut [u32; N],
     masks: &mut [[u32; W]; N],
     event: Event,
     mut holders: u32,
@@ -325,12 +332,12 @@ fn take<const W: usize, const N: usize>(
         let this = holders & holders.wrapping_neg();
         holders ^= this;
         // SAFETY: `Runtime::new` checked the set: every holder bit names one of the N automata and event
-        // ids are below 32 · W; every handle in `states` is the initial one, checked by `restore` or a
-        // target read here, and `masks[a]` is its out-mask.
+        // ids are below 32 · W; every record in `records` is the initial state's, checked by `restore`
+        // or a target's read here, and `masks[a]` is its out-mask.
         unsafe {
             let mask = masks.get_unchecked_mut(a);
             if event.in_set_unchecked(mask) {
-                set.advance(set.automata.get_unchecked(a), states.get_unchecked_mut(a), mask, event);
+                set.advance(set.automata.get_unchecked(a), records.get_unchecked_mut(a), mask, event);
             } else {
                 stuck |= this;
             }

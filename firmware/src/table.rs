@@ -35,7 +35,7 @@
 //! [`SupervisorSet::check`] proves, once at boot, everything the hot path relies on: every record lies
 //! in its block, every mask id in the pool, every target and initial handle is the start of a record,
 //! every holder bit names an automaton. After it the runtime reads the tables without bounds checks
-//! ([`SupervisorSet::mask_unchecked`], [`SupervisorSet::target_unchecked`]); the checked readers
+//! ([`SupervisorSet::mask_unchecked`], [`SupervisorSet::advance`]); the checked readers
 //! ([`SupervisorSet::mask`], [`SupervisorSet::step`]) serve host tools and tests.
 
 /// Most automata in one set: one bit each in a `u32` of [`SupervisorSet::holders`].
@@ -107,8 +107,6 @@ pub enum TableError {
     /// Automaton `0` has a block that is out of order, a scale of 0, a record outside its block or naming
     /// no mask, an out-event outside its alphabet, or a target or initial handle that starts no record.
     Block(u8),
-    /// A site names no plant or is out of order.
-    Sites,
 }
 
 /// Position of `event`'s target among a state's targets: the bits of its out-mask below `event`.
@@ -116,33 +114,43 @@ pub enum TableError {
 fn rank<const W: usize>(mask: &[u32; W], event: Event) -> usize {
     let mut r = 0;
     for (w, &m) in mask.iter().enumerate() {
-        if w < event.word {
+        if w < event.word() {
             r += ones(m);
-        } else if w == event.word {
-            r += ones(m & (event.bit - 1));
+        } else if w == event.word() {
+            r += ones(m & (event.bit() - 1));
         }
     }
     r
 }
 
-/// An event id split for bitset access: word index and bit within the word.
+/// An event id, for bitset access: word index and bit within the word. Kept as the id, so that it
+/// travels in one register and the compiler recomputes word and bit rather than spilling them.
 #[derive(Clone, Copy, Debug)]
-pub struct Event {
-    word: usize,
-    bit: u32,
-}
+pub struct Event(u8);
 
 impl Event {
-    /// Splits `event`.
+    /// The event `id`.
     #[inline(always)]
-    pub fn new(event: u8) -> Event {
-        Event { word: usize::from(event / 32), bit: 1 << (event % 32) }
+    pub fn new(id: u8) -> Event {
+        Event(id)
+    }
+
+    /// Index of the event's word in a bitset.
+    #[inline(always)]
+    fn word(self) -> usize {
+        usize::from(self.0 / 32)
+    }
+
+    /// The event's bit within its word.
+    #[inline(always)]
+    fn bit(self) -> u32 {
+        1 << (self.0 % 32)
     }
 
     /// Whether the event is in `words` (`false` when its word lies beyond them).
     #[inline(always)]
     pub fn in_set<const W: usize>(self, words: &[u32; W]) -> bool {
-        words.get(self.word).is_some_and(|w| w & self.bit != 0)
+        words.get(self.word()).is_some_and(|w| w & self.bit() != 0)
     }
 
     /// Whether the event is in `words`, without a bounds check.
@@ -153,7 +161,7 @@ impl Event {
     #[inline(always)]
     pub unsafe fn in_set_unchecked<const W: usize>(self, words: &[u32; W]) -> bool {
         // SAFETY: the caller's promise.
-        unsafe { words.get_unchecked(self.word) & self.bit != 0 }
+        unsafe { words.get_unchecked(self.word()) & self.bit() != 0 }
     }
 }
 
@@ -174,9 +182,6 @@ fn ones(mut x: u32) -> usize {
 pub fn bit<const W: usize>(words: &[u32; W], event: u8) -> bool {
     Event::new(event).in_set(words)
 }
-
-/// What [`SupervisorSet::walk`] calls per record: handle, byte offset, out-mask.
-type Visit<'f, const W: usize> = dyn FnMut(usize, usize, &[u32; W]) -> Result<(), ()> + 'f;
 
 /// The two ways of reading a block: checked (host tools, the boot check) and unchecked (the hot path,
 /// after the boot check proved every read in bounds).
@@ -226,6 +231,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     /// Checks everything the runtime's unchecked reads rely on, for a runtime of `automata` automata.
     /// Linear in the size of the tables (times the handle count / 256 for automata of more than 256
     /// handle units); runs once at boot.
+    #[inline(never)]
     pub fn check(&self, automata: usize) -> Result<(), TableError> {
         let plants = usize::from(self.plants);
         if self.automata.len() != automata || automata > MAX_AUTOMATA || plants > automata {
@@ -242,11 +248,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         }
         for a in 0..automata {
             // At most MAX_AUTOMATA automata: the index fits a byte.
-            self.check_block(a).map_err(|()| TableError::Block(a as u8))?;
-        }
-        let ordered = self.sites.windows(2).all(|w| w[0] < w[1]);
-        if !ordered || self.sites.iter().any(|s| usize::from(s.automaton) >= plants) {
-            return Err(TableError::Sites);
+            self.check_block(a).ok_or(TableError::Block(a as u8))?;
         }
         Ok(())
     }
@@ -259,68 +261,67 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     }
 
     /// One automaton: the records tile the block, name masks within the alphabet, and every target and
-    /// the initial handle start one — checked 256 handles at a time with a bitmap on the stack.
-    fn check_block(&self, a: usize) -> Result<(), ()> {
-        let aut = self.automata.get(a).ok_or(())?;
-        let (start, end) = self.block(a).ok_or(())?;
+    /// the initial handle start one — checked 256 handles at a time with a bitmap on the stack: a first
+    /// pass marks the record starts, a second checks the targets.
+    fn check_block(&self, a: usize) -> Option<()> {
+        let aut = self.automata.get(a)?;
+        let (start, end) = self.block(a)?;
         let scale = usize::from(aut.scale);
-        if scale == 0 || (end - start).div_ceil(scale) > 1 << 16 {
-            return Err(());
+        // Handles are 16-bit, and the runtime holds a state as its record's 32-bit offset.
+        if scale == 0 || (end - start).div_ceil(scale) > 1 << 16 || u32::try_from(end).is_err() {
+            return None;
         }
-        let (mut base, mut handles) = (0, usize::MAX);
-        while base < handles {
+        let mut base = 0;
+        loop {
             let mut starts = [0u32; 8];
-            let mut count = 0;
-            self.walk(a, &mut |h, _, mask| {
-                count = h + 1;
-                let i = h.wrapping_sub(base);
-                if i < 256 {
-                    starts[i / 32] |= 1 << (i % 32);
+            let mut handles = 0;
+            for pass in 0..2 {
+                // Whether `h` is a handle met in pass 0 and, when in this chunk, a record start.
+                let starts_record = |starts: &[u32; 8], handles: usize, h: usize| {
+                    let i = h.wrapping_sub(base);
+                    h < handles && (i >= 256 || starts[i / 32] & (1 << (i % 32)) != 0)
+                };
+                if pass == 1 && !starts_record(&starts, handles, usize::from(aut.initial)) {
+                    return None;
                 }
-                let inside = mask.iter().zip(&aut.alphabet).all(|(m, al)| m & !al == 0);
-                inside.then_some(()).ok_or(())
-            })?;
-            handles = count;
-            let starts_record = |h: u16| {
-                let i = usize::from(h).wrapping_sub(base);
-                usize::from(h) < handles && (i >= 256 || starts[i / 32] & (1 << (i % 32)) != 0)
-            };
-            if !starts_record(aut.initial) {
-                return Err(());
-            }
-            self.walk(a, &mut |_, at, mask| {
-                let n = mask.iter().map(|m| m.count_ones() as usize).sum();
-                for r in 0..n {
-                    let t = self.target_at(&Checked(self.blocks), aut, at, r).ok_or(())?;
-                    if !starts_record(t) {
-                        return Err(());
+                let mut at = start;
+                while at < end {
+                    let (mask, n, next) = self.next_record(aut, at, end)?;
+                    if pass == 0 {
+                        let h = (at - start) / scale;
+                        let i = h.wrapping_sub(base);
+                        if i < 256 {
+                            starts[i / 32] |= 1 << (i % 32);
+                        }
+                        handles = h + 1;
+                        if mask.iter().zip(&aut.alphabet).any(|(m, al)| m & !al != 0) {
+                            return None;
+                        }
+                    } else {
+                        for r in 0..n {
+                            let t = self.target_at(&Checked(self.blocks), aut, at, r)?;
+                            if !starts_record(&starts, handles, usize::from(t)) {
+                                return None;
+                            }
+                        }
                     }
+                    at = start + (next - start).div_ceil(scale) * scale;
                 }
-                Ok(())
-            })?;
+            }
             base += 256;
+            if base >= handles {
+                return Some(());
+            }
         }
-        Ok(())
     }
 
-    /// Calls `f` with the handle, record offset and out-mask of every state of automaton `a`, in block
-    /// order; fails when a record leaves the block or names no mask, or `f` fails.
-    fn walk(&self, a: usize, f: &mut Visit<'_, W>) -> Result<(), ()> {
-        let aut = self.automata.get(a).ok_or(())?;
-        let (start, end) = self.block(a).ok_or(())?;
-        let scale = usize::from(aut.scale).max(1);
-        let mut at = start;
-        while at < end {
-            let mask = self.mask_at(&Checked(self.blocks), aut, at).ok_or(())?;
-            let n: usize = mask.iter().map(|m| m.count_ones() as usize).sum();
-            let next = at + (n + 1) * if aut.wide { 2 } else { 1 };
-            if next > end {
-                return Err(());
-            }
-            f((at - start) / scale, at, mask)?;
-            at = start + (next - start).div_ceil(scale) * scale;
-        }
-        Ok(())
+    /// The record of `aut` at byte `at`, if it lies before `end`: its out-mask, target count and end.
+    #[inline(always)]
+    fn next_record(&self, aut: &Automaton<W>, at: usize, end: usize) -> Option<(&'t [u32; W], usize, usize)> {
+        let mask = self.mask_at(&Checked(self.blocks), aut, at)?;
+        let n = mask.iter().map(|m| m.count_ones() as usize).sum();
+        let next = at + (n + 1) * if aut.wide { 2 } else { 1 };
+        (next <= end).then_some((mask, n, next))
     }
 
     /// Byte offset in [`SupervisorSet::blocks`] of the record of `aut`'s state `handle`.
@@ -375,12 +376,15 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
 
     /// Whether `handle` starts a record of automaton `a` (a state of it).
     pub fn is_state(&self, a: usize, handle: u16) -> bool {
-        let mut found = false;
-        let walked = self.walk(a, &mut |h, _, _| {
-            found |= h == usize::from(handle);
-            Ok(())
-        });
-        walked.is_ok() && found
+        let (Some(aut), Some((start, end))) = (self.automata.get(a), self.block(a)) else { return false };
+        let scale = usize::from(aut.scale).max(1);
+        let wanted = start + usize::from(handle) * scale;
+        let mut at = start;
+        while at < wanted {
+            let Some((_, _, next)) = self.next_record(aut, at, end) else { return false };
+            at = start + (next - start).div_ceil(scale) * scale;
+        }
+        at == wanted && self.next_record(aut, at, end).is_some()
     }
 
     /// The out-mask of `aut`'s state `handle`, read without bounds checks.
@@ -396,20 +400,37 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         unsafe { mask.unwrap_unchecked() }
     }
 
-    /// Moves `aut` from its state `handle`, whose out-mask is `mask`, by `event`: both become the
-    /// target's. Reads without bounds checks.
+    /// Moves `aut` from the state whose record starts at byte `at` of the blocks and whose out-mask is
+    /// `mask`, by `event`: both become the target's. Reads without bounds checks.
     ///
     /// # Safety
     ///
-    /// As for [`SupervisorSet::mask_unchecked`]; `mask` is that state's out-mask and holds `event`.
+    /// [`SupervisorSet::check`] returned `Ok` for this set, `aut` is one of its automata, `at` the record
+    /// of its initial state or of a target read from one of its records, `mask` that state's out-mask,
+    /// and it holds `event`.
     #[inline(always)]
-    pub unsafe fn advance(&self, aut: &Automaton<W>, handle: &mut u16, mask: &mut [u32; W], event: Event) {
+    pub unsafe fn advance(&self, aut: &Automaton<W>, at: &mut u32, mask: &mut [u32; W], event: Event) {
         let read = Unchecked(self.blocks);
-        let target = self.target_at(&read, aut, Self::record(aut, *handle), rank(mask, event));
+        let target = self.target_at(&read, aut, *at as usize, rank(mask, event));
         // SAFETY: `Unchecked` never answers `None`, so neither does `target_at`.
-        *handle = unsafe { target.unwrap_unchecked() };
-        // SAFETY: the target of a checked set's record is one of its states.
-        *mask = *unsafe { self.mask_unchecked(aut, *handle) };
+        let handle = unsafe { target.unwrap_unchecked() };
+        *at = Self::record_of(aut, handle);
+        let next = self.mask_at(&read, aut, *at as usize);
+        // SAFETY: as above, and the target of a checked set's record is one of its states.
+        *mask = *unsafe { next.unwrap_unchecked() };
+    }
+
+    /// Byte offset in [`SupervisorSet::blocks`] of the record of `aut`'s state `handle` (the runtime
+    /// holds states by record).
+    #[inline(always)]
+    pub fn record_of(aut: &Automaton<W>, handle: u16) -> u32 {
+        aut.start.wrapping_add(u32::from(handle) * u32::from(aut.scale))
+    }
+
+    /// The handle of `aut`'s state whose record starts at byte `at` of the blocks (inverse of
+    /// [`SupervisorSet::record_of`]).
+    pub fn handle_of(aut: &Automaton<W>, at: u32) -> u16 {
+        (at.wrapping_sub(aut.start) / u32::from(aut.scale.max(1))) as u16
     }
 
     /// The index of the site of plant `automaton` in state `state`, if it is one. A scan: sites are
