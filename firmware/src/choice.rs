@@ -30,17 +30,15 @@
 
 use crate::event_set::EventSet;
 use crate::rng::{Entropy, Rng};
-use crate::table::SupervisorSet;
+use crate::table::{Slot, SupervisorSet};
 
 /// What a policy may look at besides the enabled set.
 #[derive(Clone, Copy)]
 pub struct View<'a, const W: usize> {
     /// The tables.
     pub set: &'a SupervisorSet<'a, W>,
-    /// Where the record of every automaton's current state starts in the blocks.
-    pub records: &'a [u32],
-    /// Out-mask of every automaton's current state.
-    pub masks: &'a [[u32; W]],
+    /// Where every automaton is.
+    pub slots: &'a [Slot],
 }
 
 impl<const W: usize> View<'_, W> {
@@ -56,13 +54,13 @@ impl<const W: usize> View<'_, W> {
 
     /// The events plant `p`'s current state has transitions for.
     fn out(&self, p: usize) -> EventSet<W> {
-        EventSet(self.masks.get(p).copied().unwrap_or([0; W]))
+        let mask = self.slots.get(p).and_then(|&s| self.set.mask_of(s));
+        EventSet(mask.copied().unwrap_or([0; W]))
     }
 
     /// Index of plant `p`'s current state in the site table, if that state is a choice site.
     fn site(&self, p: usize) -> Option<usize> {
-        let state = SupervisorSet::handle_of(self.set.automata.get(p)?, *self.records.get(p)?);
-        self.set.site(u8::try_from(p).ok()?, state)
+        self.set.site(u8::try_from(p).ok()?, *self.slots.get(p)?)
     }
 }
 

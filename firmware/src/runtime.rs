@@ -50,7 +50,7 @@ use crate::choice::{Policy, View};
 use crate::event_set::EventSet;
 use crate::fault::FaultPolicy;
 use crate::rng::{Entropy, Rng};
-use crate::table::{bit, Event, SupervisorSet, TableError};
+use crate::table::{bit, Event, Slot, SupervisorSet, TableError};
 
 /// Run-time options (manifest `[runtime]`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -125,12 +125,8 @@ pub enum Decision {
 /// The runtime over a set of `N` automata and events in `W`-word bitsets, choosing with policy `P`.
 pub struct Runtime<'t, P, E, const W: usize, const N: usize> {
     set: &'t SupervisorSet<'t, W>,
-    /// Where the record of every automaton's current state starts in the blocks: a step reads it
-    /// without computing it from the handle.
-    records: [u32; N],
-    /// The out-mask of every automaton's current state, kept with `records`: the enabled set and a step
-    /// read it from RAM instead of through the tables.
-    masks: [[u32; W]; N],
+    /// Where every automaton is: its current state's record and out-mask id, one word each.
+    slots: [Slot; N],
     counters: Counters,
     overflow_mark: u32,
     safe: bool,
@@ -152,8 +148,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
         set.check(N)?;
         let mut rt = Self {
             set,
-            records: [0; N],
-            masks: [[0; W]; N],
+            slots: [Slot::default(); N],
             counters: Counters::default(),
             overflow_mark: 0,
             safe: false,
@@ -221,7 +216,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
         if enabled.is_empty() {
             return Decision::Idle;
         }
-        let view = View { set: self.set, records: &self.records, masks: &self.masks };
+        let view = View { set: self.set, slots: &self.slots };
         let Some(c) = self.policy.choose(view, &enabled, &mut self.rng) else {
             return Decision::Idle;
         };
@@ -240,7 +235,9 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     /// The controllable events every automaton holding them can take now.
     pub fn enabled(&self) -> EventSet<W> {
         let mut enabled = self.set.controllable;
-        for (aut, mask) in self.set.automata.iter().zip(&self.masks) {
+        for (aut, &slot) in self.set.automata.iter().zip(&self.slots) {
+            // SAFETY: `new` checked the set and every slot comes from `enter` or `take`.
+            let mask = unsafe { self.set.slot_mask(slot) };
             for ((e, m), al) in enabled.iter_mut().zip(mask).zip(&aut.alphabet) {
                 *e &= m | !al;
             }
@@ -261,8 +258,8 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     /// Current state handle of every automaton.
     pub fn states(&self) -> [u16; N] {
         let mut out = [0; N];
-        for ((h, aut), &at) in out.iter_mut().zip(self.set.automata).zip(&self.records) {
-            *h = SupervisorSet::handle_of(aut, at);
+        for ((h, aut), slot) in out.iter_mut().zip(self.set.automata).zip(&self.slots) {
+            *h = slot.handle(aut);
         }
         out
     }
@@ -283,11 +280,9 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
 
     /// Puts the automata in `states`, which `new` or `restore` proved to be states.
     fn enter(&mut self, states: [u16; N]) {
-        let all = self.records.iter_mut().zip(&mut self.masks).zip(self.set.automata).zip(&states);
-        for (((at, mask), aut), &h) in all {
-            *at = SupervisorSet::record_of(aut, h);
+        for ((slot, aut), &h) in self.slots.iter_mut().zip(self.set.automata).zip(&states) {
             // SAFETY: `new` checked the set, and `h` is the initial handle or was checked by `restore`.
-            *mask = *unsafe { self.set.mask_unchecked(aut, h) };
+            *slot = unsafe { self.set.slot_unchecked(aut, h) };
         }
     }
 
@@ -300,7 +295,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     /// any (it stays).
     #[inline(always)]
     fn take(&mut self, event: u8, holders: u32) -> Option<u8> {
-        take(self.set, &mut self.records, &mut self.masks, Event::new(event), holders)
+        take(self.set, &mut self.slots, Event::new(event), holders)
     }
 
     fn unknown(&mut self) -> Applied {
@@ -317,12 +312,11 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
 }
 
 /// [`Runtime::take`], out of line and over its parts, so that the compiler knows the stores to
-/// `records` and `masks` leave the set alone and keeps its fields in registers.
+/// `slots` leave the set alone and keeps its fields in registers.
 #[inline(never)]
 fn take<const W: usize, const N: usize>(
     set: &SupervisorSet<'_, W>,
-    records: &mut [u32; N],
-    masks: &mut [[u32; W]; N],
+    slots: &mut [Slot; N],
     event: Event,
     mut holders: u32,
 ) -> Option<u8> {
@@ -332,12 +326,13 @@ fn take<const W: usize, const N: usize>(
         let this = holders & holders.wrapping_neg();
         holders ^= this;
         // SAFETY: `Runtime::new` checked the set: every holder bit names one of the N automata and event
-        // ids are below 32 · W; every record in `records` is the initial state's, checked by `restore`
-        // or a target's read here, and `masks[a]` is its out-mask.
+        // ids are below 32 · W; every slot is the initial state's, checked by `restore` or a target's
+        // set here.
         unsafe {
-            let mask = masks.get_unchecked_mut(a);
+            let slot = slots.get_unchecked_mut(a);
+            let mask = set.slot_mask(*slot);
             if event.in_set_unchecked(mask) {
-                set.advance(set.automata.get_unchecked(a), records.get_unchecked_mut(a), mask, event);
+                set.advance(set.automata.get_unchecked(a), slot, mask, event);
             } else {
                 stuck |= this;
             }

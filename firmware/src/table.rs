@@ -22,7 +22,8 @@
 //! `codegen` makes an automaton narrow when its mask ids fit a byte (the pool lists masks in order of first
 //! use, plants first) and some scale makes its handles fit one, taking the smallest such scale.
 //!
-//! Limits: at most 256 events and [`MAX_AUTOMATA`] automata, 65 536 masks, 65 536 handles per automaton.
+//! Limits: at most 256 events and [`MAX_AUTOMATA`] automata, 65 536 handles per automaton, and as a
+//! [`Slot`] holds a state in one word: 4 096 masks and 1 MiB of blocks.
 //!
 //! # Side tables
 //!
@@ -35,7 +36,7 @@
 //! [`SupervisorSet::check`] proves, once at boot, everything the hot path relies on: every record lies
 //! in its block, every mask id in the pool, every target and initial handle is the start of a record,
 //! every holder bit names an automaton. After it the runtime reads the tables without bounds checks
-//! ([`SupervisorSet::mask_unchecked`], [`SupervisorSet::advance`]); the checked readers
+//! ([`SupervisorSet::slot_unchecked`], [`SupervisorSet::slot_mask`], [`SupervisorSet::advance`]); the checked readers
 //! ([`SupervisorSet::mask`], [`SupervisorSet::step`]) serve host tools and tests.
 
 /// Most automata in one set: one bit each in a `u32` of [`SupervisorSet::holders`].
@@ -104,6 +105,8 @@ pub enum TableError {
     /// More events than `W` words or [`MAX_EVENTS`] hold, a holder bit naming no automaton, or a
     /// per-plant table of another length.
     Events,
+    /// More blocks or masks than a [`Slot`] addresses.
+    Size,
     /// Automaton `0` has a block that is out of order, a scale of 0, a record outside its block or naming
     /// no mask, an out-event outside its alphabet, or a target or initial handle that starts no record.
     Block(u8),
@@ -177,6 +180,31 @@ fn ones(mut x: u32) -> usize {
     n
 }
 
+/// Where an automaton is: its current state's record offset in [`SupervisorSet::blocks`] (low 20
+/// bits) and mask id (high 12 bits), so that a step finds both in one word of RAM.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Slot(u32);
+
+impl Slot {
+    /// First bit of the mask id.
+    const ID_SHIFT: u32 = 20;
+    /// Most bytes of blocks a slot addresses.
+    pub const MAX_BLOCKS: usize = 1 << Self::ID_SHIFT;
+    /// Most masks a slot names.
+    pub const MAX_MASKS: usize = 1 << (32 - Self::ID_SHIFT);
+
+    /// The record offset.
+    #[inline(always)]
+    fn record(self) -> usize {
+        (self.0 & (Self::MAX_BLOCKS as u32 - 1)) as usize
+    }
+
+    /// The handle of `aut`'s state in this slot.
+    pub fn handle<const W: usize>(self, aut: &Automaton<W>) -> u16 {
+        ((self.record() as u32).wrapping_sub(aut.start) / u32::from(aut.scale.max(1))) as u16
+    }
+}
+
 /// Whether bit `event` is set in `words`.
 #[inline(always)]
 pub fn bit<const W: usize>(words: &[u32; W], event: u8) -> bool {
@@ -239,6 +267,9 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         }
         let events = self.events();
         let all = if automata == MAX_AUTOMATA { u32::MAX } else { (1u32 << automata) - 1 };
+        if self.blocks.len() > Slot::MAX_BLOCKS || self.masks.len() > Slot::MAX_MASKS {
+            return Err(TableError::Size);
+        }
         if events > MAX_EVENTS
             || events > 32 * W
             || self.plant_events.len() != plants
@@ -267,8 +298,8 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         let aut = self.automata.get(a)?;
         let (start, end) = self.block(a)?;
         let scale = usize::from(aut.scale);
-        // Handles are 16-bit, and the runtime holds a state as its record's 32-bit offset.
-        if scale == 0 || (end - start).div_ceil(scale) > 1 << 16 || u32::try_from(end).is_err() {
+        // Handles are 16-bit.
+        if scale == 0 || (end - start).div_ceil(scale) > 1 << 16 {
             return None;
         }
         let mut base = 0;
@@ -387,58 +418,59 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         at == wanted && self.next_record(aut, at, end).is_some()
     }
 
-    /// The out-mask of `aut`'s state `handle`, read without bounds checks.
+    /// The out-mask of the state in `slot`, read without bounds checks.
     ///
     /// # Safety
     ///
-    /// [`SupervisorSet::check`] returned `Ok` for this set, `aut` is one of its automata and `handle` is
-    /// its initial handle or a target handle read from one of its records.
+    /// [`SupervisorSet::check`] returned `Ok` for this set and `slot` came from
+    /// [`SupervisorSet::slot_unchecked`] or [`SupervisorSet::advance`] on it.
     #[inline(always)]
-    pub unsafe fn mask_unchecked(&self, aut: &Automaton<W>, handle: u16) -> &'t [u32; W] {
-        let mask = self.mask_at(&Unchecked(self.blocks), aut, Self::record(aut, handle));
-        // SAFETY: `Unchecked` never answers `None`, so neither does `mask_at`.
-        unsafe { mask.unwrap_unchecked() }
+    pub unsafe fn slot_mask(&self, slot: Slot) -> &'t [u32; W] {
+        // SAFETY: the caller's promise: the slot's id was read from a checked record.
+        unsafe { self.masks.get_unchecked((slot.0 >> Slot::ID_SHIFT) as usize) }
     }
 
-    /// Moves `aut` from the state whose record starts at byte `at` of the blocks and whose out-mask is
-    /// `mask`, by `event`: both become the target's. Reads without bounds checks.
+    /// The slot of `aut`'s state `handle`, read without bounds checks.
     ///
     /// # Safety
     ///
-    /// [`SupervisorSet::check`] returned `Ok` for this set, `aut` is one of its automata, `at` the record
-    /// of its initial state or of a target read from one of its records, `mask` that state's out-mask,
-    /// and it holds `event`.
+    /// [`SupervisorSet::check`] returned `Ok` for this set, `aut` is one of its automata and `handle`
+    /// one of its states.
     #[inline(always)]
-    pub unsafe fn advance(&self, aut: &Automaton<W>, at: &mut u32, mask: &mut [u32; W], event: Event) {
-        let read = Unchecked(self.blocks);
-        let target = self.target_at(&read, aut, *at as usize, rank(mask, event));
-        // SAFETY: `Unchecked` never answers `None`, so neither does `target_at`.
-        let handle = unsafe { target.unwrap_unchecked() };
-        *at = Self::record_of(aut, handle);
-        let next = self.mask_at(&read, aut, *at as usize);
-        // SAFETY: as above, and the target of a checked set's record is one of its states.
-        *mask = *unsafe { next.unwrap_unchecked() };
+    pub unsafe fn slot_unchecked(&self, aut: &Automaton<W>, handle: u16) -> Slot {
+        let at = Self::record(aut, handle);
+        let id = Self::field(&Unchecked(self.blocks), aut, at, 0);
+        // SAFETY: `Unchecked` never answers `None`; the check bounds records and ids to the slot's fields.
+        Slot(u32::from(unsafe { id.unwrap_unchecked() }) << Slot::ID_SHIFT | at as u32)
     }
 
-    /// Byte offset in [`SupervisorSet::blocks`] of the record of `aut`'s state `handle` (the runtime
-    /// holds states by record).
+    /// Moves `aut` by `event` from the state in `slot`, whose out-mask `mask` holds `event`: the slot
+    /// becomes the target's. Reads without bounds checks.
+    ///
+    /// # Safety
+    ///
+    /// As for [`SupervisorSet::slot_mask`]; `aut` is the slot's automaton, `mask` its out-mask and it
+    /// holds `event`.
     #[inline(always)]
-    pub fn record_of(aut: &Automaton<W>, handle: u16) -> u32 {
-        aut.start.wrapping_add(u32::from(handle) * u32::from(aut.scale))
+    pub unsafe fn advance(&self, aut: &Automaton<W>, slot: &mut Slot, mask: &[u32; W], event: Event) {
+        let target = self.target_at(&Unchecked(self.blocks), aut, slot.record(), rank(mask, event));
+        // SAFETY: `Unchecked` never answers `None`, so neither does `target_at`; the target of a checked
+        // set's record is one of its states.
+        *slot = unsafe { self.slot_unchecked(aut, target.unwrap_unchecked()) };
     }
 
-    /// The handle of `aut`'s state whose record starts at byte `at` of the blocks (inverse of
-    /// [`SupervisorSet::record_of`]).
-    pub fn handle_of(aut: &Automaton<W>, at: u32) -> u16 {
-        (at.wrapping_sub(aut.start) / u32::from(aut.scale.max(1))) as u16
+    /// The out-mask of the state in `slot` (`None` if the slot names no mask of the set).
+    pub fn mask_of(&self, slot: Slot) -> Option<&'t [u32; W]> {
+        self.masks.get((slot.0 >> Slot::ID_SHIFT) as usize)
     }
 
-    /// The index of the site of plant `automaton` in state `state`, if it is one. A scan: sites are
-    /// states of the plants, small automata, so there are few, and the scan beats a binary search's
+    /// The index of the site of plant `automaton` in the state in `slot`, if it is one. A scan: sites
+    /// are states of the plants, small automata, so there are few, and the scan beats a binary search's
     /// bookkeeping on them.
-    pub fn site(&self, automaton: u8, state: u16) -> Option<usize> {
-        let key = Site { automaton, state };
-        self.sites.iter().position(|s| *s == key)
+    pub fn site(&self, automaton: u8, slot: Slot) -> Option<usize> {
+        let aut = self.automata.get(usize::from(automaton))?;
+        let at = slot.record();
+        self.sites.iter().position(|s| s.automaton == automaton && Self::record(aut, s.state) == at)
     }
 }
 
