@@ -60,7 +60,7 @@ impl<const W: usize> View<'_, W> {
 
     /// Index of plant `p`'s current state in the site table, if that state is a choice site.
     fn site(&self, p: usize) -> Option<usize> {
-        self.set.site(u8::try_from(p).ok()?, *self.slots.get(p)?)
+        self.set.site(*self.slots.get(p)?)
     }
 }
 
@@ -210,13 +210,12 @@ impl<const W: usize, const S: usize> Policy<W> for RandomLocalQueue<W, S> {
         enabled: &EventSet<W>,
         rng: &mut Rng<E>,
     ) -> Option<u8> {
-        let mut with_events = EventSet::<1>::EMPTY;
-        for (p, generated) in view.set.plant_events.iter().enumerate().take(32) {
-            if !enabled.and(&EventSet(*generated)).is_empty() {
-                with_events.0[0] |= 1 << p;
-            }
+        let mut with_events = 0u32;
+        for (p, generated) in view.set.plant_events.iter().enumerate() {
+            let has = !enabled.and(&EventSet(*generated)).is_empty();
+            with_events |= u32::from(has).wrapping_shl(p as u32);
         }
-        let Some(p) = pick(&with_events, rng) else {
+        let Some(p) = pick(&EventSet([with_events]), rng) else {
             return enabled.first();
         };
         let p = usize::from(p);

@@ -82,17 +82,10 @@ pub struct SupervisorSet<'t, const W: usize> {
     /// Per plant: the controllable events it generates (those of its alphabet no earlier plant holds).
     /// Every controllable event belongs to exactly one plant.
     pub plant_events: &'t [[u32; W]],
-    /// The choice sites with two or more controllable out-events, sorted by automaton then state.
-    pub sites: &'t [Site],
-}
-
-/// A choice site: a state of a plant where two or more controllable events it generates leave.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-pub struct Site {
-    /// Index of the plant in [`SupervisorSet::automata`].
-    pub automaton: u8,
-    /// The state, as its handle.
-    pub state: u16,
+    /// The *choice sites*, states of a plant where two or more controllable events it generates leave,
+    /// each as the byte offset of its record in [`SupervisorSet::blocks`] (so unique across automata),
+    /// ascending.
+    pub sites: &'t [u32],
 }
 
 /// Why a set cannot run: sizes of another build, or tables that break the layout.
@@ -464,13 +457,11 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         self.masks.get((slot.0 >> Slot::ID_SHIFT) as usize)
     }
 
-    /// The index of the site of plant `automaton` in the state in `slot`, if it is one. A scan: sites
-    /// are states of the plants, small automata, so there are few, and the scan beats a binary search's
-    /// bookkeeping on them.
-    pub fn site(&self, automaton: u8, slot: Slot) -> Option<usize> {
-        let aut = self.automata.get(usize::from(automaton))?;
-        let at = slot.record();
-        self.sites.iter().position(|s| s.automaton == automaton && Self::record(aut, s.state) == at)
+    /// The index of the site of the state in `slot`, if it is one. A scan: sites are states of the
+    /// plants, small automata, so there are few, and the scan beats a binary search's bookkeeping.
+    pub fn site(&self, slot: Slot) -> Option<usize> {
+        let at = slot.record() as u32;
+        self.sites.iter().position(|&s| s == at)
     }
 }
 

@@ -3,7 +3,7 @@
 //! example of the design notes.
 #![allow(dead_code)]
 
-use firmware::table::{Automaton, Site, SupervisorSet};
+use firmware::table::{Automaton, SupervisorSet};
 
 /// What an automaton does in the loop (plants come first in a set).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -93,7 +93,7 @@ pub fn encode(
         for (st, &h) in handles(s).iter().enumerate() {
             let n = s.transitions.iter().filter(|t| t.0 == st && owner[usize::from(t.1)] == i as u8).count();
             if n >= 2 {
-                sites.push(Site { automaton: i as u8, state: h });
+                sites.push(automata[i].start + u32::from(h));
             }
         }
     }
