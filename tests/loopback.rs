@@ -6,7 +6,7 @@ use codegen::link::memory;
 use codegen::link::protocol::EXIT;
 use codegen::link::ByteLink;
 use codegen::model::StateId;
-use codegen::pack::{offset, PackSet};
+use codegen::pack::{ranked, PackSet};
 use codegen::plant::closed_loop::{attach, parts, Options};
 use codegen::plant::session::{Session, SessionConfig};
 use end_to_end::{published_cell, spawn_host_firmware, ticker};
@@ -19,7 +19,7 @@ const CONFIG: Config = Config { guard: true, on_fault: FaultPolicy::Continue, re
 #[test]
 fn cell_closed_loop_is_safe_live_and_covers_every_supervisor_transition() {
     let set = published_cell();
-    let tables = HostTables::new(offset::encode(&set).unwrap()).unwrap();
+    let tables = HostTables::new(ranked::encode(&set).unwrap()).unwrap();
     let (mut host, target) = memory::pair();
     // 23 events (one bitset word), 4 plants + 6 supervisors, 32 input slots; 3 choice sites.
     let policy = RandomLocalQueue::<1, 3>::default();
@@ -50,7 +50,7 @@ fn ticker_set() -> PackSet {
 /// HOLD, a burst of `n` events, GO; returns (events the firmware took, overflows it reported).
 fn burst(n: usize) -> (u64, u64) {
     let set = ticker_set();
-    let tables = HostTables::new(offset::encode(&set).unwrap()).unwrap();
+    let tables = HostTables::new(ranked::encode(&set).unwrap()).unwrap();
     let (mut host, target) = memory::pair();
     // 8 input slots: 7 events fit.
     let firmware = spawn_host_firmware::<Random, 1, 1, 8>(tables, CONFIG, Random, 1, target);

@@ -9,43 +9,43 @@ use std::path::Path;
 
 use codegen::emit::HostTables;
 use codegen::formats::read_path;
-use codegen::pack::{offset, PackSet};
+use codegen::pack::{ranked, PackSet};
 use firmware::choice::RandomLocalQueue;
 use firmware::fault::FaultPolicy;
 use firmware::rng::{Rng, SeedEntropy};
 use firmware::runtime::{Config, Decision, Runtime};
-use firmware::table::{Role, SupervisorSet};
+use firmware::table::SupervisorSet;
 
 const N: usize = 10;
 
-fn cell() -> HostTables {
+fn cell() -> HostTables<1> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/cell");
     let read = |names: &[&str], sub: &str| -> Vec<_> {
         names.iter().flat_map(|n| read_path(&dir.join(sub).join(format!("{n}.xmd"))).unwrap()).collect()
     };
     let plants = read(&["G1", "G2", "G3", "G4"], "plants");
     let sups = read(&["S1", "S2_6", "S3", "S4", "S5", "S7"], "published");
-    HostTables::new(offset::encode(&PackSet::new(plants, sups).unwrap()).unwrap()).unwrap()
+    HostTables::new(ranked::encode(&PackSet::new(plants, sups).unwrap()).unwrap()).unwrap()
 }
 
-fn controllable(set: &SupervisorSet<'_>, e: u8) -> bool {
+fn controllable(set: &SupervisorSet<'_, 1>, e: u8) -> bool {
     set.controllable[usize::from(e / 32)] & (1 << (e % 32)) != 0
 }
 
 /// The state after `e` if every automaton holding `e` can take it.
-fn step(set: &SupervisorSet<'_>, states: &[u16; N], e: u8) -> Option<[u16; N]> {
+fn step(set: &SupervisorSet<'_, 1>, states: &[u16; N], e: u8) -> Option<[u16; N]> {
     let mut next = *states;
-    for (a, aut) in set.automata.iter().enumerate() {
+    for a in 0..set.automata.len() {
         if set.holders[usize::from(e)] & (1 << a) != 0 {
-            next[a] = aut.step(states[a], e)?;
+            next[a] = set.step(a, states[a], e)?;
         }
     }
     Some(next)
 }
 
 /// (supervisor, state, event) for every controllable event the reachable closed loop can fire.
-fn reachable_controllable(set: &SupervisorSet<'_>) -> BTreeSet<(usize, u16, u8)> {
-    let events = set.event_names.len() as u8;
+fn reachable_controllable(set: &SupervisorSet<'_, 1>) -> BTreeSet<(usize, u16, u8)> {
+    let events = set.events() as u8;
     let init: [u16; N] = std::array::from_fn(|a| set.automata[a].initial);
     let (mut seen, mut queue, mut out) = (BTreeSet::from([init]), VecDeque::from([init]), BTreeSet::new());
     while let Some(s) = queue.pop_front() {
@@ -62,16 +62,16 @@ fn reachable_controllable(set: &SupervisorSet<'_>) -> BTreeSet<(usize, u16, u8)>
     out
 }
 
-fn supervisor_moves(set: &SupervisorSet<'_>, s: &[u16; N], e: u8) -> Vec<(usize, u16, u8)> {
-    (0..N)
-        .filter(|&a| set.automata[a].role == Role::Supervisor && set.holders[usize::from(e)] & (1 << a) != 0)
+fn supervisor_moves(set: &SupervisorSet<'_, 1>, s: &[u16; N], e: u8) -> Vec<(usize, u16, u8)> {
+    (usize::from(set.plants)..N)
+        .filter(|&a| set.holders[usize::from(e)] & (1 << a) != 0)
         .map(|a| (a, s[a], e))
         .collect()
 }
 
 type Rt<'t> = Runtime<'t, RandomLocalQueue<1, 8>, SeedEntropy, 1, N>;
 
-fn runtime<'t>(set: &'t SupervisorSet<'t>, seed: u64) -> Rt<'t> {
+fn runtime<'t>(set: &'t SupervisorSet<'t, 1>, seed: u64) -> Rt<'t> {
     let config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 1024 };
     Rt::new(set, config, RandomLocalQueue::default(), SeedEntropy::new(seed)).unwrap()
 }
@@ -82,8 +82,7 @@ const DECISIONS_PER_STATE: usize = 64;
 #[test]
 fn random_local_queue_takes_every_enabled_event_at_every_reachable_state() {
     let host = cell();
-    let (names, automata) = (host.names(), host.automata());
-    let set = host.set(&names, &automata);
+    let (names, set) = (host.event_names(), host.set());
     let mut rt = runtime(&set, 7);
     let init: [u16; N] = *rt.states();
     let (mut seen, mut queue, mut taken) = (BTreeSet::from([init]), VecDeque::from([init]), BTreeSet::new());
@@ -96,7 +95,7 @@ fn random_local_queue_takes_every_enabled_event_at_every_reachable_state() {
             if chosen.len() == enabled.len() {
                 break;
             }
-            rt.restore(&s);
+            rt.restore(&s).unwrap();
             match rt.decide(|| false) {
                 Decision::Fired(c) => {
                     assert!(enabled.contains(&c), "fired {} the closed loop forbids", names[usize::from(c)]);
@@ -118,6 +117,8 @@ fn random_local_queue_takes_every_enabled_event_at_every_reachable_state() {
     }
     let wanted = reachable_controllable(&set);
     assert!(wanted.len() > 300, "{}", wanted.len());
+    // A checkpoint naming no state is refused.
+    assert!(rt.restore(&[u16::MAX; N]).is_err());
     assert_eq!(taken, wanted);
     assert_eq!(rt.counters().unexpected, 0);
 }
@@ -128,8 +129,7 @@ const STEPS: usize = 200_000;
 #[test]
 fn closed_loop_with_a_random_plant_is_safe_and_live() {
     let host = cell();
-    let (names, automata) = (host.names(), host.automata());
-    let set = host.set(&names, &automata);
+    let (names, set) = (host.event_names(), host.set());
     for seed in 0..3 {
         let mut rt = runtime(&set, seed);
         let mut plant = Rng::new(SeedEntropy::new(1000 + seed), 0);

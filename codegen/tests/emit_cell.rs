@@ -74,3 +74,28 @@ fn a_controllable_event_no_plant_generates_is_refused() {
     assert!(!dir.join("x.rs").exists());
     std::fs::remove_dir_all(dir).ok();
 }
+
+/// The committed tables, compiled as the firmware's applications include them.
+#[allow(dead_code)]
+mod cell {
+    include!("../../firmware/src/generated/cell.rs");
+}
+
+#[test]
+fn committed_cell_tables_compile_and_pass_the_boot_check() {
+    use firmware::rng::SeedEntropy;
+    use firmware::runtime::{Decision, Runtime};
+    assert_eq!(cell::SET.check(cell::AUTOMATA), Ok(()));
+    assert_eq!(cell::EVENT_NAMES.len(), cell::SET.events());
+    assert_eq!(cell::AUTOMATON_NAMES.len(), cell::AUTOMATA);
+    assert_eq!(cell::SET.sites.len(), cell::SITES);
+    let mut rt = Runtime::<cell::Policy, SeedEntropy, { cell::EVENT_WORDS }, { cell::AUTOMATA }>::new(
+        &cell::SET,
+        cell::CONFIG,
+        cell::Policy::default(),
+        SeedEntropy::new(cell::SEED),
+    )
+    .unwrap();
+    // In the initial state only the conveyor can start.
+    assert_eq!(rt.decide(|| false), Decision::Fired(cell::event::E1_LIG));
+}

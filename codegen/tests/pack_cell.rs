@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use codegen::formats::read_path;
 use codegen::model::Automaton;
-use codegen::pack::{compact, memory_safe, offset, report::Report, Layout, PackSet, Role};
+use codegen::pack::{compact, memory_safe, offset, ranked, report::Report, Layout, PackSet, Role};
 
 fn dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).to_path_buf()
@@ -73,6 +73,7 @@ fn every_layout_decodes_to_the_cell() {
     let decoded = [
         memory_safe::decode(&memory_safe::encode(&set).unwrap()).unwrap(),
         offset::decode(&offset::encode(&set).unwrap()).unwrap(),
+        ranked::decode(&ranked::encode(&set).unwrap()).unwrap(),
         compact::decode(&compact::encode(&set).unwrap()).unwrap(),
     ];
     for automata in decoded {
@@ -93,6 +94,53 @@ fn every_layout_decodes_to_the_cell() {
                 "{}",
                 a.name
             );
+        }
+    }
+}
+
+/// The runtime's layout on the cell of `examples/cell/cell.toml` (its local modular supervisors
+/// synthesised, which are the published ones): 97 distinct out-masks, 1-byte mask ids; every block at
+/// scale 1 but S2_6's, whose 121 states need scale 3 for 1-byte handles (543 bytes, against 841 with
+/// 2-byte handles). Decoding gives back automata of the same generated language, state for state.
+#[test]
+fn ranked_cell_takes_1028_bytes_of_blocks_and_97_masks() {
+    let manifest = dir().join("../examples/cell/cell.toml");
+    let project = codegen::plant::project::Project::load(&manifest).unwrap();
+    for set in [project.set, cell()] {
+        let packed = ranked::encode(&set).unwrap();
+        assert_eq!(packed.masks.len(), 97);
+        assert!(!packed.wide_ids);
+        let blocks: Vec<(&str, usize, u8, bool)> =
+            packed.automata.iter().map(|b| (b.name.as_str(), b.block.len(), b.scale, b.wide)).collect();
+        assert_eq!(
+            blocks,
+            [
+                ("G1", 4, 1, false),
+                ("G2", 6, 1, false),
+                ("G3", 18, 1, false),
+                ("G4", 8, 1, false),
+                ("S1", 14, 1, false),
+                ("S2_6", 543, 3, false),
+                ("S3", 145, 1, false),
+                ("S4", 145, 1, false),
+                ("S5", 104, 1, false),
+                ("S7", 41, 1, false),
+            ]
+        );
+        let size = packed.size();
+        assert_eq!(size.blocks(), 1028);
+        assert_eq!(
+            size.side_tables,
+            [("mask pool", 4 * 97), ("automaton descriptors", 80), ("alphabets", 40), ("controllability", 4)]
+        );
+        assert_eq!(size.total(), 1540);
+        let decoded = ranked::decode(&packed).unwrap();
+        for (m, d) in set.members().iter().zip(&decoded) {
+            // Layouts keep no marking: compare generated languages.
+            let mut a = m.automaton.clone();
+            a.states.iter_mut().for_each(|s| s.marked = false);
+            assert_eq!(codegen::synth::language::equal(&a, d).unwrap(), None, "{}", a.name);
+            assert_eq!(d.states.len(), a.states.len(), "{}", a.name);
         }
     }
 }

@@ -65,7 +65,7 @@ impl Port for Outbox {
 /// the loop runs (so a burst larger than the buffer overflows, which the runtime reports), then the loop
 /// serves until it is idle. The thread ends on EXIT (returning its status) or when the host hangs up.
 pub fn spawn_host_firmware<P, const W: usize, const N: usize, const Q: usize>(
-    tables: HostTables,
+    tables: HostTables<W>,
     config: Config,
     policy: P,
     seed: u64,
@@ -75,9 +75,7 @@ where
     P: Policy<W> + Send + 'static,
 {
     std::thread::spawn(move || {
-        let names = tables.names();
-        let automata = tables.automata();
-        let set = tables.set(&names, &automata);
+        let set = tables.set();
         let mut rt = Runtime::<P, SeedEntropy, W, N>::new(&set, config, policy, SeedEntropy::new(seed))
             .unwrap_or_else(|e| panic!("tables do not fit W={W}, N={N}: {e:?}"));
         let mut queue = InputQueue::<Q>::new();

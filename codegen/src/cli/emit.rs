@@ -7,11 +7,11 @@ use codegen::emit::{emit, BoardSpec, Input, OnFault, Options, Policy, Provenance
 use codegen::formats::read_path;
 use codegen::manifest::Manifest;
 use codegen::model::Automaton;
-use codegen::pack::{offset, PackSet};
+use codegen::pack::{ranked, PackSet};
 
 use super::Error;
 
-/// Emit the Rust tables (offset layout, side tables, policy, configuration, board pins) the firmware
+/// Emit the Rust tables (ranked layout, side tables, policy, configuration, board pins) the firmware
 /// includes.
 ///
 /// From a manifest (its supervisors, or the local modular ones synthesised from its plants and
@@ -81,7 +81,7 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
         }
         None => None,
     };
-    let packed = offset::encode(&PackSet::new(plants, supervisors)?)?;
+    let packed = ranked::encode(&PackSet::new(plants, supervisors)?)?;
     let options = Options {
         name: args.name.clone(),
         policy: args.policy,
@@ -107,7 +107,7 @@ fn from_manifest(path: &std::path::Path, args: &Args) -> Result<ExitCode, Error>
         let file = m.resolve(f);
         inputs.push(Input::read(&file).map_err(|e| format!("{}: {e}", file.display()))?);
     }
-    let packed = offset::encode(&PackSet::new(set.plants, supervisors)?)?;
+    let packed = ranked::encode(&PackSet::new(set.plants, supervisors)?)?;
     let r = &m.runtime;
     let options = Options {
         name: m.name.clone(),

@@ -32,7 +32,7 @@ pub struct Args {
     /// monolithic supervisors, synthesised from the plants and these specifications.
     #[arg(long = "spec", num_args = 1..)]
     specs: Vec<PathBuf>,
-    /// Report only this layout (memory-safe, offset or compact).
+    /// Report only this layout (memory-safe, offset, ranked or compact).
     #[arg(long, value_parser = parse_layout)]
     layout: Option<Layout>,
     /// Print JSON (schema 1): layouts (name, bytes, supervisor_bytes, per_automaton, side_tables),

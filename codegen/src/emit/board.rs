@@ -21,7 +21,7 @@ use std::fmt::Write as _;
 
 use serde::Deserialize;
 
-use crate::pack::offset::Packed;
+use crate::pack::ranked::Packed;
 
 /// Highest GPIO number a board table may name (one bit per pin in a `u32` sample).
 pub const MAX_PIN: u8 = 31;
@@ -230,7 +230,13 @@ mod tests {
     use super::*;
 
     fn packed() -> Packed {
-        Packed { event_names: vec!["go".into(), "done".into()], controllable: vec![0b01], automata: vec![] }
+        Packed {
+            event_names: vec!["go".into(), "done".into()],
+            controllable: vec![0b01],
+            masks: vec![],
+            wide_ids: false,
+            automata: vec![],
+        }
     }
 
     fn spec(text: &str) -> BoardSpec {

@@ -1,18 +1,21 @@
-//! The side tables of an `offset` set that keep the runtime's hot path small: per event the automata
-//! holding it, per controllable event the plant that generates it, and the choice sites of the local
-//! policies (`firmware::table`); and [`HostTables`], the same set as runtime tables on the host.
+//! The side tables of a `ranked` set that keep the runtime's hot path small: per event the automata
+//! holding it, per plant the controllable events it generates, and the choice sites of the local policies
+//! (`firmware::table`); and [`HostTables`], the same set as runtime tables on the host.
 
-use firmware::table::{Automaton, Role as RtRole, Site, SupervisorSet, MAX_AUTOMATA};
+use firmware::table::{Automaton, Site, SupervisorSet, MAX_AUTOMATA};
 
-use crate::pack::offset::Packed;
-use crate::pack::{PackError, Role};
+use crate::pack::ranked::Packed;
+use crate::pack::{DecodeError, PackError, Role};
 
 /// Why a set cannot be emitted for the runtime.
 #[derive(Debug, thiserror::Error)]
 pub enum EmitError {
-    /// The set breaks a limit of the `offset` layout.
+    /// The set breaks a limit of the `ranked` layout.
     #[error(transparent)]
     Pack(#[from] PackError),
+    /// The packed tables do not read back (only tables built by hand or altered after packing).
+    #[error(transparent)]
+    Tables(#[from] DecodeError),
     /// More automata than the runtime's per-event holder mask has bits.
     #[error("the set has {count} automata, more than the runtime's limit of {limit}")]
     TooManyAutomata {
@@ -27,6 +30,14 @@ pub enum EmitError {
         /// Event name.
         event: String,
     },
+    /// The host runtime was asked for event bitsets of another word count than the set's.
+    #[error("the set's event bitsets take {words} words, the runtime was built for {want}")]
+    Words {
+        /// Words of the set's bitsets.
+        words: usize,
+        /// Words the runtime's `W` says.
+        want: usize,
+    },
     /// The `[board]` section does not fit the set.
     #[error(transparent)]
     Board(#[from] super::BoardError),
@@ -38,27 +49,18 @@ pub enum EmitError {
     },
 }
 
-/// The side tables, in the runtime's representation.
+/// The side tables, in the runtime's representation (bitsets as `Vec<u32>` of the set's word count).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SideTables {
     /// Per global event id: bit `a` set when automaton `a` holds the event.
     pub holders: Vec<u32>,
+    /// Number of plants: the first automata.
+    pub plants: u8,
     /// Per plant, a bitset: the controllable events it generates (of its alphabet, those no earlier
     /// plant holds).
-    pub plant_events: Vec<u32>,
-    /// Choice sites with two or more owned controllable out-events, sorted.
+    pub plant_events: Vec<Vec<u32>>,
+    /// Choice sites (plant states, by handle) with two or more owned controllable out-events, sorted.
     pub sites: Vec<Site>,
-}
-
-/// Offsets of the states of an `offset` block, in state order.
-pub fn state_offsets(block: &[u8]) -> Vec<u16> {
-    let mut out = Vec::new();
-    let mut at = 0usize;
-    while let (Some(&n), Ok(off)) = (block.get(at), u16::try_from(at)) {
-        out.push(off);
-        at += 1 + 3 * usize::from(n);
-    }
-    out
 }
 
 fn has(words: &[u32], e: usize) -> bool {
@@ -80,105 +82,154 @@ impl SideTables {
                     .iter()
                     .enumerate()
                     .filter(|(_, b)| has(&b.alphabet, e))
-                    .map(|(a, _)| 1 << a)
+                    .map(|(a, _)| 1u32 << a)
                     .sum()
             })
             .collect();
-        let plants: Vec<_> = packed.automata.iter().take_while(|b| b.role == Role::Plant).collect();
+        let plants = packed.automata.iter().take_while(|b| b.role == Role::Plant).count();
         let mut owner = vec![None; events];
         for (e, o) in owner.iter_mut().enumerate().filter(|(e, _)| has(&packed.controllable, *e)) {
-            match plants.iter().position(|b| has(&b.alphabet, e)) {
+            match packed.automata[..plants].iter().position(|b| has(&b.alphabet, e)) {
                 Some(p) => *o = Some(p),
                 None => return Err(EmitError::Unowned { event: packed.event_names[e].clone() }),
             }
         }
-        let words = packed.controllable.len();
-        let mut plant_events = vec![0u32; words * plants.len()];
+        let words = packed.words();
+        let mut plant_events = vec![vec![0u32; words]; plants];
         for (e, o) in owner.iter().enumerate() {
             if let Some(p) = o {
-                plant_events[p * words + e / 32] |= 1 << (e % 32);
+                plant_events[*p][e / 32] |= 1 << (e % 32);
             }
         }
         let mut sites = Vec::new();
-        for (p, b) in plants.iter().enumerate() {
+        for p in 0..plants {
             // At most MAX_AUTOMATA (32) automata, so the index fits.
-            let automaton = u8::try_from(p).unwrap_or(u8::MAX);
-            for state in state_offsets(&b.block) {
-                let at = usize::from(state);
-                let n = usize::from(b.block[at]);
-                let generated = b.block[at + 1..at + 1 + 3 * n]
-                    .chunks_exact(3)
-                    .filter(|r| owner[usize::from(r[0])] == Some(p));
-                if generated.count() >= 2 {
-                    sites.push(Site { automaton, state });
+            let automaton = p as u8;
+            for r in packed.records(p)? {
+                let mask = packed.masks.get(r.mask).map_or(&[][..], Vec::as_slice);
+                let generated = (0..events).filter(|&e| has(mask, e) && owner[e] == Some(p)).count();
+                if generated >= 2 {
+                    sites.push(Site { automaton, state: r.handle });
                 }
             }
         }
-        Ok(SideTables { holders, plant_events, sites })
+        // At most MAX_AUTOMATA automata, so the count fits.
+        Ok(SideTables { holders, plants: plants as u8, plant_events, sites })
     }
 }
 
-/// A packed set with its side tables, owned on the host, from which a runtime [`SupervisorSet`] can be
-/// borrowed: the virtual plant and the host tests run the firmware's runtime on it.
+/// A `ranked` set with its side tables, owned on the host in the runtime's representation for event
+/// bitsets of `W` words, from which a runtime [`SupervisorSet`] is borrowed: the virtual plant and the
+/// host tests run the firmware's runtime on it.
+///
+/// `W` must be the set's word count (⌈events / 32⌉), as `EVENT_WORDS` of the emitted file; the
+/// `[u32; W]` arrays the runtime reads are built once, in [`HostTables::new`].
 ///
 /// ```
-/// # use codegen::{emit::HostTables, pack::{offset, PackSet}};
+/// # use codegen::{emit::HostTables, pack::{ranked, PackSet}};
 /// # fn borrow(set: &PackSet) -> Result<(), Box<dyn std::error::Error>> {
-/// let host = HostTables::new(offset::encode(set)?)?;
-/// let (names, automata) = (host.names(), host.automata());
-/// let runtime_set = host.set(&names, &automata);
+/// let host = HostTables::<1>::new(ranked::encode(set)?)?;
+/// let runtime_set = host.set();
 /// # let _ = runtime_set;
 /// # Ok(())
 /// # }
 /// ```
 #[derive(Clone, Debug)]
-pub struct HostTables {
-    /// The `offset` tables.
+pub struct HostTables<const W: usize> {
+    /// The `ranked` tables.
     pub packed: Packed,
     /// Their side tables.
     pub side: SideTables,
+    blocks: Vec<u8>,
+    automata: Vec<Automaton<W>>,
+    masks: Vec<[u32; W]>,
+    plant_events: Vec<[u32; W]>,
+    controllable: [u32; W],
 }
 
-impl HostTables {
-    /// Computes the side tables of `packed`.
-    pub fn new(packed: Packed) -> Result<HostTables, EmitError> {
+impl<const W: usize> HostTables<W> {
+    /// Computes the side tables of `packed` and the runtime's `W`-word arrays; refuses a set whose
+    /// bitsets are not `W` words.
+    pub fn new(packed: Packed) -> Result<Self, EmitError> {
         let side = SideTables::of(&packed)?;
-        Ok(HostTables { packed, side })
-    }
-
-    /// Event names as the runtime holds them.
-    pub fn names(&self) -> Vec<&str> {
-        self.packed.event_names.iter().map(String::as_str).collect()
-    }
-
-    /// Automata as the runtime holds them.
-    pub fn automata(&self) -> Vec<Automaton<'_>> {
-        self.packed
+        let words = packed.words();
+        let array = |v: &[u32]| <[u32; W]>::try_from(v).map_err(|_| EmitError::Words { words, want: W });
+        let controllable = array(&packed.controllable)?;
+        let masks = packed.masks.iter().map(|m| array(m)).collect::<Result<_, _>>()?;
+        let plant_events = side.plant_events.iter().map(|m| array(m)).collect::<Result<_, _>>()?;
+        let automata = packed
             .automata
             .iter()
-            .map(|b| Automaton {
-                name: &b.name,
-                role: match b.role {
-                    Role::Plant => RtRole::Plant,
-                    Role::Supervisor => RtRole::Supervisor,
-                },
-                initial: b.initial,
-                block: &b.block,
-                alphabet: &b.alphabet,
+            .map(|b| {
+                Ok(Automaton {
+                    start: b.start,
+                    initial: b.initial,
+                    scale: b.scale,
+                    wide: b.wide,
+                    alphabet: array(&b.alphabet)?,
+                })
             })
-            .collect()
+            .collect::<Result<_, EmitError>>()?;
+        Ok(HostTables { blocks: packed.blocks(), packed, side, automata, masks, plant_events, controllable })
     }
 
-    /// The runtime's view, over `names` and `automata` from [`HostTables::names`] and
-    /// [`HostTables::automata`].
-    pub fn set<'a>(&'a self, names: &'a [&'a str], automata: &'a [Automaton<'a>]) -> SupervisorSet<'a> {
+    /// Event names by global id (not part of the runtime's tables).
+    pub fn event_names(&self) -> &[String] {
+        &self.packed.event_names
+    }
+
+    /// The runtime's view of the tables.
+    pub fn set(&self) -> SupervisorSet<'_, W> {
         SupervisorSet {
-            event_names: names,
-            controllable: &self.packed.controllable,
-            automata,
+            controllable: self.controllable,
+            plants: self.side.plants,
+            automata: &self.automata,
+            blocks: &self.blocks,
+            masks: &self.masks,
+            wide_ids: self.packed.wide_ids,
             holders: &self.side.holders,
-            plant_events: &self.side.plant_events,
+            plant_events: &self.plant_events,
             sites: &self.side.sites,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pack::{ranked, testing::toggle, PackSet};
+
+    #[test]
+    fn host_tables_pass_the_runtime_check_and_refuse_another_width() {
+        let set = PackSet::new(vec![toggle("G")], vec![toggle("S")]).unwrap();
+        let host = HostTables::<1>::new(ranked::encode(&set).unwrap()).unwrap();
+        let rt = host.set();
+        assert_eq!(rt.check(2), Ok(()));
+        assert_eq!(rt.plants, 1);
+        let after_a = rt.step(0, rt.automata[0].initial, 0).unwrap();
+        assert_eq!(rt.step(0, after_a, 1), Some(rt.automata[0].initial));
+        let err = HostTables::<2>::new(ranked::encode(&set).unwrap()).unwrap_err();
+        assert_eq!(err.to_string(), "the set's event bitsets take 1 words, the runtime was built for 2");
+    }
+
+    #[test]
+    fn a_site_is_a_plant_state_with_two_owned_controllable_events() {
+        use crate::model::{Automaton, Kind};
+        let mut g = Automaton::new("G", Kind::Plant);
+        let s0 = g.add_state("0", true).unwrap();
+        let s1 = g.add_state("1", false).unwrap();
+        let a = g.add_event("a", true).unwrap();
+        let b = g.add_event("b", true).unwrap();
+        let u = g.add_event("u", false).unwrap();
+        g.initial = Some(s0);
+        g.add_transition(s0, a, s1);
+        g.add_transition(s0, b, s1);
+        g.add_transition(s1, u, s0);
+        g.add_transition(s1, a, s1);
+        let packed = ranked::encode(&PackSet::new(vec![g], vec![]).unwrap()).unwrap();
+        let side = SideTables::of(&packed).unwrap();
+        assert_eq!(side.sites, [Site { automaton: 0, state: 0 }]);
+        assert_eq!(side.plant_events, [vec![0b011]]);
+        assert_eq!(side.holders, [1, 1, 1]);
     }
 }

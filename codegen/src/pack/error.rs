@@ -55,6 +55,28 @@ pub enum PackError {
         /// Largest number the layout supports.
         limit: usize,
     },
+    /// More distinct out-masks in the whole set than the layout's mask ids number.
+    #[error("layout {layout}: the set has {masks} distinct out-masks, more than the limit of {limit}")]
+    TooManyMasks {
+        /// Layout name.
+        layout: &'static str,
+        /// Distinct out-masks in the set.
+        masks: usize,
+        /// Largest number the layout supports.
+        limit: usize,
+    },
+    /// An automaton's records do not fit 16-bit handles at any scale the layout allows.
+    #[error(
+        "layout {layout}: the {bytes} bytes of records of '{automaton}' fit 16-bit handles at no scale up to 255"
+    )]
+    NoScale {
+        /// Layout name.
+        layout: &'static str,
+        /// Automaton name.
+        automaton: String,
+        /// Bytes of its records with 2-byte handles, without padding.
+        bytes: usize,
+    },
     /// An automaton's block is longer than the layout's offsets can address.
     #[error(
         "layout {layout}: the block of '{automaton}' takes {bytes} bytes, more than the limit of {limit}"
@@ -94,6 +116,16 @@ pub enum DecodeError {
         at: usize,
         /// The offset or index found there.
         target: usize,
+    },
+    /// A record naming a mask id beyond the mask pool.
+    #[error("{what}: the record at byte {at} names mask {id}, which is not in the pool")]
+    BadMask {
+        /// Which table or automaton.
+        what: String,
+        /// Offset of the record.
+        at: usize,
+        /// The mask id found there.
+        id: usize,
     },
     /// An event id beyond the event table or outside the automaton's alphabet.
     #[error("{what}: byte {at} holds event {event}, which is not in the alphabet")]

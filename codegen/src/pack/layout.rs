@@ -1,27 +1,30 @@
 //! The layouts by name, for the CLI and the report.
 
-use super::{compact, memory_safe, offset, PackError, PackSet, Size};
+use super::{compact, memory_safe, offset, ranked, PackError, PackSet, Size};
 
 /// One of the byte layouts of this module.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Layout {
     /// The reference tool's vector ([`memory_safe`]).
     MemorySafe,
-    /// The runtime's table ([`offset`]).
+    /// Records with u16 offsets, the runtime's former table ([`offset`]).
     Offset,
+    /// Out-mask pool and rank-addressed targets, the runtime's table ([`ranked`]).
+    Ranked,
     /// Bit-packed over local alphabets ([`compact`]).
     Compact,
 }
 
 impl Layout {
     /// Every layout, in report order.
-    pub const ALL: [Layout; 3] = [Layout::MemorySafe, Layout::Offset, Layout::Compact];
+    pub const ALL: [Layout; 4] = [Layout::MemorySafe, Layout::Offset, Layout::Ranked, Layout::Compact];
 
     /// The name `--layout` takes.
     pub fn name(self) -> &'static str {
         match self {
             Layout::MemorySafe => memory_safe::NAME,
             Layout::Offset => offset::NAME,
+            Layout::Ranked => ranked::NAME,
             Layout::Compact => compact::NAME,
         }
     }
@@ -36,6 +39,7 @@ impl Layout {
         Ok(match self {
             Layout::MemorySafe => memory_safe::encode(set)?.size(),
             Layout::Offset => offset::encode(set)?.size(),
+            Layout::Ranked => ranked::encode(set)?.size(),
             Layout::Compact => compact::encode(set)?.size(),
         })
     }

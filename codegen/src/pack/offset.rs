@@ -1,4 +1,5 @@
-//! This module is the home of the `offset` layout: the runtime's table (`firmware/src/table.rs`).
+//! This module is the home of the `offset` layout: the runtime's table before the
+//! [`ranked`](super::ranked) layout replaced it, kept for the size report.
 //!
 //! Each automaton is one byte block. For every state in index order: one count byte `n`, then `n` records
 //! `[global event id][target offset, u16 big-endian]`, where the target is the byte offset of the target
@@ -22,7 +23,7 @@ pub const MAX_TRANSITIONS_PER_STATE: usize = 255;
 /// Longest block the u16 offsets address (the last count byte sits at 65 535 at most).
 pub const MAX_BLOCK_BYTES: usize = 65_536;
 
-/// A set in the `offset` layout: what the firmware's `table::SupervisorSet` holds.
+/// A set in the `offset` layout.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Packed {
     /// Event names by global id.
@@ -33,7 +34,7 @@ pub struct Packed {
     pub automata: Vec<Block>,
 }
 
-/// One automaton in the `offset` layout: the runtime's `table::Automaton`.
+/// One automaton in the `offset` layout.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Block {
     /// Automaton name.
@@ -183,8 +184,8 @@ mod tests {
     use crate::pack::testing::{assert_round_trip, toggle};
 
     #[test]
-    fn toggle_matches_the_runtime_test_block() {
-        // The block `firmware/src/table.rs` tests its `step` on.
+    fn toggle_is_two_records() {
+        // Two records of one transition each: count, event, u16 big-endian offset.
         let set = PackSet::new(vec![toggle("T")], vec![]).unwrap();
         let packed = encode(&set).unwrap();
         assert_eq!(packed.automata[0].block, [1, 0, 0, 4, 1, 1, 0, 0]);

@@ -7,7 +7,7 @@ use std::path::Path;
 use crate::emit::{self, EmitError, Input, Provenance};
 use crate::manifest::{Manifest, ManifestError};
 use crate::model::Automaton;
-use crate::pack::{offset, PackError, PackSet};
+use crate::pack::{ranked, PackError, PackSet};
 
 /// A manifest's supervisor set with everything the closed loop and the firmware build need.
 #[derive(Clone, Debug)]
@@ -66,7 +66,7 @@ impl Project {
         let inputs = files
             .map(|f| Input::read(&f).unwrap_or_else(|_| Input::of(&f.display().to_string(), &[])))
             .collect();
-        let command = format!("codegen run {} (local modular synthesis, offset layout)", manifest.display());
+        let command = format!("codegen run {} (local modular synthesis, ranked layout)", manifest.display());
         Ok(Project {
             set: PackSet::new(models.plants, supervisors)?,
             runtime,
@@ -90,7 +90,7 @@ impl Project {
 
     /// The Rust tables the firmware includes (`SCT_TABLES`).
     pub fn emit(&self) -> Result<String, EmitError> {
-        let packed = offset::encode(&self.set)?;
+        let packed = ranked::encode(&self.set)?;
         emit::emit(&packed, &self.runtime, &self.provenance)
     }
 }
