@@ -84,7 +84,7 @@ fn random_local_queue_takes_every_enabled_event_at_every_reachable_state() {
     let host = cell();
     let (names, set) = (host.event_names(), host.set());
     let mut rt = runtime(&set, 7);
-    let init: [u16; N] = *rt.states();
+    let init: [u16; N] = rt.states();
     let (mut seen, mut queue, mut taken) = (BTreeSet::from([init]), VecDeque::from([init]), BTreeSet::new());
     while let Some(s) = queue.pop_front() {
         let enabled: BTreeSet<u8> = (0..names.len() as u8)
@@ -135,7 +135,7 @@ fn closed_loop_with_a_random_plant_is_safe_and_live() {
         let mut plant = Rng::new(SeedEntropy::new(1000 + seed), 0);
         let mut fired = 0;
         for _ in 0..STEPS {
-            let before = *rt.states();
+            let before = rt.states();
             let inputs: Vec<u8> = (0..names.len() as u8)
                 .filter(|&e| !controllable(&set, e) && step(&set, &before, e).is_some())
                 .collect();

@@ -234,7 +234,6 @@ mod tests {
             event_names: vec!["go".into(), "done".into()],
             controllable: vec![0b01],
             masks: vec![],
-            wide_ids: false,
             automata: vec![],
         }
     }

@@ -159,6 +159,40 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options)
     }
     let _ = writeln!(out, "];");
     let _ = writeln!(out);
+    let _ = writeln!(
+        out,
+        "/// Per automaton (plants first): block start, initial handle, scale, width, alphabet."
+    );
+    let _ = writeln!(
+        out,
+        "static DESCRIPTORS: [firmware::table::Automaton<EVENT_WORDS>; {}] = [",
+        packed.automata.len()
+    );
+    for b in &packed.automata {
+        let _ = writeln!(out, "    // {}", b.name);
+        let _ = writeln!(out, "    firmware::table::Automaton {{");
+        let _ = writeln!(out, "        start: {},", b.start);
+        let _ = writeln!(out, "        initial: {},", b.initial);
+        let _ = writeln!(out, "        scale: {},", b.scale);
+        let _ = writeln!(out, "        wide: {},", b.wide);
+        let _ = writeln!(out, "        alphabet: [{}],", hex_words(&b.alphabet));
+        let _ = writeln!(out, "    }},");
+    }
+    let _ = writeln!(out, "];");
+    let _ = writeln!(out, "/// Per event: bit `a` set when automaton `a` holds it.");
+    let _ = writeln!(out, "static HOLDERS: [u32; {}] = [{}];", side.holders.len(), hex_words(&side.holders));
+    let plant_events: Vec<String> = side.plant_events.iter().map(|m| format!("[{}]", hex_words(m))).collect();
+    let _ = writeln!(out, "/// Per plant: the controllable events it generates.");
+    let _ = writeln!(
+        out,
+        "static PLANT_EVENTS: [[u32; EVENT_WORDS]; {}] = [{}];",
+        plant_events.len(),
+        plant_events.join(", ")
+    );
+    let sites: Vec<String> = side.sites.iter().map(u32::to_string).collect();
+    let _ = writeln!(out, "/// The choice sites, as record offsets in the blocks.");
+    let _ = writeln!(out, "static CHOICE_SITES: [u32; {}] = [{}];", sites.len(), sites.join(", "));
+    let _ = writeln!(out);
     let _ = writeln!(out, "/// The set the runtime runs.");
     let _ = writeln!(
         out,
@@ -166,33 +200,12 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options)
     );
     let _ = writeln!(out, "    controllable: [{}],", hex_words(&packed.controllable));
     let _ = writeln!(out, "    plants: {},", side.plants);
-    let _ = writeln!(out, "    automata: &[");
-    for b in &packed.automata {
-        let _ = writeln!(out, "        // {}", b.name);
-        let _ = writeln!(out, "        firmware::table::Automaton {{");
-        let _ = writeln!(out, "            start: {},", b.start);
-        let _ = writeln!(out, "            initial: {},", b.initial);
-        let _ = writeln!(out, "            scale: {},", b.scale);
-        let _ = writeln!(out, "            wide: {},", b.wide);
-        let _ = writeln!(out, "            alphabet: [{}],", hex_words(&b.alphabet));
-        let _ = writeln!(out, "        }},");
-    }
-    let _ = writeln!(out, "    ],");
+    let _ = writeln!(out, "    automata: &DESCRIPTORS,");
     let _ = writeln!(out, "    blocks: &BLOCKS,");
     let _ = writeln!(out, "    masks: &MASKS,");
-    let _ = writeln!(out, "    wide_ids: {},", packed.wide_ids);
-    let _ = writeln!(out, "    holders: &[{}],", hex_words(&side.holders));
-    let plant_events: Vec<String> = side.plant_events.iter().map(|m| format!("[{}]", hex_words(m))).collect();
-    let _ = writeln!(out, "    plant_events: &[{}],", plant_events.join(", "));
-    let _ = writeln!(out, "    sites: &[");
-    for s in &side.sites {
-        let _ = writeln!(
-            out,
-            "        firmware::table::Site {{ automaton: {}, state: {} }},",
-            s.automaton, s.state
-        );
-    }
-    let _ = writeln!(out, "    ],");
+    let _ = writeln!(out, "    holders: &HOLDERS,");
+    let _ = writeln!(out, "    plant_events: &PLANT_EVENTS,");
+    let _ = writeln!(out, "    sites: &CHOICE_SITES,");
     let _ = writeln!(out, "}};");
 }
 

@@ -2,7 +2,7 @@
 //! holding it, per plant the controllable events it generates, and the choice sites of the local policies
 //! (`firmware::table`); and [`HostTables`], the same set as runtime tables on the host.
 
-use firmware::table::{Automaton, Site, SupervisorSet, MAX_AUTOMATA};
+use firmware::table::{Automaton, SupervisorSet, MAX_AUTOMATA};
 
 use crate::pack::ranked::Packed;
 use crate::pack::{DecodeError, PackError, Role};
@@ -59,8 +59,9 @@ pub struct SideTables {
     /// Per plant, a bitset: the controllable events it generates (of its alphabet, those no earlier
     /// plant holds).
     pub plant_events: Vec<Vec<u32>>,
-    /// Choice sites (plant states, by handle) with two or more owned controllable out-events, sorted.
-    pub sites: Vec<Site>,
+    /// Choice sites (plant states with two or more owned controllable out-events), each as the byte
+    /// offset of its record in the blocks, ascending.
+    pub sites: Vec<u32>,
 }
 
 fn has(words: &[u32], e: usize) -> bool {
@@ -103,13 +104,13 @@ impl SideTables {
         }
         let mut sites = Vec::new();
         for p in 0..plants {
-            // At most MAX_AUTOMATA (32) automata, so the index fits.
-            let automaton = p as u8;
+            let start = packed.automata.get(p).map_or(0, |b| b.start);
             for r in packed.records(p)? {
                 let mask = packed.masks.get(r.mask).map_or(&[][..], Vec::as_slice);
                 let generated = (0..events).filter(|&e| has(mask, e) && owner[e] == Some(p)).count();
                 if generated >= 2 {
-                    sites.push(Site { automaton, state: r.handle });
+                    // Within the blocks, which `encode` keeps below 1 MiB.
+                    sites.push(start + r.at as u32);
                 }
             }
         }
@@ -186,7 +187,6 @@ impl<const W: usize> HostTables<W> {
             automata: &self.automata,
             blocks: &self.blocks,
             masks: &self.masks,
-            wide_ids: self.packed.wide_ids,
             holders: &self.side.holders,
             plant_events: &self.plant_events,
             sites: &self.side.sites,
@@ -228,7 +228,7 @@ mod tests {
         g.add_transition(s1, a, s1);
         let packed = ranked::encode(&PackSet::new(vec![g], vec![]).unwrap()).unwrap();
         let side = SideTables::of(&packed).unwrap();
-        assert_eq!(side.sites, [Site { automaton: 0, state: 0 }]);
+        assert_eq!(side.sites, [0]);
         assert_eq!(side.plant_events, [vec![0b011]]);
         assert_eq!(side.holders, [1, 1, 1]);
     }

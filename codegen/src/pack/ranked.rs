@@ -2,9 +2,7 @@
 //!
 //! A state's *out-mask* is the bitset over global event ids of the events leaving it. The set keeps one
 //! pool of distinct out-masks ([`Packed::masks`], ⌈e/32⌉ words each), shared by all automata and in a
-//! fixed order: first appearance, automata in set order (plants first), states in index order. A mask
-//! id takes 1 byte, or 2 bytes little-endian when the pool holds more than [`NARROW_IDS`] masks
-//! ([`Packed::wide_ids`]).
+//! fixed order: first appearance, automata in set order (plants first), states in index order.
 //!
 //! Each automaton is one byte block holding one record per state, in state-index order:
 //!
@@ -12,17 +10,20 @@
 //! [mask id][target handle, for every event of the mask in increasing id order]
 //! ```
 //!
-//! A target handle is 1 byte, or 2 bytes little-endian when the block is [`Block::wide`]. State handle
+//! Mask ids and target handles take 1 byte each, or 2 bytes little-endian when the block is
+//! [`Block::wide`]. State handle
 //! `h` names the record starting at byte `h · scale` of the block ([`Block::scale`]); each record starts
 //! at the first multiple of `scale` at or after the end of the previous one, the bytes between are
 //! padding (0), and the block ends right after its last record. The target of event `e` is the `r`-th
 //! target of the record, `r` the number of mask bits below `e`: a step is a mask test, a rank and one
 //! load, whatever the state count.
 //!
-//! Per automaton the encoder picks the smaller block of two candidates (1-byte handles on a tie):
+//! Per automaton the encoder picks the smaller block of two candidates (1-byte fields on a tie):
 //!
-//! * 1-byte handles with the smallest scale in 1..=255 that puts every record start at a handle ≤ 255;
-//! * 2-byte handles with the smallest scale that puts every record start at a handle ≤ 65 535.
+//! * 1-byte fields, when every mask id of the automaton is below [`NARROW_IDS`] (the pool's first-use
+//!   order gives the plants and early automata the small ids), with the smallest scale in 1..=255 that
+//!   puts every record start at a handle ≤ 255;
+//! * 2-byte fields with the smallest scale that puts every record start at a handle ≤ 65 535.
 //!
 //! All blocks lie back to back in one byte array; [`Block::start`] is a block's first byte in it.
 //!
@@ -31,8 +32,9 @@
 //! words), and the controllability bitset (⌈e/32⌉ words). The per-event holder masks, per-plant event
 //! sets and choice sites `codegen emit` adds for the runtime's hot path are not part of the layout.
 //!
-//! Limits: at most 256 events, 65 536 distinct masks, 65 536 states per automaton and a block whose
-//! records fit 2-byte handles at some scale up to 255.
+//! Limits: at most 256 events, 65 536 states per automaton and a block whose records fit 2-byte handles
+//! at some scale up to 255; and the runtime's, which holds a state as one word (`table::Slot`):
+//! [`MAX_MASKS`] distinct masks and [`MAX_BLOCK_BYTES`] of blocks in all.
 
 use std::collections::HashMap;
 
@@ -43,9 +45,11 @@ use crate::model::Automaton;
 pub const NAME: &str = "ranked";
 /// Most events: an event id is one byte.
 pub const MAX_EVENTS: usize = 256;
-/// Most distinct out-masks a 2-byte mask id numbers.
-pub const MAX_MASKS: usize = 65_536;
-/// Most masks 1-byte mask ids number; a larger pool takes 2-byte ids.
+/// Most distinct out-masks the runtime names (`table::Slot`).
+pub const MAX_MASKS: usize = firmware::table::Slot::MAX_MASKS;
+/// Most bytes of blocks the runtime addresses (`table::Slot`).
+pub const MAX_BLOCK_BYTES: usize = firmware::table::Slot::MAX_BLOCKS;
+/// Mask ids a 1-byte field numbers.
 pub const NARROW_IDS: usize = 256;
 /// Most states of one automaton: a handle is at most 2 bytes.
 pub const MAX_STATES: usize = 65_536;
@@ -71,8 +75,6 @@ pub struct Packed {
     pub controllable: Vec<u32>,
     /// The pool of distinct out-masks, each ⌈e/32⌉ words, in first-appearance order.
     pub masks: Vec<Vec<u32>>,
-    /// Mask ids take 2 bytes (little-endian): the pool holds more than [`NARROW_IDS`] masks.
-    pub wide_ids: bool,
     /// Plants first, then supervisors.
     pub automata: Vec<Block>,
 }
@@ -90,7 +92,7 @@ pub struct Block {
     pub initial: u16,
     /// Bytes per handle unit: a record starts at byte `handle · scale` of the block (≥ 1).
     pub scale: u8,
-    /// Target handles take 2 bytes (little-endian) instead of 1.
+    /// Mask ids and target handles take 2 bytes (little-endian) instead of 1.
     pub wide: bool,
     /// The records (see the module documentation).
     pub block: Vec<u8>,
@@ -115,15 +117,6 @@ impl Packed {
     /// Words of an event bitset.
     pub fn words(&self) -> usize {
         self.controllable.len()
-    }
-
-    /// Bytes of a mask id.
-    pub fn id_bytes(&self) -> usize {
-        if self.wide_ids {
-            2
-        } else {
-            1
-        }
     }
 
     /// All blocks back to back, in automaton order: the runtime's `blocks`.
@@ -166,7 +159,7 @@ impl Packed {
     pub fn padding(&self, a: usize) -> Result<usize, DecodeError> {
         let records = self.records(a)?;
         let t_bytes = if self.automata.get(a).is_some_and(|b| b.wide) { 2 } else { 1 };
-        let used: usize = records.iter().map(|r| self.id_bytes() + r.targets.len() * t_bytes).sum();
+        let used: usize = records.iter().map(|r| (1 + r.targets.len()) * t_bytes).sum();
         Ok(self.automata.get(a).map_or(0, |b| b.block.len()).saturating_sub(used))
     }
 
@@ -176,8 +169,8 @@ impl Packed {
             return Err(DecodeError::Inconsistent { what: what(), detail: String::from("scale 0") });
         }
         let scale = usize::from(b.scale);
-        let id_bytes = self.id_bytes();
         let t_bytes = if b.wide { 2 } else { 1 };
+        let id_bytes = t_bytes;
         let bytes = &b.block;
         let truncated = || DecodeError::Truncated { what: what(), at: bytes.len() };
         let mut out = Vec::new();
@@ -295,14 +288,13 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
     if masks.len() > MAX_MASKS {
         return Err(PackError::TooManyMasks { layout: NAME, masks: masks.len(), limit: MAX_MASKS });
     }
-    let wide_ids = masks.len() > NARROW_IDS;
-    let id_bytes = if wide_ids { 2 } else { 1 };
     let mut automata = Vec::with_capacity(set.members().len());
     let mut start = 0usize;
     for (m, ids) in set.members().iter().zip(&ids) {
-        let lens = |t: usize| m.out.iter().map(|e| id_bytes + t * e.len()).collect::<Vec<_>>();
+        let lens = |t: usize| m.out.iter().map(|e| t * (1 + e.len())).collect::<Vec<_>>();
         let (narrow_lens, wide_lens) = (lens(1), lens(2));
-        let narrow = smallest_scale(&narrow_lens, NARROW_HANDLE);
+        let narrow_ids = ids.iter().all(|&id| id < NARROW_IDS);
+        let narrow = smallest_scale(&narrow_lens, NARROW_HANDLE).filter(|_| narrow_ids);
         let wide = smallest_scale(&wide_lens, WIDE_HANDLE);
         let (wide, scale, lens) = match (narrow, wide) {
             (Some((s, n)), Some((_, w))) if n <= w => (false, s, narrow_lens),
@@ -327,19 +319,24 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
         let mut block = Vec::with_capacity(len);
         for (s, edges) in m.out.iter().enumerate() {
             block.resize(handles[s] * unit, 0);
-            // Checked above: ids below MAX_MASKS, handles within the chosen width.
-            block.extend_from_slice(&(ids[s] as u16).to_le_bytes()[..id_bytes]);
+            // Checked above: ids and handles within the chosen width.
+            let width = if wide { 2 } else { 1 };
+            block.extend_from_slice(&(ids[s] as u16).to_le_bytes()[..width]);
             for &(_, t) in edges {
                 let h = handles[t.index()] as u16;
-                block.extend_from_slice(&h.to_le_bytes()[..if wide { 2 } else { 1 }]);
+                block.extend_from_slice(&h.to_le_bytes()[..width]);
             }
         }
-        let offset = u32::try_from(start).map_err(|_| PackError::BlockTooLarge {
-            layout: NAME,
-            automaton: m.name().to_owned(),
-            bytes: start,
-            limit: u32::MAX as usize,
-        })?;
+        if start + block.len() > MAX_BLOCK_BYTES {
+            return Err(PackError::BlockTooLarge {
+                layout: NAME,
+                automaton: m.name().to_owned(),
+                bytes: start + block.len(),
+                limit: MAX_BLOCK_BYTES,
+            });
+        }
+        // Below MAX_BLOCK_BYTES (1 MiB): it fits.
+        let offset = start as u32;
         start += block.len();
         automata.push(Block {
             name: m.name().to_owned(),
@@ -359,7 +356,6 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
             events.len(),
         ),
         masks,
-        wide_ids,
         automata,
     })
 }
@@ -379,12 +375,6 @@ pub fn decode(packed: &Packed) -> Result<Vec<Automaton>, DecodeError> {
     }
     if let Some(m) = packed.masks.iter().find(|m| m.len() != words) {
         return Err(wrong("mask pool", m.len()));
-    }
-    if packed.wide_ids != (packed.masks.len() > NARROW_IDS) {
-        return Err(DecodeError::Inconsistent {
-            what: String::from("mask pool"),
-            detail: format!("{} masks with wide ids {}", packed.masks.len(), packed.wide_ids),
-        });
     }
     let mut start = 0usize;
     let mut out = Vec::with_capacity(packed.automata.len());
@@ -424,7 +414,7 @@ fn decode_block(b: &Block, packed: &Packed) -> Result<Automaton, DecodeError> {
             if !bitset::contains(&b.alphabet, e) {
                 return Err(DecodeError::BadEvent { what: what(), at: r.at, event: e });
             }
-            edges.push((s, e, state_of(t, r.at + packed.id_bytes() + i * t_bytes)?));
+            edges.push((s, e, state_of(t, r.at + (1 + i) * t_bytes)?));
         }
     }
     let initial = state_of(b.initial, 0)?;
@@ -470,7 +460,6 @@ mod tests {
             automata: &automata,
             blocks: &blocks,
             masks: &masks,
-            wide_ids: packed.wide_ids,
             holders: &vec![0; packed.event_names.len()],
             plant_events: &vec![[0]; plants],
             sites: &[],
@@ -501,7 +490,6 @@ mod tests {
             automata: &automata,
             blocks: &blocks,
             masks: &masks,
-            wide_ids: packed.wide_ids,
             holders: &[],
             plant_events: &[],
             sites: &[],
@@ -525,7 +513,6 @@ mod tests {
         let set = PackSet::new(vec![toggle("T")], vec![]).unwrap();
         let packed = encode(&set).unwrap();
         assert_eq!(packed.masks, [vec![0b01], vec![0b10]]);
-        assert!(!packed.wide_ids);
         let b = &packed.automata[0];
         assert_eq!((b.start, b.initial, b.scale, b.wide), (0, 0, 1, false));
         assert_eq!(b.block, [0, 2, 1, 0]);
@@ -564,18 +551,18 @@ mod tests {
 
     #[test]
     fn the_smaller_of_scaled_narrow_and_wide_handles_is_chosen() {
-        // 256 states of 2 bytes: narrow at scale 2 (512 bytes) beats wide at scale 1 (768).
+        // 256 states of 2 bytes: narrow at scale 2 (512 bytes) beats wide at scale 1 (1024).
         let set = PackSet::new(vec![ring(256)], vec![]).unwrap();
         let packed = encode(&set).unwrap();
         let b = &packed.automata[0];
         assert_eq!((b.scale, b.wide, b.block.len()), (2, false, 512));
         assert_eq!(packed.padding(0), Ok(0));
         assert_runtime_steps(&set, &packed);
-        // 1000 states: narrow needs scale 8 (8000 bytes), wide takes 3000.
+        // 1000 states: narrow needs scale 8 (8000 bytes), wide (2-byte ids and handles) takes 4000.
         let set = PackSet::new(vec![ring(1000)], vec![]).unwrap();
         let packed = encode(&set).unwrap();
         let b = &packed.automata[0];
-        assert_eq!((b.scale, b.wide, b.block.len()), (1, true, 3000));
+        assert_eq!((b.scale, b.wide, b.block.len()), (1, true, 4000));
         assert_round_trip(&set, &decode(&packed).unwrap());
         assert_runtime_steps(&set, &packed);
     }
@@ -594,7 +581,7 @@ mod tests {
     #[test]
     fn padding_fills_records_up_to_the_scale() {
         // 375 bytes of records: 1-byte handles need scale 2, which pads every 3-byte record but the last
-        // (the block ends right after it): 74 bytes. 2-byte handles would take 600.
+        // (the block ends right after it): 74 bytes. 2-byte fields would take 750.
         let set = padded_ring();
         let packed = encode(&set).unwrap();
         let b = &packed.automata[0];
@@ -607,7 +594,7 @@ mod tests {
     }
 
     #[test]
-    fn more_than_256_masks_take_wide_ids() {
+    fn mask_ids_beyond_a_byte_make_the_automaton_wide() {
         // One state per subset of 9 events (self-loops on the subset's events), chained by a tenth.
         let mut a = Model::new("P", Kind::Plant);
         let events: Vec<_> = (0..10).map(|i| a.add_event(format!("e{i}"), false).unwrap()).collect();
@@ -626,7 +613,6 @@ mod tests {
         let set = PackSet::new(vec![a], vec![]).unwrap();
         let packed = encode(&set).unwrap();
         assert_eq!(packed.masks.len(), 512);
-        assert!(packed.wide_ids);
         assert!(packed.automata[0].wide);
         assert_round_trip(&set, &decode(&packed).unwrap());
         assert_runtime_steps(&set, &packed);
@@ -695,7 +681,6 @@ mod tests {
             DecodeError::Truncated { what: "T".into(), at: 5 }
         );
         assert!(matches!(with(&|p| p.automata[0].start = 1), DecodeError::Inconsistent { .. }));
-        assert!(matches!(with(&|p| p.wide_ids = true), DecodeError::Inconsistent { .. }));
         assert!(matches!(with(&|p| p.controllable.push(0)), DecodeError::Inconsistent { .. }));
         // Padding must be 0, and the block ends with its last record.
         let mut padded = encode(&padded_ring()).unwrap();
@@ -733,14 +718,13 @@ mod tests {
             assert_runtime_steps(&set, &packed);
             for (a, (m, b)) in set.members().iter().zip(&packed.automata).enumerate() {
                 // Records plus padding, and no smaller scale would do with the same handle width.
-                let records = m.state_count() * packed.id_bytes()
-                    + m.transition_count() * if b.wide { 2 } else { 1 };
+                let records = (m.state_count() + m.transition_count()) * if b.wide { 2 } else { 1 };
                 proptest::prop_assert_eq!(b.block.len(), records + packed.padding(a).unwrap());
                 let last = packed.records(a).unwrap().last().map_or(0, |r| r.handle);
                 let max = if b.wide { WIDE_HANDLE } else { NARROW_HANDLE };
                 proptest::prop_assert!(usize::from(last) <= max);
                 if b.scale > 1 && !b.wide {
-                    let lens: Vec<usize> = m.out.iter().map(|e| packed.id_bytes() + e.len()).collect();
+                    let lens: Vec<usize> = m.out.iter().map(|e| 1 + e.len()).collect();
                     proptest::prop_assert!(extent(&lens, usize::from(b.scale) - 1).0 > NARROW_HANDLE);
                 }
             }

@@ -207,102 +207,106 @@ static MASKS: [[u32; EVENT_WORDS]; 97] = [
     [0x00008002],
 ];
 
+/// Per automaton (plants first): block start, initial handle, scale, width, alphabet.
+static DESCRIPTORS: [firmware::table::Automaton<EVENT_WORDS>; 10] = [
+    // G1
+    firmware::table::Automaton {
+        start: 0,
+        initial: 0,
+        scale: 1,
+        wide: false,
+        alphabet: [0x00000003],
+    },
+    // G2
+    firmware::table::Automaton {
+        start: 4,
+        initial: 0,
+        scale: 1,
+        wide: false,
+        alphabet: [0x0000003c],
+    },
+    // G3
+    firmware::table::Automaton {
+        start: 10,
+        initial: 0,
+        scale: 1,
+        wide: false,
+        alphabet: [0x0003ffc0],
+    },
+    // G4
+    firmware::table::Automaton {
+        start: 28,
+        initial: 0,
+        scale: 1,
+        wide: false,
+        alphabet: [0x007c0000],
+    },
+    // S1
+    firmware::table::Automaton {
+        start: 36,
+        initial: 0,
+        scale: 1,
+        wide: false,
+        alphabet: [0x0000003f],
+    },
+    // S2_6
+    firmware::table::Automaton {
+        start: 50,
+        initial: 0,
+        scale: 3,
+        wide: false,
+        alphabet: [0x007fffc0],
+    },
+    // S3
+    firmware::table::Automaton {
+        start: 593,
+        initial: 0,
+        scale: 1,
+        wide: false,
+        alphabet: [0x007fffc0],
+    },
+    // S4
+    firmware::table::Automaton {
+        start: 738,
+        initial: 0,
+        scale: 1,
+        wide: false,
+        alphabet: [0x007fffc0],
+    },
+    // S5
+    firmware::table::Automaton {
+        start: 883,
+        initial: 0,
+        scale: 1,
+        wide: false,
+        alphabet: [0x0003fffc],
+    },
+    // S7
+    firmware::table::Automaton {
+        start: 987,
+        initial: 0,
+        scale: 1,
+        wide: false,
+        alphabet: [0x0003ffc3],
+    },
+];
+/// Per event: bit `a` set when automaton `a` holds it.
+static HOLDERS: [u32; 23] = [0x00000211, 0x00000211, 0x00000112, 0x00000112, 0x00000112, 0x00000112, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000000e8, 0x000000e8, 0x000000e8, 0x000000e8, 0x000000e8];
+/// Per plant: the controllable events it generates.
+static PLANT_EVENTS: [[u32; EVENT_WORDS]; 4] = [[0x00000003], [0x00000000], [0x000307c0], [0x006c0000]];
+/// The choice sites, as record offsets in the blocks.
+static CHOICE_SITES: [u32; 3] = [10, 28, 31];
+
 /// The set the runtime runs.
 pub static SET: firmware::table::SupervisorSet<'static, EVENT_WORDS> = firmware::table::SupervisorSet {
     controllable: [0x006f07c3],
     plants: 4,
-    automata: &[
-        // G1
-        firmware::table::Automaton {
-            start: 0,
-            initial: 0,
-            scale: 1,
-            wide: false,
-            alphabet: [0x00000003],
-        },
-        // G2
-        firmware::table::Automaton {
-            start: 4,
-            initial: 0,
-            scale: 1,
-            wide: false,
-            alphabet: [0x0000003c],
-        },
-        // G3
-        firmware::table::Automaton {
-            start: 10,
-            initial: 0,
-            scale: 1,
-            wide: false,
-            alphabet: [0x0003ffc0],
-        },
-        // G4
-        firmware::table::Automaton {
-            start: 28,
-            initial: 0,
-            scale: 1,
-            wide: false,
-            alphabet: [0x007c0000],
-        },
-        // S1
-        firmware::table::Automaton {
-            start: 36,
-            initial: 0,
-            scale: 1,
-            wide: false,
-            alphabet: [0x0000003f],
-        },
-        // S2_6
-        firmware::table::Automaton {
-            start: 50,
-            initial: 0,
-            scale: 3,
-            wide: false,
-            alphabet: [0x007fffc0],
-        },
-        // S3
-        firmware::table::Automaton {
-            start: 593,
-            initial: 0,
-            scale: 1,
-            wide: false,
-            alphabet: [0x007fffc0],
-        },
-        // S4
-        firmware::table::Automaton {
-            start: 738,
-            initial: 0,
-            scale: 1,
-            wide: false,
-            alphabet: [0x007fffc0],
-        },
-        // S5
-        firmware::table::Automaton {
-            start: 883,
-            initial: 0,
-            scale: 1,
-            wide: false,
-            alphabet: [0x0003fffc],
-        },
-        // S7
-        firmware::table::Automaton {
-            start: 987,
-            initial: 0,
-            scale: 1,
-            wide: false,
-            alphabet: [0x0003ffc3],
-        },
-    ],
+    automata: &DESCRIPTORS,
     blocks: &BLOCKS,
     masks: &MASKS,
-    wide_ids: false,
-    holders: &[0x00000211, 0x00000211, 0x00000112, 0x00000112, 0x00000112, 0x00000112, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000003e4, 0x000000e8, 0x000000e8, 0x000000e8, 0x000000e8, 0x000000e8],
-    plant_events: &[[0x00000003], [0x00000000], [0x000307c0], [0x006c0000]],
-    sites: &[
-        firmware::table::Site { automaton: 2, state: 0 },
-        firmware::table::Site { automaton: 3, state: 0 },
-        firmware::table::Site { automaton: 3, state: 3 },
-    ],
+    holders: &HOLDERS,
+    plant_events: &PLANT_EVENTS,
+    sites: &CHOICE_SITES,
 };
 
 /// The board's pin map (`[board]`).
