@@ -75,11 +75,10 @@ impl<E: Entropy> Rng<E> {
 
     /// The next 32 random bits.
     pub fn next_u32(&mut self) -> u32 {
-        if self.reseed_every != 0 {
-            if self.draws_left == 0 {
-                self.reseed();
-            }
-            self.draws_left -= 1;
+        // One countdown per draw; with no reseeding it just wraps.
+        self.draws_left = self.draws_left.wrapping_sub(1);
+        if self.draws_left == 0 && self.reseed_every != 0 {
+            self.reseed();
         }
         let mut x = self.state;
         x ^= x << 13;

@@ -323,8 +323,7 @@ fn take<const W: usize, const N: usize>(
     let mut stuck = 0u32;
     while holders != 0 {
         let a = holders.trailing_zeros() as usize;
-        let this = holders & holders.wrapping_neg();
-        holders ^= this;
+        holders &= holders - 1;
         // SAFETY: `Runtime::new` checked the set: every holder bit names one of the N automata and event
         // ids are below 32 · W; every slot is the initial state's, checked by `restore` or a target's
         // set here.
@@ -334,7 +333,7 @@ fn take<const W: usize, const N: usize>(
             if event.in_set_unchecked(mask) {
                 set.advance(set.automata.get_unchecked(a), slot, mask, event);
             } else {
-                stuck |= this;
+                stuck |= 1 << a;
             }
         }
     }

@@ -39,6 +39,8 @@
 //! ([`SupervisorSet::slot_unchecked`], [`SupervisorSet::slot_mask`], [`SupervisorSet::advance`]); the checked readers
 //! ([`SupervisorSet::mask`], [`SupervisorSet::step`]) serve host tools and tests.
 
+use crate::event_set::ones;
+
 /// Most automata in one set: one bit each in a `u32` of [`SupervisorSet::holders`].
 pub const MAX_AUTOMATA: usize = 32;
 /// Most events in one set: an event id is one byte.
@@ -111,9 +113,9 @@ fn rank<const W: usize>(mask: &[u32; W], event: Event) -> usize {
     let mut r = 0;
     for (w, &m) in mask.iter().enumerate() {
         if w < event.word() {
-            r += ones(m);
+            r += ones(m) as usize;
         } else if w == event.word() {
-            r += ones(m & (event.bit() - 1));
+            r += ones(m & (event.bit() - 1)) as usize;
         }
     }
     r
@@ -159,18 +161,6 @@ impl Event {
         // SAFETY: the caller's promise.
         unsafe { words.get_unchecked(self.word()) & self.bit() != 0 }
     }
-}
-
-/// Set bits of `x`, one loop turn per bit: cheaper than a full population count for the few bits below
-/// an event in a state's mask.
-#[inline(always)]
-fn ones(mut x: u32) -> usize {
-    let mut n = 0;
-    while x != 0 {
-        x &= x - 1;
-        n += 1;
-    }
-    n
 }
 
 /// Where an automaton is: its current state's record offset in [`SupervisorSet::blocks`] (low 20
