@@ -14,7 +14,7 @@ use firmware::choice::RandomLocalQueue;
 use firmware::fault::FaultPolicy;
 use firmware::rng::{Rng, SeedEntropy};
 use firmware::runtime::{Config, Decision, Runtime};
-use firmware::table::SupervisorSet;
+use firmware::table::{CheckedSet, SupervisorSet};
 
 const N: usize = 10;
 
@@ -73,7 +73,7 @@ type Rt<'t> = Runtime<'t, RandomLocalQueue<1, 8>, SeedEntropy, 1, N>;
 
 fn runtime<'t>(set: &'t SupervisorSet<'t, 1>, seed: u64) -> Rt<'t> {
     let config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 1024 };
-    Rt::new(set, config, RandomLocalQueue::default(), SeedEntropy::new(seed)).unwrap()
+    Rt::new(CheckedSet::new(set).unwrap(), config, RandomLocalQueue::default(), SeedEntropy::new(seed))
 }
 
 /// Decisions at one state within which every enabled event must have been chosen.

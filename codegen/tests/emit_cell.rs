@@ -89,13 +89,8 @@ fn committed_cell_tables_compile_and_pass_the_boot_check() {
     assert_eq!(cell::EVENT_NAMES.len(), cell::SET.events());
     assert_eq!(cell::AUTOMATON_NAMES.len(), cell::AUTOMATA);
     assert_eq!(cell::SET.sites.len(), cell::SITES);
-    let mut rt = Runtime::<cell::Policy, SeedEntropy, { cell::EVENT_WORDS }, { cell::AUTOMATA }>::new(
-        &cell::SET,
-        cell::CONFIG,
-        cell::Policy::default(),
-        SeedEntropy::new(cell::SEED),
-    )
-    .unwrap();
+    let mut rt =
+        Runtime::new(cell::CHECKED, cell::CONFIG, cell::Policy::default(), SeedEntropy::new(cell::SEED));
     // In the initial state only the conveyor can start.
     assert_eq!(rt.decide(|| false), Decision::Fired(cell::event::E1_LIG));
 }

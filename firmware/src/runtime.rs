@@ -13,8 +13,8 @@
 //! controllable events masked, automaton by automaton, by the current state's out-mask (or-ed with the
 //! events outside the automaton's alphabet): one mask per automaton, no scan.
 //!
-//! The tables are checked once in [`Runtime::new`] ([`SupervisorSet::check`]); the hot path then reads
-//! them without bounds checks. Everything from outside — input events, restored states — is checked
+//! The runtime takes only a [`CheckedSet`] (tables that passed [`SupervisorSet::check`], at compile time
+//! in the firmware); the hot path then reads them without bounds checks. Everything from outside — input events, restored states — is checked
 //! where it enters.
 //!
 //! # Examples
@@ -24,7 +24,7 @@
 //! use firmware::fault::FaultPolicy;
 //! use firmware::rng::SeedEntropy;
 //! use firmware::runtime::{Config, Decision, Runtime};
-//! use firmware::table::{Automaton, SupervisorSet};
+//! use firmware::table::{Automaton, CheckedSet, SupervisorSet};
 //!
 //! // One plant: state 0 –start(0)→ state 1 –done(1)→ state 0; start is controllable. Out-masks {start}
 //! // (id 0) and {done} (id 1); records [id][target], one byte each, so state 1 is handle 2.
@@ -39,7 +39,12 @@
 //!     sites: &[],
 //! };
 //! let config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 0 };
-//! let mut rt = Runtime::<_, _, 1, 1>::new(&SET, config, First, SeedEntropy::new(1)).unwrap();
+//! // Checked at compile time: a set the runtime cannot run does not build.
+//! static CHECKED: CheckedSet<'static, 1, 1> = match CheckedSet::new(&SET) {
+//!     Ok(set) => set,
+//!     Err(_) => panic!("the tables fail the runtime's check"),
+//! };
+//! let mut rt = Runtime::new(CHECKED, config, First, SeedEntropy::new(1));
 //! assert_eq!(rt.decide(|| false), Decision::Fired(0));
 //! assert_eq!(rt.decide(|| false), Decision::Idle);
 //! rt.apply(1);
@@ -50,7 +55,7 @@ use crate::choice::{Policy, View};
 use crate::event_set::EventSet;
 use crate::fault::FaultPolicy;
 use crate::rng::{Entropy, Rng};
-use crate::table::{bit, Event, Slot, SupervisorSet, TableError};
+use crate::table::{bit, CheckedSet, Event, Slot, SupervisorSet, TableError};
 
 /// Run-time options (manifest `[runtime]`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -137,17 +142,11 @@ pub struct Runtime<'t, P, E, const W: usize, const N: usize> {
 }
 
 impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P, E, W, N> {
-    /// A runtime in the initial states; refuses tables that are broken or not of `N` automata.
+    /// A runtime in the initial states of `set`.
     #[inline(never)]
-    pub fn new(
-        set: &'t SupervisorSet<'t, W>,
-        config: Config,
-        policy: P,
-        entropy: E,
-    ) -> Result<Self, TableError> {
-        set.check(N)?;
+    pub fn new(set: CheckedSet<'t, W, N>, config: Config, policy: P, entropy: E) -> Self {
         let mut rt = Self {
-            set,
+            set: set.set(),
             slots: [Slot::default(); N],
             counters: Counters::default(),
             overflow_mark: 0,
@@ -158,7 +157,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
             rng: Rng::new(entropy, config.reseed_every),
         };
         rt.reset();
-        Ok(rt)
+        rt
     }
 
     /// Automata to their initial states, counters to zero, policy to its boot state, safe state left.

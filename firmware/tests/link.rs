@@ -9,7 +9,7 @@ use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
 use firmware::link::{self, Hold, Link, Note, Poll, Port};
 use firmware::rng::SeedEntropy;
 use firmware::runtime::{Config, Runtime};
-use firmware::table::SupervisorSet;
+use firmware::table::{CheckedSet, SupervisorSet};
 
 /// Records what the link sends and notes.
 #[derive(Default)]
@@ -32,7 +32,7 @@ type Rt = Runtime<'static, LocalQueue<2>, SeedEntropy, 1, 1>;
 
 fn runtime(set: &'static SupervisorSet<'static, 1>, on_fault: FaultPolicy) -> Rt {
     let config = Config { guard: true, on_fault, reseed_every: 0 };
-    Rt::new(set, config, LocalQueue::default(), SeedEntropy::new(1)).unwrap()
+    Rt::new(CheckedSet::new(set).unwrap(), config, LocalQueue::default(), SeedEntropy::new(1))
 }
 
 /// Services until idle or exit; returns the last poll.
@@ -118,7 +118,8 @@ fn guard_drops_a_choice_when_an_input_arrived() {
     assert_eq!(rt.counters().guard_redecisions, 1);
     assert_eq!(rt.counters().commands_out, 0);
     let config = Config { guard: false, on_fault: FaultPolicy::Continue, reseed_every: 0 };
-    let mut unguarded = Rt::new(set, config, LocalQueue::default(), SeedEntropy::new(1)).unwrap();
+    let mut unguarded =
+        Rt::new(CheckedSet::new(set).unwrap(), config, LocalQueue::default(), SeedEntropy::new(1));
     assert_eq!(unguarded.decide(|| true), firmware::runtime::Decision::Fired(A));
 }
 

@@ -8,6 +8,7 @@ use firmware::choice::{First, GlobalQueue, LocalQueue, Policy, Random, RandomGlo
 use firmware::fault::FaultPolicy;
 use firmware::rng::SeedEntropy;
 use firmware::runtime::{Config, Decision, Runtime};
+use firmware::table::CheckedSet;
 
 const CONFIG: Config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 64 };
 
@@ -17,7 +18,7 @@ fn run<P: Policy<1>>(policy: P, seed: u64, steps: usize) -> Vec<usize> {
     let (set, spec) = livelock();
     let hs = handles(&spec);
     let number = |h: u16| hs.iter().position(|&o| o == h).unwrap() + 1;
-    let mut rt = Runtime::<_, _, 1, 1>::new(set, CONFIG, policy, SeedEntropy::new(seed)).unwrap();
+    let mut rt = Runtime::new(CheckedSet::<1, 1>::new(set).unwrap(), CONFIG, policy, SeedEntropy::new(seed));
     let mut visited = vec![number(rt.states()[0])];
     for _ in 0..steps {
         match rt.decide(|| false) {

@@ -10,6 +10,7 @@ use firmware::choice::{First, GlobalQueue, LocalQueue, Policy, Random, RandomGlo
 use firmware::fault::FaultPolicy;
 use firmware::rng::SeedEntropy;
 use firmware::runtime::{Applied, Config, Decision, Runtime};
+use firmware::table::CheckedSet;
 use proptest::prelude::*;
 
 const NAMES: [&str; 6] = ["e0", "e1", "e2", "e3", "e4", "e5"];
@@ -60,7 +61,8 @@ fn check<P: Policy<1> + Default>(
     let set = encode(&NAMES, controllable, specs);
     let config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 5 };
     // N is fixed at 4 here: pad with automata that hold nothing.
-    let mut rt = Runtime::<P, _, 1, 4>::new(set, config, P::default(), SeedEntropy::new(9)).unwrap();
+    let mut rt =
+        Runtime::new(CheckedSet::<1, 4>::new(set).unwrap(), config, P::default(), SeedEntropy::new(9));
     let offs: Vec<Vec<u16>> = specs.iter().map(handles).collect();
     let mut states = vec![0usize; specs.len()];
     let (mut events_in, mut unexpected, mut unknown) = (0, 0, 0);
@@ -148,7 +150,8 @@ proptest! {
 fn exercise(set: &'static firmware::table::SupervisorSet<'static, 1>, ops: &[Op]) {
     let config = Config { guard: false, on_fault: FaultPolicy::Continue, reseed_every: 3 };
     let policy = RandomLocalQueue::<1, 8>::default();
-    let Ok(mut rt) = Runtime::<_, _, 1, 4>::new(set, config, policy, SeedEntropy::new(3)) else { return };
+    let Ok(set) = CheckedSet::<1, 4>::new(set) else { return };
+    let mut rt = Runtime::new(set, config, policy, SeedEntropy::new(3));
     for op in ops {
         match *op {
             Op::Input(e) => {

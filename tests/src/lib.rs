@@ -21,6 +21,7 @@ use firmware::input_queue::InputQueue;
 use firmware::link::{Hold, Link, Poll, Port, READY};
 use firmware::rng::SeedEntropy;
 use firmware::runtime::{Config, Runtime};
+use firmware::table::CheckedSet;
 
 /// The repository root.
 pub fn root() -> PathBuf {
@@ -76,8 +77,9 @@ where
 {
     std::thread::spawn(move || {
         let set = tables.set();
-        let mut rt = Runtime::<P, SeedEntropy, W, N>::new(&set, config, policy, SeedEntropy::new(seed))
-            .unwrap_or_else(|e| panic!("tables do not fit W={W}, N={N}: {e:?}"));
+        let checked =
+            CheckedSet::<W, N>::new(&set).unwrap_or_else(|e| panic!("tables do not fit W={W}, N={N}: {e:?}"));
+        let mut rt = Runtime::new(checked, config, policy, SeedEntropy::new(seed));
         let mut queue = InputQueue::<Q>::new();
         let (mut tx, mut rx) = queue.split();
         let hold = Hold::new();

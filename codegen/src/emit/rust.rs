@@ -207,6 +207,18 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options)
     let _ = writeln!(out, "    plant_events: &PLANT_EVENTS,");
     let _ = writeln!(out, "    sites: &CHOICE_SITES,");
     let _ = writeln!(out, "}};");
+    let _ = writeln!(
+        out,
+        "/// The set, checked when it is compiled: tables the runtime cannot run do not build."
+    );
+    let _ = writeln!(
+        out,
+        "pub static CHECKED: firmware::table::CheckedSet<'static, EVENT_WORDS, AUTOMATA> = \
+         match firmware::table::CheckedSet::new(&SET) {{"
+    );
+    let _ = writeln!(out, "    Ok(set) => set,");
+    let _ = writeln!(out, "    Err(_) => panic!(\"the tables fail the runtime's check\"),");
+    let _ = writeln!(out, "}};");
 }
 
 fn has(words: &[u32], e: usize) -> bool {

@@ -115,8 +115,7 @@ fn main() -> ! {
     let now = || cortex_m::peripheral::SYST::get_current();
 
     let mut rt =
-        Rt::new(&tables::SET, tables::CONFIG, tables::Policy::default(), SeedEntropy::new(tables::SEED))
-            .unwrap_or_else(|_| stop(1));
+        Rt::new(tables::CHECKED, tables::CONFIG, tables::Policy::default(), SeedEntropy::new(tables::SEED));
     let mut plant = Rng::new(SeedEntropy::new(0x5EED), 0);
     let (mut empty, mut inputs, mut fired, mut idle) =
         (Stat::default(), Stat::default(), Stat::default(), Stat::default());

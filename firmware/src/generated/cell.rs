@@ -308,6 +308,11 @@ pub static SET: firmware::table::SupervisorSet<'static, EVENT_WORDS> = firmware:
     plant_events: &PLANT_EVENTS,
     sites: &CHOICE_SITES,
 };
+/// The set, checked when it is compiled: tables the runtime cannot run do not build.
+pub static CHECKED: firmware::table::CheckedSet<'static, EVENT_WORDS, AUTOMATA> = match firmware::table::CheckedSet::new(&SET) {
+    Ok(set) => set,
+    Err(_) => panic!("the tables fail the runtime's check"),
+};
 
 /// The board's pin map (`[board]`).
 pub static BOARD: firmware::board::Board<'static> = firmware::board::Board {

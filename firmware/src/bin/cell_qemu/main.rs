@@ -91,13 +91,8 @@ mod app {
         stack::paint();
         let (producer, consumer) = cx.local.queue.split();
         let policy = tables::Policy::default();
-        let runtime = match Rt::new(&tables::SET, tables::CONFIG, policy, SeedEntropy::new(tables::SEED)) {
-            Ok(rt) => rt,
-            Err(e) => {
-                defmt::error!("tables do not fit this build: {}", e);
-                exit(1)
-            }
-        };
+        // The tables were checked when they were compiled (`tables::CHECKED`).
+        let runtime = Rt::new(tables::CHECKED, tables::CONFIG, policy, SeedEntropy::new(tables::SEED));
         defmt::info!(
             "{=str}: {=usize} automata, {=usize} events, input buffer {=usize}",
             tables::NAME,

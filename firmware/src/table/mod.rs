@@ -1,0 +1,263 @@
+//! This module is the home of the tables the runtime reads: one [`SupervisorSet`] in the `ranked`
+//! layout, emitted by `codegen` as `static` data in flash.
+//!
+//! # The `ranked` layout
+//!
+//! A state's *out-mask* is the bitset over global event ids of the events leaving it. The set keeps one
+//! pool of distinct out-masks ([`SupervisorSet::masks`], `W` words each), shared by all automata. Each
+//! automaton is a byte block (a slice of [`SupervisorSet::blocks`]) holding one record per state:
+//!
+//! ```text
+//! [mask id]
+//! [target handle, for every event of the mask in increasing id order]
+//! ```
+//!
+//! A state is named by its *handle* `h`: its record starts at byte `h · scale` of the block
+//! ([`Automaton::scale`]); records start on multiples of `scale` and the bytes between two records are
+//! padding. The target of event `e` from a state is its `r`-th target, `r` the number of mask bits
+//! below `e` (its rank). Mask ids and handles take 1 byte each, or 2 (little-endian) in a *wide* automaton
+//! ([`Automaton::wide`]). So a step is a mask test, a rank and one load, whatever the state count; the
+//! out-mask also gives at once which controllable events the automaton allows (those of its mask and
+//! those outside its alphabet), so the enabled set costs one mask per automaton, not a scan.
+//! `codegen` makes an automaton narrow when its mask ids fit a byte (the pool lists masks in order of first
+//! use, plants first) and some scale makes its handles fit one, taking the smallest such scale.
+//!
+//! Limits: at most 256 events and [`MAX_AUTOMATA`] automata, 65 536 handles per automaton, and as a
+//! [`Slot`] holds a state in one word: 4 096 masks and 1 MiB of blocks.
+//!
+//! # Side tables
+//!
+//! Per event the automata that hold it ([`SupervisorSet::holders`], so an event touches only those),
+//! per plant the controllable events it generates ([`SupervisorSet::plant_events`]) and the *choice
+//! sites* of the local-queue policies ([`SupervisorSet::sites`]; see [`crate::choice`]).
+//!
+//! # Checked once, then trusted
+//!
+//! [`SupervisorSet::check`] proves everything the hot path relies on: every record lies in its block,
+//! every mask id in the pool, every target and initial handle is the start of a record, every holder
+//! bit names an automaton. It is a `const fn`: the emitted tables run it at compile time
+//! ([`CheckedSet`], so tables the runtime cannot run do not build and the firmware carries no check
+//! code), host tools at run time. The runtime only takes a [`CheckedSet`] and then reads the tables
+//! without bounds checks ([`read`]); the checked readers ([`SupervisorSet::mask`],
+//! [`SupervisorSet::step`]) serve host tools and tests.
+
+use crate::event_set::ones;
+
+mod check;
+pub mod read;
+
+pub use check::CheckedSet;
+
+/// Most automata in one set: one bit each in a `u32` of [`SupervisorSet::holders`].
+pub const MAX_AUTOMATA: usize = 32;
+/// Most events in one set: an event id is one byte.
+pub const MAX_EVENTS: usize = 256;
+
+/// One automaton of the set.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Automaton<const W: usize> {
+    /// Offset of the automaton's block in [`SupervisorSet::blocks`]; the block ends where the next
+    /// automaton's starts (the last one at the end of `blocks`).
+    pub start: u32,
+    /// Handle of the initial state.
+    pub initial: u16,
+    /// Bytes per handle unit: a state's record starts at byte `handle · scale` of the block (≥ 1).
+    pub scale: u8,
+    /// Mask ids and target handles take 2 bytes (little-endian) instead of 1.
+    pub wide: bool,
+    /// Bitset over global event ids (bit `e % 32` of word `e / 32`): the automaton's alphabet. An event
+    /// outside it never moves or blocks the automaton.
+    pub alphabet: [u32; W],
+}
+
+/// The whole set the firmware runs: plants and supervisors over one event numbering, events in
+/// `W`-word bitsets. On the target every slice is a `static` in flash (`'t = 'static`); on the host the
+/// tables may be borrowed from owned data.
+#[derive(Clone, Copy, Debug)]
+pub struct SupervisorSet<'t, const W: usize> {
+    /// Bitset over global event ids: the controllable ones.
+    pub controllable: [u32; W],
+    /// The first `plants` automata are the plants (the product system), the others supervisors.
+    pub plants: u8,
+    /// Plants first, then supervisors, in manifest order.
+    pub automata: &'t [Automaton<W>],
+    /// The blocks of all automata, back to back.
+    pub blocks: &'t [u8],
+    /// The pool of distinct out-masks that records name by id.
+    pub masks: &'t [[u32; W]],
+    /// Per global event id (its length is the event count): bit `a` set when automaton `a` has the
+    /// event in its alphabet.
+    pub holders: &'t [u32],
+    /// Per plant: the controllable events it generates (those of its alphabet no earlier plant holds).
+    /// Every controllable event belongs to exactly one plant.
+    pub plant_events: &'t [[u32; W]],
+    /// The *choice sites*, states of a plant where two or more controllable events it generates leave,
+    /// each as the byte offset of its record in [`SupervisorSet::blocks`] (so unique across automata),
+    /// ascending.
+    pub sites: &'t [u32],
+}
+
+/// Why a set cannot run: sizes of another build, or tables that break the layout.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum TableError {
+    /// The automaton count differs from the runtime's, exceeds [`MAX_AUTOMATA`], or the plant count
+    /// exceeds it.
+    Automata,
+    /// More events than `W` words or [`MAX_EVENTS`] hold, a holder bit naming no automaton, or a
+    /// per-plant table of another length.
+    Events,
+    /// More blocks or masks than a [`Slot`] addresses.
+    Size,
+    /// Automaton `0` has a block that is out of order, a scale of 0, a record outside its block or naming
+    /// no mask, an out-event outside its alphabet, or a target or initial handle that starts no record.
+    Block(u8),
+}
+
+/// Position of `event`'s target among a state's targets: the bits of its out-mask below `event`.
+#[inline(always)]
+fn rank<const W: usize>(mask: &[u32; W], event: Event) -> usize {
+    let mut r = 0;
+    for (w, &m) in mask.iter().enumerate() {
+        if w < event.word() {
+            r += ones(m) as usize;
+        } else if w == event.word() {
+            r += ones(m & (event.bit() - 1)) as usize;
+        }
+    }
+    r
+}
+
+/// An event id, for bitset access: word index and bit within the word. Kept as the id, so that it
+/// travels in one register and the compiler recomputes word and bit rather than spilling them.
+#[derive(Clone, Copy, Debug)]
+pub struct Event(u8);
+
+impl Event {
+    /// The event `id`.
+    #[inline(always)]
+    pub fn new(id: u8) -> Event {
+        Event(id)
+    }
+
+    /// Index of the event's word in a bitset.
+    #[inline(always)]
+    fn word(self) -> usize {
+        usize::from(self.0 / 32)
+    }
+
+    /// The event's bit within its word.
+    #[inline(always)]
+    fn bit(self) -> u32 {
+        1 << (self.0 % 32)
+    }
+
+    /// Whether the event is in `words` (`false` when its word lies beyond them).
+    #[inline(always)]
+    pub fn in_set<const W: usize>(self, words: &[u32; W]) -> bool {
+        words.get(self.word()).is_some_and(|w| w & self.bit() != 0)
+    }
+
+    /// Whether the event is in `words`, without a bounds check.
+    ///
+    /// # Safety
+    ///
+    /// The event's id is below `32 · W`.
+    #[inline(always)]
+    pub unsafe fn in_set_unchecked<const W: usize>(self, words: &[u32; W]) -> bool {
+        // SAFETY: the caller's promise.
+        unsafe { words.get_unchecked(self.word()) & self.bit() != 0 }
+    }
+}
+
+/// Where an automaton is: its current state's record offset in [`SupervisorSet::blocks`] (low 20
+/// bits) and mask id (high 12 bits), so that a step finds both in one word of RAM.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Slot(u32);
+
+impl Slot {
+    /// First bit of the mask id.
+    const ID_SHIFT: u32 = 20;
+    /// Most bytes of blocks a slot addresses.
+    pub const MAX_BLOCKS: usize = 1 << Self::ID_SHIFT;
+    /// Most masks a slot names.
+    pub const MAX_MASKS: usize = 1 << (32 - Self::ID_SHIFT);
+
+    /// The slot of the record at byte `at` with mask `id` (within the limits above in a checked set).
+    #[inline(always)]
+    fn new(at: usize, id: u16) -> Slot {
+        Slot(u32::from(id) << Self::ID_SHIFT | at as u32)
+    }
+
+    /// The record offset.
+    #[inline(always)]
+    fn record(self) -> usize {
+        (self.0 & (Self::MAX_BLOCKS as u32 - 1)) as usize
+    }
+
+    /// The mask id.
+    #[inline(always)]
+    fn mask_id(self) -> usize {
+        (self.0 >> Self::ID_SHIFT) as usize
+    }
+
+    /// The handle of `aut`'s state in this slot.
+    pub fn handle<const W: usize>(self, aut: &Automaton<W>) -> u16 {
+        ((self.record() as u32).wrapping_sub(aut.start) / u32::from(aut.scale.max(1))) as u16
+    }
+}
+
+/// Whether bit `event` is set in `words`.
+#[inline(always)]
+pub fn bit<const W: usize>(words: &[u32; W], event: u8) -> bool {
+    Event::new(event).in_set(words)
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+
+    /// Two states: 0 –e0→ 1, 1 –e1→ 0; masks {e0} (id 0) and {e1} (id 1); scale 2, so handle 1 is byte 2.
+    pub(crate) static TOGGLE: SupervisorSet<'static, 1> = SupervisorSet {
+        controllable: [0b01],
+        plants: 1,
+        automata: &[Automaton { start: 0, initial: 0, scale: 2, wide: false, alphabet: [0b11] }],
+        blocks: &[0, 1, 1, 0],
+        masks: &[[0b01], [0b10]],
+        holders: &[1, 1],
+        plant_events: &[[0b01]],
+        sites: &[],
+    };
+
+    pub(crate) fn toggle() -> SupervisorSet<'static, 1> {
+        TOGGLE
+    }
+
+    #[test]
+    fn step_follows_handles() {
+        let t = toggle();
+        assert_eq!(t.step(0, 0, 0), Some(1));
+        assert_eq!(t.step(0, 1, 1), Some(0));
+        assert_eq!(t.step(0, 0, 1), None);
+        assert_eq!(t.mask(0, 1), Some(&[0b10]));
+    }
+
+    #[test]
+    fn out_of_table_is_none_not_panic() {
+        let t = toggle();
+        assert_eq!(t.step(0, 200, 0), None);
+        assert_eq!(t.step(3, 0, 0), None);
+        assert_eq!(t.step(0, 0, 255), None);
+        assert_eq!(t.mask_of(Slot::new(0, 9)), None);
+    }
+
+    #[test]
+    fn slots_hold_record_and_mask() {
+        let t = toggle();
+        let aut = &t.automata[0];
+        // SAFETY: the toggle passes the check (see `check`'s tests) and 1 is one of its states.
+        let slot = unsafe { t.slot_unchecked(aut, 1) };
+        assert_eq!((slot.record(), slot.mask_id(), slot.handle(aut)), (2, 1, 1));
+        assert_eq!(t.mask_of(slot), Some(&[0b10]));
+    }
+}
