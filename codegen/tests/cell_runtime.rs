@@ -82,7 +82,8 @@ const DECISIONS_PER_STATE: usize = 64;
 #[test]
 fn random_local_queue_takes_every_enabled_event_at_every_reachable_state() {
     let host = cell();
-    let (names, set) = (host.event_names(), host.set());
+    let automata = host.automata();
+    let (names, set) = (host.event_names(), host.set(&automata));
     let mut rt = runtime(&set, 7);
     let init: [u16; N] = rt.states();
     let (mut seen, mut queue, mut taken) = (BTreeSet::from([init]), VecDeque::from([init]), BTreeSet::new());
@@ -129,7 +130,8 @@ const STEPS: usize = 200_000;
 #[test]
 fn closed_loop_with_a_random_plant_is_safe_and_live() {
     let host = cell();
-    let (names, set) = (host.event_names(), host.set());
+    let automata = host.automata();
+    let (names, set) = (host.event_names(), host.set(&automata));
     for seed in 0..3 {
         let mut rt = runtime(&set, seed);
         let mut plant = Rng::new(SeedEntropy::new(1000 + seed), 0);

@@ -30,15 +30,18 @@
 
 use crate::event_set::EventSet;
 use crate::rng::{Entropy, Rng};
-use crate::table::{Slot, SupervisorSet};
+use crate::table::SupervisorSet;
 
 /// What a policy may look at besides the enabled set.
 #[derive(Clone, Copy)]
 pub struct View<'a, const W: usize> {
     /// The tables.
     pub set: &'a SupervisorSet<'a, W>,
-    /// Where every automaton is.
-    pub slots: &'a [Slot],
+    /// Where every automaton is: the byte offset of its current state's record in its block.
+    pub records: &'a [u16],
+    /// What every automaton allows in its current state: out-mask or-ed with the events outside its
+    /// alphabet.
+    pub allowed: &'a [[u32; W]],
 }
 
 impl<const W: usize> View<'_, W> {
@@ -52,15 +55,15 @@ impl<const W: usize> View<'_, W> {
         EventSet(self.set.plant_events.get(p).copied().unwrap_or([0; W]))
     }
 
-    /// The events plant `p`'s current state has transitions for.
+    /// The events plant `p` generates that its current state has transitions for.
     fn out(&self, p: usize) -> EventSet<W> {
-        let mask = self.slots.get(p).and_then(|&s| self.set.mask_of(s));
-        EventSet(mask.copied().unwrap_or([0; W]))
+        let allowed = EventSet(self.allowed.get(p).copied().unwrap_or([0; W]));
+        allowed.and(&self.generated(p))
     }
 
     /// Index of plant `p`'s current state in the site table, if that state is a choice site.
     fn site(&self, p: usize) -> Option<usize> {
-        self.set.site(*self.slots.get(p)?)
+        self.set.site(p, *self.records.get(p)?)
     }
 }
 
@@ -96,7 +99,7 @@ pub struct Random;
 
 impl<const W: usize> Policy<W> for Random {
     fn choose<E: Entropy>(&mut self, _: View<'_, W>, enabled: &EventSet<W>, rng: &mut Rng<E>) -> Option<u8> {
-        pick(enabled, rng)
+        pick(enabled, &mut Bits::new(rng))
     }
 
     fn reset(&mut self) {}
@@ -140,7 +143,7 @@ impl<const W: usize> Policy<W> for RandomGlobalQueue<W> {
         rng: &mut Rng<E>,
     ) -> Option<u8> {
         let all = EventSet(view.set.controllable);
-        pick_from_round(&mut self.round, enabled, all, rng)
+        pick_from_round(&mut self.round, enabled, all, &mut Bits::new(rng))
     }
 
     fn reset(&mut self) {
@@ -210,12 +213,15 @@ impl<const W: usize, const S: usize> Policy<W> for RandomLocalQueue<W, S> {
         enabled: &EventSet<W>,
         rng: &mut Rng<E>,
     ) -> Option<u8> {
-        let mut with_events = 0u32;
-        for (p, generated) in view.set.plant_events.iter().enumerate() {
-            let has = !enabled.and(&EventSet(*generated)).is_empty();
-            with_events |= u32::from(has).wrapping_shl(p as u32);
+        let (mut with_events, mut plant) = (0u32, 1u32);
+        for generated in view.set.plant_events {
+            if !enabled.and(&EventSet(*generated)).is_empty() {
+                with_events |= plant;
+            }
+            plant = plant.wrapping_shl(1);
         }
-        let Some(p) = pick(&EventSet([with_events]), rng) else {
+        let mut bits = Bits::new(rng);
+        let Some(p) = pick(&EventSet([with_events]), &mut bits) else {
             return enabled.first();
         };
         let p = usize::from(p);
@@ -227,8 +233,8 @@ impl<const W: usize, const S: usize> Policy<W> for RandomLocalQueue<W, S> {
             return candidates.first();
         }
         match view.site(p).and_then(|s| self.rounds.get_mut(s)) {
-            Some(round) => pick_from_round(round, &candidates, offered, rng),
-            None => pick(&candidates, rng),
+            Some(round) => pick_from_round(round, &candidates, offered, &mut bits),
+            None => pick(&candidates, &mut bits),
         }
     }
 
@@ -237,10 +243,36 @@ impl<const W: usize, const S: usize> Policy<W> for RandomLocalQueue<W, S> {
     }
 }
 
+/// The random bits of one decision's picks: drawn from the generator at the first pick that needs
+/// them; a pick among `n` takes the high part of `bits · n` and leaves the low part to the next, so a
+/// decision with two picks (plant, then event) draws once.
+struct Bits<'r, E> {
+    rng: &'r mut Rng<E>,
+    bits: Option<u32>,
+}
+
+impl<'r, E: Entropy> Bits<'r, E> {
+    fn new(rng: &'r mut Rng<E>) -> Self {
+        Self { rng, bits: None }
+    }
+
+    /// A number in `0..n`.
+    fn below(&mut self, n: u32) -> u32 {
+        let x = match self.bits {
+            Some(bits) => bits,
+            None => self.rng.next_u32(),
+        };
+        let product = u64::from(x) * u64::from(n);
+        self.bits = Some(product as u32);
+        (product >> 32) as u32
+    }
+}
+
 /// A uniformly drawn event of `set` (no draw when there is nothing to choose).
-fn pick<E: Entropy, const W: usize>(set: &EventSet<W>, rng: &mut Rng<E>) -> Option<u8> {
+#[inline(always)]
+fn pick<E: Entropy, const W: usize>(set: &EventSet<W>, bits: &mut Bits<'_, E>) -> Option<u8> {
     if set.several() {
-        set.nth(rng.below(set.len()))
+        set.nth(bits.below(set.len()))
     } else {
         set.first()
     }
@@ -252,14 +284,14 @@ fn pick_from_round<E: Entropy, const W: usize>(
     round: &mut EventSet<W>,
     candidates: &EventSet<W>,
     all: EventSet<W>,
-    rng: &mut Rng<E>,
+    bits: &mut Bits<'_, E>,
 ) -> Option<u8> {
     let mut pool = candidates.and(round);
     if pool.is_empty() {
         *round = all;
         pool = *candidates;
     }
-    let c = pick(&pool, rng)?;
+    let c = pick(&pool, bits)?;
     round.remove(c);
     Some(c)
 }

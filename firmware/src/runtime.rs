@@ -31,8 +31,7 @@
 //! static SET: SupervisorSet<'static, 1> = SupervisorSet {
 //!     controllable: [0b01],
 //!     plants: 1,
-//!     automata: &[Automaton { start: 0, initial: 0, scale: 1, wide: false, alphabet: [0b11] }],
-//!     blocks: &[0, 2, 1, 0],
+//!     automata: &[Automaton { block: &[0, 2, 1, 0], initial: 0, scale: 1, wide: false, alphabet: [0b11] }],
 //!     masks: &[[0b01], [0b10]],
 //!     holders: &[1, 1],
 //!     plant_events: &[[0b01]],
@@ -55,7 +54,7 @@ use crate::choice::{Policy, View};
 use crate::event_set::EventSet;
 use crate::fault::FaultPolicy;
 use crate::rng::{Entropy, Rng};
-use crate::table::{bit, CheckedSet, Event, Slot, SupervisorSet, TableError};
+use crate::table::{bit, CheckedSet, Event, SupervisorSet, TableError};
 
 /// Run-time options (manifest `[runtime]`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -130,8 +129,11 @@ pub enum Decision {
 /// The runtime over a set of `N` automata and events in `W`-word bitsets, choosing with policy `P`.
 pub struct Runtime<'t, P, E, const W: usize, const N: usize> {
     set: &'t SupervisorSet<'t, W>,
-    /// Where every automaton is: its current state's record and out-mask id, one word each.
-    slots: [Slot; N],
+    /// Where every automaton is: the byte offset of its current state's record in its block.
+    records: [u16; N],
+    /// What every automaton allows in its current state: out-mask or-ed with the events outside its
+    /// alphabet, kept with `records`. The enabled set is their conjunction, read from RAM.
+    allowed: [[u32; W]; N],
     counters: Counters,
     overflow_mark: u32,
     safe: bool,
@@ -147,7 +149,8 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     pub fn new(set: CheckedSet<'t, W, N>, config: Config, policy: P, entropy: E) -> Self {
         let mut rt = Self {
             set: set.set(),
-            slots: [Slot::default(); N],
+            records: [0; N],
+            allowed: [[0; W]; N],
             counters: Counters::default(),
             overflow_mark: 0,
             safe: false,
@@ -215,7 +218,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
         if enabled.is_empty() {
             return Decision::Idle;
         }
-        let view = View { set: self.set, slots: &self.slots };
+        let view = View { set: self.set, records: &self.records, allowed: &self.allowed };
         let Some(c) = self.policy.choose(view, &enabled, &mut self.rng) else {
             return Decision::Idle;
         };
@@ -223,10 +226,11 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
             self.counters.guard_redecisions = self.counters.guard_redecisions.wrapping_add(1);
             return Decision::Redecide;
         }
-        if let Some(&holders) = self.set.holders.get(usize::from(c)) {
-            // `c` is enabled, so every holder has the transition.
-            let _ = self.take(c, holders);
-        }
+        let Some(&holders) = self.set.holders.get(usize::from(c)).filter(|_| enabled.contains(c)) else {
+            return Decision::Idle;
+        };
+        // `c` is enabled: every holder allows it.
+        fire(self.set, &mut self.records, &mut self.allowed, Event::new(c), holders);
         self.counters.commands_out = self.counters.commands_out.wrapping_add(1);
         Decision::Fired(c)
     }
@@ -234,11 +238,16 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     /// The controllable events every automaton holding them can take now.
     pub fn enabled(&self) -> EventSet<W> {
         let mut enabled = self.set.controllable;
-        for (aut, &slot) in self.set.automata.iter().zip(&self.slots) {
-            // SAFETY: `new` checked the set and every slot comes from `enter` or `take`.
-            let mask = unsafe { self.set.slot_mask(slot) };
-            for ((e, m), al) in enabled.iter_mut().zip(mask).zip(&aut.alphabet) {
-                *e &= m | !al;
+        // Two automata per turn: half the loop's bookkeeping.
+        let mut pairs = self.allowed.chunks_exact(2);
+        for pair in &mut pairs {
+            for ((e, a), b) in enabled.iter_mut().zip(&pair[0]).zip(&pair[1]) {
+                *e &= a & b;
+            }
+        }
+        for allowed in pairs.remainder() {
+            for (e, a) in enabled.iter_mut().zip(allowed) {
+                *e &= a;
             }
         }
         EventSet(enabled)
@@ -257,8 +266,8 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     /// Current state handle of every automaton.
     pub fn states(&self) -> [u16; N] {
         let mut out = [0; N];
-        for ((h, aut), slot) in out.iter_mut().zip(self.set.automata).zip(&self.slots) {
-            *h = slot.handle(aut);
+        for ((h, aut), &at) in out.iter_mut().zip(self.set.automata).zip(&self.records) {
+            *h = SupervisorSet::handle_of(aut, at);
         }
         out
     }
@@ -279,9 +288,12 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
 
     /// Puts the automata in `states`, which `new` or `restore` proved to be states.
     fn enter(&mut self, states: [u16; N]) {
-        for ((slot, aut), &h) in self.slots.iter_mut().zip(self.set.automata).zip(&states) {
-            // SAFETY: `new` checked the set, and `h` is the initial handle or was checked by `restore`.
-            *slot = unsafe { self.set.slot_unchecked(aut, h) };
+        let all = self.records.iter_mut().zip(&mut self.allowed).zip(self.set.automata).zip(&states);
+        for (((at, allowed), aut), &h) in all {
+            // A checked set's records start in the first 64 KiB of their block.
+            *at = SupervisorSet::record(aut, h) as u16;
+            // SAFETY: `new` took a checked set, and `h` is the initial handle or was checked by `restore`.
+            *allowed = unsafe { self.set.allowed_at(aut, *at) };
         }
     }
 
@@ -294,7 +306,18 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     /// any (it stays).
     #[inline(always)]
     fn take(&mut self, event: u8, holders: u32) -> Option<u8> {
-        take(self.set, &mut self.slots, Event::new(event), holders)
+        let (set, records, allowed, event) =
+            (self.set, &mut self.records, &mut self.allowed, Event::new(event));
+        let first = take_until_stuck(set, records, allowed, event, holders)?;
+        // Rare: an unexpected event. The holders after the stuck one still move.
+        let mut stuck = first;
+        loop {
+            let rest = holders & (u32::MAX << stuck << 1);
+            match take_until_stuck(set, records, allowed, event, rest) {
+                Some(next) => stuck = next,
+                None => return Some(first),
+            }
+        }
     }
 
     fn unknown(&mut self) -> Applied {
@@ -310,32 +333,58 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     }
 }
 
-/// [`Runtime::take`], out of line and over its parts, so that the compiler knows the stores to
-/// `slots` leave the set alone and keeps its fields in registers.
+/// Moves the automata of `holders`, in index order, by `event` until one cannot: that one, if any.
+/// Out of line and over the runtime's parts, so that the compiler knows the stores to `records` and
+/// `allowed` leave the set alone and keeps its fields in registers.
 #[inline(never)]
-fn take<const W: usize, const N: usize>(
+fn take_until_stuck<const W: usize, const N: usize>(
     set: &SupervisorSet<'_, W>,
-    slots: &mut [Slot; N],
+    records: &mut [u16; N],
+    allowed: &mut [[u32; W]; N],
     event: Event,
     mut holders: u32,
 ) -> Option<u8> {
-    let mut stuck = 0u32;
     while holders != 0 {
         let a = holders.trailing_zeros() as usize;
         holders &= holders - 1;
-        // SAFETY: `Runtime::new` checked the set: every holder bit names one of the N automata and event
-        // ids are below 32 · W; every slot is the initial state's, checked by `restore` or a target's
-        // set here.
+        // SAFETY: `Runtime::new` took a checked set: every holder bit names one of the N automata and
+        // event ids are below 32 · W; every record is the initial state's, checked by `restore` or a
+        // target's set here, and `allowed[a]` what it allows (an event of the automaton's alphabet, as
+        // `event` is for a holder, is allowed exactly when it leaves the state).
         unsafe {
-            let slot = slots.get_unchecked_mut(a);
-            let mask = set.slot_mask(*slot);
-            if event.in_set_unchecked(mask) {
-                set.advance(set.automata.get_unchecked(a), slot, mask, event);
-            } else {
-                stuck |= 1 << a;
+            let allowed = allowed.get_unchecked_mut(a);
+            if !event.in_set_unchecked(allowed) {
+                // At most MAX_AUTOMATA (32) automata: the index fits a byte.
+                return Some(a as u8);
             }
+            set.advance(set.automata.get_unchecked(a), records.get_unchecked_mut(a), allowed, event);
         }
     }
-    // At most MAX_AUTOMATA (32) automata: the index fits a byte.
-    (stuck != 0).then(|| stuck.trailing_zeros() as u8)
+    None
+}
+
+/// Moves the automata of `holders` by `event`, which all of them allow. Out of line for the reasons of
+/// [`take_until_stuck`], and without its test per automaton.
+#[inline(never)]
+fn fire<const W: usize, const N: usize>(
+    set: &SupervisorSet<'_, W>,
+    records: &mut [u16; N],
+    allowed: &mut [[u32; W]; N],
+    event: Event,
+    mut holders: u32,
+) {
+    while holders != 0 {
+        let a = holders.trailing_zeros() as usize;
+        holders &= holders - 1;
+        // SAFETY: as in `take_until_stuck`; `decide` fires only an enabled event, which every holder
+        // allows.
+        unsafe {
+            set.advance(
+                set.automata.get_unchecked(a),
+                records.get_unchecked_mut(a),
+                allowed.get_unchecked_mut(a),
+                event,
+            );
+        }
+    }
 }

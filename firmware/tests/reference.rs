@@ -175,15 +175,29 @@ proptest! {
         ops in ops(),
     ) {
         let good = encode(&NAMES, &controllable, &specs);
-        let mut blocks = good.blocks.to_vec();
+        let mut blocks: Vec<Vec<u8>> = good.automata.iter().map(|a| a.block.to_vec()).collect();
+        let total: usize = blocks.iter().map(Vec::len).sum();
         for (at, value) in &flips {
-            if !blocks.is_empty() {
-                let i = at.index(blocks.len());
-                blocks[i] = *value;
+            if total > 0 {
+                // The byte at this index of all blocks back to back.
+                let mut i = at.index(total);
+                for b in blocks.iter_mut() {
+                    if i < b.len() {
+                        b[i] = *value;
+                        break;
+                    }
+                    i -= b.len();
+                }
             }
         }
+        let automata: Vec<_> = good
+            .automata
+            .iter()
+            .zip(blocks)
+            .map(|(a, b)| firmware::table::Automaton { block: &*Box::leak(b.into_boxed_slice()), ..*a })
+            .collect();
         let set = Box::leak(Box::new(firmware::table::SupervisorSet {
-            blocks: Box::leak(blocks.into_boxed_slice()),
+            automata: Box::leak(automata.into_boxed_slice()),
             ..*good
         }));
         exercise(set, &ops);

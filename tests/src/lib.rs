@@ -76,7 +76,8 @@ where
     P: Policy<W> + Send + 'static,
 {
     std::thread::spawn(move || {
-        let set = tables.set();
+        let automata = tables.automata();
+        let set = tables.set(&automata);
         let checked =
             CheckedSet::<W, N>::new(&set).unwrap_or_else(|e| panic!("tables do not fit W={W}, N={N}: {e:?}"));
         let mut rt = Runtime::new(checked, config, policy, SeedEntropy::new(seed));

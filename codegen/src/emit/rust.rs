@@ -14,8 +14,10 @@ use super::side::{EmitError, SideTables};
 /// Rust source for `firmware`'s applications (`include!`d inside a module): constants `NAME`,
 /// `EVENT_WORDS`, `AUTOMATA`, `SITES`, `INPUT_SLOTS`, `SEED`, `CONFIG`, the type `Policy`, a module
 /// `event` with one `u8` constant per event, the names `EVENT_NAMES` and `AUTOMATON_NAMES` (for logs;
-/// the tables hold none), the `ranked` tables `BLOCKS` and `MASKS` (private) under
-/// `pub static SET: firmware::table::SupervisorSet<'static, EVENT_WORDS>`, and the board tables `BOARD`,
+/// the tables hold none), the `ranked` tables (private statics: one `BLOCK_i` per automaton, `MASKS`,
+/// `DESCRIPTORS`, `HOLDERS`, `PLANT_EVENTS`, `CHOICE_SITES`) under
+/// `pub static SET: firmware::table::SupervisorSet<'static, EVENT_WORDS>`, the same set checked at compile
+/// time as `pub static CHECKED: firmware::table::CheckedSet`, and the board tables `BOARD`,
 /// `INPUT_PINS`, `INPUT_PULLS`, `OUTPUT_PINS` (empty without a `[board]`).
 /// Deterministic: the same arguments give the same bytes.
 pub fn emit(packed: &Packed, options: &Options, provenance: &Provenance) -> Result<String, EmitError> {
@@ -132,25 +134,20 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options)
     let _ =
         writeln!(out, "pub static AUTOMATON_NAMES: [&str; {}] = [{}];", automata.len(), automata.join(", "));
     let _ = writeln!(out);
-    let blocks = packed.blocks();
-    let _ = writeln!(out, "/// The blocks of all automata, back to back (`{LAYOUT}` layout).");
-    let _ = writeln!(out, "static BLOCKS: [u8; {}] = [", blocks.len());
-    for b in &packed.automata {
-        let handles = if b.wide { "2-byte" } else { "1-byte" };
+    for (i, b) in packed.automata.iter().enumerate() {
+        let fields = if b.wide { "2-byte" } else { "1-byte" };
         let _ = writeln!(
             out,
-            "    // {}: bytes {}..{}, scale {}, {handles} handles.",
-            b.name,
-            b.start,
-            b.start as usize + b.block.len(),
-            b.scale
+            "/// Block of `{}` (`{LAYOUT}` layout): scale {}, {fields} mask ids and handles.",
+            b.name, b.scale
         );
+        let _ = writeln!(out, "static BLOCK_{i}: [u8; {}] = [", b.block.len());
         for row in b.block.chunks(16) {
             let bytes: Vec<String> = row.iter().map(|x| format!("0x{x:02x}")).collect();
             let _ = writeln!(out, "    {},", bytes.join(", "));
         }
+        let _ = writeln!(out, "];");
     }
-    let _ = writeln!(out, "];");
     let _ = writeln!(out, "/// The pool of distinct out-masks the records name by id.");
     let _ = writeln!(out, "static MASKS: [[u32; EVENT_WORDS]; {}] = [", packed.masks.len());
     for row in packed.masks.chunks(4) {
@@ -159,19 +156,16 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options)
     }
     let _ = writeln!(out, "];");
     let _ = writeln!(out);
+    let _ = writeln!(out, "/// Per automaton (plants first): block, initial handle, scale, width, alphabet.");
     let _ = writeln!(
         out,
-        "/// Per automaton (plants first): block start, initial handle, scale, width, alphabet."
-    );
-    let _ = writeln!(
-        out,
-        "static DESCRIPTORS: [firmware::table::Automaton<EVENT_WORDS>; {}] = [",
+        "static DESCRIPTORS: [firmware::table::Automaton<'static, EVENT_WORDS>; {}] = [",
         packed.automata.len()
     );
-    for b in &packed.automata {
+    for (i, b) in packed.automata.iter().enumerate() {
         let _ = writeln!(out, "    // {}", b.name);
         let _ = writeln!(out, "    firmware::table::Automaton {{");
-        let _ = writeln!(out, "        start: {},", b.start);
+        let _ = writeln!(out, "        block: &BLOCK_{i},");
         let _ = writeln!(out, "        initial: {},", b.initial);
         let _ = writeln!(out, "        scale: {},", b.scale);
         let _ = writeln!(out, "        wide: {},", b.wide);
@@ -190,7 +184,7 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options)
         plant_events.join(", ")
     );
     let sites: Vec<String> = side.sites.iter().map(u32::to_string).collect();
-    let _ = writeln!(out, "/// The choice sites, as record offsets in the blocks.");
+    let _ = writeln!(out, "/// The choice sites, as `plant << 16 | record offset in the plant's block`.");
     let _ = writeln!(out, "static CHOICE_SITES: [u32; {}] = [{}];", sites.len(), sites.join(", "));
     let _ = writeln!(out);
     let _ = writeln!(out, "/// The set the runtime runs.");
@@ -201,7 +195,6 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options)
     let _ = writeln!(out, "    controllable: [{}],", hex_words(&packed.controllable));
     let _ = writeln!(out, "    plants: {},", side.plants);
     let _ = writeln!(out, "    automata: &DESCRIPTORS,");
-    let _ = writeln!(out, "    blocks: &BLOCKS,");
     let _ = writeln!(out, "    masks: &MASKS,");
     let _ = writeln!(out, "    holders: &HOLDERS,");
     let _ = writeln!(out, "    plant_events: &PLANT_EVENTS,");

@@ -59,8 +59,8 @@ pub struct SideTables {
     /// Per plant, a bitset: the controllable events it generates (of its alphabet, those no earlier
     /// plant holds).
     pub plant_events: Vec<Vec<u32>>,
-    /// Choice sites (plant states with two or more owned controllable out-events), each as the byte
-    /// offset of its record in the blocks, ascending.
+    /// Choice sites (plant states with two or more owned controllable out-events), each as
+    /// `plant << 16 | offset of its record in the plant's block`, ascending.
     pub sites: Vec<u32>,
 }
 
@@ -104,13 +104,12 @@ impl SideTables {
         }
         let mut sites = Vec::new();
         for p in 0..plants {
-            let start = packed.automata.get(p).map_or(0, |b| b.start);
             for r in packed.records(p)? {
                 let mask = packed.masks.get(r.mask).map_or(&[][..], Vec::as_slice);
                 let generated = (0..events).filter(|&e| has(mask, e) && owner[e] == Some(p)).count();
                 if generated >= 2 {
-                    // Within the blocks, which `encode` keeps below 1 MiB.
-                    sites.push(start + r.at as u32);
+                    // At most 32 plants, and records start in the first 64 KiB of a block (`encode`).
+                    sites.push((p as u32) << 16 | r.at as u32);
                 }
             }
         }
@@ -130,7 +129,8 @@ impl SideTables {
 /// # use codegen::{emit::HostTables, pack::{ranked, PackSet}};
 /// # fn borrow(set: &PackSet) -> Result<(), Box<dyn std::error::Error>> {
 /// let host = HostTables::<1>::new(ranked::encode(set)?)?;
-/// let runtime_set = host.set();
+/// let automata = host.automata();
+/// let runtime_set = host.set(&automata);
 /// # let _ = runtime_set;
 /// # Ok(())
 /// # }
@@ -141,8 +141,7 @@ pub struct HostTables<const W: usize> {
     pub packed: Packed,
     /// Their side tables.
     pub side: SideTables,
-    blocks: Vec<u8>,
-    automata: Vec<Automaton<W>>,
+    alphabets: Vec<[u32; W]>,
     masks: Vec<[u32; W]>,
     plant_events: Vec<[u32; W]>,
     controllable: [u32; W],
@@ -158,20 +157,8 @@ impl<const W: usize> HostTables<W> {
         let controllable = array(&packed.controllable)?;
         let masks = packed.masks.iter().map(|m| array(m)).collect::<Result<_, _>>()?;
         let plant_events = side.plant_events.iter().map(|m| array(m)).collect::<Result<_, _>>()?;
-        let automata = packed
-            .automata
-            .iter()
-            .map(|b| {
-                Ok(Automaton {
-                    start: b.start,
-                    initial: b.initial,
-                    scale: b.scale,
-                    wide: b.wide,
-                    alphabet: array(&b.alphabet)?,
-                })
-            })
-            .collect::<Result<_, EmitError>>()?;
-        Ok(HostTables { blocks: packed.blocks(), packed, side, automata, masks, plant_events, controllable })
+        let alphabets = packed.automata.iter().map(|b| array(&b.alphabet)).collect::<Result<_, _>>()?;
+        Ok(HostTables { packed, side, alphabets, masks, plant_events, controllable })
     }
 
     /// Event names by global id (not part of the runtime's tables).
@@ -179,13 +166,28 @@ impl<const W: usize> HostTables<W> {
         &self.packed.event_names
     }
 
-    /// The runtime's view of the tables.
-    pub fn set(&self) -> SupervisorSet<'_, W> {
+    /// The runtime's automata, which borrow the blocks: pass them to [`HostTables::set`].
+    pub fn automata(&self) -> Vec<Automaton<'_, W>> {
+        self.packed
+            .automata
+            .iter()
+            .zip(&self.alphabets)
+            .map(|(b, &alphabet)| Automaton {
+                block: &b.block,
+                initial: b.initial,
+                scale: b.scale,
+                wide: b.wide,
+                alphabet,
+            })
+            .collect()
+    }
+
+    /// The runtime's view of the tables, over `automata` from [`HostTables::automata`].
+    pub fn set<'a>(&'a self, automata: &'a [Automaton<'a, W>]) -> SupervisorSet<'a, W> {
         SupervisorSet {
             controllable: self.controllable,
             plants: self.side.plants,
-            automata: &self.automata,
-            blocks: &self.blocks,
+            automata,
             masks: &self.masks,
             holders: &self.side.holders,
             plant_events: &self.plant_events,
@@ -203,7 +205,8 @@ mod tests {
     fn host_tables_pass_the_runtime_check_and_refuse_another_width() {
         let set = PackSet::new(vec![toggle("G")], vec![toggle("S")]).unwrap();
         let host = HostTables::<1>::new(ranked::encode(&set).unwrap()).unwrap();
-        let rt = host.set();
+        let automata = host.automata();
+        let rt = host.set(&automata);
         assert_eq!(rt.check(2), Ok(()));
         assert_eq!(rt.plants, 1);
         let after_a = rt.step(0, rt.automata[0].initial, 0).unwrap();

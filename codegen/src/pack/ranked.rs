@@ -25,16 +25,15 @@
 //!   puts every record start at a handle ≤ 255;
 //! * 2-byte fields with the smallest scale that puts every record start at a handle ≤ 65 535.
 //!
-//! All blocks lie back to back in one byte array; [`Block::start`] is a block's first byte in it.
 //!
 //! Side tables: the mask pool (4 bytes per word of every mask), per automaton a descriptor of
-//! [`DESCRIPTOR_BYTES`] (start u32, initial handle u16, scale u8, wide u8) and its alphabet (⌈e/32⌉
+//! [`DESCRIPTOR_BYTES`] (block reference, initial handle u16, scale u8, wide u8) and its alphabet (⌈e/32⌉
 //! words), and the controllability bitset (⌈e/32⌉ words). The per-event holder masks, per-plant event
 //! sets and choice sites `codegen emit` adds for the runtime's hot path are not part of the layout.
 //!
 //! Limits: at most 256 events, 65 536 states per automaton and a block whose records fit 2-byte handles
-//! at some scale up to 255; and the runtime's, which holds a state as one word (`table::Slot`):
-//! [`MAX_MASKS`] distinct masks and [`MAX_BLOCK_BYTES`] of blocks in all.
+//! at some scale up to 255, [`MAX_MASKS`] distinct masks, and records starting in the first
+//! [`MAX_BLOCK_BYTES`] of their block (the runtime holds a state as its record's 16-bit offset).
 
 use std::collections::HashMap;
 
@@ -45,19 +44,20 @@ use crate::model::Automaton;
 pub const NAME: &str = "ranked";
 /// Most events: an event id is one byte.
 pub const MAX_EVENTS: usize = 256;
-/// Most distinct out-masks the runtime names (`table::Slot`).
-pub const MAX_MASKS: usize = firmware::table::Slot::MAX_MASKS;
-/// Most bytes of blocks the runtime addresses (`table::Slot`).
-pub const MAX_BLOCK_BYTES: usize = firmware::table::Slot::MAX_BLOCKS;
+/// Most distinct out-masks (2-byte ids).
+pub const MAX_MASKS: usize = firmware::table::MAX_MASKS;
+/// Bytes of a block in which records may start (16-bit record offsets).
+pub const MAX_BLOCK_BYTES: usize = firmware::table::MAX_BLOCK;
 /// Mask ids a 1-byte field numbers.
 pub const NARROW_IDS: usize = 256;
 /// Most states of one automaton: a handle is at most 2 bytes.
 pub const MAX_STATES: usize = 65_536;
 /// Largest scale (a byte).
 pub const MAX_SCALE: u8 = 255;
-/// Bytes of an automaton's descriptor besides its alphabet: start (u32), initial handle (u16), scale
-/// (u8) and the wide flag (u8), as the runtime's `table::Automaton` lays them out.
-pub const DESCRIPTOR_BYTES: usize = 8;
+/// Bytes of an automaton's descriptor besides its alphabet: the block reference (address and length,
+/// 4 bytes each on the 32-bit target), initial handle (u16), scale (u8) and the wide flag (u8), as the
+/// runtime's `table::Automaton` lays them out.
+pub const DESCRIPTOR_BYTES: usize = 12;
 
 /// Largest handle of 1-byte targets.
 const NARROW_HANDLE: usize = 255;
@@ -86,8 +86,6 @@ pub struct Block {
     pub name: String,
     /// Plant or supervisor.
     pub role: Role,
-    /// Offset of the block in the concatenation of all blocks ([`Packed::blocks`]).
-    pub start: u32,
     /// Handle of the initial state.
     pub initial: u16,
     /// Bytes per handle unit: a record starts at byte `handle · scale` of the block (≥ 1).
@@ -117,11 +115,6 @@ impl Packed {
     /// Words of an event bitset.
     pub fn words(&self) -> usize {
         self.controllable.len()
-    }
-
-    /// All blocks back to back, in automaton order: the runtime's `blocks`.
-    pub fn blocks(&self) -> Vec<u8> {
-        self.automata.iter().flat_map(|b| b.block.iter().copied()).collect()
     }
 
     /// Bytes of the mask pool.
@@ -289,7 +282,6 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
         return Err(PackError::TooManyMasks { layout: NAME, masks: masks.len(), limit: MAX_MASKS });
     }
     let mut automata = Vec::with_capacity(set.members().len());
-    let mut start = 0usize;
     for (m, ids) in set.members().iter().zip(&ids) {
         let lens = |t: usize| m.out.iter().map(|e| t * (1 + e.len())).collect::<Vec<_>>();
         let (narrow_lens, wide_lens) = (lens(1), lens(2));
@@ -327,21 +319,18 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
                 block.extend_from_slice(&h.to_le_bytes()[..width]);
             }
         }
-        if start + block.len() > MAX_BLOCK_BYTES {
+        let last = handles.last().map_or(0, |h| h * unit);
+        if last >= MAX_BLOCK_BYTES {
             return Err(PackError::BlockTooLarge {
                 layout: NAME,
                 automaton: m.name().to_owned(),
-                bytes: start + block.len(),
+                bytes: block.len(),
                 limit: MAX_BLOCK_BYTES,
             });
         }
-        // Below MAX_BLOCK_BYTES (1 MiB): it fits.
-        let offset = start as u32;
-        start += block.len();
         automata.push(Block {
             name: m.name().to_owned(),
             role: m.role,
-            start: offset,
             initial: handles[m.initial().index()] as u16,
             scale,
             wide,
@@ -360,8 +349,8 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
     })
 }
 
-/// Reads `packed` back into automata (plants first), checking every mask id, target, handle, length,
-/// padding byte and block start.
+/// Reads `packed` back into automata (plants first), checking every mask id, target, handle, length
+/// and padding byte.
 ///
 /// States are named by index and unmarked: layouts keep no marking, the runtime needs none.
 pub fn decode(packed: &Packed) -> Result<Vec<Automaton>, DecodeError> {
@@ -376,19 +365,11 @@ pub fn decode(packed: &Packed) -> Result<Vec<Automaton>, DecodeError> {
     if let Some(m) = packed.masks.iter().find(|m| m.len() != words) {
         return Err(wrong("mask pool", m.len()));
     }
-    let mut start = 0usize;
     let mut out = Vec::with_capacity(packed.automata.len());
     for b in &packed.automata {
         if b.alphabet.len() != words {
             return Err(wrong(&b.name, b.alphabet.len()));
         }
-        if b.start as usize != start {
-            return Err(DecodeError::Inconsistent {
-                what: b.name.clone(),
-                detail: format!("block starts at {}, the previous blocks end at {start}", b.start),
-            });
-        }
-        start += b.block.len();
         out.push(decode_block(b, packed)?);
     }
     Ok(out)
@@ -440,13 +421,12 @@ mod tests {
     /// every step of every state agrees with the set.
     fn runtime_check(packed: &Packed) -> Result<(), TableError> {
         let word = |v: &[u32]| [v.first().copied().unwrap_or(0)];
-        let blocks = packed.blocks();
         let masks: Vec<[u32; 1]> = packed.masks.iter().map(|m| word(m)).collect();
         let automata: Vec<RtAutomaton<1>> = packed
             .automata
             .iter()
             .map(|b| RtAutomaton {
-                start: b.start,
+                block: &b.block,
                 initial: b.initial,
                 scale: b.scale,
                 wide: b.wide,
@@ -458,7 +438,6 @@ mod tests {
             controllable: word(&packed.controllable),
             plants: plants as u8,
             automata: &automata,
-            blocks: &blocks,
             masks: &masks,
             holders: &vec![0; packed.event_names.len()],
             plant_events: &vec![[0]; plants],
@@ -471,13 +450,12 @@ mod tests {
     fn assert_runtime_steps(set: &PackSet, packed: &Packed) {
         assert_eq!(runtime_check(packed), Ok(()));
         let word = |v: &[u32]| [v.first().copied().unwrap_or(0)];
-        let blocks = packed.blocks();
         let masks: Vec<[u32; 1]> = packed.masks.iter().map(|m| word(m)).collect();
         let automata: Vec<RtAutomaton<1>> = packed
             .automata
             .iter()
             .map(|b| RtAutomaton {
-                start: b.start,
+                block: &b.block,
                 initial: b.initial,
                 scale: b.scale,
                 wide: b.wide,
@@ -488,7 +466,6 @@ mod tests {
             controllable: word(&packed.controllable),
             plants: 0,
             automata: &automata,
-            blocks: &blocks,
             masks: &masks,
             holders: &[],
             plant_events: &[],
@@ -514,7 +491,7 @@ mod tests {
         let packed = encode(&set).unwrap();
         assert_eq!(packed.masks, [vec![0b01], vec![0b10]]);
         let b = &packed.automata[0];
-        assert_eq!((b.start, b.initial, b.scale, b.wide), (0, 0, 1, false));
+        assert_eq!((b.initial, b.scale, b.wide), (0, 1, false));
         assert_eq!(b.block, [0, 2, 1, 0]);
         assert_eq!(b.alphabet, [0b11]);
         assert_eq!(packed.controllable, [0b01]);
@@ -523,12 +500,11 @@ mod tests {
     }
 
     #[test]
-    fn the_pool_is_shared_and_blocks_follow_each_other() {
+    fn the_pool_is_shared() {
         let set = PackSet::new(vec![toggle("G")], vec![toggle("S")]).unwrap();
         let packed = encode(&set).unwrap();
         assert_eq!(packed.masks.len(), 2);
-        assert_eq!(packed.automata[1].start, 4);
-        assert_eq!(packed.blocks(), [0, 2, 1, 0, 0, 2, 1, 0]);
+        assert_eq!(packed.automata[1].block, [0, 2, 1, 0]);
         assert_round_trip(&set, &decode(&packed).unwrap());
         let size = packed.size();
         assert_eq!(size.blocks(), 8);
@@ -680,7 +656,6 @@ mod tests {
             with(&|p| p.automata[0].block.push(0)),
             DecodeError::Truncated { what: "T".into(), at: 5 }
         );
-        assert!(matches!(with(&|p| p.automata[0].start = 1), DecodeError::Inconsistent { .. }));
         assert!(matches!(with(&|p| p.controllable.push(0)), DecodeError::Inconsistent { .. }));
         // Padding must be 0, and the block ends with its last record.
         let mut padded = encode(&padded_ring()).unwrap();

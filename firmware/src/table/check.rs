@@ -1,7 +1,7 @@
 //! The check that makes the runtime's unchecked reads sound, as a `const fn`: the emitted tables run it
 //! at compile time, host tools at run time.
 
-use super::{Automaton, Slot, SupervisorSet, TableError, MAX_AUTOMATA, MAX_EVENTS};
+use super::{Automaton, SupervisorSet, TableError, MAX_AUTOMATA, MAX_BLOCK, MAX_EVENTS, MAX_MASKS};
 
 /// A set that passed [`SupervisorSet::check`] for `N` automata: the only form the runtime takes. The
 /// emitted tables build theirs in a `static`, so the check runs in the compiler and a set that fails it
@@ -24,16 +24,16 @@ impl<'t, const W: usize, const N: usize> CheckedSet<'t, W, N> {
     }
 }
 
-/// Field `i` of the record at byte `at` of `blocks` (the mask id, then the targets), 1 or 2 bytes
-/// little-endian, if it lies in `blocks`.
-pub(super) const fn field(blocks: &[u8], wide: bool, at: usize, i: usize) -> Option<u16> {
+/// Field `i` of the record at byte `at` of `block` (the mask id, then the targets), 1 or 2 bytes
+/// little-endian, if it lies in `block`.
+pub(super) const fn field(block: &[u8], wide: bool, at: usize, i: usize) -> Option<u16> {
     if wide {
         let p = at + 2 * i;
-        if p + 1 < blocks.len() {
-            return Some(u16::from_le_bytes([blocks[p], blocks[p + 1]]));
+        if p + 1 < block.len() {
+            return Some(u16::from_le_bytes([block[p], block[p + 1]]));
         }
-    } else if at + i < blocks.len() {
-        return Some(blocks[at + i] as u16);
+    } else if at + i < block.len() {
+        return Some(block[at + i] as u16);
     }
     None
 }
@@ -58,7 +58,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         if self.automata.len() != automata || automata > MAX_AUTOMATA || plants > automata {
             return Err(TableError::Automata);
         }
-        if self.blocks.len() > Slot::MAX_BLOCKS || self.masks.len() > Slot::MAX_MASKS {
+        if self.masks.len() > MAX_MASKS {
             return Err(TableError::Size);
         }
         let events = self.events();
@@ -84,31 +84,10 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         Ok(())
     }
 
-    /// Byte range of automaton `a`'s block in [`SupervisorSet::blocks`]: from its start to the next
-    /// automaton's (the end of the blocks for the last).
-    pub(super) const fn bounds(&self, a: usize) -> Option<(usize, usize)> {
-        if a >= self.automata.len() {
-            return None;
-        }
-        let start = self.automata[a].start as usize;
-        let end =
-            if a + 1 < self.automata.len() { self.automata[a + 1].start as usize } else { self.blocks.len() };
-        if start <= end && end <= self.blocks.len() {
-            Some((start, end))
-        } else {
-            None
-        }
-    }
-
-    /// The record of `aut` at byte `at`, if it lies before `end` and names a mask: mask id, target
-    /// count and the byte after it.
-    pub(super) const fn record_at(
-        &self,
-        aut: &Automaton<W>,
-        at: usize,
-        end: usize,
-    ) -> Option<(usize, usize, usize)> {
-        let id = match field(self.blocks, aut.wide, at, 0) {
+    /// The record of `aut` at byte `at`, if it lies in the block and names a mask: mask id, target count
+    /// and the byte after it.
+    pub(super) const fn record_at(&self, aut: &Automaton<'t, W>, at: usize) -> Option<(usize, usize, usize)> {
+        let id = match field(aut.block, aut.wide, at, 0) {
             Some(id) => id as usize,
             None => return None,
         };
@@ -122,7 +101,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
             w += 1;
         }
         let next = at + (n + 1) * if aut.wide { 2 } else { 1 };
-        if next <= end {
+        if next <= aut.block.len() {
             Some((id, n, next))
         } else {
             None
@@ -133,11 +112,11 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     /// the initial handle start one — checked 256 handles at a time with a bitmap: a first pass marks
     /// the record starts, a second checks the targets.
     const fn block_sound(&self, a: usize) -> bool {
-        let Some((start, end)) = self.bounds(a) else { return false };
         let aut = &self.automata[a];
+        let end = aut.block.len();
         let scale = aut.scale as usize;
-        // Handles are 16-bit.
-        if scale == 0 || (end - start).div_ceil(scale) > 1 << 16 {
+        // Handles are 16-bit, record offsets too.
+        if scale == 0 || end.div_ceil(scale) > 1 << 16 {
             return false;
         }
         let mut base = 0;
@@ -149,11 +128,14 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
                 if pass == 1 && !marked(&starts, base, handles, aut.initial as usize) {
                     return false;
                 }
-                let mut at = start;
+                let mut at = 0;
                 while at < end {
-                    let Some((id, n, next)) = self.record_at(aut, at, end) else { return false };
+                    let Some((id, n, next)) = self.record_at(aut, at) else { return false };
                     if pass == 0 {
-                        let h = (at - start) / scale;
+                        if at >= MAX_BLOCK {
+                            return false;
+                        }
+                        let h = at / scale;
                         let i = h.wrapping_sub(base);
                         if i < 256 {
                             starts[i / 32] |= 1 << (i % 32);
@@ -169,15 +151,15 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
                     } else {
                         let mut r = 0;
                         while r < n {
-                            // In the block: `record_at` bounded the record by `end`.
-                            let Some(t) = field(self.blocks, aut.wide, at, r + 1) else { return false };
+                            // In the block: `record_at` bounded the record by the block's end.
+                            let Some(t) = field(aut.block, aut.wide, at, r + 1) else { return false };
                             if !marked(&starts, base, handles, t as usize) {
                                 return false;
                             }
                             r += 1;
                         }
                     }
-                    at = start + (next - start).div_ceil(scale) * scale;
+                    at = next.div_ceil(scale) * scale;
                 }
                 pass += 1;
             }
@@ -190,15 +172,15 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
 
     /// Whether `handle` starts a record of automaton `a` (a state of it).
     pub fn is_state(&self, a: usize, handle: u16) -> bool {
-        let (Some(aut), Some((start, end))) = (self.automata.get(a), self.bounds(a)) else { return false };
+        let Some(aut) = self.automata.get(a) else { return false };
         let scale = usize::from(aut.scale).max(1);
-        let wanted = start + usize::from(handle) * scale;
-        let mut at = start;
+        let wanted = usize::from(handle) * scale;
+        let mut at = 0;
         while at < wanted {
-            let Some((_, _, next)) = self.record_at(aut, at, end) else { return false };
-            at = start + (next - start).div_ceil(scale) * scale;
+            let Some((_, _, next)) = self.record_at(aut, at) else { return false };
+            at = next.div_ceil(scale) * scale;
         }
-        at == wanted && self.record_at(aut, at, end).is_some()
+        at == wanted && self.record_at(aut, at).is_some()
     }
 }
 
@@ -220,16 +202,11 @@ mod tests {
 
     #[test]
     fn check_refuses_broken_blocks() {
-        let bad_target = [0u8, 3, 1, 0];
-        let mut t = toggle();
-        t.blocks = &bad_target;
-        assert_eq!(t.check(1), Err(TableError::Block(0)));
-        let bad_id = [2u8, 1, 1, 0];
-        t.blocks = &bad_id;
-        assert_eq!(t.check(1), Err(TableError::Block(0)));
-        let short = [0u8, 1, 1];
-        t.blocks = &short;
-        assert_eq!(t.check(1), Err(TableError::Block(0)));
+        for bad in [&[0u8, 3, 1, 0][..], &[2, 1, 1, 0], &[0, 1, 1]] {
+            let automata = [Automaton { block: bad, ..toggle().automata[0] }];
+            let t = SupervisorSet { automata: &automata, ..toggle() };
+            assert_eq!(t.check(1), Err(TableError::Block(0)), "{bad:?}");
+        }
         let mut t = toggle();
         t.holders = &[1, 2];
         assert_eq!(t.check(1), Err(TableError::Events));

@@ -5,7 +5,7 @@
 //!
 //! A state's *out-mask* is the bitset over global event ids of the events leaving it. The set keeps one
 //! pool of distinct out-masks ([`SupervisorSet::masks`], `W` words each), shared by all automata. Each
-//! automaton is a byte block (a slice of [`SupervisorSet::blocks`]) holding one record per state:
+//! automaton is a byte block ([`Automaton::block`]) holding one record per state:
 //!
 //! ```text
 //! [mask id]
@@ -22,8 +22,9 @@
 //! `codegen` makes an automaton narrow when its mask ids fit a byte (the pool lists masks in order of first
 //! use, plants first) and some scale makes its handles fit one, taking the smallest such scale.
 //!
-//! Limits: at most 256 events and [`MAX_AUTOMATA`] automata, 65 536 handles per automaton, and as a
-//! [`Slot`] holds a state in one word: 4 096 masks and 1 MiB of blocks.
+//! Limits: at most 256 events and [`MAX_AUTOMATA`] automata, 65 536 handles per automaton, 65 536 masks,
+//! and records starting in the first 64 KiB of their block ([`MAX_BLOCK`]): the runtime holds a state as
+//! its record's 16-bit offset.
 //!
 //! # Side tables
 //!
@@ -52,13 +53,17 @@ pub use check::CheckedSet;
 pub const MAX_AUTOMATA: usize = 32;
 /// Most events in one set: an event id is one byte.
 pub const MAX_EVENTS: usize = 256;
+/// Most bytes of one automaton's block (records start below 64 KiB): the runtime holds a state as the
+/// 16-bit offset of its record.
+pub const MAX_BLOCK: usize = 1 << 16;
+/// Most masks in one set: a mask id is at most 2 bytes.
+pub const MAX_MASKS: usize = 1 << 16;
 
 /// One automaton of the set.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Automaton<const W: usize> {
-    /// Offset of the automaton's block in [`SupervisorSet::blocks`]; the block ends where the next
-    /// automaton's starts (the last one at the end of `blocks`).
-    pub start: u32,
+pub struct Automaton<'t, const W: usize> {
+    /// The records of its states (see the module documentation).
+    pub block: &'t [u8],
     /// Handle of the initial state.
     pub initial: u16,
     /// Bytes per handle unit: a state's record starts at byte `handle · scale` of the block (≥ 1).
@@ -80,9 +85,7 @@ pub struct SupervisorSet<'t, const W: usize> {
     /// The first `plants` automata are the plants (the product system), the others supervisors.
     pub plants: u8,
     /// Plants first, then supervisors, in manifest order.
-    pub automata: &'t [Automaton<W>],
-    /// The blocks of all automata, back to back.
-    pub blocks: &'t [u8],
+    pub automata: &'t [Automaton<'t, W>],
     /// The pool of distinct out-masks that records name by id.
     pub masks: &'t [[u32; W]],
     /// Per global event id (its length is the event count): bit `a` set when automaton `a` has the
@@ -92,8 +95,7 @@ pub struct SupervisorSet<'t, const W: usize> {
     /// Every controllable event belongs to exactly one plant.
     pub plant_events: &'t [[u32; W]],
     /// The *choice sites*, states of a plant where two or more controllable events it generates leave,
-    /// each as the byte offset of its record in [`SupervisorSet::blocks`] (so unique across automata),
-    /// ascending.
+    /// each as `plant << 16 | offset of its record in the plant's block`, ascending.
     pub sites: &'t [u32],
 }
 
@@ -107,7 +109,7 @@ pub enum TableError {
     /// More events than `W` words or [`MAX_EVENTS`] hold, a holder bit naming no automaton, or a
     /// per-plant table of another length.
     Events,
-    /// More blocks or masks than a [`Slot`] addresses.
+    /// More than [`MAX_MASKS`] masks.
     Size,
     /// Automaton `0` has a block that is out of order, a scale of 0, a record outside its block or naming
     /// no mask, an out-event outside its alphabet, or a target or initial handle that starts no record.
@@ -170,43 +172,6 @@ impl Event {
     }
 }
 
-/// Where an automaton is: its current state's record offset in [`SupervisorSet::blocks`] (low 20
-/// bits) and mask id (high 12 bits), so that a step finds both in one word of RAM.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Slot(u32);
-
-impl Slot {
-    /// First bit of the mask id.
-    const ID_SHIFT: u32 = 20;
-    /// Most bytes of blocks a slot addresses.
-    pub const MAX_BLOCKS: usize = 1 << Self::ID_SHIFT;
-    /// Most masks a slot names.
-    pub const MAX_MASKS: usize = 1 << (32 - Self::ID_SHIFT);
-
-    /// The slot of the record at byte `at` with mask `id` (within the limits above in a checked set).
-    #[inline(always)]
-    fn new(at: usize, id: u16) -> Slot {
-        Slot(u32::from(id) << Self::ID_SHIFT | at as u32)
-    }
-
-    /// The record offset.
-    #[inline(always)]
-    fn record(self) -> usize {
-        (self.0 & (Self::MAX_BLOCKS as u32 - 1)) as usize
-    }
-
-    /// The mask id.
-    #[inline(always)]
-    fn mask_id(self) -> usize {
-        (self.0 >> Self::ID_SHIFT) as usize
-    }
-
-    /// The handle of `aut`'s state in this slot.
-    pub fn handle<const W: usize>(self, aut: &Automaton<W>) -> u16 {
-        ((self.record() as u32).wrapping_sub(aut.start) / u32::from(aut.scale.max(1))) as u16
-    }
-}
-
 /// Whether bit `event` is set in `words`.
 #[inline(always)]
 pub fn bit<const W: usize>(words: &[u32; W], event: u8) -> bool {
@@ -221,8 +186,7 @@ pub(crate) mod tests {
     pub(crate) static TOGGLE: SupervisorSet<'static, 1> = SupervisorSet {
         controllable: [0b01],
         plants: 1,
-        automata: &[Automaton { start: 0, initial: 0, scale: 2, wide: false, alphabet: [0b11] }],
-        blocks: &[0, 1, 1, 0],
+        automata: &[Automaton { block: &[0, 1, 1, 0], initial: 0, scale: 2, wide: false, alphabet: [0b11] }],
         masks: &[[0b01], [0b10]],
         holders: &[1, 1],
         plant_events: &[[0b01]],
@@ -248,16 +212,15 @@ pub(crate) mod tests {
         assert_eq!(t.step(0, 200, 0), None);
         assert_eq!(t.step(3, 0, 0), None);
         assert_eq!(t.step(0, 0, 255), None);
-        assert_eq!(t.mask_of(Slot::new(0, 9)), None);
     }
 
     #[test]
-    fn slots_hold_record_and_mask() {
+    fn records_and_what_they_allow() {
         let t = toggle();
         let aut = &t.automata[0];
-        // SAFETY: the toggle passes the check (see `check`'s tests) and 1 is one of its states.
-        let slot = unsafe { t.slot_unchecked(aut, 1) };
-        assert_eq!((slot.record(), slot.mask_id(), slot.handle(aut)), (2, 1, 1));
-        assert_eq!(t.mask_of(slot), Some(&[0b10]));
+        assert_eq!(SupervisorSet::handle_of(aut, 2), 1);
+        // SAFETY: the toggle passes the check (see `check`'s tests) and byte 2 starts its state 1.
+        let allowed = unsafe { t.allowed_at(aut, 2) };
+        assert_eq!(allowed, [!0b01]);
     }
 }

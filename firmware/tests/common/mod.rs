@@ -54,11 +54,10 @@ pub fn encode(
 ) -> &'static SupervisorSet<'static, 1> {
     let events = names.len() as u8;
     let mut masks: Vec<[u32; 1]> = Vec::new();
-    let mut blocks = Vec::new();
     let mut automata = Vec::new();
     for s in specs {
         let hs = handles(s);
-        let start = blocks.len() as u32;
+        let mut block = Vec::new();
         for q in 0..s.states {
             let mut out: Vec<_> = s.transitions.iter().filter(|t| t.0 == q).collect();
             out.sort_by_key(|t| t.1);
@@ -67,11 +66,12 @@ pub fn encode(
                 masks.push(mask);
                 masks.len() - 1
             });
-            blocks.push(u8::try_from(id).unwrap());
-            blocks.extend(out.iter().map(|t| u8::try_from(hs[t.2]).unwrap()));
+            block.push(u8::try_from(id).unwrap());
+            block.extend(out.iter().map(|t| u8::try_from(hs[t.2]).unwrap()));
         }
         let alphabet = [bits(s.alphabet.iter().copied())];
-        automata.push(Automaton { start, initial: hs[s.initial], scale: 1, wide: false, alphabet });
+        let block = leak(block);
+        automata.push(Automaton { block, initial: hs[s.initial], scale: 1, wide: false, alphabet });
     }
     let holders: Vec<u32> = (0..events)
         .map(|e| specs.iter().enumerate().filter(|(_, s)| s.alphabet.contains(&e)).map(|(i, _)| 1 << i).sum())
@@ -93,7 +93,7 @@ pub fn encode(
         for (st, &h) in handles(s).iter().enumerate() {
             let n = s.transitions.iter().filter(|t| t.0 == st && owner[usize::from(t.1)] == i as u8).count();
             if n >= 2 {
-                sites.push(automata[i].start + u32::from(h));
+                sites.push((i as u32) << 16 | u32::from(h));
             }
         }
     }
@@ -101,7 +101,6 @@ pub fn encode(
         controllable: [bits((0..events).filter(|&e| controllable[usize::from(e)]))],
         plants: plants as u8,
         automata: leak(automata),
-        blocks: leak(blocks),
         masks: leak(masks),
         holders: leak(holders),
         plant_events: leak(plant_events),
