@@ -14,3 +14,4 @@ cargo clippy -p firmware --features pico --target thumbv6m-none-eabi --release -
 cargo qemu-build
 cargo pico-build
 cargo qemu-cost
+bash scripts/footprint.sh

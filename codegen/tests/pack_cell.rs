@@ -130,7 +130,12 @@ fn ranked_cell_takes_1028_bytes_of_blocks_and_97_masks() {
         assert_eq!(size.blocks(), 1028);
         assert_eq!(
             size.side_tables,
-            [("mask pool", 4 * 97), ("automaton descriptors", 120), ("alphabets", 40), ("controllability", 4)]
+            [
+                ("mask pool", 4 * 97),
+                ("automaton descriptors", 120),
+                ("alphabets", 40),
+                ("controllability", 4)
+            ]
         );
         assert_eq!(size.total(), 1580);
         let decoded = ranked::decode(&packed).unwrap();

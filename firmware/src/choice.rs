@@ -232,9 +232,10 @@ impl<const W: usize, const S: usize> Policy<W> for RandomLocalQueue<W, S> {
         if !offered.several() {
             return candidates.first();
         }
+        // Two or more events leave: a site of the table (a table without it falls back to the first).
         match view.site(p).and_then(|s| self.rounds.get_mut(s)) {
             Some(round) => pick_from_round(round, &candidates, offered, &mut bits),
-            None => pick(&candidates, &mut bits),
+            None => candidates.first(),
         }
     }
 
