@@ -82,7 +82,7 @@ mod cell {
 }
 
 #[test]
-fn committed_cell_tables_compile_and_pass_the_boot_check() {
+fn committed_cell_tables_compile_and_pass_the_check() {
     use firmware::rng::SeedEntropy;
     use firmware::runtime::{Decision, Runtime};
     assert_eq!(cell::SET.check(cell::AUTOMATA), Ok(()));

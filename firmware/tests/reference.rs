@@ -167,7 +167,7 @@ fn exercise(set: &'static firmware::table::SupervisorSet<'static, 1>, ops: &[Op]
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(512))]
 
-    /// Corrupted tables: the boot check refuses them, or the runtime runs on them within bounds.
+    /// Corrupted tables: the check refuses them, or the runtime runs on them within bounds.
     #[test]
     fn corrupted_tables_are_refused_or_read_in_bounds(
         (specs, controllable) in sets(),
