@@ -619,6 +619,14 @@ mod tests {
         assert_eq!(err.to_string(), "layout ranked: the set has 257 events, more than the limit of 256");
         let err = encode(&PackSet::new(vec![ring(65_537)], vec![]).unwrap()).unwrap_err();
         assert_eq!(err.to_string(), "layout ranked: 'R' has 65537 states, more than the limit of 65536");
+        // 20 000 wide records of 4 bytes: the last ones start beyond the runtime's 16-bit offsets.
+        let err = encode(&PackSet::new(vec![ring(20_000)], vec![]).unwrap()).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "layout ranked: the block of 'R' takes 80000 bytes, more than the limit of 65536"
+        );
+        // 16 000 of them still fit (the last starts at 63 996).
+        assert!(encode(&PackSet::new(vec![ring(16_000)], vec![]).unwrap()).is_ok());
     }
 
     #[test]
