@@ -54,7 +54,7 @@ use crate::choice::{Policy, View};
 use crate::event_set::EventSet;
 use crate::fault::FaultPolicy;
 use crate::rng::{Entropy, Rng};
-use crate::table::{bit, CheckedSet, Event, SupervisorSet, TableError};
+use crate::table::{bit, Automaton, CheckedSet, Event, SupervisorSet, TableError};
 
 /// Run-time options (manifest `[runtime]`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -165,8 +165,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
 
     /// Automata to their initial states, counters to zero, policy to its boot state, safe state left.
     pub fn reset(&mut self) {
-        let initial: [u16; N] = core::array::from_fn(|a| self.set.automata.get(a).map_or(0, |a| a.initial));
-        self.enter(initial);
+        self.enter(|_, aut| aut.initial);
         self.counters = Counters::default();
         self.safe = false;
         self.policy.reset();
@@ -282,14 +281,15 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
                 return Err(TableError::Block(a as u8));
             }
         }
-        self.enter(*states);
+        self.enter(|a, _| states[a]);
         Ok(())
     }
 
-    /// Puts the automata in `states`, which `new` or `restore` proved to be states.
-    fn enter(&mut self, states: [u16; N]) {
-        let all = self.records.iter_mut().zip(&mut self.allowed).zip(self.set.automata).zip(&states);
-        for (((at, allowed), aut), &h) in all {
+    /// Puts automaton `a` in state `handle(a, automaton)`, which `new` or `restore` proved to be one.
+    fn enter(&mut self, handle: impl Fn(usize, &Automaton<'t, W>) -> u16) {
+        let all = self.records.iter_mut().zip(&mut self.allowed).zip(self.set.automata).enumerate();
+        for (a, ((at, allowed), aut)) in all {
+            let h = handle(a, aut);
             // A checked set's records start in the first 64 KiB of their block.
             *at = SupervisorSet::record(aut, h) as u16;
             // SAFETY: `new` took a checked set, and `h` is the initial handle or was checked by `restore`.
