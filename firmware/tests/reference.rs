@@ -172,6 +172,7 @@ proptest! {
     fn corrupted_tables_are_refused_or_read_in_bounds(
         (specs, controllable) in sets(),
         flips in proptest::collection::vec((any::<proptest::sample::Index>(), any::<u8>()), 1..4),
+        holder_flip in proptest::option::of((0usize..6, 0u32..4)),
         ops in ops(),
     ) {
         let good = encode(&NAMES, &controllable, &specs);
@@ -196,8 +197,13 @@ proptest! {
             .zip(blocks)
             .map(|(a, b)| firmware::table::Automaton { block: &*Box::leak(b.into_boxed_slice()), ..*a })
             .collect();
+        let mut holders = good.holders.to_vec();
+        if let Some((e, a)) = holder_flip {
+            holders[e] ^= 1 << a;
+        }
         let set = Box::leak(Box::new(firmware::table::SupervisorSet {
             automata: Box::leak(automata.into_boxed_slice()),
+            holders: Box::leak(holders.into_boxed_slice()),
             ..*good
         }));
         exercise(set, &ops);

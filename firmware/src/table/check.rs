@@ -50,7 +50,9 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         self.holders.len()
     }
 
-    /// Checks everything the runtime's unchecked reads rely on, for a runtime of `automata` automata.
+    /// Checks everything the runtime's unchecked reads rely on, for a runtime of `automata` automata:
+    /// sizes, every holder holding the event in its alphabet, and every block (see the module
+    /// documentation).
     /// Linear in the size of the tables (times the handle count / 256 for automata of more than 256
     /// handle units).
     pub const fn check(&self, automata: usize) -> Result<(), TableError> {
@@ -68,8 +70,17 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         let all = if automata == MAX_AUTOMATA { u32::MAX } else { (1u32 << automata) - 1 };
         let mut e = 0;
         while e < events {
-            if self.holders[e] & !all != 0 {
+            let holders = self.holders[e];
+            if holders & !all != 0 {
                 return Err(TableError::Events);
+            }
+            // A holder has the event in its alphabet: the runtime steps it only on such events.
+            let mut a = 0;
+            while a < automata {
+                if holders & (1 << a) != 0 && self.automata[a].alphabet[e / 32] & (1 << (e % 32)) == 0 {
+                    return Err(TableError::Events);
+                }
+                a += 1;
             }
             e += 1;
         }
@@ -209,6 +220,10 @@ mod tests {
         }
         let mut t = toggle();
         t.holders = &[1, 2];
+        assert_eq!(t.check(1), Err(TableError::Events));
+        // Event 1 held by an automaton whose alphabet lacks it.
+        let automata = [Automaton { alphabet: [0b01], ..toggle().automata[0] }];
+        let t = SupervisorSet { automata: &automata, masks: &[[0b01], [0b01]], ..toggle() };
         assert_eq!(t.check(1), Err(TableError::Events));
         assert_eq!(toggle().check(2), Err(TableError::Automata));
         assert!(CheckedSet::<1, 2>::new(&super::super::tests::TOGGLE).is_err());

@@ -106,8 +106,8 @@ pub enum TableError {
     /// The automaton count differs from the runtime's, exceeds [`MAX_AUTOMATA`], or the plant count
     /// exceeds it.
     Automata,
-    /// More events than `W` words or [`MAX_EVENTS`] hold, a holder bit naming no automaton, or a
-    /// per-plant table of another length.
+    /// More events than `W` words or [`MAX_EVENTS`] hold, a holder bit naming no automaton or one
+    /// without the event in its alphabet, or a per-plant table of another length.
     Events,
     /// More than [`MAX_MASKS`] masks.
     Size,
