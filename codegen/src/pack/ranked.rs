@@ -417,9 +417,8 @@ mod tests {
     use crate::pack::testing::{arb_set, assert_round_trip, corrupt, toggle};
     use firmware::table::{Automaton as RtAutomaton, SupervisorSet, TableError};
 
-    /// The firmware's check and steps on `packed` (one-word bitsets): the check's verdict, and whether
-    /// every step of every state agrees with the set.
-    fn runtime_check(packed: &Packed) -> Result<(), TableError> {
+    /// Runs `f` on the firmware's view of `packed` (one-word bitsets, no automaton holding any event).
+    fn with_runtime_set<R>(packed: &Packed, f: impl FnOnce(&SupervisorSet<'_, 1>) -> R) -> R {
         let word = |v: &[u32]| [v.first().copied().unwrap_or(0)];
         let masks: Vec<[u32; 1]> = packed.masks.iter().map(|m| word(m)).collect();
         let automata: Vec<RtAutomaton<1>> = packed
@@ -434,7 +433,7 @@ mod tests {
             })
             .collect();
         let plants = packed.automata.iter().filter(|b| b.role == Role::Plant).count();
-        let set = SupervisorSet {
+        f(&SupervisorSet {
             controllable: word(&packed.controllable),
             plants: plants as u8,
             automata: &automata,
@@ -442,45 +441,31 @@ mod tests {
             holders: &vec![0; packed.event_names.len()],
             plant_events: &vec![[0]; plants],
             sites: &[],
-        };
-        set.check(automata.len())
+        })
     }
 
-    /// Every step the runtime reads from `packed` is the set's transition, handle for handle.
+    /// The firmware's check on `packed`.
+    fn runtime_check(packed: &Packed) -> Result<(), TableError> {
+        with_runtime_set(packed, |rt| rt.check(rt.automata.len()))
+    }
+
+    /// The firmware's check passes on `packed`, and every step it reads is the set's transition, handle
+    /// for handle.
     fn assert_runtime_steps(set: &PackSet, packed: &Packed) {
         assert_eq!(runtime_check(packed), Ok(()));
-        let word = |v: &[u32]| [v.first().copied().unwrap_or(0)];
-        let masks: Vec<[u32; 1]> = packed.masks.iter().map(|m| word(m)).collect();
-        let automata: Vec<RtAutomaton<1>> = packed
-            .automata
-            .iter()
-            .map(|b| RtAutomaton {
-                block: &b.block,
-                initial: b.initial,
-                scale: b.scale,
-                wide: b.wide,
-                alphabet: word(&b.alphabet),
-            })
-            .collect();
-        let rt = SupervisorSet {
-            controllable: word(&packed.controllable),
-            plants: 0,
-            automata: &automata,
-            masks: &masks,
-            holders: &[],
-            plant_events: &[],
-            sites: &[],
-        };
-        for (a, m) in set.members().iter().enumerate() {
-            let handles: Vec<u16> = packed.records(a).unwrap().iter().map(|r| r.handle).collect();
-            assert_eq!(automata[a].initial, handles[m.initial().index()]);
-            for (s, edges) in m.out.iter().enumerate() {
-                for e in 0..set.events().len() {
-                    let want = edges.iter().find(|(ev, _)| ev.index() == e).map(|(_, t)| handles[t.index()]);
-                    assert_eq!(rt.step(a, handles[s], e as u8), want, "{} state {s} event {e}", m.name());
+        with_runtime_set(packed, |rt| {
+            for (a, m) in set.members().iter().enumerate() {
+                let handles: Vec<u16> = packed.records(a).unwrap().iter().map(|r| r.handle).collect();
+                assert_eq!(rt.automata[a].initial, handles[m.initial().index()]);
+                for (s, edges) in m.out.iter().enumerate() {
+                    for e in 0..set.events().len() {
+                        let want =
+                            edges.iter().find(|(ev, _)| ev.index() == e).map(|(_, t)| handles[t.index()]);
+                        assert_eq!(rt.step(a, handles[s], e as u8), want, "{} state {s} event {e}", m.name());
+                    }
                 }
             }
-        }
+        });
     }
 
     #[test]
