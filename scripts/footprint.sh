@@ -22,7 +22,7 @@ bin="$(rustc --print sysroot)/lib/rustlib/$(rustc -vV | sed -n 's/^host: //p')/b
     size = $2 + 0; type = $3; name = $4
     for (i = 5; i <= NF; i++) name = name " " $i
     if (type ~ /[tT]/ && name ~ /^firmware::(runtime|choice|rng|table|event_set|input_queue)::/) add("code", size, name)
-    else if (type ~ /[rR]/ && name ~ /::tables::(BLOCK_[0-9]+|MASKS|DESCRIPTORS|HOLDERS|PLANT_EVENTS|CHOICE_SITES|SET)::/) add("tables", size, name)
+    else if (type ~ /[rR]/ && name ~ /::tables::(BLOCK|MASKS|DESCRIPTORS|HOLDERS|PLANT_EVENTS|CHOICE_SITES|SET)::/) add("tables", size, name)
     else if (type ~ /[rR]/ && name ~ /::tables::(EVENT_NAMES|AUTOMATON_NAMES)::/) add("names", size, name)
     else if (type ~ /[bBdD]/ && name ~ /local_resource_runtime/) add("runtime RAM", size, name)
     else if (type ~ /[bBdD]/ && name ~ /queue/) add("input buffer RAM", size, name)

@@ -36,7 +36,7 @@ fn controllable(set: &SupervisorSet<'_, 1>, e: u8) -> bool {
 fn step(set: &SupervisorSet<'_, 1>, states: &[u16; N], e: u8) -> Option<[u16; N]> {
     let mut next = *states;
     for a in 0..set.automata.len() {
-        if set.holders[usize::from(e)] & (1 << a) != 0 {
+        if set.holders_of(e, set.holder_bytes()).is_some_and(|h| h & (1 << a) != 0) {
             next[a] = set.step(a, states[a], e)?;
         }
     }
@@ -46,7 +46,8 @@ fn step(set: &SupervisorSet<'_, 1>, states: &[u16; N], e: u8) -> Option<[u16; N]
 /// (supervisor, state, event) for every controllable event the reachable closed loop can fire.
 fn reachable_controllable(set: &SupervisorSet<'_, 1>) -> BTreeSet<(usize, u16, u8)> {
     let events = set.events() as u8;
-    let init: [u16; N] = std::array::from_fn(|a| set.automata[a].initial);
+    // Every automaton starts in handle 0, its first record.
+    let init = [0u16; N];
     let (mut seen, mut queue, mut out) = (BTreeSet::from([init]), VecDeque::from([init]), BTreeSet::new());
     while let Some(s) = queue.pop_front() {
         for e in 0..events {
@@ -64,7 +65,7 @@ fn reachable_controllable(set: &SupervisorSet<'_, 1>) -> BTreeSet<(usize, u16, u
 
 fn supervisor_moves(set: &SupervisorSet<'_, 1>, s: &[u16; N], e: u8) -> Vec<(usize, u16, u8)> {
     (usize::from(set.plants)..N)
-        .filter(|&a| set.holders[usize::from(e)] & (1 << a) != 0)
+        .filter(|&a| set.holders_of(e, set.holder_bytes()).is_some_and(|h| h & (1 << a) != 0))
         .map(|a| (a, s[a], e))
         .collect()
 }
@@ -82,8 +83,7 @@ const DECISIONS_PER_STATE: usize = 64;
 #[test]
 fn random_local_queue_takes_every_enabled_event_at_every_reachable_state() {
     let host = cell();
-    let automata = host.automata();
-    let (names, set) = (host.event_names(), host.set(&automata));
+    let (names, set) = (host.event_names(), host.set());
     let mut rt = runtime(&set, 7);
     let init: [u16; N] = rt.states();
     let (mut seen, mut queue, mut taken) = (BTreeSet::from([init]), VecDeque::from([init]), BTreeSet::new());
@@ -130,8 +130,7 @@ const STEPS: usize = 200_000;
 #[test]
 fn closed_loop_with_a_random_plant_is_safe_and_live() {
     let host = cell();
-    let automata = host.automata();
-    let (names, set) = (host.event_names(), host.set(&automata));
+    let (names, set) = (host.event_names(), host.set());
     for seed in 0..3 {
         let mut rt = runtime(&set, seed);
         let mut plant = Rng::new(SeedEntropy::new(1000 + seed), 0);

@@ -37,7 +37,7 @@ use crate::table::SupervisorSet;
 pub struct View<'a, const W: usize> {
     /// The tables.
     pub set: &'a SupervisorSet<'a, W>,
-    /// Where every automaton is: the byte offset of its current state's record in its block.
+    /// Where every automaton is: the byte offset of its current state's record in the block.
     pub records: &'a [u16],
     /// What every automaton allows in its current state: out-mask or-ed with the events outside its
     /// alphabet.
@@ -63,7 +63,7 @@ impl<const W: usize> View<'_, W> {
 
     /// Index of plant `p`'s current state in the site table, if that state is a choice site.
     fn site(&self, p: usize) -> Option<usize> {
-        self.set.site(p, *self.records.get(p)?)
+        self.set.site(*self.records.get(p)?)
     }
 }
 

@@ -31,7 +31,8 @@
 //! static SET: SupervisorSet<'static, 1> = SupervisorSet {
 //!     controllable: [0b01],
 //!     plants: 1,
-//!     automata: &[Automaton { block: &[0, 2, 1, 0], initial: 0, scale: 1, wide: false, alphabet: [0b11] }],
+//!     automata: &[Automaton { alphabet: [0b11], start: 0, scale: 1, wide: false }],
+//!     block: &[0, 2, 1, 0],
 //!     masks: &[[0b01], [0b10]],
 //!     holders: &[1, 1],
 //!     plant_events: &[[0b01]],
@@ -54,7 +55,7 @@ use crate::choice::{Policy, View};
 use crate::event_set::EventSet;
 use crate::fault::FaultPolicy;
 use crate::rng::{Entropy, Rng};
-use crate::table::{bit, Automaton, CheckedSet, Event, SupervisorSet, TableError};
+use crate::table::{bit, holder_bytes, CheckedSet, Event, SupervisorSet, TableError};
 
 /// Run-time options (manifest `[runtime]`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -129,7 +130,7 @@ pub enum Decision {
 /// The runtime over a set of `N` automata and events in `W`-word bitsets, choosing with policy `P`.
 pub struct Runtime<'t, P, E, const W: usize, const N: usize> {
     set: &'t SupervisorSet<'t, W>,
-    /// Where every automaton is: the byte offset of its current state's record in its block.
+    /// Where every automaton is: the byte offset of its current state's record in the block.
     records: [u16; N],
     /// What every automaton allows in its current state: out-mask or-ed with the events outside its
     /// alphabet, kept with `records`. The enabled set is their conjunction, read from RAM.
@@ -165,7 +166,8 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
 
     /// Automata to their initial states, counters to zero, policy to its boot state, safe state left.
     pub fn reset(&mut self) {
-        self.enter(|_, aut| aut.initial);
+        // Every automaton's first record is its initial state's.
+        self.enter(|_| 0);
         self.counters = Counters::default();
         self.safe = false;
         self.policy.reset();
@@ -174,7 +176,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     /// Step 1 of the loop for one input: applies uncontrollable `event` to every automaton holding it.
     #[inline(never)]
     pub fn apply(&mut self, event: u8) -> Applied {
-        let Some(&holders) = self.set.holders.get(usize::from(event)) else {
+        let Some(holders) = self.set.holders_of(event, holder_bytes(N)) else {
             return self.unknown();
         };
         if bit(&self.set.controllable, event) {
@@ -225,11 +227,11 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
             self.counters.guard_redecisions = self.counters.guard_redecisions.wrapping_add(1);
             return Decision::Redecide;
         }
-        let Some(&holders) = self.set.holders.get(usize::from(c)).filter(|_| enabled.contains(c)) else {
+        let Some(holders) = self.set.holders_of(c, holder_bytes(N)).filter(|_| enabled.contains(c)) else {
             return Decision::Idle;
         };
-        // `c` is enabled: every holder allows it.
-        fire(self.set, &mut self.records, &mut self.allowed, Event::new(c), holders);
+        // `c` is enabled: every holder allows it, none gets stuck.
+        take_until_stuck(self.set, &mut self.records, &mut self.allowed, Event::new(c), holders);
         self.counters.commands_out = self.counters.commands_out.wrapping_add(1);
         Decision::Fired(c)
     }
@@ -281,18 +283,19 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
                 return Err(TableError::Block(a as u8));
             }
         }
-        self.enter(|a, _| states[a]);
+        self.enter(|a| states[a]);
         Ok(())
     }
 
     /// Puts automaton `a` in state `handle(a, automaton)`, which `new` or `restore` proved to be one.
-    fn enter(&mut self, handle: impl Fn(usize, &Automaton<'t, W>) -> u16) {
+    fn enter(&mut self, handle: impl Fn(usize) -> u16) {
         let all = self.records.iter_mut().zip(&mut self.allowed).zip(self.set.automata).enumerate();
         for (a, ((at, allowed), aut)) in all {
-            let h = handle(a, aut);
-            // A checked set's records start in the first 64 KiB of their block.
+            let h = handle(a);
+            // A checked set's records start in the first 64 KiB of the block.
             *at = SupervisorSet::record(aut, h) as u16;
-            // SAFETY: `new` took a checked set, and `h` is the initial handle or was checked by `restore`.
+            // SAFETY: `new` took a checked set, and `h` is the initial handle (0) or was checked by
+            // `restore`.
             *allowed = unsafe { self.set.allowed_at(aut, *at) };
         }
     }
@@ -361,30 +364,4 @@ fn take_until_stuck<const W: usize, const N: usize>(
         }
     }
     None
-}
-
-/// Moves the automata of `holders` by `event`, which all of them allow. Out of line for the reasons of
-/// [`take_until_stuck`], and without its test per automaton.
-#[inline(never)]
-fn fire<const W: usize, const N: usize>(
-    set: &SupervisorSet<'_, W>,
-    records: &mut [u16; N],
-    allowed: &mut [[u32; W]; N],
-    event: Event,
-    mut holders: u32,
-) {
-    while holders != 0 {
-        let a = holders.trailing_zeros() as usize;
-        holders &= holders - 1;
-        // SAFETY: as in `take_until_stuck`; `decide` fires only an enabled event, which every holder
-        // allows.
-        unsafe {
-            set.advance(
-                set.automata.get_unchecked(a),
-                records.get_unchecked_mut(a),
-                allowed.get_unchecked_mut(a),
-                event,
-            );
-        }
-    }
 }

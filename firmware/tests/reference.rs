@@ -176,33 +176,19 @@ proptest! {
         ops in ops(),
     ) {
         let good = encode(&NAMES, &controllable, &specs);
-        let mut blocks: Vec<Vec<u8>> = good.automata.iter().map(|a| a.block.to_vec()).collect();
-        let total: usize = blocks.iter().map(Vec::len).sum();
+        let mut block = good.block.to_vec();
         for (at, value) in &flips {
-            if total > 0 {
-                // The byte at this index of all blocks back to back.
-                let mut i = at.index(total);
-                for b in blocks.iter_mut() {
-                    if i < b.len() {
-                        b[i] = *value;
-                        break;
-                    }
-                    i -= b.len();
-                }
+            if !block.is_empty() {
+                let i = at.index(block.len());
+                block[i] = *value;
             }
         }
-        let automata: Vec<_> = good
-            .automata
-            .iter()
-            .zip(blocks)
-            .map(|(a, b)| firmware::table::Automaton { block: &*Box::leak(b.into_boxed_slice()), ..*a })
-            .collect();
         let mut holders = good.holders.to_vec();
         if let Some((e, a)) = holder_flip {
             holders[e] ^= 1 << a;
         }
         let set = Box::leak(Box::new(firmware::table::SupervisorSet {
-            automata: Box::leak(automata.into_boxed_slice()),
+            block: Box::leak(block.into_boxed_slice()),
             holders: Box::leak(holders.into_boxed_slice()),
             ..*good
         }));

@@ -76,8 +76,7 @@ where
     P: Policy<W> + Send + 'static,
 {
     std::thread::spawn(move || {
-        let automata = tables.automata();
-        let set = tables.set(&automata);
+        let set = tables.set();
         let checked =
             CheckedSet::<W, N>::new(&set).unwrap_or_else(|e| panic!("tables do not fit W={W}, N={N}: {e:?}"));
         let mut rt = Runtime::new(checked, config, policy, SeedEntropy::new(seed));

@@ -14,7 +14,7 @@ use super::side::{EmitError, SideTables};
 /// Rust source for `firmware`'s applications (`include!`d inside a module): constants `NAME`,
 /// `EVENT_WORDS`, `AUTOMATA`, `SITES`, `INPUT_SLOTS`, `SEED`, `CONFIG`, the type `Policy`, a module
 /// `event` with one `u8` constant per event, the names `EVENT_NAMES` and `AUTOMATON_NAMES` (for logs;
-/// the tables hold none), the `ranked` tables (private statics: one `BLOCK_i` per automaton, `MASKS`,
+/// the tables hold none), the `ranked` tables (private statics: `BLOCK` with every automaton's records, `MASKS`,
 /// `DESCRIPTORS`, `HOLDERS`, `PLANT_EVENTS`, `CHOICE_SITES`) under
 /// `pub static SET: firmware::table::SupervisorSet<'static, EVENT_WORDS>`, the same set checked at compile
 /// time as `pub static CHECKED: firmware::table::CheckedSet`, and the board tables `BOARD`,
@@ -134,20 +134,23 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options)
     let _ =
         writeln!(out, "pub static AUTOMATON_NAMES: [&str; {}] = [{}];", automata.len(), automata.join(", "));
     let _ = writeln!(out);
-    for (i, b) in packed.automata.iter().enumerate() {
+    let total: usize = packed.automata.iter().map(|b| b.block.len()).sum();
+    let _ =
+        writeln!(out, "/// The records of every automaton (`{LAYOUT}` layout), back to back in set order.");
+    let _ = writeln!(out, "static BLOCK: [u8; {total}] = [");
+    for (b, start) in packed.automata.iter().zip(packed.starts()) {
         let fields = if b.wide { "2-byte" } else { "1-byte" };
         let _ = writeln!(
             out,
-            "/// Block of `{}` (`{LAYOUT}` layout): scale {}, {fields} mask ids and handles.",
+            "    // {} from byte {start}: scale {}, {fields} mask ids and handles",
             b.name, b.scale
         );
-        let _ = writeln!(out, "static BLOCK_{i}: [u8; {}] = [", b.block.len());
         for row in b.block.chunks(16) {
             let bytes: Vec<String> = row.iter().map(|x| format!("0x{x:02x}")).collect();
             let _ = writeln!(out, "    {},", bytes.join(", "));
         }
-        let _ = writeln!(out, "];");
     }
+    let _ = writeln!(out, "];");
     let _ = writeln!(out, "/// The pool of distinct out-masks the records name by id.");
     let _ = writeln!(out, "static MASKS: [[u32; EVENT_WORDS]; {}] = [", packed.masks.len());
     for row in packed.masks.chunks(4) {
@@ -156,25 +159,29 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options)
     }
     let _ = writeln!(out, "];");
     let _ = writeln!(out);
-    let _ = writeln!(out, "/// Per automaton (plants first): block, initial handle, scale, width, alphabet.");
+    let _ = writeln!(out, "/// Per automaton (plants first): alphabet, start of its records, scale, width.");
     let _ = writeln!(
         out,
-        "static DESCRIPTORS: [firmware::table::Automaton<'static, EVENT_WORDS>; {}] = [",
+        "static DESCRIPTORS: [firmware::table::Automaton<EVENT_WORDS>; {}] = [",
         packed.automata.len()
     );
-    for (i, b) in packed.automata.iter().enumerate() {
+    for (b, start) in packed.automata.iter().zip(packed.starts()) {
         let _ = writeln!(out, "    // {}", b.name);
         let _ = writeln!(out, "    firmware::table::Automaton {{");
-        let _ = writeln!(out, "        block: &BLOCK_{i},");
-        let _ = writeln!(out, "        initial: {},", b.initial);
+        let _ = writeln!(out, "        alphabet: [{}],", hex_words(&b.alphabet));
+        let _ = writeln!(out, "        start: {start},");
         let _ = writeln!(out, "        scale: {},", b.scale);
         let _ = writeln!(out, "        wide: {},", b.wide);
-        let _ = writeln!(out, "        alphabet: [{}],", hex_words(&b.alphabet));
         let _ = writeln!(out, "    }},");
     }
     let _ = writeln!(out, "];");
-    let _ = writeln!(out, "/// Per event: bit `a` set when automaton `a` holds it.");
-    let _ = writeln!(out, "static HOLDERS: [u32; {}] = [{}];", side.holders.len(), hex_words(&side.holders));
+    let width = firmware::table::holder_bytes(packed.automata.len());
+    let _ = writeln!(
+        out,
+        "/// Per event, {width} byte(s) little-endian: bit `a` set when automaton `a` holds it."
+    );
+    let holders: Vec<String> = side.holders.iter().map(|x| format!("0x{x:02x}")).collect();
+    let _ = writeln!(out, "static HOLDERS: [u8; {}] = [{}];", holders.len(), holders.join(", "));
     let plant_events: Vec<String> = side.plant_events.iter().map(|m| format!("[{}]", hex_words(m))).collect();
     let _ = writeln!(out, "/// Per plant: the controllable events it generates.");
     let _ = writeln!(
@@ -183,9 +190,9 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options)
         plant_events.len(),
         plant_events.join(", ")
     );
-    let sites: Vec<String> = side.sites.iter().map(u32::to_string).collect();
-    let _ = writeln!(out, "/// The choice sites, as `plant << 16 | record offset in the plant's block`.");
-    let _ = writeln!(out, "static CHOICE_SITES: [u32; {}] = [{}];", sites.len(), sites.join(", "));
+    let sites: Vec<String> = side.sites.iter().map(u16::to_string).collect();
+    let _ = writeln!(out, "/// The choice sites, as the offsets of their records in `BLOCK`.");
+    let _ = writeln!(out, "static CHOICE_SITES: [u16; {}] = [{}];", sites.len(), sites.join(", "));
     let _ = writeln!(out);
     let _ = writeln!(out, "/// The set the runtime runs.");
     let _ = writeln!(
@@ -195,6 +202,7 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options)
     let _ = writeln!(out, "    controllable: [{}],", hex_words(&packed.controllable));
     let _ = writeln!(out, "    plants: {},", side.plants);
     let _ = writeln!(out, "    automata: &DESCRIPTORS,");
+    let _ = writeln!(out, "    block: &BLOCK,");
     let _ = writeln!(out, "    masks: &MASKS,");
     let _ = writeln!(out, "    holders: &HOLDERS,");
     let _ = writeln!(out, "    plant_events: &PLANT_EVENTS,");

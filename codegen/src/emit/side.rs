@@ -2,7 +2,7 @@
 //! holding it, per plant the controllable events it generates, and the choice sites of the local policies
 //! (`firmware::table`); and [`HostTables`], the same set as runtime tables on the host.
 
-use firmware::table::{Automaton, SupervisorSet, MAX_AUTOMATA};
+use firmware::table::{holder_bytes, Automaton, SupervisorSet, MAX_AUTOMATA};
 
 use crate::pack::ranked::Packed;
 use crate::pack::{DecodeError, PackError, Role};
@@ -52,16 +52,17 @@ pub enum EmitError {
 /// The side tables, in the runtime's representation (bitsets as `Vec<u32>` of the set's word count).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SideTables {
-    /// Per global event id: bit `a` set when automaton `a` holds the event.
-    pub holders: Vec<u32>,
+    /// Per global event id, `firmware::table::holder_bytes` bytes little-endian: bit `a` set when
+    /// automaton `a` holds the event.
+    pub holders: Vec<u8>,
     /// Number of plants: the first automata.
     pub plants: u8,
     /// Per plant, a bitset: the controllable events it generates (of its alphabet, those no earlier
     /// plant holds).
     pub plant_events: Vec<Vec<u32>>,
-    /// Choice sites (plant states with two or more owned controllable out-events), each as
-    /// `plant << 16 | offset of its record in the plant's block`, ascending.
-    pub sites: Vec<u32>,
+    /// Choice sites (plant states with two or more owned controllable out-events), each as the offset
+    /// of its record in the blocks back to back, ascending.
+    pub sites: Vec<u16>,
 }
 
 fn has(words: &[u32], e: usize) -> bool {
@@ -76,15 +77,17 @@ impl SideTables {
             return Err(EmitError::TooManyAutomata { count, limit: MAX_AUTOMATA });
         }
         let events = packed.event_names.len();
+        let width = holder_bytes(count);
         let holders = (0..events)
-            .map(|e| {
-                packed
+            .flat_map(|e| {
+                let mask: u32 = packed
                     .automata
                     .iter()
                     .enumerate()
                     .filter(|(_, b)| has(&b.alphabet, e))
                     .map(|(a, _)| 1u32 << a)
-                    .sum()
+                    .sum();
+                mask.to_le_bytes().into_iter().take(width)
             })
             .collect();
         let plants = packed.automata.iter().take_while(|b| b.role == Role::Plant).count();
@@ -103,13 +106,13 @@ impl SideTables {
             }
         }
         let mut sites = Vec::new();
-        for p in 0..plants {
+        for (p, start) in packed.starts().into_iter().enumerate().take(plants) {
             for r in packed.records(p)? {
                 let mask = packed.masks.get(r.mask).map_or(&[][..], Vec::as_slice);
                 let generated = (0..events).filter(|&e| has(mask, e) && owner[e] == Some(p)).count();
                 if generated >= 2 {
-                    // At most 32 plants, and records start in the first 64 KiB of a block (`encode`).
-                    sites.push((p as u32) << 16 | r.at as u32);
+                    // Records start in the first 64 KiB of the blocks back to back (`encode`).
+                    sites.push((start + r.at) as u16);
                 }
             }
         }
@@ -123,14 +126,14 @@ impl SideTables {
 /// host tests run the firmware's runtime on it.
 ///
 /// `W` must be the set's word count (⌈events / 32⌉), as `EVENT_WORDS` of the emitted file; the
-/// `[u32; W]` arrays the runtime reads are built once, in [`HostTables::new`].
+/// `[u32; W]` arrays and the blocks back to back that the runtime reads are built once, in
+/// [`HostTables::new`].
 ///
 /// ```
 /// # use codegen::{emit::HostTables, pack::{ranked, PackSet}};
 /// # fn borrow(set: &PackSet) -> Result<(), Box<dyn std::error::Error>> {
 /// let host = HostTables::<1>::new(ranked::encode(set)?)?;
-/// let automata = host.automata();
-/// let runtime_set = host.set(&automata);
+/// let runtime_set = host.set();
 /// # let _ = runtime_set;
 /// # Ok(())
 /// # }
@@ -141,7 +144,8 @@ pub struct HostTables<const W: usize> {
     pub packed: Packed,
     /// Their side tables.
     pub side: SideTables,
-    alphabets: Vec<[u32; W]>,
+    automata: Vec<Automaton<W>>,
+    block: Vec<u8>,
     masks: Vec<[u32; W]>,
     plant_events: Vec<[u32; W]>,
     controllable: [u32; W],
@@ -157,8 +161,22 @@ impl<const W: usize> HostTables<W> {
         let controllable = array(&packed.controllable)?;
         let masks = packed.masks.iter().map(|m| array(m)).collect::<Result<_, _>>()?;
         let plant_events = side.plant_events.iter().map(|m| array(m)).collect::<Result<_, _>>()?;
-        let alphabets = packed.automata.iter().map(|b| array(&b.alphabet)).collect::<Result<_, _>>()?;
-        Ok(HostTables { packed, side, alphabets, masks, plant_events, controllable })
+        // `encode` kept every record start, hence every start, below 64 KiB.
+        let automata = packed
+            .automata
+            .iter()
+            .zip(packed.starts())
+            .map(|(b, start)| {
+                Ok(Automaton {
+                    alphabet: array(&b.alphabet)?,
+                    start: start as u16,
+                    scale: b.scale,
+                    wide: b.wide,
+                })
+            })
+            .collect::<Result<_, EmitError>>()?;
+        let block = packed.automata.iter().flat_map(|b| b.block.iter().copied()).collect();
+        Ok(HostTables { packed, side, automata, block, masks, plant_events, controllable })
     }
 
     /// Event names by global id (not part of the runtime's tables).
@@ -166,28 +184,13 @@ impl<const W: usize> HostTables<W> {
         &self.packed.event_names
     }
 
-    /// The runtime's automata, which borrow the blocks: pass them to [`HostTables::set`].
-    pub fn automata(&self) -> Vec<Automaton<'_, W>> {
-        self.packed
-            .automata
-            .iter()
-            .zip(&self.alphabets)
-            .map(|(b, &alphabet)| Automaton {
-                block: &b.block,
-                initial: b.initial,
-                scale: b.scale,
-                wide: b.wide,
-                alphabet,
-            })
-            .collect()
-    }
-
-    /// The runtime's view of the tables, over `automata` from [`HostTables::automata`].
-    pub fn set<'a>(&'a self, automata: &'a [Automaton<'a, W>]) -> SupervisorSet<'a, W> {
+    /// The runtime's view of the tables.
+    pub fn set(&self) -> SupervisorSet<'_, W> {
         SupervisorSet {
             controllable: self.controllable,
             plants: self.side.plants,
-            automata,
+            automata: &self.automata,
+            block: &self.block,
             masks: &self.masks,
             holders: &self.side.holders,
             plant_events: &self.plant_events,
@@ -205,12 +208,12 @@ mod tests {
     fn host_tables_pass_the_runtime_check_and_refuse_another_width() {
         let set = PackSet::new(vec![toggle("G")], vec![toggle("S")]).unwrap();
         let host = HostTables::<1>::new(ranked::encode(&set).unwrap()).unwrap();
-        let automata = host.automata();
-        let rt = host.set(&automata);
+        let rt = host.set();
         assert_eq!(rt.check(2), Ok(()));
         assert_eq!(rt.plants, 1);
-        let after_a = rt.step(0, rt.automata[0].initial, 0).unwrap();
-        assert_eq!(rt.step(0, after_a, 1), Some(rt.automata[0].initial));
+        assert_eq!((rt.automata[1].start, rt.block.len()), (4, 8));
+        let after_a = rt.step(1, 0, 0).unwrap();
+        assert_eq!(rt.step(1, after_a, 1), Some(0));
         let err = HostTables::<2>::new(ranked::encode(&set).unwrap()).unwrap_err();
         assert_eq!(err.to_string(), "the set's event bitsets take 1 words, the runtime was built for 2");
     }
@@ -229,10 +232,28 @@ mod tests {
         g.add_transition(s0, b, s1);
         g.add_transition(s1, u, s0);
         g.add_transition(s1, a, s1);
-        let packed = ranked::encode(&PackSet::new(vec![g], vec![]).unwrap()).unwrap();
+        let packed = ranked::encode(&PackSet::new(vec![g.clone()], vec![]).unwrap()).unwrap();
         let side = SideTables::of(&packed).unwrap();
         assert_eq!(side.sites, [0]);
         assert_eq!(side.plant_events, [vec![0b011]]);
         assert_eq!(side.holders, [1, 1, 1]);
+        // Sites are offsets in the blocks back to back (after H's record of 2 bytes); holder masks take a
+        // byte per 8 automata.
+        let mut h = Automaton::new("H", Kind::Plant);
+        let q = h.add_state("0", true).unwrap();
+        let x = h.add_event("x", false).unwrap();
+        h.initial = Some(q);
+        h.add_transition(q, x, q);
+        let sups = (0..8)
+            .map(|i| {
+                let mut s = h.clone();
+                s.name = format!("S{i}");
+                s
+            })
+            .collect();
+        let set = PackSet::new(vec![h, g], sups);
+        let side = SideTables::of(&ranked::encode(&set.unwrap()).unwrap()).unwrap();
+        assert_eq!(side.sites, [2]);
+        assert_eq!(side.holders.len(), 2 * 4);
     }
 }

@@ -77,6 +77,22 @@ pub enum PackError {
         /// Bytes of its records with 2-byte handles, without padding.
         bytes: usize,
     },
+    /// The blocks of a set put back to back, up to and including an automaton's, are longer than the
+    /// layout's offsets can address.
+    #[error(
+        "layout {layout}: the blocks up to '{automaton}' take {bytes} bytes back to back, more than the \
+         limit of {limit}"
+    )]
+    BlocksTooLarge {
+        /// Layout name.
+        layout: &'static str,
+        /// The automaton whose records start beyond the limit.
+        automaton: String,
+        /// Bytes of the blocks up to and including its own.
+        bytes: usize,
+        /// Bytes in which records may start.
+        limit: usize,
+    },
     /// An automaton's block is longer than the layout's offsets can address.
     #[error(
         "layout {layout}: the block of '{automaton}' takes {bytes} bytes, more than the limit of {limit}"

@@ -11,7 +11,7 @@
 //! |---|---|---|---|---|---|
 //! | [`memory_safe`] | 1 byte | 3 bytes | e bytes controllability, per automaton offset, initial, alphabet | walk to state k: O(Σ records before k) | 256 events, 255 out-transitions, 65 535 states |
 //! | [`offset`] | 1 byte | 3 bytes | ⌈e/32⌉ words controllability, per automaton offset, initial, alphabet | O(k): scan the current state's records, jump | 256 events, 255 out-transitions, 64 KiB block |
-//! | [`ranked`] | 1 byte mask id (2 beyond 256 masks), padding to the scale | 1 byte handle (2 when needed) | mask pool (⌈e/32⌉ words per distinct out-mask), per automaton 8-byte descriptor and alphabet, ⌈e/32⌉ words controllability | O(1): mask test, rank, one load | 256 events, 65 536 masks, 65 536 states |
+//! | [`ranked`] | 1 byte mask id (2 beyond 256 masks), padding to the scale | 1 byte handle (2 when needed) | mask pool (⌈e/32⌉ words per distinct out-mask), per automaton 4-byte descriptor and alphabet, ⌈e/32⌉ words controllability | O(1): mask test, rank, one load | 256 events, 65 536 masks, 65 536 states |
 //! | [`compact`] | a bits | ⌈log₂ s⌉ bits | ⌈e/8⌉ bytes controllability, per automaton counts, alphabet, directory | ≤ 15 state skips (popcounts) from a directory entry | 65 535 states |
 //!
 //! * `memory-safe` is the reference tool's vector, byte for byte: Σs + 3Σt + e. For the six published

@@ -4,7 +4,9 @@
 //! pool of distinct out-masks ([`Packed::masks`], ⌈e/32⌉ words each), shared by all automata and in a
 //! fixed order: first appearance, automata in set order (plants first), states in index order.
 //!
-//! Each automaton is one byte block holding one record per state, in state-index order:
+//! Each automaton is one byte block holding one record per state, the initial state's first, then the
+//! others in state-index order; the runtime's tables put the blocks back to back, in set order, in one
+//! block (`firmware::table::SupervisorSet::block`), each automaton starting where the previous ends:
 //!
 //! ```text
 //! [mask id][target handle, for every event of the mask in increasing id order]
@@ -27,13 +29,14 @@
 //!
 //!
 //! Side tables: the mask pool (4 bytes per word of every mask), per automaton a descriptor of
-//! [`DESCRIPTOR_BYTES`] (block reference, initial handle u16, scale u8, wide u8) and its alphabet (⌈e/32⌉
-//! words), and the controllability bitset (⌈e/32⌉ words). The per-event holder masks, per-plant event
+//! [`DESCRIPTOR_BYTES`] (start offset u16, scale u8, wide u8) and its alphabet (⌈e/32⌉ words), and the
+//! controllability bitset (⌈e/32⌉ words). The per-event holder masks, per-plant event
 //! sets and choice sites `codegen emit` adds for the runtime's hot path are not part of the layout.
 //!
 //! Limits: at most 256 events, 65 536 states per automaton and a block whose records fit 2-byte handles
 //! at some scale up to 255, [`MAX_MASKS`] distinct masks, and records starting in the first
-//! [`MAX_BLOCK_BYTES`] of their block (the runtime holds a state as its record's 16-bit offset).
+//! [`MAX_BLOCK_BYTES`] of the blocks back to back (the runtime holds a state as its record's 16-bit
+//! offset in them).
 
 use std::collections::HashMap;
 
@@ -46,7 +49,7 @@ pub const NAME: &str = "ranked";
 pub const MAX_EVENTS: usize = 256;
 /// Most distinct out-masks (2-byte ids).
 pub const MAX_MASKS: usize = firmware::table::MAX_MASKS;
-/// Bytes of a block in which records may start (16-bit record offsets).
+/// Bytes of the blocks back to back in which records may start (16-bit record offsets).
 pub const MAX_BLOCK_BYTES: usize = firmware::table::MAX_BLOCK;
 /// Mask ids a 1-byte field numbers.
 pub const NARROW_IDS: usize = 256;
@@ -54,10 +57,9 @@ pub const NARROW_IDS: usize = 256;
 pub const MAX_STATES: usize = 65_536;
 /// Largest scale (a byte).
 pub const MAX_SCALE: u8 = 255;
-/// Bytes of an automaton's descriptor besides its alphabet: the block reference (address and length,
-/// 4 bytes each on the 32-bit target), initial handle (u16), scale (u8) and the wide flag (u8), as the
-/// runtime's `table::Automaton` lays them out.
-pub const DESCRIPTOR_BYTES: usize = 12;
+/// Bytes of an automaton's descriptor besides its alphabet: the start of its records (u16), scale (u8)
+/// and the wide flag (u8), as the runtime's `table::Automaton` lays them out.
+pub const DESCRIPTOR_BYTES: usize = 4;
 
 /// Largest handle of 1-byte targets.
 const NARROW_HANDLE: usize = 255;
@@ -86,8 +88,8 @@ pub struct Block {
     pub name: String,
     /// Plant or supervisor.
     pub role: Role,
-    /// Handle of the initial state.
-    pub initial: u16,
+    /// Index of the initial state, whose record comes first (handle 0).
+    pub initial: usize,
     /// Bytes per handle unit: a record starts at byte `handle · scale` of the block (≥ 1).
     pub scale: u8,
     /// Mask ids and target handles take 2 bytes (little-endian) instead of 1.
@@ -101,6 +103,8 @@ pub struct Block {
 /// One state's record, read back from a block.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Record {
+    /// The state's index in its automaton.
+    pub state: usize,
     /// The state's handle.
     pub handle: u16,
     /// Byte offset of the record in its block.
@@ -138,8 +142,20 @@ impl Packed {
         }
     }
 
-    /// The records of automaton `a`, in state-index order, every length, mask id and padding byte
-    /// checked (targets are not: see [`decode`]).
+    /// Where each automaton's block starts when the blocks are put back to back in set order.
+    pub fn starts(&self) -> Vec<usize> {
+        self.automata
+            .iter()
+            .scan(0, |at, b| {
+                let start = *at;
+                *at += b.block.len();
+                Some(start)
+            })
+            .collect()
+    }
+
+    /// The records of automaton `a`, in block order (the initial state's first), every length, mask id
+    /// and padding byte checked (targets are not: see [`decode`]).
     pub fn records(&self, a: usize) -> Result<Vec<Record>, DecodeError> {
         let b = self.automata.get(a).ok_or_else(|| DecodeError::Inconsistent {
             what: String::from("set"),
@@ -185,7 +201,14 @@ impl Packed {
                 // Every read lies below `end` ≤ the block's length, and is at most 2 bytes.
                 .map(|r| read(bytes, first + r * t_bytes, t_bytes).map_or(0, |t| t as u16))
                 .collect();
-            out.push(Record { handle, at, mask: id, targets });
+            let r = out.len();
+            // The initial state's record first, then the others by index.
+            let state = match r {
+                0 => b.initial,
+                r if r <= b.initial => r - 1,
+                r => r,
+            };
+            out.push(Record { state, handle, at, mask: id, targets });
             let next = end.div_ceil(scale) * scale;
             if end < bytes.len() && next >= bytes.len() {
                 return Err(DecodeError::Inconsistent {
@@ -282,6 +305,8 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
         return Err(PackError::TooManyMasks { layout: NAME, masks: masks.len(), limit: MAX_MASKS });
     }
     let mut automata = Vec::with_capacity(set.members().len());
+    // Where the block starts when the blocks are put back to back.
+    let mut start = 0usize;
     for (m, ids) in set.members().iter().zip(&ids) {
         let lens = |t: usize| m.out.iter().map(|e| t * (1 + e.len())).collect::<Vec<_>>();
         let (narrow_lens, wide_lens) = (lens(1), lens(2));
@@ -301,15 +326,20 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
             }
         };
         let unit = usize::from(scale);
-        let mut handles = Vec::with_capacity(lens.len());
+        let initial = m.initial().index();
+        let order: Vec<usize> =
+            std::iter::once(initial).chain((0..lens.len()).filter(|&s| s != initial)).collect();
+        let lens: Vec<usize> = order.iter().map(|&s| lens[s]).collect();
+        let mut handles = vec![0; lens.len()];
         let mut units = 0usize;
-        for l in &lens {
-            handles.push(units);
+        for (&s, l) in order.iter().zip(&lens) {
+            handles[s] = units;
             units += l.div_ceil(unit);
         }
         let len = extent(&lens, unit).1;
         let mut block = Vec::with_capacity(len);
-        for (s, edges) in m.out.iter().enumerate() {
+        for &s in &order {
+            let edges = &m.out[s];
             block.resize(handles[s] * unit, 0);
             // Checked above: ids and handles within the chosen width.
             let width = if wide { 2 } else { 1 };
@@ -319,19 +349,20 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
                 block.extend_from_slice(&h.to_le_bytes()[..width]);
             }
         }
-        let last = handles.last().map_or(0, |h| h * unit);
-        if last >= MAX_BLOCK_BYTES {
-            return Err(PackError::BlockTooLarge {
+        let last = handles.iter().max().map_or(0, |h| h * unit);
+        if start + last >= MAX_BLOCK_BYTES {
+            return Err(PackError::BlocksTooLarge {
                 layout: NAME,
                 automaton: m.name().to_owned(),
-                bytes: block.len(),
+                bytes: start + block.len(),
                 limit: MAX_BLOCK_BYTES,
             });
         }
+        start += block.len();
         automata.push(Block {
             name: m.name().to_owned(),
             role: m.role,
-            initial: handles[m.initial().index()] as u16,
+            initial,
             scale,
             wide,
             block,
@@ -378,9 +409,12 @@ pub fn decode(packed: &Packed) -> Result<Vec<Automaton>, DecodeError> {
 fn decode_block(b: &Block, packed: &Packed) -> Result<Automaton, DecodeError> {
     let what = || b.name.clone();
     let records = packed.walk(b)?;
+    if b.initial >= records.len() {
+        return Err(DecodeError::BadState { what: what(), at: 0, target: b.initial });
+    }
     let handles: Vec<u16> = records.iter().map(|r| r.handle).collect();
     let state_of = |handle: u16, at: usize| {
-        handles.binary_search(&handle).map_err(|_| DecodeError::BadState {
+        handles.binary_search(&handle).map(|r| records[r].state).map_err(|_| DecodeError::BadState {
             what: what(),
             at,
             target: usize::from(handle),
@@ -388,23 +422,22 @@ fn decode_block(b: &Block, packed: &Packed) -> Result<Automaton, DecodeError> {
     };
     let t_bytes = if b.wide { 2 } else { 1 };
     let mut edges = Vec::new();
-    for (s, r) in records.iter().enumerate() {
+    for r in &records {
         // `walk` checked the id.
         let mask = packed.masks.get(r.mask).map_or(&[][..], Vec::as_slice);
         for (i, (e, &t)) in bitset::ids(mask).zip(&r.targets).enumerate() {
             if !bitset::contains(&b.alphabet, e) {
                 return Err(DecodeError::BadEvent { what: what(), at: r.at, event: e });
             }
-            edges.push((s, e, state_of(t, r.at + (1 + i) * t_bytes)?));
+            edges.push((r.state, e, state_of(t, r.at + (1 + i) * t_bytes)?));
         }
     }
-    let initial = state_of(b.initial, 0)?;
     Recovered {
         name: &b.name,
         role: b.role,
         alphabet: bitset::ids(&b.alphabet).collect(),
         states: records.len(),
-        initial,
+        initial: b.initial,
         edges,
     }
     .build(&packed.event_names, &packed.controllable)
@@ -417,28 +450,32 @@ mod tests {
     use crate::pack::testing::{arb_set, assert_round_trip, corrupt, toggle};
     use firmware::table::{Automaton as RtAutomaton, SupervisorSet, TableError};
 
-    /// Runs `f` on the firmware's view of `packed` (one-word bitsets, no automaton holding any event).
+    /// Runs `f` on the firmware's view of `packed` (one-word bitsets, no automaton holding any event),
+    /// the blocks back to back (starts beyond 16 bits wrap, and the check refuses them).
     fn with_runtime_set<R>(packed: &Packed, f: impl FnOnce(&SupervisorSet<'_, 1>) -> R) -> R {
         let word = |v: &[u32]| [v.first().copied().unwrap_or(0)];
         let masks: Vec<[u32; 1]> = packed.masks.iter().map(|m| word(m)).collect();
         let automata: Vec<RtAutomaton<1>> = packed
             .automata
             .iter()
-            .map(|b| RtAutomaton {
-                block: &b.block,
-                initial: b.initial,
+            .zip(packed.starts())
+            .map(|(b, start)| RtAutomaton {
+                alphabet: word(&b.alphabet),
+                start: start as u16,
                 scale: b.scale,
                 wide: b.wide,
-                alphabet: word(&b.alphabet),
             })
             .collect();
+        let block: Vec<u8> = packed.automata.iter().flat_map(|b| b.block.iter().copied()).collect();
         let plants = packed.automata.iter().filter(|b| b.role == Role::Plant).count();
+        let width = firmware::table::holder_bytes(automata.len());
         f(&SupervisorSet {
             controllable: word(&packed.controllable),
             plants: plants as u8,
             automata: &automata,
+            block: &block,
             masks: &masks,
-            holders: &vec![0; packed.event_names.len()],
+            holders: &vec![0; width * packed.event_names.len()],
             plant_events: &vec![[0]; plants],
             sites: &[],
         })
@@ -455,8 +492,11 @@ mod tests {
         assert_eq!(runtime_check(packed), Ok(()));
         with_runtime_set(packed, |rt| {
             for (a, m) in set.members().iter().enumerate() {
-                let handles: Vec<u16> = packed.records(a).unwrap().iter().map(|r| r.handle).collect();
-                assert_eq!(rt.automata[a].initial, handles[m.initial().index()]);
+                let mut handles = vec![0u16; m.state_count()];
+                for r in packed.records(a).unwrap() {
+                    handles[r.state] = r.handle;
+                }
+                assert_eq!(handles[m.initial().index()], 0);
                 for (s, edges) in m.out.iter().enumerate() {
                     for e in 0..set.events().len() {
                         let want =
@@ -608,10 +648,18 @@ mod tests {
         let err = encode(&PackSet::new(vec![ring(20_000)], vec![]).unwrap()).unwrap_err();
         assert_eq!(
             err.to_string(),
-            "layout ranked: the block of 'R' takes 80000 bytes, more than the limit of 65536"
+            "layout ranked: the blocks up to 'R' take 80000 bytes back to back, more than the limit of 65536"
         );
         // 16 000 of them still fit (the last starts at 63 996).
         assert!(encode(&PackSet::new(vec![ring(16_000)], vec![]).unwrap()).is_ok());
+        // The limit holds for the blocks back to back: two rings of 9 000 (36 000 bytes each) do not fit.
+        let mut second = ring(9_000);
+        second.name = String::from("Q");
+        let err = encode(&PackSet::new(vec![ring(9_000), second], vec![]).unwrap()).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "layout ranked: the blocks up to 'Q' take 72000 bytes back to back, more than the limit of 65536"
+        );
     }
 
     #[test]
@@ -636,8 +684,8 @@ mod tests {
             DecodeError::Truncated { what: "T".into(), at: 3 }
         );
         assert_eq!(
-            with(&|p| p.automata[0].initial = 1),
-            DecodeError::BadState { what: "T".into(), at: 0, target: 1 }
+            with(&|p| p.automata[0].initial = 2),
+            DecodeError::BadState { what: "T".into(), at: 0, target: 2 }
         );
         // A mask with an event outside the alphabet.
         assert_eq!(

@@ -76,8 +76,9 @@ fn elapsed(t0: u32, t1: u32) -> u32 {
 fn possible_inputs(rt: &Rt) -> EventSet<{ tables::EVENT_WORDS }> {
     let set = rt.set();
     let mut out = EventSet::EMPTY;
-    for (e, &holders) in set.holders.iter().enumerate() {
+    for e in 0..set.events() {
         let Ok(e) = u8::try_from(e) else { break };
+        let holders = set.holders_of(e, set.holder_bytes()).unwrap_or(0);
         let takes = |a: usize| set.step(a, rt.states()[a], e).is_some();
         let held = (0..set.automata.len()).filter(|a| holders & (1 << a) != 0);
         if !firmware::table::bit(&set.controllable, e) && held.into_iter().all(takes) {

@@ -44,15 +44,57 @@ const fn marked(starts: &[u32; 8], base: usize, handles: usize, h: usize) -> boo
     h < handles && (i >= 256 || starts[i / 32] & (1 << (i % 32)) != 0)
 }
 
+/// Bytes of one event's holder mask in a set of `automata` automata: one bit per automaton, at least one
+/// byte.
+pub const fn holder_bytes(automata: usize) -> usize {
+    if automata <= 8 {
+        1
+    } else {
+        automata.div_ceil(8)
+    }
+}
+
+/// The little-endian holder mask of `width` bytes at `at` of `holders`, if it lies there.
+pub(super) const fn holder_mask(holders: &[u8], at: usize, width: usize) -> Option<u32> {
+    if at + width > holders.len() || width > 4 {
+        return None;
+    }
+    let mut mask = 0;
+    let mut i = 0;
+    while i < width {
+        mask |= (holders[at + i] as u32) << (8 * i);
+        i += 1;
+    }
+    Some(mask)
+}
+
 impl<'t, const W: usize> SupervisorSet<'t, W> {
+    /// Bytes of one event's holder mask: [`holder_bytes`] of the automaton count.
+    pub const fn holder_bytes(&self) -> usize {
+        holder_bytes(self.automata.len())
+    }
+
     /// Number of events (ids `0..events`).
     pub const fn events(&self) -> usize {
-        self.holders.len()
+        self.holders.len() / self.holder_bytes()
+    }
+
+    /// The bytes of automaton `a`'s records: from its start to the next automaton's (the block's end for
+    /// the last). Empty when the starts are out of order or beyond the block.
+    pub(super) const fn part(&self, a: usize) -> (usize, usize) {
+        let start = self.automata[a].start as usize;
+        let end =
+            if a + 1 < self.automata.len() { self.automata[a + 1].start as usize } else { self.block.len() };
+        if start < end && end <= self.block.len() {
+            (start, end)
+        } else {
+            (0, 0)
+        }
     }
 
     /// Checks everything the runtime's unchecked reads rely on, for a runtime of `automata` automata:
-    /// sizes, every holder holding the event in its alphabet, and every block (see the module
-    /// documentation).
+    /// sizes, every holder holding the event in its alphabet, every automaton's records (see the module
+    /// documentation) and every choice site a plant's state.
     /// Linear in the size of the tables (times the handle count / 256 for automata of more than 256
     /// handle units).
     pub const fn check(&self, automata: usize) -> Result<(), TableError> {
@@ -63,14 +105,36 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         if self.masks.len() > MAX_MASKS {
             return Err(TableError::Size);
         }
-        let events = self.events();
-        if events > MAX_EVENTS || events > 32 * W || self.plant_events.len() != plants {
+        let width = holder_bytes(automata);
+        let events = self.holders.len() / width;
+        if self.holders.len() % width != 0
+            || events > MAX_EVENTS
+            || events > 32 * W
+            || self.plant_events.len() != plants
+        {
             return Err(TableError::Events);
+        }
+        // Controllable events are events of the set: the runtime fires them through their holders.
+        let mut w = 0;
+        while w < W {
+            let below = if 32 * w >= events {
+                0
+            } else if events - 32 * w >= 32 {
+                u32::MAX
+            } else {
+                (1u32 << (events - 32 * w)) - 1
+            };
+            if self.controllable[w] & !below != 0 {
+                return Err(TableError::Events);
+            }
+            w += 1;
         }
         let all = if automata == MAX_AUTOMATA { u32::MAX } else { (1u32 << automata) - 1 };
         let mut e = 0;
         while e < events {
-            let holders = self.holders[e];
+            let Some(holders) = holder_mask(self.holders, e * width, width) else {
+                return Err(TableError::Events);
+            };
             if holders & !all != 0 {
                 return Err(TableError::Events);
             }
@@ -86,19 +150,31 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         }
         let mut a = 0;
         while a < automata {
-            if !self.block_sound(a) {
+            if !self.part_sound(a) {
                 // At most MAX_AUTOMATA automata: the index fits a byte.
                 return Err(TableError::Block(a as u8));
             }
             a += 1;
         }
+        let mut i = 0;
+        while i < self.sites.len() {
+            if !self.is_plant_record(self.sites[i] as usize) {
+                return Err(TableError::Sites);
+            }
+            i += 1;
+        }
         Ok(())
     }
 
-    /// The record of `aut` at byte `at`, if it lies in the block and names a mask: mask id, target count
-    /// and the byte after it.
-    pub(super) const fn record_at(&self, aut: &Automaton<'t, W>, at: usize) -> Option<(usize, usize, usize)> {
-        let id = match field(aut.block, aut.wide, at, 0) {
+    /// The record of `aut` at byte `at`, if it ends by `end` and names a mask: mask id, target count and
+    /// the byte after it.
+    pub(super) const fn record_at(
+        &self,
+        aut: &Automaton<W>,
+        at: usize,
+        end: usize,
+    ) -> Option<(usize, usize, usize)> {
+        let id = match field(self.block, aut.wide, at, 0) {
             Some(id) => id as usize,
             None => return None,
         };
@@ -112,22 +188,22 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
             w += 1;
         }
         let next = at + (n + 1) * if aut.wide { 2 } else { 1 };
-        if next <= aut.block.len() {
+        if next <= end {
             Some((id, n, next))
         } else {
             None
         }
     }
 
-    /// One automaton: the records tile the block, name masks within the alphabet, and every target and
-    /// the initial handle start one — checked 256 handles at a time with a bitmap: a first pass marks
-    /// the record starts, a second checks the targets.
-    const fn block_sound(&self, a: usize) -> bool {
+    /// One automaton: the records tile its part of the block, name masks within the alphabet, start in
+    /// the first 64 KiB, and every target handle starts one — checked 256 handles at a time with a
+    /// bitmap: a first pass marks the record starts, a second checks the targets.
+    const fn part_sound(&self, a: usize) -> bool {
         let aut = &self.automata[a];
-        let end = aut.block.len();
+        let (start, end) = self.part(a);
         let scale = aut.scale as usize;
-        // Handles are 16-bit, record offsets too.
-        if scale == 0 || end.div_ceil(scale) > 1 << 16 {
+        // Handles are 16-bit; an empty part has no initial state.
+        if scale == 0 || start == end || (end - start).div_ceil(scale) > 1 << 16 {
             return false;
         }
         let mut base = 0;
@@ -136,17 +212,14 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
             let mut handles = 0;
             let mut pass = 0;
             while pass < 2 {
-                if pass == 1 && !marked(&starts, base, handles, aut.initial as usize) {
-                    return false;
-                }
-                let mut at = 0;
+                let mut at = start;
                 while at < end {
-                    let Some((id, n, next)) = self.record_at(aut, at) else { return false };
+                    let Some((id, n, next)) = self.record_at(aut, at, end) else { return false };
                     if pass == 0 {
                         if at >= MAX_BLOCK {
                             return false;
                         }
-                        let h = at / scale;
+                        let h = (at - start) / scale;
                         let i = h.wrapping_sub(base);
                         if i < 256 {
                             starts[i / 32] |= 1 << (i % 32);
@@ -162,15 +235,15 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
                     } else {
                         let mut r = 0;
                         while r < n {
-                            // In the block: `record_at` bounded the record by the block's end.
-                            let Some(t) = field(aut.block, aut.wide, at, r + 1) else { return false };
+                            // In the part: `record_at` bounded the record by its end.
+                            let Some(t) = field(self.block, aut.wide, at, r + 1) else { return false };
                             if !marked(&starts, base, handles, t as usize) {
                                 return false;
                             }
                             r += 1;
                         }
                     }
-                    at = next.div_ceil(scale) * scale;
+                    at = start + (next - start).div_ceil(scale) * scale;
                 }
                 pass += 1;
             }
@@ -181,17 +254,37 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         }
     }
 
-    /// Whether `handle` starts a record of automaton `a` (a state of it).
-    pub fn is_state(&self, a: usize, handle: u16) -> bool {
-        let Some(aut) = self.automata.get(a) else { return false };
-        let scale = usize::from(aut.scale).max(1);
-        let wanted = usize::from(handle) * scale;
-        let mut at = 0;
-        while at < wanted {
-            let Some((_, _, next)) = self.record_at(aut, at) else { return false };
-            at = next.div_ceil(scale) * scale;
+    /// Whether byte `at` of the block starts a record of a plant.
+    const fn is_plant_record(&self, at: usize) -> bool {
+        let mut p = 0;
+        while p < self.plants as usize {
+            let (start, end) = self.part(p);
+            if start <= at && at < end {
+                let scale = self.automata[p].scale as usize;
+                return scale != 0
+                    && (at - start) % scale == 0
+                    && self.is_state(p, ((at - start) / scale) as u16);
+            }
+            p += 1;
         }
-        at == wanted && self.record_at(aut, at).is_some()
+        false
+    }
+
+    /// Whether `handle` starts a record of automaton `a` (a state of it).
+    pub const fn is_state(&self, a: usize, handle: u16) -> bool {
+        if a >= self.automata.len() {
+            return false;
+        }
+        let aut = &self.automata[a];
+        let (start, end) = self.part(a);
+        let scale = if aut.scale == 0 { 1 } else { aut.scale as usize };
+        let wanted = start + handle as usize * scale;
+        let mut at = start;
+        while at < wanted {
+            let Some((_, _, next)) = self.record_at(aut, at, end) else { return false };
+            at = start + (next - start).div_ceil(scale) * scale;
+        }
+        at == wanted && self.record_at(aut, at, end).is_some()
     }
 }
 
@@ -214,10 +307,21 @@ mod tests {
     #[test]
     fn check_refuses_broken_blocks() {
         for bad in [&[0u8, 3, 1, 0][..], &[2, 1, 1, 0], &[0, 1, 1]] {
-            let automata = [Automaton { block: bad, ..toggle().automata[0] }];
-            let t = SupervisorSet { automata: &automata, ..toggle() };
+            let t = SupervisorSet { block: bad, ..toggle() };
             assert_eq!(t.check(1), Err(TableError::Block(0)), "{bad:?}");
         }
+        // A start beyond the block, and starts out of order.
+        let automata = [Automaton { start: 4, ..toggle().automata[0] }];
+        assert_eq!(SupervisorSet { automata: &automata, ..toggle() }.check(1), Err(TableError::Block(0)));
+        let g = toggle().automata[0];
+        let automata = [Automaton { start: 2, ..g }, Automaton { start: 0, ..g }];
+        let t = SupervisorSet {
+            automata: &automata,
+            block: &[0, 1, 1, 0, 0, 1, 1, 0],
+            holders: &[3, 3],
+            ..toggle()
+        };
+        assert_eq!(t.check(2), Err(TableError::Block(0)));
         let mut t = toggle();
         t.holders = &[1, 2];
         assert_eq!(t.check(1), Err(TableError::Events));
@@ -225,8 +329,24 @@ mod tests {
         let automata = [Automaton { alphabet: [0b01], ..toggle().automata[0] }];
         let t = SupervisorSet { automata: &automata, masks: &[[0b01], [0b01]], ..toggle() };
         assert_eq!(t.check(1), Err(TableError::Events));
+        // A controllable event beyond the event count.
+        assert_eq!(SupervisorSet { controllable: [0b101], ..toggle() }.check(1), Err(TableError::Events));
+        // Sites are record starts of plants.
+        assert_eq!(SupervisorSet { sites: &[2], ..toggle() }.check(1), Ok(()));
+        assert_eq!(SupervisorSet { sites: &[1], ..toggle() }.check(1), Err(TableError::Sites));
+        assert_eq!(
+            SupervisorSet { sites: &[2], plants: 0, plant_events: &[], ..toggle() }.check(1),
+            Err(TableError::Sites)
+        );
         assert_eq!(toggle().check(2), Err(TableError::Automata));
         assert!(CheckedSet::<1, 2>::new(&super::super::tests::TOGGLE).is_err());
+    }
+
+    #[test]
+    fn holder_masks_take_a_byte_per_eight_automata() {
+        assert_eq!((holder_bytes(0), holder_bytes(8), holder_bytes(9), holder_bytes(32)), (1, 1, 2, 4));
+        assert_eq!(holder_mask(&[0x34, 0x12, 0x56], 0, 2), Some(0x1234));
+        assert_eq!(holder_mask(&[0x34, 0x12, 0x56], 2, 2), None);
     }
 
     #[test]

@@ -4,27 +4,30 @@
 //! # The `ranked` layout
 //!
 //! A state's *out-mask* is the bitset over global event ids of the events leaving it. The set keeps one
-//! pool of distinct out-masks ([`SupervisorSet::masks`], `W` words each), shared by all automata. Each
-//! automaton is a byte block ([`Automaton::block`]) holding one record per state:
+//! pool of distinct out-masks ([`SupervisorSet::masks`], `W` words each), shared by all automata. All
+//! records of all automata lie in one byte block ([`SupervisorSet::block`]), each automaton's from its
+//! start ([`Automaton::start`]) up to the next automaton's start (the block's end for the last), one
+//! record per state:
 //!
 //! ```text
 //! [mask id]
 //! [target handle, for every event of the mask in increasing id order]
 //! ```
 //!
-//! A state is named by its *handle* `h`: its record starts at byte `h · scale` of the block
-//! ([`Automaton::scale`]); records start on multiples of `scale` and the bytes between two records are
-//! padding. The target of event `e` from a state is its `r`-th target, `r` the number of mask bits
-//! below `e` (its rank). Mask ids and handles take 1 byte each, or 2 (little-endian) in a *wide* automaton
-//! ([`Automaton::wide`]). So a step is a mask test, a rank and one load, whatever the state count; the
-//! out-mask also gives at once which controllable events the automaton allows (those of its mask and
-//! those outside its alphabet), so the enabled set costs one mask per automaton, not a scan.
-//! `codegen` makes an automaton narrow when its mask ids fit a byte (the pool lists masks in order of first
-//! use, plants first) and some scale makes its handles fit one, taking the smallest such scale.
+//! A state is named by its *handle* `h`: its record starts at byte `start + h · scale` of the block
+//! ([`Automaton::scale`]); records start on multiples of `scale` from the start and the bytes between
+//! two records are padding. Handle 0, the first record, is the initial state. The target of event `e`
+//! from a state is its `r`-th target, `r` the number of mask bits below `e` (its rank). Mask ids and
+//! handles take 1 byte each, or 2 (little-endian) in a *wide* automaton ([`Automaton::wide`]). So a
+//! step is a mask test, a rank and one load, whatever the state count; the out-mask also gives at once
+//! which controllable events the automaton allows (those of its mask and those outside its alphabet),
+//! so the enabled set costs one mask per automaton, not a scan. `codegen` makes an automaton narrow
+//! when its mask ids fit a byte (the pool lists masks in order of first use, plants first) and some
+//! scale makes its handles fit one, taking the smallest such scale.
 //!
 //! Limits: at most 256 events and [`MAX_AUTOMATA`] automata, 65 536 handles per automaton, 65 536 masks,
-//! and records starting in the first 64 KiB of their block ([`MAX_BLOCK`]): the runtime holds a state as
-//! its record's 16-bit offset.
+//! and every record starting in the first 64 KiB of the block ([`MAX_BLOCK`]): the runtime holds a
+//! state as its record's 16-bit offset.
 //!
 //! # Side tables
 //!
@@ -34,45 +37,43 @@
 //!
 //! # Checked once, then trusted
 //!
-//! [`SupervisorSet::check`] proves everything the hot path relies on: every record lies in its block,
-//! every mask id in the pool, every target and initial handle is the start of a record, every holder
-//! bit names an automaton. It is a `const fn`: the emitted tables run it at compile time
-//! ([`CheckedSet`], so tables the runtime cannot run do not build and the firmware carries no check
-//! code), host tools at run time. The runtime only takes a [`CheckedSet`] and then reads the tables
-//! without bounds checks ([`read`]); the checked readers ([`SupervisorSet::mask`],
-//! [`SupervisorSet::step`]) serve host tools and tests.
+//! [`SupervisorSet::check`] proves everything the hot path relies on: every record lies in its
+//! automaton's part of the block, every mask id in the pool, every target handle is the start of a
+//! record, every holder bit names an automaton with the event in its alphabet. It is a `const fn`: the
+//! emitted tables run it at compile time ([`CheckedSet`], so tables the runtime cannot run do not build
+//! and the firmware carries no check code), host tools at run time. The runtime only takes a
+//! [`CheckedSet`] and then reads the tables without bounds checks ([`read`]); the checked readers
+//! ([`SupervisorSet::mask`], [`SupervisorSet::step`]) serve host tools and tests.
 
 use crate::event_set::ones;
 
 mod check;
 pub mod read;
 
-pub use check::CheckedSet;
+pub use check::{holder_bytes, CheckedSet};
 
 /// Most automata in one set: one bit each in a `u32` of [`SupervisorSet::holders`].
 pub const MAX_AUTOMATA: usize = 32;
 /// Most events in one set: an event id is one byte.
 pub const MAX_EVENTS: usize = 256;
-/// Most bytes of one automaton's block (records start below 64 KiB): the runtime holds a state as the
-/// 16-bit offset of its record.
+/// Most bytes of the block in which records start: the runtime holds a state as the 16-bit offset of
+/// its record.
 pub const MAX_BLOCK: usize = 1 << 16;
 /// Most masks in one set: a mask id is at most 2 bytes.
 pub const MAX_MASKS: usize = 1 << 16;
 
-/// One automaton of the set.
+/// One automaton of the set: where its records are and how to read them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Automaton<'t, const W: usize> {
-    /// The records of its states (see the module documentation).
-    pub block: &'t [u8],
-    /// Handle of the initial state.
-    pub initial: u16,
-    /// Bytes per handle unit: a state's record starts at byte `handle · scale` of the block (≥ 1).
-    pub scale: u8,
-    /// Mask ids and target handles take 2 bytes (little-endian) instead of 1.
-    pub wide: bool,
+pub struct Automaton<const W: usize> {
     /// Bitset over global event ids (bit `e % 32` of word `e / 32`): the automaton's alphabet. An event
     /// outside it never moves or blocks the automaton.
     pub alphabet: [u32; W],
+    /// Byte offset in the set's block of its first record, the initial state's (handle 0).
+    pub start: u16,
+    /// Bytes per handle unit: a state's record starts at byte `start + handle · scale` (≥ 1).
+    pub scale: u8,
+    /// Mask ids and target handles take 2 bytes (little-endian) instead of 1.
+    pub wide: bool,
 }
 
 /// The whole set the firmware runs: plants and supervisors over one event numbering, events in
@@ -84,19 +85,21 @@ pub struct SupervisorSet<'t, const W: usize> {
     pub controllable: [u32; W],
     /// The first `plants` automata are the plants (the product system), the others supervisors.
     pub plants: u8,
-    /// Plants first, then supervisors, in manifest order.
-    pub automata: &'t [Automaton<'t, W>],
+    /// Plants first, then supervisors, in manifest order; their starts ascending.
+    pub automata: &'t [Automaton<W>],
+    /// The records of every automaton, in automaton order (see the module documentation).
+    pub block: &'t [u8],
     /// The pool of distinct out-masks that records name by id.
     pub masks: &'t [[u32; W]],
-    /// Per global event id (its length is the event count): bit `a` set when automaton `a` has the
-    /// event in its alphabet.
-    pub holders: &'t [u32],
+    /// Per global event id, [`SupervisorSet::holder_bytes`] bytes, little-endian: bit `a` set when
+    /// automaton `a` has the event in its alphabet. Its length is the event count times that width.
+    pub holders: &'t [u8],
     /// Per plant: the controllable events it generates (those of its alphabet no earlier plant holds).
     /// Every controllable event belongs to exactly one plant.
     pub plant_events: &'t [[u32; W]],
     /// The *choice sites*, states of a plant where two or more controllable events it generates leave,
-    /// each as `plant << 16 | offset of its record in the plant's block`, ascending.
-    pub sites: &'t [u32],
+    /// each as the offset of its record in the block, ascending.
+    pub sites: &'t [u16],
 }
 
 /// Why a set cannot run: sizes of another build, or tables that break the layout.
@@ -106,13 +109,17 @@ pub enum TableError {
     /// The automaton count differs from the runtime's, exceeds [`MAX_AUTOMATA`], or the plant count
     /// exceeds it.
     Automata,
-    /// More events than `W` words or [`MAX_EVENTS`] hold, a holder bit naming no automaton or one
-    /// without the event in its alphabet, or a per-plant table of another length.
+    /// More events than `W` words or [`MAX_EVENTS`] hold, a holder table of another width, a holder bit
+    /// naming no automaton or one without the event in its alphabet, a controllable event beyond the
+    /// event count, or a per-plant table of another length.
     Events,
+    /// A choice site that starts no record of a plant.
+    Sites,
     /// More than [`MAX_MASKS`] masks.
     Size,
-    /// Automaton `0` has a block that is out of order, a scale of 0, a record outside its block or naming
-    /// no mask, an out-event outside its alphabet, or a target or initial handle that starts no record.
+    /// Automaton `0` starts out of order or beyond the block, has a scale of 0, a record outside its part
+    /// of the block or naming no mask, an out-event outside its alphabet, or a target handle that starts
+    /// no record.
     Block(u8),
 }
 
@@ -186,7 +193,8 @@ pub(crate) mod tests {
     pub(crate) static TOGGLE: SupervisorSet<'static, 1> = SupervisorSet {
         controllable: [0b01],
         plants: 1,
-        automata: &[Automaton { block: &[0, 1, 1, 0], initial: 0, scale: 2, wide: false, alphabet: [0b11] }],
+        automata: &[Automaton { alphabet: [0b11], start: 0, scale: 2, wide: false }],
+        block: &[0, 1, 1, 0],
         masks: &[[0b01], [0b10]],
         holders: &[1, 1],
         plant_events: &[[0b01]],
@@ -219,6 +227,8 @@ pub(crate) mod tests {
         let t = toggle();
         let aut = &t.automata[0];
         assert_eq!(SupervisorSet::handle_of(aut, 2), 1);
+        assert_eq!(t.holders_of(1, t.holder_bytes()), Some(1));
+        assert_eq!(t.holders_of(2, t.holder_bytes()), None);
         // SAFETY: the toggle passes the check (see `check`'s tests) and byte 2 starts its state 1.
         let allowed = unsafe { t.allowed_at(aut, 2) };
         assert_eq!(allowed, [!0b01]);

@@ -23,17 +23,33 @@ unsafe fn field_unchecked(block: &[u8], wide: bool, at: usize, i: usize) -> u16 
 }
 
 impl<'t, const W: usize> SupervisorSet<'t, W> {
-    /// Byte offset in `aut`'s block of the record of its state `handle`.
+    /// Byte offset in the block of the record of `aut`'s state `handle`.
     #[inline(always)]
-    pub(crate) fn record(aut: &Automaton<'t, W>, handle: u16) -> usize {
-        usize::from(handle) * usize::from(aut.scale)
+    pub(crate) fn record(aut: &Automaton<W>, handle: u16) -> usize {
+        usize::from(aut.start) + usize::from(handle) * usize::from(aut.scale)
+    }
+
+    /// The automata holding `event` (bit `a` for automaton `a`), holder masks taking `width` bytes
+    /// ([`SupervisorSet::holder_bytes`]; the runtime passes the constant of its automaton count), or
+    /// `None` when `event` is no event of the set.
+    #[inline(always)]
+    pub fn holders_of(&self, event: u8, width: usize) -> Option<u32> {
+        let at = usize::from(event) * width;
+        // Inlined with the runtime's constant width, this is one load.
+        Some(match *self.holders.get(at..at + width)? {
+            [a] => u32::from(a),
+            [a, b] => u32::from(u16::from_le_bytes([a, b])),
+            [a, b, c] => u32::from_le_bytes([a, b, c, 0]),
+            [a, b, c, d] => u32::from_le_bytes([a, b, c, d]),
+            _ => return None,
+        })
     }
 
     /// The out-mask of automaton `a`'s state `handle`, or `None` when it lies outside the tables. (A
     /// handle that starts no record gives a meaningless but harmless answer.)
     pub fn mask(&self, a: usize, handle: u16) -> Option<&'t [u32; W]> {
         let aut = self.automata.get(a)?;
-        let id = field(aut.block, aut.wide, Self::record(aut, handle), 0)?;
+        let id = field(self.block, aut.wide, Self::record(aut, handle), 0)?;
         self.masks.get(usize::from(id))
     }
 
@@ -46,34 +62,33 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
             return None;
         }
         let aut = self.automata.get(a)?;
-        field(aut.block, aut.wide, Self::record(aut, handle), rank(mask, event) + 1)
+        field(self.block, aut.wide, Self::record(aut, handle), rank(mask, event) + 1)
     }
 
-    /// The handle of `aut`'s state whose record starts at byte `at` of its block.
-    pub fn handle_of(aut: &Automaton<'t, W>, at: u16) -> u16 {
-        at / u16::from(aut.scale.max(1))
+    /// The handle of `aut`'s state whose record starts at byte `at` of the block.
+    pub fn handle_of(aut: &Automaton<W>, at: u16) -> u16 {
+        at.wrapping_sub(aut.start) / u16::from(aut.scale.max(1))
     }
 
-    /// The index of the site of plant `p`'s state whose record starts at byte `at`, if it is one. A
-    /// scan: sites are states of the plants, small automata, so there are few, and the scan beats a
-    /// binary search's bookkeeping.
-    pub fn site(&self, p: usize, at: u16) -> Option<usize> {
-        let key = (p as u32) << 16 | u32::from(at);
-        self.sites.iter().position(|&s| s == key)
+    /// The index of the choice site whose record starts at byte `at`, if it is one. A scan: sites are
+    /// states of the plants, small automata, so there are few, and the scan beats a binary search's
+    /// bookkeeping.
+    pub fn site(&self, at: u16) -> Option<usize> {
+        self.sites.iter().position(|&s| s == at)
     }
 
-    /// What `aut` allows in the state whose record starts at byte `at` of its block: its out-mask and every event
-    /// outside its alphabet. Reads without bounds checks.
+    /// What `aut` allows in the state whose record starts at byte `at` of the block: its out-mask and
+    /// every event outside its alphabet. Reads without bounds checks.
     ///
     /// # Safety
     ///
     /// [`SupervisorSet::check`] returned `Ok` for this set, `aut` is one of its automata and `at` the
     /// record of one of its states.
     #[inline(always)]
-    pub unsafe fn allowed_at(&self, aut: &Automaton<'t, W>, at: u16) -> [u32; W] {
-        // SAFETY: the check proved every state's record in its block and its mask id in the pool.
+    pub unsafe fn allowed_at(&self, aut: &Automaton<W>, at: u16) -> [u32; W] {
+        // SAFETY: the check proved every state's record in the block and its mask id in the pool.
         let mut allowed = unsafe {
-            let id = field_unchecked(aut.block, aut.wide, usize::from(at), 0);
+            let id = field_unchecked(self.block, aut.wide, usize::from(at), 0);
             *self.masks.get_unchecked(usize::from(id))
         };
         for (m, al) in allowed.iter_mut().zip(&aut.alphabet) {
@@ -91,7 +106,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     /// As for [`SupervisorSet::allowed_at`]; `allowed` is what that state allows and holds `event`, an
     /// event of `aut`'s alphabet.
     #[inline(always)]
-    pub unsafe fn advance(&self, aut: &Automaton<'t, W>, at: &mut u16, allowed: &mut [u32; W], event: Event) {
+    pub unsafe fn advance(&self, aut: &Automaton<W>, at: &mut u16, allowed: &mut [u32; W], event: Event) {
         let mut mask = *allowed;
         for (m, al) in mask.iter_mut().zip(&aut.alphabet) {
             *m &= al;
@@ -99,7 +114,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         // SAFETY: the record holds a target per mask bit; the target of a checked set's record is one of
         // its states, whose record starts within the first 64 KiB of the block.
         unsafe {
-            let target = field_unchecked(aut.block, aut.wide, usize::from(*at), rank(&mask, event) + 1);
+            let target = field_unchecked(self.block, aut.wide, usize::from(*at), rank(&mask, event) + 1);
             *at = Self::record(aut, target) as u16;
             *allowed = self.allowed_at(aut, *at);
         }

@@ -24,17 +24,21 @@ pub struct Spec {
     pub alphabet: Vec<u8>,
 }
 
-/// Handles of a spec's states, by state index, in the block `encode` writes (scale 1, 1-byte fields:
+/// A spec's states in the order of their records: the initial state first, then the others by index.
+fn order(spec: &Spec) -> Vec<usize> {
+    std::iter::once(spec.initial).chain((0..spec.states).filter(|&q| q != spec.initial)).collect()
+}
+
+/// Handles of a spec's states, by state index, in the records `encode` writes (scale 1, 1-byte fields:
 /// a record is the mask id and one byte per transition).
 pub fn handles(spec: &Spec) -> Vec<u16> {
+    let mut hs = vec![0u16; spec.states];
     let mut at = 0u16;
-    (0..spec.states)
-        .map(|s| {
-            let here = at;
-            at += 1 + spec.transitions.iter().filter(|t| t.0 == s).count() as u16;
-            here
-        })
-        .collect()
+    for q in order(spec) {
+        hs[q] = at;
+        at += 1 + spec.transitions.iter().filter(|t| t.0 == q).count() as u16;
+    }
+    hs
 }
 
 fn bits(events: impl IntoIterator<Item = u8>) -> u32 {
@@ -55,10 +59,13 @@ pub fn encode(
     let events = names.len() as u8;
     let mut masks: Vec<[u32; 1]> = Vec::new();
     let mut automata = Vec::new();
+    let mut block = Vec::new();
+    let mut starts = Vec::new();
     for s in specs {
         let hs = handles(s);
-        let mut block = Vec::new();
-        for q in 0..s.states {
+        let start = u16::try_from(block.len()).unwrap();
+        starts.push(start);
+        for q in order(s) {
             let mut out: Vec<_> = s.transitions.iter().filter(|t| t.0 == q).collect();
             out.sort_by_key(|t| t.1);
             let mask = [bits(out.iter().map(|t| t.1))];
@@ -70,10 +77,11 @@ pub fn encode(
             block.extend(out.iter().map(|t| u8::try_from(hs[t.2]).unwrap()));
         }
         let alphabet = [bits(s.alphabet.iter().copied())];
-        let block = leak(block);
-        automata.push(Automaton { block, initial: hs[s.initial], scale: 1, wide: false, alphabet });
+        automata.push(Automaton { alphabet, start, scale: 1, wide: false });
     }
-    let holders: Vec<u32> = (0..events)
+    // At most 8 automata: one byte per holder mask.
+    assert!(specs.len() <= 8);
+    let holders: Vec<u8> = (0..events)
         .map(|e| specs.iter().enumerate().filter(|(_, s)| s.alphabet.contains(&e)).map(|(i, _)| 1 << i).sum())
         .collect();
     let owner: Vec<u8> = (0..events)
@@ -93,14 +101,16 @@ pub fn encode(
         for (st, &h) in handles(s).iter().enumerate() {
             let n = s.transitions.iter().filter(|t| t.0 == st && owner[usize::from(t.1)] == i as u8).count();
             if n >= 2 {
-                sites.push((i as u32) << 16 | u32::from(h));
+                sites.push(starts[i] + h);
             }
         }
     }
+    sites.sort_unstable();
     Box::leak(Box::new(SupervisorSet {
         controllable: [bits((0..events).filter(|&e| controllable[usize::from(e)]))],
         plants: plants as u8,
         automata: leak(automata),
+        block: leak(block),
         masks: leak(masks),
         holders: leak(holders),
         plant_events: leak(plant_events),
