@@ -21,9 +21,10 @@ fn cell_closed_loop_is_safe_live_and_covers_every_supervisor_transition() {
     let set = published_cell();
     let tables = HostTables::new(ranked::encode(&set).unwrap()).unwrap();
     let (mut host, target) = memory::pair();
-    // 23 events (one bitset word), 4 plants + 6 supervisors, 32 input slots; 3 choice sites.
+    // 23 events (one bitset word, 3-byte masks), 4 plants + 6 supervisors, 1-byte fields, 32 input slots;
+    // 3 choice sites.
     let policy = RandomLocalQueue::<1, 3>::default();
-    let firmware = spawn_host_firmware::<_, 1, 10, 33>(tables, CONFIG, policy, 7, target);
+    let firmware = spawn_host_firmware::<_, 1, 10, false, 3, 33>(tables, CONFIG, policy, 7, target);
     let options = Options { events: 100_000, ..Options::default() };
     let report = attach(&mut host, &set, "cell", &options, &mut |_| {}).unwrap();
     host.send(&[EXIT]).unwrap();
@@ -53,7 +54,7 @@ fn burst(n: usize) -> (u64, u64) {
     let tables = HostTables::new(ranked::encode(&set).unwrap()).unwrap();
     let (mut host, target) = memory::pair();
     // 8 input slots: 7 events fit.
-    let firmware = spawn_host_firmware::<Random, 1, 1, 8>(tables, CONFIG, Random, 1, target);
+    let firmware = spawn_host_firmware::<Random, 1, 1, false, 1, 8>(tables, CONFIG, Random, 1, target);
     let options = Options::default();
     let (mut plant, mut monitor) = parts(&set, &options).unwrap();
     let mut session = Session::new(&mut host, &mut plant, &mut monitor, SessionConfig::default());

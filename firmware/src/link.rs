@@ -120,9 +120,16 @@ impl Link {
 
     /// One turn of the loop: drains the input buffer into the runtime, then takes at most one decision
     /// (unless held) and sends what it fired.
-    pub fn service<P: Policy<W>, E: Entropy, const W: usize, const N: usize>(
+    pub fn service<
+        P: Policy<W>,
+        E: Entropy,
+        const W: usize,
+        const N: usize,
+        const WIDE: bool,
+        const MASK: usize,
+    >(
         &mut self,
-        rt: &mut Runtime<'_, P, E, W, N>,
+        rt: &mut Runtime<'_, P, E, W, N, WIDE, MASK>,
         rx: &mut InputConsumer<'_>,
         hold: &Hold,
         port: &mut impl Port,

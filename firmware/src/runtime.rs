@@ -31,16 +31,19 @@
 //! static SET: SupervisorSet<'static, 1> = SupervisorSet {
 //!     controllable: [0b01],
 //!     plants: 1,
-//!     automata: &[Automaton { alphabet: [0b11], start: 0, scale: 1, wide: false }],
+//!     automata: &[Automaton { alphabet: [0b11], start: 0, scale: 1 }],
 //!     block: &[0, 2, 1, 0],
-//!     masks: &[[0b01], [0b10]],
+//!     wide: false,
+//!     masks: &[0b01, 0b10, 0, 0, 0],
+//!     mask_bytes: 1,
 //!     holders: &[1, 1],
 //!     plant_events: &[[0b01]],
 //!     sites: &[],
 //! };
 //! let config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 0 };
-//! // Checked at compile time: a set the runtime cannot run does not build.
-//! static CHECKED: CheckedSet<'static, 1, 1> = match CheckedSet::new(&SET) {
+//! // Checked at compile time: a set the runtime cannot run does not build. One event word, one
+//! // automaton, 1-byte fields, 1-byte masks.
+//! static CHECKED: CheckedSet<'static, 1, 1, false, 1> = match CheckedSet::new(&SET) {
 //!     Ok(set) => set,
 //!     Err(_) => panic!("the tables fail the runtime's check"),
 //! };
@@ -127,8 +130,9 @@ pub enum Decision {
     Halted,
 }
 
-/// The runtime over a set of `N` automata and events in `W`-word bitsets, choosing with policy `P`.
-pub struct Runtime<'t, P, E, const W: usize, const N: usize> {
+/// The runtime over a set of `N` automata and events in `W`-word bitsets, with the field and mask
+/// widths `WIDE` and `MASK` ([`CheckedSet`]), choosing with policy `P` and drawing entropy from `E`.
+pub struct Runtime<'t, P, E, const W: usize, const N: usize, const WIDE: bool, const MASK: usize> {
     set: &'t SupervisorSet<'t, W>,
     /// Where every automaton is: the byte offset of its current state's record in the block.
     records: [u16; N],
@@ -144,10 +148,12 @@ pub struct Runtime<'t, P, E, const W: usize, const N: usize> {
     rng: Rng<E>,
 }
 
-impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P, E, W, N> {
+impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize, const WIDE: bool, const MASK: usize>
+    Runtime<'t, P, E, W, N, WIDE, MASK>
+{
     /// A runtime in the initial states of `set`.
     #[inline(never)]
-    pub fn new(set: CheckedSet<'t, W, N>, config: Config, policy: P, entropy: E) -> Self {
+    pub fn new(set: CheckedSet<'t, W, N, WIDE, MASK>, config: Config, policy: P, entropy: E) -> Self {
         let mut rt = Self {
             set: set.set(),
             records: [0; N],
@@ -231,7 +237,13 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
             return Decision::Idle;
         };
         // `c` is enabled: every holder allows it, none gets stuck.
-        take_until_stuck(self.set, &mut self.records, &mut self.allowed, Event::new(c), holders);
+        take_until_stuck::<W, N, WIDE, MASK>(
+            self.set,
+            &mut self.records,
+            &mut self.allowed,
+            Event::new(c),
+            holders,
+        );
         self.counters.commands_out = self.counters.commands_out.wrapping_add(1);
         Decision::Fired(c)
     }
@@ -296,7 +308,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
             *at = SupervisorSet::record(aut, h) as u16;
             // SAFETY: `new` took a checked set, and `h` is the initial handle (0) or was checked by
             // `restore`.
-            *allowed = unsafe { self.set.allowed_at(aut, *at) };
+            *allowed = unsafe { self.set.allowed_at::<WIDE, MASK>(aut, *at) };
         }
     }
 
@@ -311,12 +323,12 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
     fn take(&mut self, event: u8, holders: u32) -> Option<u8> {
         let (set, records, allowed, event) =
             (self.set, &mut self.records, &mut self.allowed, Event::new(event));
-        let first = take_until_stuck(set, records, allowed, event, holders)?;
+        let first = take_until_stuck::<W, N, WIDE, MASK>(set, records, allowed, event, holders)?;
         // Rare: an unexpected event. The holders after the stuck one still move.
         let mut stuck = first;
         loop {
             let rest = holders & (u32::MAX << stuck << 1);
-            match take_until_stuck(set, records, allowed, event, rest) {
+            match take_until_stuck::<W, N, WIDE, MASK>(set, records, allowed, event, rest) {
                 Some(next) => stuck = next,
                 None => return Some(first),
             }
@@ -340,7 +352,7 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize> Runtime<'t, P
 /// Out of line and over the runtime's parts, so that the compiler knows the stores to `records` and
 /// `allowed` leave the set alone and keeps its fields in registers.
 #[inline(never)]
-fn take_until_stuck<const W: usize, const N: usize>(
+fn take_until_stuck<const W: usize, const N: usize, const WIDE: bool, const MASK: usize>(
     set: &SupervisorSet<'_, W>,
     records: &mut [u16; N],
     allowed: &mut [[u32; W]; N],
@@ -360,7 +372,12 @@ fn take_until_stuck<const W: usize, const N: usize>(
                 // At most MAX_AUTOMATA (32) automata: the index fits a byte.
                 return Some(a as u8);
             }
-            set.advance(set.automata.get_unchecked(a), records.get_unchecked_mut(a), allowed, event);
+            set.advance::<WIDE, MASK>(
+                set.automata.get_unchecked(a),
+                records.get_unchecked_mut(a),
+                allowed,
+                event,
+            );
         }
     }
     None

@@ -61,8 +61,12 @@ fn check<P: Policy<1> + Default>(
     let set = encode(&NAMES, controllable, specs);
     let config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 5 };
     // N is fixed at 4 here: pad with automata that hold nothing.
-    let mut rt =
-        Runtime::new(CheckedSet::<1, 4>::new(set).unwrap(), config, P::default(), SeedEntropy::new(9));
+    let mut rt = Runtime::new(
+        CheckedSet::<1, 4, false, 1>::new(set).unwrap(),
+        config,
+        P::default(),
+        SeedEntropy::new(9),
+    );
     let offs: Vec<Vec<u16>> = specs.iter().map(handles).collect();
     let mut states = vec![0usize; specs.len()];
     let (mut events_in, mut unexpected, mut unknown) = (0, 0, 0);
@@ -150,7 +154,7 @@ proptest! {
 fn exercise(set: &'static firmware::table::SupervisorSet<'static, 1>, ops: &[Op]) {
     let config = Config { guard: false, on_fault: FaultPolicy::Continue, reseed_every: 3 };
     let policy = RandomLocalQueue::<1, 8>::default();
-    let Ok(set) = CheckedSet::<1, 4>::new(set) else { return };
+    let Ok(set) = CheckedSet::<1, 4, false, 1>::new(set) else { return };
     let mut rt = Runtime::new(set, config, policy, SeedEntropy::new(3));
     for op in ops {
         match *op {

@@ -65,7 +65,15 @@ impl Port for Outbox {
 /// behind `link`: every chunk of bytes received is pushed into an input buffer of `Q - 1` slots before
 /// the loop runs (so a burst larger than the buffer overflows, which the runtime reports), then the loop
 /// serves until it is idle. The thread ends on EXIT (returning its status) or when the host hangs up.
-pub fn spawn_host_firmware<P, const W: usize, const N: usize, const Q: usize>(
+/// `W`, `N`, `WIDE` and `MASK` are the tables' shape ([`CheckedSet`]), `Q` the input buffer's slots.
+pub fn spawn_host_firmware<
+    P,
+    const W: usize,
+    const N: usize,
+    const WIDE: bool,
+    const MASK: usize,
+    const Q: usize,
+>(
     tables: HostTables<W>,
     config: Config,
     policy: P,
@@ -77,8 +85,8 @@ where
 {
     std::thread::spawn(move || {
         let set = tables.set();
-        let checked =
-            CheckedSet::<W, N>::new(&set).unwrap_or_else(|e| panic!("tables do not fit W={W}, N={N}: {e:?}"));
+        let checked = CheckedSet::<W, N, WIDE, MASK>::new(&set)
+            .unwrap_or_else(|e| panic!("tables do not fit W={W}, N={N}, WIDE={WIDE}, MASK={MASK}: {e:?}"));
         let mut rt = Runtime::new(checked, config, policy, SeedEntropy::new(seed));
         let mut queue = InputQueue::<Q>::new();
         let (mut tx, mut rx) = queue.split();

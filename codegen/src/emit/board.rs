@@ -234,6 +234,7 @@ mod tests {
             event_names: vec!["go".into(), "done".into()],
             controllable: vec![0b01],
             masks: vec![],
+            wide: false,
             automata: vec![],
         }
     }

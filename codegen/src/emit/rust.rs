@@ -115,6 +115,16 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options)
         let ty = if name == "SEED" { "u64" } else { "usize" };
         let _ = writeln!(out, "/// {doc}\npub const {name}: {ty} = {value};");
     }
+    let _ = writeln!(out, "/// Mask ids and state handles take 2 bytes in the records.");
+    let _ = writeln!(out, "pub const WIDE: bool = {};", packed.wide);
+    let _ = writeln!(out, "/// Bytes of one mask in the pool.");
+    let _ = writeln!(out, "pub const MASK_BYTES: usize = {};", packed.mask_width());
+    let _ =
+        writeln!(out, "/// The runtime over these tables, choosing with `P` and drawing entropy from `E`.");
+    let _ = writeln!(
+        out,
+        "pub type Runtime<P, E> = firmware::runtime::Runtime<'static, P, E, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES>;"
+    );
     let _ = writeln!(out, "/// The choice policy ({}).", options.policy);
     let _ = writeln!(out, "pub type Policy = {};", options.policy.rust_type());
     let _ = writeln!(out, "/// Run-time configuration.");
@@ -135,31 +145,35 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options)
         writeln!(out, "pub static AUTOMATON_NAMES: [&str; {}] = [{}];", automata.len(), automata.join(", "));
     let _ = writeln!(out);
     let total: usize = packed.automata.iter().map(|b| b.block.len()).sum();
-    let _ =
-        writeln!(out, "/// The records of every automaton (`{LAYOUT}` layout), back to back in set order.");
+    let _ = writeln!(
+        out,
+        "/// The records of every automaton (`{LAYOUT}` layout), back to back in set order; {}-byte mask ids \
+         and handles.",
+        packed.field_bytes()
+    );
     let _ = writeln!(out, "static BLOCK: [u8; {total}] = [");
     for (b, start) in packed.automata.iter().zip(packed.starts()) {
-        let fields = if b.wide { "2-byte" } else { "1-byte" };
-        let _ = writeln!(
-            out,
-            "    // {} from byte {start}: scale {}, {fields} mask ids and handles",
-            b.name, b.scale
-        );
+        let _ = writeln!(out, "    // {} from byte {start}: scale {}", b.name, b.scale);
         for row in b.block.chunks(16) {
             let bytes: Vec<String> = row.iter().map(|x| format!("0x{x:02x}")).collect();
             let _ = writeln!(out, "    {},", bytes.join(", "));
         }
     }
     let _ = writeln!(out, "];");
-    let _ = writeln!(out, "/// The pool of distinct out-masks the records name by id.");
-    let _ = writeln!(out, "static MASKS: [[u32; EVENT_WORDS]; {}] = [", packed.masks.len());
-    for row in packed.masks.chunks(4) {
-        let masks: Vec<String> = row.iter().map(|m| format!("[{}]", hex_words(m))).collect();
-        let _ = writeln!(out, "    {},", masks.join(", "));
+    let mask_width = packed.mask_width();
+    let pool = packed.mask_pool();
+    let _ = writeln!(
+        out,
+        "/// The pool of distinct out-masks the records name by id, {mask_width} byte(s) each, then padding."
+    );
+    let _ = writeln!(out, "static MASKS: [u8; {}] = [", pool.len());
+    for row in pool.chunks(4 * mask_width.min(4)) {
+        let bytes: Vec<String> = row.iter().map(|x| format!("0x{x:02x}")).collect();
+        let _ = writeln!(out, "    {},", bytes.join(", "));
     }
     let _ = writeln!(out, "];");
     let _ = writeln!(out);
-    let _ = writeln!(out, "/// Per automaton (plants first): alphabet, start of its records, scale, width.");
+    let _ = writeln!(out, "/// Per automaton (plants first): alphabet, start of its records, scale.");
     let _ = writeln!(
         out,
         "static DESCRIPTORS: [firmware::table::Automaton<EVENT_WORDS>; {}] = [",
@@ -171,7 +185,6 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options)
         let _ = writeln!(out, "        alphabet: [{}],", hex_words(&b.alphabet));
         let _ = writeln!(out, "        start: {start},");
         let _ = writeln!(out, "        scale: {},", b.scale);
-        let _ = writeln!(out, "        wide: {},", b.wide);
         let _ = writeln!(out, "    }},");
     }
     let _ = writeln!(out, "];");
@@ -203,7 +216,9 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options)
     let _ = writeln!(out, "    plants: {},", side.plants);
     let _ = writeln!(out, "    automata: &DESCRIPTORS,");
     let _ = writeln!(out, "    block: &BLOCK,");
+    let _ = writeln!(out, "    wide: WIDE,");
     let _ = writeln!(out, "    masks: &MASKS,");
+    let _ = writeln!(out, "    mask_bytes: MASK_BYTES as u8,");
     let _ = writeln!(out, "    holders: &HOLDERS,");
     let _ = writeln!(out, "    plant_events: &PLANT_EVENTS,");
     let _ = writeln!(out, "    sites: &CHOICE_SITES,");
@@ -214,7 +229,7 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options)
     );
     let _ = writeln!(
         out,
-        "pub static CHECKED: firmware::table::CheckedSet<'static, EVENT_WORDS, AUTOMATA> = \
+        "pub static CHECKED: firmware::table::CheckedSet<'static, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES> = \
          match firmware::table::CheckedSet::new(&SET) {{"
     );
     let _ = writeln!(out, "    Ok(set) => set,");

@@ -146,7 +146,7 @@ pub struct HostTables<const W: usize> {
     pub side: SideTables,
     automata: Vec<Automaton<W>>,
     block: Vec<u8>,
-    masks: Vec<[u32; W]>,
+    masks: Vec<u8>,
     plant_events: Vec<[u32; W]>,
     controllable: [u32; W],
 }
@@ -159,7 +159,6 @@ impl<const W: usize> HostTables<W> {
         let words = packed.words();
         let array = |v: &[u32]| <[u32; W]>::try_from(v).map_err(|_| EmitError::Words { words, want: W });
         let controllable = array(&packed.controllable)?;
-        let masks = packed.masks.iter().map(|m| array(m)).collect::<Result<_, _>>()?;
         let plant_events = side.plant_events.iter().map(|m| array(m)).collect::<Result<_, _>>()?;
         // `encode` kept every record start, hence every start, below 64 KiB.
         let automata = packed
@@ -167,15 +166,11 @@ impl<const W: usize> HostTables<W> {
             .iter()
             .zip(packed.starts())
             .map(|(b, start)| {
-                Ok(Automaton {
-                    alphabet: array(&b.alphabet)?,
-                    start: start as u16,
-                    scale: b.scale,
-                    wide: b.wide,
-                })
+                Ok(Automaton { alphabet: array(&b.alphabet)?, start: start as u16, scale: b.scale })
             })
             .collect::<Result<_, EmitError>>()?;
         let block = packed.automata.iter().flat_map(|b| b.block.iter().copied()).collect();
+        let masks = packed.mask_pool();
         Ok(HostTables { packed, side, automata, block, masks, plant_events, controllable })
     }
 
@@ -191,7 +186,10 @@ impl<const W: usize> HostTables<W> {
             plants: self.side.plants,
             automata: &self.automata,
             block: &self.block,
+            wide: self.packed.wide,
             masks: &self.masks,
+            // At most 256 events: 32 bytes.
+            mask_bytes: self.packed.mask_width() as u8,
             holders: &self.side.holders,
             plant_events: &self.plant_events,
             sites: &self.side.sites,

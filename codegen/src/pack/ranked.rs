@@ -12,24 +12,26 @@
 //! [mask id][target handle, for every event of the mask in increasing id order]
 //! ```
 //!
-//! Mask ids and target handles take 1 byte each, or 2 bytes little-endian when the block is
-//! [`Block::wide`]. State handle
+//! Mask ids and target handles take 1 byte each, or 2 bytes little-endian when the set is
+//! [`Packed::wide`]. State handle
 //! `h` names the record starting at byte `h · scale` of the block ([`Block::scale`]); each record starts
 //! at the first multiple of `scale` at or after the end of the previous one, the bytes between are
 //! padding (0), and the block ends right after its last record. The target of event `e` is the `r`-th
 //! target of the record, `r` the number of mask bits below `e`: a step is a mask test, a rank and one
 //! load, whatever the state count.
 //!
-//! Per automaton the encoder picks the smaller block of two candidates (1-byte fields on a tie):
+//! The field width is one for the whole set, so that the runtime is compiled for it and its steps test
+//! nothing: the encoder picks the smaller blocks of two candidates (1-byte fields on a tie):
 //!
-//! * 1-byte fields, when every mask id of the automaton is below [`NARROW_IDS`] (the pool's first-use
-//!   order gives the plants and early automata the small ids), with the smallest scale in 1..=255 that
-//!   puts every record start at a handle ≤ 255;
-//! * 2-byte fields with the smallest scale that puts every record start at a handle ≤ 65 535.
+//! * 1-byte fields, when every mask id is below [`NARROW_IDS`] and every automaton has a scale in
+//!   1..=255 that puts every record start at a handle ≤ 255 (each automaton with its smallest such
+//!   scale);
+//! * 2-byte fields, each automaton with the smallest scale that puts every record start at a handle
+//!   ≤ 65 535.
 //!
 //!
-//! Side tables: the mask pool (4 bytes per word of every mask), per automaton a descriptor of
-//! [`DESCRIPTOR_BYTES`] (start offset u16, scale u8, wide u8) and its alphabet (⌈e/32⌉ words), and the
+//! Side tables: the mask pool (⌈e/8⌉ bytes per mask, then padding to read a whole last word), per automaton a descriptor of
+//! [`DESCRIPTOR_BYTES`] (start offset u16, scale u8, padding) and its alphabet (⌈e/32⌉ words), and the
 //! controllability bitset (⌈e/32⌉ words). The per-event holder masks, per-plant event
 //! sets and choice sites `codegen emit` adds for the runtime's hot path are not part of the layout.
 //!
@@ -58,7 +60,7 @@ pub const MAX_STATES: usize = 65_536;
 /// Largest scale (a byte).
 pub const MAX_SCALE: u8 = 255;
 /// Bytes of an automaton's descriptor besides its alphabet: the start of its records (u16), scale (u8)
-/// and the wide flag (u8), as the runtime's `table::Automaton` lays them out.
+/// and a byte of padding, as the runtime's `table::Automaton` lays them out.
 pub const DESCRIPTOR_BYTES: usize = 4;
 
 /// Largest handle of 1-byte targets.
@@ -77,6 +79,8 @@ pub struct Packed {
     pub controllable: Vec<u32>,
     /// The pool of distinct out-masks, each ⌈e/32⌉ words, in first-appearance order.
     pub masks: Vec<Vec<u32>>,
+    /// Mask ids and target handles take 2 bytes (little-endian) instead of 1, in every block.
+    pub wide: bool,
     /// Plants first, then supervisors.
     pub automata: Vec<Block>,
 }
@@ -92,8 +96,6 @@ pub struct Block {
     pub initial: usize,
     /// Bytes per handle unit: a record starts at byte `handle · scale` of the block (≥ 1).
     pub scale: u8,
-    /// Mask ids and target handles take 2 bytes (little-endian) instead of 1.
-    pub wide: bool,
     /// The records (see the module documentation).
     pub block: Vec<u8>,
     /// Bitset over global event ids (⌈e/32⌉ words): the automaton's alphabet.
@@ -121,9 +123,38 @@ impl Packed {
         self.controllable.len()
     }
 
+    /// Bytes of a mask id or a target handle.
+    pub fn field_bytes(&self) -> usize {
+        if self.wide {
+            2
+        } else {
+            1
+        }
+    }
+
+    /// Bytes of one mask in the runtime's pool: enough for the events (at least one).
+    pub fn mask_width(&self) -> usize {
+        self.event_names.len().div_ceil(8).max(1)
+    }
+
+    /// The runtime's mask pool: every mask in [`Packed::mask_width`] bytes, little-endian, then the
+    /// padding that lets the runtime read whole words from the last (`firmware::table::SupervisorSet::masks`).
+    pub fn mask_pool(&self) -> Vec<u8> {
+        let width = self.mask_width();
+        // A mask of a set without events has no words: its byte is 0.
+        let mut pool: Vec<u8> = self
+            .masks
+            .iter()
+            .flat_map(|m| m.iter().flat_map(|w| w.to_le_bytes()).chain(std::iter::repeat(0)).take(width))
+            .collect();
+        // A set without events still has one word per bitset in the runtime.
+        pool.resize(pool.len() + 4 * self.words().max(1) - width, 0);
+        pool
+    }
+
     /// Bytes of the mask pool.
     pub fn mask_bytes(&self) -> usize {
-        self.masks.iter().map(|m| 4 * m.len()).sum()
+        self.mask_pool().len()
     }
 
     /// Bytes per automaton (padding included) and of each side table, bitsets in whole u32 words as the
@@ -167,7 +198,7 @@ impl Packed {
     /// Padding bytes of automaton `a`'s block (between records).
     pub fn padding(&self, a: usize) -> Result<usize, DecodeError> {
         let records = self.records(a)?;
-        let t_bytes = if self.automata.get(a).is_some_and(|b| b.wide) { 2 } else { 1 };
+        let t_bytes = self.field_bytes();
         let used: usize = records.iter().map(|r| (1 + r.targets.len()) * t_bytes).sum();
         Ok(self.automata.get(a).map_or(0, |b| b.block.len()).saturating_sub(used))
     }
@@ -178,7 +209,7 @@ impl Packed {
             return Err(DecodeError::Inconsistent { what: what(), detail: String::from("scale 0") });
         }
         let scale = usize::from(b.scale);
-        let t_bytes = if b.wide { 2 } else { 1 };
+        let t_bytes = self.field_bytes();
         let id_bytes = t_bytes;
         let bytes = &b.block;
         let truncated = || DecodeError::Truncated { what: what(), at: bytes.len() };
@@ -269,6 +300,26 @@ fn smallest_scale(lens: &[usize], max_handle: usize) -> Option<(u8, usize)> {
     Some((lo as u8, extent(lens, lo).1))
 }
 
+/// An automaton's smallest scale, with the block length it gives, for each field width.
+struct Scales {
+    /// With 1-byte fields, when its mask ids fit a byte.
+    narrow: Option<(u8, usize)>,
+    /// With 2-byte fields.
+    wide: Option<(u8, usize)>,
+}
+
+impl Scales {
+    /// The scales of member `m` whose states have the mask ids `ids`.
+    fn of(m: &super::Member, ids: &[usize]) -> Scales {
+        let lens = |t: usize| m.out.iter().map(|e| t * (1 + e.len())).collect::<Vec<_>>();
+        let narrow_ids = ids.iter().all(|&id| id < NARROW_IDS);
+        Scales {
+            narrow: smallest_scale(&lens(1), NARROW_HANDLE).filter(|_| narrow_ids),
+            wide: smallest_scale(&lens(2), WIDE_HANDLE),
+        }
+    }
+}
+
 /// Packs `set` in the `ranked` layout, or says which limit it breaks.
 pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
     let events = set.events();
@@ -304,26 +355,27 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
     if masks.len() > MAX_MASKS {
         return Err(PackError::TooManyMasks { layout: NAME, masks: masks.len(), limit: MAX_MASKS });
     }
+    let options: Vec<Scales> = set.members().iter().zip(&ids).map(|(m, ids)| Scales::of(m, ids)).collect();
+    let total = |of: fn(&Scales) -> Option<(u8, usize)>| {
+        options.iter().map(|o| of(o).map(|(_, len)| len)).sum::<Option<usize>>()
+    };
+    let wide = match (total(|o| o.narrow), total(|o| o.wide)) {
+        (Some(narrow), Some(wide)) => narrow > wide,
+        (Some(_), None) => false,
+        (None, _) => true,
+    };
+    let width = if wide { 2 } else { 1 };
     let mut automata = Vec::with_capacity(set.members().len());
     // Where the block starts when the blocks are put back to back.
     let mut start = 0usize;
-    for (m, ids) in set.members().iter().zip(&ids) {
-        let lens = |t: usize| m.out.iter().map(|e| t * (1 + e.len())).collect::<Vec<_>>();
-        let (narrow_lens, wide_lens) = (lens(1), lens(2));
-        let narrow_ids = ids.iter().all(|&id| id < NARROW_IDS);
-        let narrow = smallest_scale(&narrow_lens, NARROW_HANDLE).filter(|_| narrow_ids);
-        let wide = smallest_scale(&wide_lens, WIDE_HANDLE);
-        let (wide, scale, lens) = match (narrow, wide) {
-            (Some((s, n)), Some((_, w))) if n <= w => (false, s, narrow_lens),
-            (Some((s, _)), None) => (false, s, narrow_lens),
-            (_, Some((s, _))) => (true, s, wide_lens),
-            (None, None) => {
-                return Err(PackError::NoScale {
-                    layout: NAME,
-                    automaton: m.name().to_owned(),
-                    bytes: wide_lens.iter().sum(),
-                })
-            }
+    for ((m, ids), option) in set.members().iter().zip(&ids).zip(&options) {
+        let lens: Vec<usize> = m.out.iter().map(|e| width * (1 + e.len())).collect();
+        let Some((scale, _)) = (if wide { option.wide } else { option.narrow }) else {
+            return Err(PackError::NoScale {
+                layout: NAME,
+                automaton: m.name().to_owned(),
+                bytes: lens.iter().sum(),
+            });
         };
         let unit = usize::from(scale);
         let initial = m.initial().index();
@@ -342,7 +394,6 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
             let edges = &m.out[s];
             block.resize(handles[s] * unit, 0);
             // Checked above: ids and handles within the chosen width.
-            let width = if wide { 2 } else { 1 };
             block.extend_from_slice(&(ids[s] as u16).to_le_bytes()[..width]);
             for &(_, t) in edges {
                 let h = handles[t.index()] as u16;
@@ -364,7 +415,6 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
             role: m.role,
             initial,
             scale,
-            wide,
             block,
             alphabet: bitset::from_ids(m.alphabet().iter().map(|e| e.index()), events.len()),
         });
@@ -376,6 +426,7 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
             events.len(),
         ),
         masks,
+        wide,
         automata,
     })
 }
@@ -420,7 +471,7 @@ fn decode_block(b: &Block, packed: &Packed) -> Result<Automaton, DecodeError> {
             target: usize::from(handle),
         })
     };
-    let t_bytes = if b.wide { 2 } else { 1 };
+    let t_bytes = packed.field_bytes();
     let mut edges = Vec::new();
     for r in &records {
         // `walk` checked the id.
@@ -454,7 +505,7 @@ mod tests {
     /// the blocks back to back (starts beyond 16 bits wrap, and the check refuses them).
     fn with_runtime_set<R>(packed: &Packed, f: impl FnOnce(&SupervisorSet<'_, 1>) -> R) -> R {
         let word = |v: &[u32]| [v.first().copied().unwrap_or(0)];
-        let masks: Vec<[u32; 1]> = packed.masks.iter().map(|m| word(m)).collect();
+        let masks = packed.mask_pool();
         let automata: Vec<RtAutomaton<1>> = packed
             .automata
             .iter()
@@ -463,7 +514,6 @@ mod tests {
                 alphabet: word(&b.alphabet),
                 start: start as u16,
                 scale: b.scale,
-                wide: b.wide,
             })
             .collect();
         let block: Vec<u8> = packed.automata.iter().flat_map(|b| b.block.iter().copied()).collect();
@@ -474,7 +524,9 @@ mod tests {
             plants: plants as u8,
             automata: &automata,
             block: &block,
+            wide: packed.wide,
             masks: &masks,
+            mask_bytes: packed.mask_width() as u8,
             holders: &vec![0; width * packed.event_names.len()],
             plant_events: &vec![[0]; plants],
             sites: &[],
@@ -516,7 +568,7 @@ mod tests {
         let packed = encode(&set).unwrap();
         assert_eq!(packed.masks, [vec![0b01], vec![0b10]]);
         let b = &packed.automata[0];
-        assert_eq!((b.initial, b.scale, b.wide), (0, 1, false));
+        assert_eq!((b.initial, b.scale, packed.wide), (0, 1, false));
         assert_eq!(b.block, [0, 2, 1, 0]);
         assert_eq!(b.alphabet, [0b11]);
         assert_eq!(packed.controllable, [0b01]);
@@ -533,7 +585,8 @@ mod tests {
         assert_round_trip(&set, &decode(&packed).unwrap());
         let size = packed.size();
         assert_eq!(size.blocks(), 8);
-        assert_eq!(size.side(), 2 * 4 + 2 * DESCRIPTOR_BYTES + 2 * 4 + 4);
+        // Two 1-byte masks and 3 bytes of padding to read a whole word.
+        assert_eq!(size.side(), (2 + 3) + 2 * DESCRIPTOR_BYTES + 2 * 4 + 4);
     }
 
     /// A ring of `n` states over one event: records of 2 bytes (1-byte handles) or 3 (2-byte).
@@ -556,14 +609,36 @@ mod tests {
         let set = PackSet::new(vec![ring(256)], vec![]).unwrap();
         let packed = encode(&set).unwrap();
         let b = &packed.automata[0];
-        assert_eq!((b.scale, b.wide, b.block.len()), (2, false, 512));
+        assert_eq!((b.scale, packed.wide, b.block.len()), (2, false, 512));
         assert_eq!(packed.padding(0), Ok(0));
         assert_runtime_steps(&set, &packed);
         // 1000 states: narrow needs scale 8 (8000 bytes), wide (2-byte ids and handles) takes 4000.
         let set = PackSet::new(vec![ring(1000)], vec![]).unwrap();
         let packed = encode(&set).unwrap();
         let b = &packed.automata[0];
-        assert_eq!((b.scale, b.wide, b.block.len()), (1, true, 4000));
+        assert_eq!((b.scale, packed.wide, b.block.len()), (1, true, 4000));
+        assert_round_trip(&set, &decode(&packed).unwrap());
+        assert_runtime_steps(&set, &packed);
+    }
+
+    #[test]
+    fn a_set_without_events_still_has_a_mask_byte_per_mask() {
+        let mut lone = Model::new("L", Kind::Plant);
+        let q = lone.add_state("q", true).unwrap();
+        lone.initial = Some(q);
+        let set = PackSet::new(vec![lone], vec![]).unwrap();
+        let packed = encode(&set).unwrap();
+        assert_eq!(packed.mask_pool(), [0, 0, 0, 0]);
+        assert_runtime_steps(&set, &packed);
+    }
+
+    #[test]
+    fn one_automaton_beyond_narrow_handles_makes_every_block_wide() {
+        // The ring needs 2-byte handles; the toggle then takes 2-byte fields too: [id][target] × 2.
+        let set = PackSet::new(vec![ring(1000), toggle("T")], vec![]).unwrap();
+        let packed = encode(&set).unwrap();
+        assert!(packed.wide);
+        assert_eq!(packed.automata[1].block, [1, 0, 4, 0, 2, 0, 0, 0]);
         assert_round_trip(&set, &decode(&packed).unwrap());
         assert_runtime_steps(&set, &packed);
     }
@@ -586,7 +661,7 @@ mod tests {
         let set = padded_ring();
         let packed = encode(&set).unwrap();
         let b = &packed.automata[0];
-        assert_eq!((b.scale, b.wide), (2, false));
+        assert_eq!((b.scale, packed.wide), (2, false));
         assert_eq!(packed.padding(0), Ok(74));
         assert_eq!(b.block.len(), 375 + 74);
         assert_eq!(packed.records(0).unwrap().last().map(|r| r.handle), Some(223));
@@ -595,7 +670,7 @@ mod tests {
     }
 
     #[test]
-    fn mask_ids_beyond_a_byte_make_the_automaton_wide() {
+    fn mask_ids_beyond_a_byte_make_the_set_wide() {
         // One state per subset of 9 events (self-loops on the subset's events), chained by a tenth.
         let mut a = Model::new("P", Kind::Plant);
         let events: Vec<_> = (0..10).map(|i| a.add_event(format!("e{i}"), false).unwrap()).collect();
@@ -614,7 +689,7 @@ mod tests {
         let set = PackSet::new(vec![a], vec![]).unwrap();
         let packed = encode(&set).unwrap();
         assert_eq!(packed.masks.len(), 512);
-        assert!(packed.automata[0].wide);
+        assert!(packed.wide);
         assert_round_trip(&set, &decode(&packed).unwrap());
         assert_runtime_steps(&set, &packed);
     }
@@ -734,12 +809,12 @@ mod tests {
             assert_runtime_steps(&set, &packed);
             for (a, (m, b)) in set.members().iter().zip(&packed.automata).enumerate() {
                 // Records plus padding, and no smaller scale would do with the same handle width.
-                let records = (m.state_count() + m.transition_count()) * if b.wide { 2 } else { 1 };
+                let records = (m.state_count() + m.transition_count()) * packed.field_bytes();
                 proptest::prop_assert_eq!(b.block.len(), records + packed.padding(a).unwrap());
                 let last = packed.records(a).unwrap().last().map_or(0, |r| r.handle);
-                let max = if b.wide { WIDE_HANDLE } else { NARROW_HANDLE };
+                let max = if packed.wide { WIDE_HANDLE } else { NARROW_HANDLE };
                 proptest::prop_assert!(usize::from(last) <= max);
-                if b.scale > 1 && !b.wide {
+                if b.scale > 1 && !packed.wide {
                     let lens: Vec<usize> = m.out.iter().map(|e| 1 + e.len()).collect();
                     proptest::prop_assert!(extent(&lens, usize::from(b.scale) - 1).0 > NARROW_HANDLE);
                 }

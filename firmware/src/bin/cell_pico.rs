@@ -39,8 +39,7 @@ type OutPin = Pin<DynPinId, FunctionSioOutput, DynPullType>;
 type Outs = Outputs<OutPin, { tables::OUTPUT_PINS.len() }>;
 
 /// The runtime over the emitted tables.
-type Rt =
-    firmware::runtime::Runtime<'static, tables::Policy, Rosc, { tables::EVENT_WORDS }, { tables::AUTOMATA }>;
+type Rt = tables::Runtime<tables::Policy, Rosc>;
 
 /// Entropy from the ring oscillator's random bit and the timer's low microseconds (jitter).
 struct Rosc;

@@ -27,9 +27,9 @@ mod tables {
 
 use firmware::event_set::EventSet;
 use firmware::rng::{Rng, SeedEntropy};
-use firmware::runtime::{Decision, Runtime};
+use firmware::runtime::Decision;
 
-type Rt = Runtime<'static, tables::Policy, SeedEntropy, { tables::EVENT_WORDS }, { tables::AUTOMATA }>;
+type Rt = tables::Runtime<tables::Policy, SeedEntropy>;
 
 /// Steps of the run.
 const STEPS: u32 = 20_000;

@@ -1,17 +1,26 @@
 //! The check that makes the runtime's unchecked reads sound, as a `const fn`: the emitted tables run it
 //! at compile time, host tools at run time.
 
-use super::{Automaton, SupervisorSet, TableError, MAX_AUTOMATA, MAX_BLOCK, MAX_EVENTS, MAX_MASKS};
+use super::{SupervisorSet, TableError, MAX_AUTOMATA, MAX_BLOCK, MAX_EVENTS, MAX_MASKS};
 
-/// A set that passed [`SupervisorSet::check`] for `N` automata: the only form the runtime takes. The
-/// emitted tables build theirs in a `static`, so the check runs in the compiler and a set that fails it
-/// does not build; host tools build theirs at run time.
+/// A set that passed [`SupervisorSet::check`] for `N` automata, with 2-byte fields exactly when `WIDE`
+/// ([`SupervisorSet::wide`]) and masks of `MASK` bytes ([`SupervisorSet::mask_bytes`]): the only form
+/// the runtime takes. The emitted tables build theirs in a `static`, so the check runs in the compiler
+/// and a set that fails it does not build; host tools build theirs at run time. The widths are type
+/// parameters so that the runtime's steps are compiled for them.
 #[derive(Clone, Copy, Debug)]
-pub struct CheckedSet<'t, const W: usize, const N: usize>(&'t SupervisorSet<'t, W>);
+pub struct CheckedSet<'t, const W: usize, const N: usize, const WIDE: bool, const MASK: usize>(
+    &'t SupervisorSet<'t, W>,
+);
 
-impl<'t, const W: usize, const N: usize> CheckedSet<'t, W, N> {
-    /// `set`, if it passes the check for `N` automata.
+impl<'t, const W: usize, const N: usize, const WIDE: bool, const MASK: usize>
+    CheckedSet<'t, W, N, WIDE, MASK>
+{
+    /// `set`, if it passes the check for `N` automata and has the widths `WIDE` and `MASK`.
     pub const fn new(set: &'t SupervisorSet<'t, W>) -> Result<Self, TableError> {
+        if set.wide != WIDE || set.mask_bytes as usize != MASK {
+            return Err(TableError::Shape);
+        }
         match set.check(N) {
             Ok(()) => Ok(Self(set)),
             Err(e) => Err(e),
@@ -42,6 +51,17 @@ pub(super) const fn field(block: &[u8], wide: bool, at: usize, i: usize) -> Opti
 const fn marked(starts: &[u32; 8], base: usize, handles: usize, h: usize) -> bool {
     let i = h.wrapping_sub(base);
     h < handles && (i >= 256 || starts[i / 32] & (1 << (i % 32)) != 0)
+}
+
+/// The bits of word `w` of an event bitset that stand for no event of a set of `events` events.
+const fn beyond(events: usize, w: usize) -> u32 {
+    if 32 * w >= events {
+        u32::MAX
+    } else if events - 32 * w >= 32 {
+        0
+    } else {
+        u32::MAX << (events - 32 * w)
+    }
 }
 
 /// Bytes of one event's holder mask in a set of `automata` automata: one bit per automaton, at least one
@@ -79,6 +99,36 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         self.holders.len() / self.holder_bytes()
     }
 
+    /// Number of masks in the pool, if its length is a whole number of masks of
+    /// [`SupervisorSet::mask_bytes`] and the padding that lets the runtime read `W` words of the last.
+    pub const fn mask_count(&self) -> Option<usize> {
+        let stride = self.mask_bytes as usize;
+        if stride == 0 || stride > 4 * W {
+            return None;
+        }
+        let pad = 4 * W - stride;
+        if self.masks.len() < pad || (self.masks.len() - pad) % stride != 0 {
+            return None;
+        }
+        Some((self.masks.len() - pad) / stride)
+    }
+
+    /// Mask `id` of the pool (its own bytes only), if the pool has it.
+    pub const fn mask_of(&self, id: usize) -> Option<[u32; W]> {
+        match self.mask_count() {
+            Some(count) if id < count => {}
+            _ => return None,
+        }
+        let stride = self.mask_bytes as usize;
+        let mut mask = [0u32; W];
+        let mut i = 0;
+        while i < stride {
+            mask[i / 4] |= (self.masks[id * stride + i] as u32) << (8 * (i % 4));
+            i += 1;
+        }
+        Some(mask)
+    }
+
     /// The bytes of automaton `a`'s records: from its start to the next automaton's (the block's end for
     /// the last). Empty when the starts are out of order or beyond the block.
     pub(super) const fn part(&self, a: usize) -> (usize, usize) {
@@ -102,9 +152,6 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         if self.automata.len() != automata || automata > MAX_AUTOMATA || plants > automata {
             return Err(TableError::Automata);
         }
-        if self.masks.len() > MAX_MASKS {
-            return Err(TableError::Size);
-        }
         let width = holder_bytes(automata);
         let events = self.holders.len() / width;
         if self.holders.len() % width != 0
@@ -114,17 +161,15 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         {
             return Err(TableError::Events);
         }
+        match self.mask_count() {
+            // The bits the runtime reads beyond a mask's own bytes are no events.
+            Some(count) if count <= MAX_MASKS && events <= 8 * self.mask_bytes as usize => {}
+            _ => return Err(TableError::Size),
+        }
         // Controllable events are events of the set: the runtime fires them through their holders.
         let mut w = 0;
         while w < W {
-            let below = if 32 * w >= events {
-                0
-            } else if events - 32 * w >= 32 {
-                u32::MAX
-            } else {
-                (1u32 << (events - 32 * w)) - 1
-            };
-            if self.controllable[w] & !below != 0 {
+            if self.controllable[w] & beyond(events, w) != 0 {
                 return Err(TableError::Events);
             }
             w += 1;
@@ -166,28 +211,24 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         Ok(())
     }
 
-    /// The record of `aut` at byte `at`, if it ends by `end` and names a mask: mask id, target count and
-    /// the byte after it.
-    pub(super) const fn record_at(
-        &self,
-        aut: &Automaton<W>,
-        at: usize,
-        end: usize,
-    ) -> Option<(usize, usize, usize)> {
-        let id = match field(self.block, aut.wide, at, 0) {
+    /// The record at byte `at`, if it ends by `end` and names a mask: mask id, target count and the byte
+    /// after it.
+    pub(super) const fn record_at(&self, at: usize, end: usize) -> Option<(usize, usize, usize)> {
+        let id = match field(self.block, self.wide, at, 0) {
             Some(id) => id as usize,
             None => return None,
         };
-        if id >= self.masks.len() {
-            return None;
-        }
+        let mask = match self.mask_of(id) {
+            Some(mask) => mask,
+            None => return None,
+        };
         let mut n = 0;
         let mut w = 0;
         while w < W {
-            n += self.masks[id][w].count_ones() as usize;
+            n += mask[w].count_ones() as usize;
             w += 1;
         }
-        let next = at + (n + 1) * if aut.wide { 2 } else { 1 };
+        let next = at + (n + 1) * if self.wide { 2 } else { 1 };
         if next <= end {
             Some((id, n, next))
         } else {
@@ -206,6 +247,15 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         if scale == 0 || start == end || (end - start).div_ceil(scale) > 1 << 16 {
             return false;
         }
+        // The alphabet holds events only: the runtime's mask reads are exact on them.
+        let events = self.events();
+        let mut w = 0;
+        while w < W {
+            if aut.alphabet[w] & beyond(events, w) != 0 {
+                return false;
+            }
+            w += 1;
+        }
         let mut base = 0;
         loop {
             let mut starts = [0u32; 8];
@@ -214,7 +264,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
             while pass < 2 {
                 let mut at = start;
                 while at < end {
-                    let Some((id, n, next)) = self.record_at(aut, at, end) else { return false };
+                    let Some((id, n, next)) = self.record_at(at, end) else { return false };
                     if pass == 0 {
                         if at >= MAX_BLOCK {
                             return false;
@@ -225,9 +275,10 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
                             starts[i / 32] |= 1 << (i % 32);
                         }
                         handles = h + 1;
+                        let Some(mask) = self.mask_of(id) else { return false };
                         let mut w = 0;
                         while w < W {
-                            if self.masks[id][w] & !aut.alphabet[w] != 0 {
+                            if mask[w] & !aut.alphabet[w] != 0 {
                                 return false;
                             }
                             w += 1;
@@ -236,7 +287,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
                         let mut r = 0;
                         while r < n {
                             // In the part: `record_at` bounded the record by its end.
-                            let Some(t) = field(self.block, aut.wide, at, r + 1) else { return false };
+                            let Some(t) = field(self.block, self.wide, at, r + 1) else { return false };
                             if !marked(&starts, base, handles, t as usize) {
                                 return false;
                             }
@@ -281,20 +332,22 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         let wanted = start + handle as usize * scale;
         let mut at = start;
         while at < wanted {
-            let Some((_, _, next)) = self.record_at(aut, at, end) else { return false };
+            let Some((_, _, next)) = self.record_at(at, end) else { return false };
             at = start + (next - start).div_ceil(scale) * scale;
         }
-        at == wanted && self.record_at(aut, at, end).is_some()
+        at == wanted && self.record_at(at, end).is_some()
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::super::tests::toggle;
+    use super::super::Automaton;
     use super::*;
 
     /// The cell-sized check runs in the compiler: this `static` is the proof.
-    static CHECKED: CheckedSet<'static, 1, 1> = match CheckedSet::new(&super::super::tests::TOGGLE) {
+    static CHECKED: CheckedSet<'static, 1, 1, false, 1> = match CheckedSet::new(&super::super::tests::TOGGLE)
+    {
         Ok(set) => set,
         Err(_) => panic!("the toggle fails the check"),
     };
@@ -327,7 +380,7 @@ mod tests {
         assert_eq!(t.check(1), Err(TableError::Events));
         // Event 1 held by an automaton whose alphabet lacks it.
         let automata = [Automaton { alphabet: [0b01], ..toggle().automata[0] }];
-        let t = SupervisorSet { automata: &automata, masks: &[[0b01], [0b01]], ..toggle() };
+        let t = SupervisorSet { automata: &automata, masks: &[0b01, 0b01, 0, 0, 0], ..toggle() };
         assert_eq!(t.check(1), Err(TableError::Events));
         // A controllable event beyond the event count.
         assert_eq!(SupervisorSet { controllable: [0b101], ..toggle() }.check(1), Err(TableError::Events));
@@ -339,7 +392,15 @@ mod tests {
             Err(TableError::Sites)
         );
         assert_eq!(toggle().check(2), Err(TableError::Automata));
-        assert!(CheckedSet::<1, 2>::new(&super::super::tests::TOGGLE).is_err());
+        assert!(CheckedSet::<1, 2, false, 1>::new(&super::super::tests::TOGGLE).is_err());
+        assert_eq!(
+            CheckedSet::<1, 1, true, 1>::new(&super::super::tests::TOGGLE).err(),
+            Some(TableError::Shape)
+        );
+        assert_eq!(
+            CheckedSet::<1, 1, false, 4>::new(&super::super::tests::TOGGLE).err(),
+            Some(TableError::Shape)
+        );
     }
 
     #[test]

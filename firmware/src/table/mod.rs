@@ -4,7 +4,8 @@
 //! # The `ranked` layout
 //!
 //! A state's *out-mask* is the bitset over global event ids of the events leaving it. The set keeps one
-//! pool of distinct out-masks ([`SupervisorSet::masks`], `W` words each), shared by all automata. All
+//! pool of distinct out-masks ([`SupervisorSet::masks`], `⌈events / 8⌉` bytes each), shared by all
+//! automata. All
 //! records of all automata lie in one byte block ([`SupervisorSet::block`]), each automaton's from its
 //! start ([`Automaton::start`]) up to the next automaton's start (the block's end for the last), one
 //! record per state:
@@ -18,12 +19,13 @@
 //! ([`Automaton::scale`]); records start on multiples of `scale` from the start and the bytes between
 //! two records are padding. Handle 0, the first record, is the initial state. The target of event `e`
 //! from a state is its `r`-th target, `r` the number of mask bits below `e` (its rank). Mask ids and
-//! handles take 1 byte each, or 2 (little-endian) in a *wide* automaton ([`Automaton::wide`]). So a
+//! handles take 1 byte each, or 2 (little-endian) in a *wide* set ([`SupervisorSet::wide`]). So a
 //! step is a mask test, a rank and one load, whatever the state count; the out-mask also gives at once
 //! which controllable events the automaton allows (those of its mask and those outside its alphabet),
-//! so the enabled set costs one mask per automaton, not a scan. `codegen` makes an automaton narrow
-//! when its mask ids fit a byte (the pool lists masks in order of first use, plants first) and some
-//! scale makes its handles fit one, taking the smallest such scale.
+//! so the enabled set costs one mask per automaton, not a scan. `codegen` makes a set narrow when every
+//! mask id fits a byte and, for every automaton, some scale makes its handles fit one (taking the
+//! smallest such scale). The runtime knows the field and mask widths at compile time
+//! ([`CheckedSet`]'s `WIDE` and `MASK`), so its steps read the tables without testing them.
 //!
 //! Limits: at most 256 events and [`MAX_AUTOMATA`] automata, 65 536 handles per automaton, 65 536 masks,
 //! and every record starting in the first 64 KiB of the block ([`MAX_BLOCK`]): the runtime holds a
@@ -72,8 +74,6 @@ pub struct Automaton<const W: usize> {
     pub start: u16,
     /// Bytes per handle unit: a state's record starts at byte `start + handle · scale` (≥ 1).
     pub scale: u8,
-    /// Mask ids and target handles take 2 bytes (little-endian) instead of 1.
-    pub wide: bool,
 }
 
 /// The whole set the firmware runs: plants and supervisors over one event numbering, events in
@@ -89,8 +89,15 @@ pub struct SupervisorSet<'t, const W: usize> {
     pub automata: &'t [Automaton<W>],
     /// The records of every automaton, in automaton order (see the module documentation).
     pub block: &'t [u8],
-    /// The pool of distinct out-masks that records name by id.
-    pub masks: &'t [[u32; W]],
+    /// Mask ids and target handles take 2 bytes (little-endian) instead of 1, in every record.
+    pub wide: bool,
+    /// The pool of distinct out-masks that records name by id: mask `id` is the bitset of the
+    /// [`SupervisorSet::mask_bytes`] bytes from byte `id · mask_bytes`, little-endian. The runtime reads
+    /// `W` whole words from there, so the pool ends with `4 · W − mask_bytes` bytes of padding; the bits
+    /// read beyond a mask's own bytes are never events.
+    pub masks: &'t [u8],
+    /// Bytes per mask in the pool: enough for the event count (`⌈events / 8⌉`, at most `4 · W`).
+    pub mask_bytes: u8,
     /// Per global event id, [`SupervisorSet::holder_bytes`] bytes, little-endian: bit `a` set when
     /// automaton `a` has the event in its alphabet. Its length is the event count times that width.
     pub holders: &'t [u8],
@@ -115,7 +122,9 @@ pub enum TableError {
     Events,
     /// A choice site that starts no record of a plant.
     Sites,
-    /// More than [`MAX_MASKS`] masks.
+    /// The set's field or mask width is not the one the runtime was built for.
+    Shape,
+    /// More than [`MAX_MASKS`] masks, or a mask width that does not fit the events and `W` words.
     Size,
     /// Automaton `0` starts out of order or beyond the block, has a scale of 0, a record outside its part
     /// of the block or naming no mask, an out-event outside its alphabet, or a target handle that starts
@@ -193,9 +202,11 @@ pub(crate) mod tests {
     pub(crate) static TOGGLE: SupervisorSet<'static, 1> = SupervisorSet {
         controllable: [0b01],
         plants: 1,
-        automata: &[Automaton { alphabet: [0b11], start: 0, scale: 2, wide: false }],
+        automata: &[Automaton { alphabet: [0b11], start: 0, scale: 2 }],
         block: &[0, 1, 1, 0],
-        masks: &[[0b01], [0b10]],
+        wide: false,
+        masks: &[0b01, 0b10, 0, 0, 0],
+        mask_bytes: 1,
         holders: &[1, 1],
         plant_events: &[[0b01]],
         sites: &[],
@@ -211,7 +222,7 @@ pub(crate) mod tests {
         assert_eq!(t.step(0, 0, 0), Some(1));
         assert_eq!(t.step(0, 1, 1), Some(0));
         assert_eq!(t.step(0, 0, 1), None);
-        assert_eq!(t.mask(0, 1), Some(&[0b10]));
+        assert_eq!(t.mask(0, 1), Some([0b10]));
     }
 
     #[test]
@@ -230,7 +241,7 @@ pub(crate) mod tests {
         assert_eq!(t.holders_of(1, t.holder_bytes()), Some(1));
         assert_eq!(t.holders_of(2, t.holder_bytes()), None);
         // SAFETY: the toggle passes the check (see `check`'s tests) and byte 2 starts its state 1.
-        let allowed = unsafe { t.allowed_at(aut, 2) };
+        let allowed = unsafe { t.allowed_at::<false, 1>(aut, 2) };
         assert_eq!(allowed, [!0b01]);
     }
 }

@@ -4,16 +4,17 @@
 use super::check::field;
 use super::{rank, Automaton, Event, SupervisorSet};
 
-/// Field `i` of the record at byte `at` (the mask id, then the targets), read without bounds checks.
+/// Field `i` of the record at byte `at` (the mask id, then the targets), of 2 bytes when `WIDE`, read
+/// without bounds checks.
 ///
 /// # Safety
 ///
 /// The field lies in `block`.
 #[inline(always)]
-unsafe fn field_unchecked(block: &[u8], wide: bool, at: usize, i: usize) -> u16 {
+unsafe fn field_unchecked<const WIDE: bool>(block: &[u8], at: usize, i: usize) -> u16 {
     // SAFETY: the caller's promise.
     unsafe {
-        if wide {
+        if WIDE {
             let p = at + 2 * i;
             u16::from_le_bytes([*block.get_unchecked(p), *block.get_unchecked(p + 1)])
         } else {
@@ -47,10 +48,10 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
 
     /// The out-mask of automaton `a`'s state `handle`, or `None` when it lies outside the tables. (A
     /// handle that starts no record gives a meaningless but harmless answer.)
-    pub fn mask(&self, a: usize, handle: u16) -> Option<&'t [u32; W]> {
+    pub fn mask(&self, a: usize, handle: u16) -> Option<[u32; W]> {
         let aut = self.automata.get(a)?;
-        let id = field(self.block, aut.wide, Self::record(aut, handle), 0)?;
-        self.masks.get(usize::from(id))
+        let id = field(self.block, self.wide, Self::record(aut, handle), 0)?;
+        self.mask_of(usize::from(id))
     }
 
     /// The handle reached from automaton `a`'s state `handle` by `event`, or `None` when the state has
@@ -58,11 +59,11 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     pub fn step(&self, a: usize, handle: u16, event: u8) -> Option<u16> {
         let mask = self.mask(a, handle)?;
         let event = Event::new(event);
-        if !event.in_set(mask) {
+        if !event.in_set(&mask) {
             return None;
         }
         let aut = self.automata.get(a)?;
-        field(self.block, aut.wide, Self::record(aut, handle), rank(mask, event) + 1)
+        field(self.block, self.wide, Self::record(aut, handle), rank(&mask, event) + 1)
     }
 
     /// The handle of `aut`'s state whose record starts at byte `at` of the block.
@@ -78,19 +79,31 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     }
 
     /// What `aut` allows in the state whose record starts at byte `at` of the block: its out-mask and
-    /// every event outside its alphabet. Reads without bounds checks.
+    /// every event outside its alphabet. Reads without bounds checks, with the widths `WIDE` and `MASK`.
     ///
     /// # Safety
     ///
-    /// [`SupervisorSet::check`] returned `Ok` for this set, `aut` is one of its automata and `at` the
-    /// record of one of its states.
+    /// [`crate::table::CheckedSet::new`] returned `Ok` for this set, `WIDE` and `MASK`, `aut` is one of
+    /// its automata and `at` the record of one of its states.
     #[inline(always)]
-    pub unsafe fn allowed_at(&self, aut: &Automaton<W>, at: u16) -> [u32; W] {
-        // SAFETY: the check proved every state's record in the block and its mask id in the pool.
+    pub unsafe fn allowed_at<const WIDE: bool, const MASK: usize>(
+        &self,
+        aut: &Automaton<W>,
+        at: u16,
+    ) -> [u32; W] {
+        // SAFETY: the check proved every state's record in the block and its mask id in the pool, which
+        // is padded for `W` words from the last mask.
         let mut allowed = unsafe {
-            let id = field_unchecked(self.block, aut.wide, usize::from(at), 0);
-            *self.masks.get_unchecked(usize::from(id))
+            let id = field_unchecked::<WIDE>(self.block, usize::from(at), 0);
+            let bytes = self.masks.get_unchecked(usize::from(id) * MASK..);
+            let mut mask = [0; W];
+            for (w, word) in mask.iter_mut().enumerate() {
+                let b = bytes.get_unchecked(4 * w..4 * w + 4);
+                *word = u32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+            }
+            mask
         };
+        // Bits beyond the mask's own bytes are no events, and no events are in the alphabet: allowed.
         for (m, al) in allowed.iter_mut().zip(&aut.alphabet) {
             *m |= !al;
         }
@@ -106,7 +119,13 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     /// As for [`SupervisorSet::allowed_at`]; `allowed` is what that state allows and holds `event`, an
     /// event of `aut`'s alphabet.
     #[inline(always)]
-    pub unsafe fn advance(&self, aut: &Automaton<W>, at: &mut u16, allowed: &mut [u32; W], event: Event) {
+    pub unsafe fn advance<const WIDE: bool, const MASK: usize>(
+        &self,
+        aut: &Automaton<W>,
+        at: &mut u16,
+        allowed: &mut [u32; W],
+        event: Event,
+    ) {
         let mut mask = *allowed;
         for (m, al) in mask.iter_mut().zip(&aut.alphabet) {
             *m &= al;
@@ -114,9 +133,9 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         // SAFETY: the record holds a target per mask bit; the target of a checked set's record is one of
         // its states, whose record starts within the first 64 KiB of the block.
         unsafe {
-            let target = field_unchecked(self.block, aut.wide, usize::from(*at), rank(&mask, event) + 1);
+            let target = field_unchecked::<WIDE>(self.block, usize::from(*at), rank(&mask, event) + 1);
             *at = Self::record(aut, target) as u16;
-            *allowed = self.allowed_at(aut, *at);
+            *allowed = self.allowed_at::<WIDE, MASK>(aut, *at);
         }
     }
 }

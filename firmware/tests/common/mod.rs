@@ -56,6 +56,7 @@ pub fn encode(
     controllable: &[bool],
     specs: &[Spec],
 ) -> &'static SupervisorSet<'static, 1> {
+    assert!(names.len() <= 8);
     let events = names.len() as u8;
     let mut masks: Vec<[u32; 1]> = Vec::new();
     let mut automata = Vec::new();
@@ -77,7 +78,7 @@ pub fn encode(
             block.extend(out.iter().map(|t| u8::try_from(hs[t.2]).unwrap()));
         }
         let alphabet = [bits(s.alphabet.iter().copied())];
-        automata.push(Automaton { alphabet, start, scale: 1, wide: false });
+        automata.push(Automaton { alphabet, start, scale: 1 });
     }
     // At most 8 automata: one byte per holder mask.
     assert!(specs.len() <= 8);
@@ -111,7 +112,10 @@ pub fn encode(
         plants: plants as u8,
         automata: leak(automata),
         block: leak(block),
-        masks: leak(masks),
+        wide: false,
+        // At most 8 events: a byte per mask, then the padding of a whole word.
+        masks: leak(masks.iter().map(|m| m[0] as u8).chain([0; 3]).collect()),
+        mask_bytes: 1,
         holders: leak(holders),
         plant_events: leak(plant_events),
         sites: leak(sites),

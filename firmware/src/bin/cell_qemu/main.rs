@@ -24,13 +24,7 @@ use firmware::link::{Hold, Note, Port};
 static HOLD: Hold = Hold::new();
 
 /// The runtime over the emitted tables.
-type Rt = firmware::runtime::Runtime<
-    'static,
-    tables::Policy,
-    firmware::rng::SeedEntropy,
-    { tables::EVENT_WORDS },
-    { tables::AUTOMATA },
->;
+type Rt = tables::Runtime<tables::Policy, firmware::rng::SeedEntropy>;
 
 /// UART0 as the link's port; notes become defmt warnings.
 struct UartPort;
