@@ -50,20 +50,13 @@ impl<const W: usize> View<'_, W> {
         usize::from(self.set.plants)
     }
 
-    /// The controllable events plant `p` generates.
-    fn generated(&self, p: usize) -> EventSet<W> {
-        EventSet(self.set.plant_events.get(p).copied().unwrap_or([0; W]))
-    }
-
-    /// The events plant `p` generates that its current state has transitions for.
-    fn out(&self, p: usize) -> EventSet<W> {
-        let allowed = EventSet(self.allowed.get(p).copied().unwrap_or([0; W]));
-        allowed.and(&self.generated(p))
-    }
-
-    /// Index of plant `p`'s current state in the site table, if that state is a choice site.
-    fn site(&self, p: usize) -> Option<usize> {
-        self.set.site(*self.records.get(p)?)
+    /// Plant `p`: the controllable events it generates, those of them its current state has
+    /// transitions for, and where that state's record is (for [`SupervisorSet::site`]).
+    fn plant(&self, p: usize) -> Option<(EventSet<W>, EventSet<W>, u16)> {
+        let ((generated, allowed), &at) =
+            self.set.plant_events.iter().zip(self.allowed).zip(self.records).nth(p)?;
+        let generated = EventSet(*generated);
+        Some((generated, generated.and(&EventSet(*allowed)), at))
     }
 }
 
@@ -169,8 +162,9 @@ impl<const W: usize, const S: usize> Policy<W> for LocalQueue<S> {
         let plants = view.plants();
         for i in 0..plants {
             let p = (usize::from(self.plant_cursor) + i) % plants;
-            let candidates = enabled.and(&view.generated(p));
-            let c = match view.site(p).and_then(|s| self.cursors.get_mut(s)) {
+            let Some((generated, _, at)) = view.plant(p) else { break };
+            let candidates = enabled.and(&generated);
+            let c = match view.set.site(at).and_then(|s| self.cursors.get_mut(s)) {
                 Some(cursor) => {
                     let c = candidates.next_cyclic(*cursor);
                     if let Some(c) = c {
@@ -224,16 +218,16 @@ impl<const W: usize, const S: usize> Policy<W> for RandomLocalQueue<W, S> {
         let Some(p) = pick(&EventSet([with_events]), &mut bits) else {
             return enabled.first();
         };
-        let p = usize::from(p);
-        let generated = view.generated(p);
+        let Some((generated, offered, at)) = view.plant(usize::from(p)) else {
+            return enabled.first();
+        };
         let candidates = enabled.and(&generated);
         // The plant's state is a choice site when two or more of its events leave it.
-        let offered = generated.and(&view.out(p));
         if !offered.several() {
             return candidates.first();
         }
         // Two or more events leave: a site of the table (a table without it falls back to the first).
-        match view.site(p).and_then(|s| self.rounds.get_mut(s)) {
+        match view.set.site(at).and_then(|s| self.rounds.get_mut(s)) {
             Some(round) => pick_from_round(round, &candidates, offered, &mut bits),
             None => candidates.first(),
         }

@@ -233,7 +233,10 @@ impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize, const WIDE: b
             self.counters.guard_redecisions = self.counters.guard_redecisions.wrapping_add(1);
             return Decision::Redecide;
         }
-        let Some(holders) = self.set.holders_of(c, holder_bytes(N)).filter(|_| enabled.contains(c)) else {
+        if !enabled.contains(c) {
+            return Decision::Idle;
+        }
+        let Some(holders) = self.set.holders_of(c, holder_bytes(N)) else {
             return Decision::Idle;
         };
         // `c` is enabled: every holder allows it, none gets stuck.

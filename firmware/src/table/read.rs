@@ -37,13 +37,9 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     pub fn holders_of(&self, event: u8, width: usize) -> Option<u32> {
         let at = usize::from(event) * width;
         // Inlined with the runtime's constant width, this is one load.
-        Some(match *self.holders.get(at..at + width)? {
-            [a] => u32::from(a),
-            [a, b] => u32::from(u16::from_le_bytes([a, b])),
-            [a, b, c] => u32::from_le_bytes([a, b, c, 0]),
-            [a, b, c, d] => u32::from_le_bytes([a, b, c, d]),
-            _ => return None,
-        })
+        let mut mask = [0; 4];
+        mask.get_mut(..width)?.copy_from_slice(self.holders.get(at..at + width)?);
+        Some(u32::from_le_bytes(mask))
     }
 
     /// The out-mask of automaton `a`'s state `handle`, or `None` when it lies outside the tables. (A
