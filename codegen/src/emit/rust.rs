@@ -12,9 +12,10 @@ use super::provenance::Provenance;
 use super::side::{EmitError, SideTables};
 
 /// Rust source for `firmware`'s applications (`include!`d inside a module): constants `NAME`,
-/// `EVENT_WORDS`, `AUTOMATA`, `SITES`, `INPUT_SLOTS`, `SEED`, `CONFIG`, the type `Policy`, a module
-/// `event` with one `u8` constant per event, the names `EVENT_NAMES` and `AUTOMATON_NAMES` (for logs;
-/// the tables hold none), the `ranked` tables (private statics: `BLOCK` with every automaton's records, `MASKS`,
+/// `EVENT_WORDS`, `AUTOMATA`, `SITES`, `INPUT_SLOTS`, `SEED`, `WIDE`, `MASK_BYTES`, `CONFIG`, the types
+/// `Policy` and `Runtime<P, E>` (the runtime built for these tables), a module `event` with one `u8`
+/// constant per event, the names `EVENT_NAMES` and `AUTOMATON_NAMES` (for logs; the tables hold none),
+/// the `ranked` tables (private statics: `BLOCK` with every automaton's records, `MASKS`,
 /// `DESCRIPTORS`, `HOLDERS`, `PLANT_EVENTS`, `CHOICE_SITES`) under
 /// `pub static SET: firmware::table::SupervisorSet<'static, EVENT_WORDS>`, the same set checked at compile
 /// time as `pub static CHECKED: firmware::table::CheckedSet`, and the board tables `BOARD`,

@@ -11,7 +11,7 @@
 //! |---|---|---|---|---|---|
 //! | [`memory_safe`] | 1 byte | 3 bytes | e bytes controllability, per automaton offset, initial, alphabet | walk to state k: O(Σ records before k) | 256 events, 255 out-transitions, 65 535 states |
 //! | [`offset`] | 1 byte | 3 bytes | ⌈e/32⌉ words controllability, per automaton offset, initial, alphabet | O(k): scan the current state's records, jump | 256 events, 255 out-transitions, 64 KiB block |
-//! | [`ranked`] | 1 byte mask id (2 beyond 256 masks), padding to the scale | 1 byte handle (2 when needed) | mask pool (⌈e/32⌉ words per distinct out-mask), per automaton 4-byte descriptor and alphabet, ⌈e/32⌉ words controllability | O(1): mask test, rank, one load | 256 events, 65 536 masks, 65 536 states |
+//! | [`ranked`] | 1 byte mask id (2 in every automaton when some needs more than 256 masks or handles), padding to the scale | 1 byte handle (2 likewise) | mask pool (⌈e/8⌉ bytes per distinct out-mask), per automaton 4-byte descriptor and alphabet, ⌈e/32⌉ words controllability | O(1): mask test, rank, one load | 256 events, 65 536 masks, 65 536 states |
 //! | [`compact`] | a bits | ⌈log₂ s⌉ bits | ⌈e/8⌉ bytes controllability, per automaton counts, alphabet, directory | ≤ 15 state skips (popcounts) from a directory entry | 65 535 states |
 //!
 //! * `memory-safe` is the reference tool's vector, byte for byte: Σs + 3Σt + e. For the six published
@@ -19,10 +19,10 @@
 //!   `tests/gen/cell.memory-safe.bin`).
 //! * `offset` is the runtime's former table: the same records with targets stored as byte offsets, so
 //!   the O(s) walk is gone at no cost in size.
-//! * `ranked` is what the firmware runs (`firmware/src/table.rs`): each state names its out-mask in a
+//! * `ranked` is what the firmware runs (`firmware/src/table/`): each state names its out-mask in a
 //!   pool shared by all automata and lists only its targets, as handles (record start / scale) of 1 byte
-//!   where the automaton allows. For the cell with its plants: 1028 bytes of blocks and 97 masks, 1540
-//!   bytes with every side table, against 2510 for `offset`.
+//!   where every automaton allows. For the cell with its plants: 1028 bytes of blocks and 97 masks of 3
+//!   bytes, 1404 bytes with every side table, against 2510 for `offset`.
 //! * `compact` numbers events within each automaton's alphabet and writes a mask of the events leaving
 //!   each state, then only the targets, in as many bits as the state count needs. For the cell's
 //!   supervisors: 1121 bytes with every side table, 1.13× the floor, under half of 2347.

@@ -1,8 +1,9 @@
-//! This module is the home of the `ranked` layout: the runtime's table (`firmware/src/table.rs`).
+//! This module is the home of the `ranked` layout: the runtime's table (`firmware/src/table/`).
 //!
 //! A state's *out-mask* is the bitset over global event ids of the events leaving it. The set keeps one
-//! pool of distinct out-masks ([`Packed::masks`], ⌈e/32⌉ words each), shared by all automata and in a
-//! fixed order: first appearance, automata in set order (plants first), states in index order.
+//! pool of distinct out-masks ([`Packed::masks`]; ⌈e/8⌉ bytes each in the runtime's pool,
+//! [`Packed::mask_pool`]), shared by all automata and in a fixed order: first appearance, automata in set
+//! order (plants first), states in index order.
 //!
 //! Each automaton is one byte block holding one record per state, the initial state's first, then the
 //! others in state-index order; the runtime's tables put the blocks back to back, in set order, in one
