@@ -67,7 +67,7 @@ fn wide_fields_and_word_masks_run_as_the_checked_readers_step() {
     };
     let (go, tick, x7) = (event("go"), event("tick"), event("x7"));
     let (mut expected, mut highest) = (rt.states(), 0);
-    let mut advance = |states: &mut [u16; 2], e: u8| {
+    let advance = |states: &mut [u16; 2], e: u8| {
         for (a, h) in states.iter_mut().enumerate() {
             if tables.holders_of(e, tables.holder_bytes()).is_some_and(|m| m & (1 << a) != 0) {
                 *h = tables.step(a, *h, e).unwrap();
