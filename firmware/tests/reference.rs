@@ -177,6 +177,7 @@ proptest! {
         (specs, controllable) in sets(),
         flips in proptest::collection::vec((any::<proptest::sample::Index>(), any::<u8>()), 1..4),
         holder_flip in proptest::option::of((0usize..6, 0u32..4)),
+        mask_flip in proptest::option::of((any::<proptest::sample::Index>(), 0u32..8)),
         ops in ops(),
     ) {
         let good = encode(&NAMES, &controllable, &specs);
@@ -191,9 +192,16 @@ proptest! {
         if let Some((e, a)) = holder_flip {
             holders[e] ^= 1 << a;
         }
+        // A bit of a mask (the padding included): the records' lengths no longer match it.
+        let mut masks = good.masks.to_vec();
+        if let Some((at, bit)) = mask_flip {
+            let i = at.index(masks.len());
+            masks[i] ^= 1 << bit;
+        }
         let set = Box::leak(Box::new(firmware::table::SupervisorSet {
             block: Box::leak(block.into_boxed_slice()),
             holders: Box::leak(holders.into_boxed_slice()),
+            masks: Box::leak(masks.into_boxed_slice()),
             ..*good
         }));
         exercise(set, &ops);
