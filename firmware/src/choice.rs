@@ -17,9 +17,10 @@
 //! plant among those that generate an enabled event (`local-queue`: cyclically; `random-local-queue`:
 //! uniformly, so that no interleaving of the plants is ruled out — a fixed plant order would keep the
 //! closed loop out of states a machine reaches only by waiting), then the plant's current state picks
-//! among its own enabled events in event-id order (the order of its out-mask). So a choice made in one place never starves another, which a single global
-//! cursor can do: in the livelock example of the design notes a global queue cycles 1, 3, 1, 3 and never
-//! reaches the marked state, while a local queue runs 1, 3, 4, 1, 2, 4, 1, 3, 1.
+//! among its own enabled events in event-id order (the order of its out-mask). So a choice made in one
+//! place never starves another, which a single global cursor can do: in the livelock example of the
+//! design notes a global queue cycles 1, 3, 1, 3 and never reaches the marked state, while a local queue
+//! runs 1, 3, 4, 1, 2, 4, 1, 3, 1.
 //!
 //! The random queues draw their order lazily: a round is the set of events not yet taken, and each pick
 //! is uniform among the enabled events still in the round (a new round starts when none is). Every event

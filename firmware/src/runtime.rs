@@ -7,15 +7,16 @@
 //! only disable, and the *interface* (the caller: [`crate::link`] or a board's pin layer) turns input
 //! signals into [`Runtime::apply`] calls and fired events into outputs.
 //!
-//! Cost does not depend on the set's state count: a state is held as the handle of its record in the
-//! table (`ranked` layout, [`crate::table`]), so taking a transition is a mask test, a rank and one load;
-//! an event touches only the automata that hold it ([`SupervisorSet::holders`]). The enabled set is the
-//! controllable events masked, automaton by automaton, by the current state's out-mask (or-ed with the
-//! events outside the automaton's alphabet): one mask per automaton, no scan.
+//! Cost does not depend on the set's state count: a state is held as the offset of its record in the
+//! tables' block (`ranked` layout, [`crate::table`]), so taking a transition is a mask test, a rank and
+//! one load; an event touches only the automata that hold it ([`SupervisorSet::holders`]). The enabled
+//! set is the controllable events masked, automaton by automaton, by the current state's out-mask
+//! (or-ed with the events outside the automaton's alphabet): one mask per automaton, no scan.
 //!
 //! The runtime takes only a [`CheckedSet`] (tables that passed [`SupervisorSet::check`], at compile time
-//! in the firmware); the hot path then reads them without bounds checks. Everything from outside — input events, restored states — is checked
-//! where it enters.
+//! in the firmware, with the field and mask widths the runtime is compiled for); the hot path then
+//! reads them without bounds checks. Everything from outside — input events, restored states — is
+//! checked where it enters.
 //!
 //! # Examples
 //!

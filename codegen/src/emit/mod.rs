@@ -1,8 +1,9 @@
 //! Emitting the Rust source the firmware compiles: the [`ranked`](crate::pack::ranked) tables of a
-//! supervisor set as `static` data in flash (one block per automaton, the out-mask pool, and the
-//! `SupervisorSet` over them, checked at compile time as a `CheckedSet`), with the side tables the runtime's hot path needs, event ids as constants,
-//! event and automaton names apart for logs, the choice-policy type sized exactly and the run-time
-//! configuration, under a provenance header.
+//! supervisor set as `static` data in flash (the records of every automaton in one block, the out-mask
+//! pool, and the `SupervisorSet` over them, checked at compile time as a `CheckedSet`), with the side
+//! tables the runtime's hot path needs, event ids as constants, event and automaton names apart for
+//! logs, the choice-policy type and the runtime's type sized exactly, and the run-time configuration,
+//! under a provenance header.
 //!
 //! # Overview
 //!

@@ -30,11 +30,10 @@
 //! * 2-byte fields, each automaton with the smallest scale that puts every record start at a handle
 //!   ≤ 65 535.
 //!
-//!
-//! Side tables: the mask pool (⌈e/8⌉ bytes per mask, then padding to read a whole last word), per automaton a descriptor of
-//! [`DESCRIPTOR_BYTES`] (start offset u16, scale u8, padding) and its alphabet (⌈e/32⌉ words), and the
-//! controllability bitset (⌈e/32⌉ words). The per-event holder masks, per-plant event
-//! sets and choice sites `codegen emit` adds for the runtime's hot path are not part of the layout.
+//! Side tables: the mask pool (⌈e/8⌉ bytes per mask, then padding to read a whole last word), per
+//! automaton a descriptor of [`DESCRIPTOR_BYTES`] (start offset u16, scale u8, padding) and its alphabet
+//! (⌈e/32⌉ words), and the controllability bitset (⌈e/32⌉ words). The per-event holder masks, per-plant
+//! event sets and choice sites `codegen emit` adds for the runtime's hot path are not part of the layout.
 //!
 //! Limits: at most 256 events, 65 536 states per automaton and a block whose records fit 2-byte handles
 //! at some scale up to 255, [`MAX_MASKS`] distinct masks, and records starting in the first
@@ -139,7 +138,8 @@ impl Packed {
     }
 
     /// The runtime's mask pool: every mask in [`Packed::mask_width`] bytes, little-endian, then the
-    /// padding that lets the runtime read whole words from the last (`firmware::table::SupervisorSet::masks`).
+    /// padding that lets the runtime read whole words from the last
+    /// (`firmware::table::SupervisorSet::masks`).
     pub fn mask_pool(&self) -> Vec<u8> {
         let width = self.mask_width();
         // A mask of a set without events has no words: its byte is 0.
