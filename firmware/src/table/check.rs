@@ -74,7 +74,9 @@ pub const fn holder_bytes(automata: usize) -> usize {
     }
 }
 
-/// The little-endian holder mask of `width` bytes at `at` of `holders`, if it lies there.
+/// The little-endian holder mask of `width` bytes at `at` of `holders`, if it lies there: the check's
+/// reader (a `const fn`); the runtime reads through [`SupervisorSet::holders_of`], which its constant
+/// width turns into one load.
 pub(super) const fn holder_mask(holders: &[u8], at: usize, width: usize) -> Option<u32> {
     if at + width > holders.len() || width > 4 {
         return None;
