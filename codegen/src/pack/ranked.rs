@@ -310,15 +310,21 @@ struct Scales {
 }
 
 impl Scales {
-    /// The scales of member `m` whose states have the mask ids `ids`.
-    fn of(m: &super::Member, ids: &[usize]) -> Scales {
-        let lens = |t: usize| m.out.iter().map(|e| t * (1 + e.len())).collect::<Vec<_>>();
+    /// The scales of member `m` whose states have the mask ids `ids`, its records in `order`.
+    fn of(m: &super::Member, ids: &[usize], order: &[usize]) -> Scales {
+        let lens = |t: usize| order.iter().map(|&s| t * (1 + m.out[s].len())).collect::<Vec<_>>();
         let narrow_ids = ids.iter().all(|&id| id < NARROW_IDS);
         Scales {
             narrow: smallest_scale(&lens(1), NARROW_HANDLE).filter(|_| narrow_ids),
             wide: smallest_scale(&lens(2), WIDE_HANDLE),
         }
     }
+}
+
+/// The states of `m` in the order of their records: the initial state first, then the others by index.
+fn record_order(m: &super::Member) -> Vec<usize> {
+    let initial = m.initial().index();
+    std::iter::once(initial).chain((0..m.state_count()).filter(|&s| s != initial)).collect()
 }
 
 /// Packs `set` in the `ranked` layout, or says which limit it breaks.
@@ -356,7 +362,14 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
     if masks.len() > MAX_MASKS {
         return Err(PackError::TooManyMasks { layout: NAME, masks: masks.len(), limit: MAX_MASKS });
     }
-    let options: Vec<Scales> = set.members().iter().zip(&ids).map(|(m, ids)| Scales::of(m, ids)).collect();
+    let orders: Vec<Vec<usize>> = set.members().iter().map(record_order).collect();
+    let options: Vec<Scales> = set
+        .members()
+        .iter()
+        .zip(&ids)
+        .zip(&orders)
+        .map(|((m, ids), order)| Scales::of(m, ids, order))
+        .collect();
     let total = |of: fn(&Scales) -> Option<(u8, usize)>| {
         options.iter().map(|o| of(o).map(|(_, len)| len)).sum::<Option<usize>>()
     };
@@ -369,8 +382,8 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
     let mut automata = Vec::with_capacity(set.members().len());
     // Where the block starts when the blocks are put back to back.
     let mut start = 0usize;
-    for ((m, ids), option) in set.members().iter().zip(&ids).zip(&options) {
-        let lens: Vec<usize> = m.out.iter().map(|e| width * (1 + e.len())).collect();
+    for (((m, ids), option), order) in set.members().iter().zip(&ids).zip(&options).zip(&orders) {
+        let lens: Vec<usize> = order.iter().map(|&s| width * (1 + m.out[s].len())).collect();
         let Some((scale, _)) = (if wide { option.wide } else { option.narrow }) else {
             return Err(PackError::NoScale {
                 layout: NAME,
@@ -379,10 +392,6 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
             });
         };
         let unit = usize::from(scale);
-        let initial = m.initial().index();
-        let order: Vec<usize> =
-            std::iter::once(initial).chain((0..lens.len()).filter(|&s| s != initial)).collect();
-        let lens: Vec<usize> = order.iter().map(|&s| lens[s]).collect();
         let mut handles = vec![0; lens.len()];
         let mut units = 0usize;
         for (&s, l) in order.iter().zip(&lens) {
@@ -391,7 +400,7 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
         }
         let len = extent(&lens, unit).1;
         let mut block = Vec::with_capacity(len);
-        for &s in &order {
+        for &s in order {
             let edges = &m.out[s];
             block.resize(handles[s] * unit, 0);
             // Checked above: ids and handles within the chosen width.
@@ -414,7 +423,7 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
         automata.push(Block {
             name: m.name().to_owned(),
             role: m.role,
-            initial,
+            initial: m.initial().index(),
             scale,
             block,
             alphabet: bitset::from_ids(m.alphabet().iter().map(|e| e.index()), events.len()),
@@ -618,6 +627,31 @@ mod tests {
         let packed = encode(&set).unwrap();
         let b = &packed.automata[0];
         assert_eq!((b.scale, packed.wide, b.block.len()), (1, true, 4000));
+        assert_round_trip(&set, &decode(&packed).unwrap());
+        assert_runtime_steps(&set, &packed);
+    }
+
+    #[test]
+    fn the_scale_fits_the_records_with_the_initial_state_first() {
+        // States 0..127 each with one 2-byte record (a → next), state 127 with five events back to 0
+        // (6 bytes). In index order the last record starts at byte 254, a 1-byte handle at scale 1; with
+        // the initial state 127 first it starts at 6 + 126 · 2 = 258, so the scale must be 2.
+        let mut m = Model::new("P", Kind::Plant);
+        for i in 0..128u32 {
+            m.add_state(i.to_string(), false).unwrap();
+        }
+        m.initial = Some(StateId::from_u32(127));
+        let a = m.add_event("a", false).unwrap();
+        for i in 0..127u32 {
+            m.add_transition(StateId::from_u32(i), a, StateId::from_u32(i + 1));
+        }
+        for k in 0..5 {
+            let e = m.add_event(format!("b{k}"), false).unwrap();
+            m.add_transition(StateId::from_u32(127), e, StateId::from_u32(0));
+        }
+        let set = PackSet::new(vec![m], vec![]).unwrap();
+        let packed = encode(&set).unwrap();
+        assert_eq!((packed.wide, packed.automata[0].scale), (false, 2));
         assert_round_trip(&set, &decode(&packed).unwrap());
         assert_runtime_steps(&set, &packed);
     }
