@@ -1,11 +1,23 @@
 #!/usr/bin/env bash
 # Installs what a fresh machine of this kind lacks (idempotent, quiet when everything is there):
-# the Cortex-M target and Rust components, qemu-system-arm from Debian.
+# the Rust components, the Cortex-M targets (from rustup, else built from rust-src), qemu-system-arm from
+# Debian, the reference tools for the differential tests.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# rust-toolchain.toml names the target and components; any cargo/rustup call installs them.
-rustup show active-toolchain >/dev/null
+# The components the toolchain file names (rustup installs nothing by itself when RUSTUP_AUTO_INSTALL=0).
+# llvm-tools carries llvm-size and llvm-nm for scripts/footprint.sh.
+missing=()
+for component in rustfmt clippy llvm-tools rust-src; do
+  rustup component list --installed | grep -q "^$component" || missing+=("$component")
+done
+if ((${#missing[@]})); then
+  echo "setup: adding Rust components ${missing[*]}" >&2
+  rustup component add "${missing[@]}" >/dev/null
+fi
+
+# thumbv7m-none-eabi (QEMU) and thumbv6m-none-eabi (Pico): see the script for the two paths.
+bash scripts/thumb-targets.sh install
 
 if ! command -v qemu-system-arm >/dev/null; then
   echo "setup: installing qemu-system-arm" >&2
