@@ -14,5 +14,6 @@ pub mod model;
 pub mod monitor;
 pub mod pack;
 pub mod plant;
+pub mod plc;
 pub mod qemu;
 pub mod synth;

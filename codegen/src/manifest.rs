@@ -143,6 +143,9 @@ pub struct Manifest {
     /// Pin map for a real board (see [`crate::emit::board`]).
     #[serde(default)]
     pub board: Option<crate::emit::BoardSpec>,
+    /// I/O map and choices of the PLC program (see [`crate::plc::spec`]).
+    #[serde(default)]
+    pub plc: Option<crate::plc::PlcSpec>,
     /// The manifest file itself (set by [`Manifest::load`]).
     #[serde(skip)]
     pub file: PathBuf,

@@ -8,6 +8,7 @@ mod emit;
 mod inspect;
 mod pack;
 mod plant;
+mod plc;
 mod run;
 mod set;
 mod synth;
@@ -41,6 +42,7 @@ enum Command {
     Emit(emit::Args),
     Synth(synth::Args),
     Plant(plant::Args),
+    Plc(plc::Args),
     Run(run::Args),
 }
 
@@ -55,6 +57,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, Error> {
         Command::Emit(args) => emit::run(args),
         Command::Synth(args) => synth::run(args),
         Command::Plant(args) => plant::run(args),
+        Command::Plc(args) => plc::run(args),
         Command::Run(args) => run::run(args),
     }
 }

@@ -38,6 +38,15 @@ pub struct Provenance {
     pub command: String,
 }
 
+impl Provenance {
+    /// The header's lines, without comment markers: the command, then every input with its SHA-256.
+    pub fn lines(&self) -> Vec<String> {
+        let mut out = vec![format!("Command: {}", self.command), String::from("Inputs (SHA-256):")];
+        out.extend(self.inputs.iter().map(|i| format!("  {}  {}", i.sha256, i.path)));
+        out
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

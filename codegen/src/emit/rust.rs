@@ -63,10 +63,8 @@ fn header(out: &mut String, packed: &Packed, side: &SideTables, options: &Option
         packed.mask_bytes(),
         packed.masks.len()
     );
-    let _ = writeln!(out, "// Command: {}", provenance.command);
-    let _ = writeln!(out, "// Inputs (SHA-256):");
-    for input in &provenance.inputs {
-        let _ = writeln!(out, "//   {}  {}", input.sha256, input.path);
+    for line in provenance.lines() {
+        let _ = writeln!(out, "// {line}");
     }
     let _ = writeln!(
         out,

@@ -1,0 +1,217 @@
+//! The PLC back end: IEC 61131-3 Structured Text and PLCopen TC6 XML 2.01 from the same supervisor set
+//! the firmware runs, with the scan-cycle problems solved in the code and reported.
+//!
+//! # Overview
+//!
+//! * [`spec`] — the manifest's `[plc]` section: input variables and their edges, output variables and
+//!   their actions, the choice policy, the task's cycle.
+//! * [`io`] — that map checked against the set's events.
+//! * [`names`] — IEC identifiers for the models' names.
+//! * [`avalanche`] — the avalanche events of each automaton and how each is eliminated (statement order
+//!   or an AEEM memory bit).
+//! * [`choice`] — the choice policies in ST.
+//! * [`st`] — the ST syntax tree, its printer, and the measures of it the report gives (statements per
+//!   section, a static bound on the statements a scan executes).
+//! * [`program`] — the builder: a `FUNCTION_BLOCK` with plants, supervisors and interface, and a
+//!   `PROGRAM` instantiating it (the scan is described there).
+//! * [`xml`] — the same POUs, and the configuration, as PLCopen XML with ST bodies.
+//! * [`report`] — what the program costs and how it solves each problem.
+//!
+//! Two encodings: `int` — one integer state per automaton and a `CASE` per event, where no event can
+//! chain (a `CASE` takes one branch); `bits` — one `BOOL` per state and one statement per transition,
+//! the ladder form, where avalanche events need elimination. Output is deterministic: the same set and
+//! options give the same bytes (the XML's creation time is fixed).
+
+pub mod avalanche;
+pub mod choice;
+pub mod io;
+pub mod names;
+pub mod program;
+pub mod report;
+pub mod spec;
+pub mod st;
+pub mod xml;
+
+use std::fmt::Write as _;
+
+use crate::emit::{OnFault, Provenance};
+use crate::pack::PackSet;
+
+pub use avalanche::{Avalanche, Method};
+pub use program::Program;
+pub use report::Report;
+pub use spec::{PlcSpec, ScanPolicy};
+
+/// The state encoding (`--encoding`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Encoding {
+    /// One integer per automaton, a `CASE` per event.
+    #[default]
+    Int,
+    /// One `BOOL` per state, one statement per transition (ladder form).
+    Bits,
+}
+
+impl Encoding {
+    /// The option's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Encoding::Int => "int",
+            Encoding::Bits => "bits",
+        }
+    }
+}
+
+/// Everything besides the set that fixes the program.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PlcOptions {
+    /// Name of the set (POU names derive from it).
+    pub name: String,
+    /// State encoding.
+    pub encoding: Encoding,
+    /// Avalanche elimination (bits encoding).
+    pub avalanche: Avalanche,
+    /// Choice policy.
+    pub policy: ScanPolicy,
+    /// Inexact-synchronisation guard's initial value.
+    pub guard: bool,
+    /// Seed of the random policy.
+    pub seed: u64,
+    /// Reaction to a fault.
+    pub on_fault: OnFault,
+    /// The task's interval in milliseconds.
+    pub cycle_ms: u32,
+    /// The I/O map.
+    pub spec: PlcSpec,
+}
+
+impl Default for PlcOptions {
+    fn default() -> Self {
+        PlcOptions {
+            name: String::from("set"),
+            encoding: Encoding::default(),
+            avalanche: Avalanche::default(),
+            policy: ScanPolicy::LocalQueue,
+            guard: true,
+            seed: 0,
+            on_fault: OnFault::default(),
+            cycle_ms: 10,
+            spec: PlcSpec::default(),
+        }
+    }
+}
+
+/// Why a program cannot be written for a set.
+#[derive(Debug, thiserror::Error)]
+pub enum PlcError {
+    /// The set has no events.
+    #[error("the set has no events: nothing to program")]
+    Empty,
+    /// `[plc]` names an event the set does not have.
+    #[error("plc: event '{0}' is not an event of the set")]
+    UnknownEvent(String),
+    /// An input for a controllable event, or an output for an uncontrollable one.
+    #[error("plc: event '{event}' is {what}")]
+    WrongKind {
+        /// Event.
+        event: String,
+        /// What is wrong.
+        what: &'static str,
+    },
+    /// A variable name that is no IEC identifier (or a reserved word).
+    #[error("plc: '{0}' is not an IEC 61131-3 identifier (letters, digits, single underscores; no keyword)")]
+    Identifier(String),
+    /// A name used twice.
+    #[error("plc: '{0}' is mapped twice or clashes with a generated name")]
+    Duplicate(String),
+    /// A bad value in `[plc]`.
+    #[error("plc: {0}")]
+    Value(String),
+    /// A controllable event no plant has: nothing can generate it.
+    #[error("controllable event '{0}' belongs to no plant, so the product system cannot generate it")]
+    Unowned(String),
+    /// `--avalanche order` and a cycle.
+    #[error("--avalanche order: event '{event}' of {automaton} has a cycle among its transitions{}; use auto or aeem", if *conflict { " together with the events ordered before it" } else { "" })]
+    Unorderable {
+        /// Automaton.
+        automaton: String,
+        /// Event.
+        event: String,
+        /// The cycle is in the union with other ordered events.
+        conflict: bool,
+    },
+    /// The closed loop for the simultaneity check could not be built.
+    #[error("simultaneity check: {0}")]
+    Synth(#[from] crate::synth::SynthError),
+}
+
+/// The files of one program and its report.
+#[derive(Clone, Debug)]
+pub struct Output {
+    /// `(file name, contents)`: `<name>.st`, `<name>_config.st`, `<name>.xml`.
+    pub files: Vec<(String, String)>,
+    /// The report.
+    pub report: Report,
+    /// The program's syntax trees.
+    pub program: Program,
+}
+
+/// Writes the program for `set` with `opts`; `provenance` goes into every file's header.
+pub fn generate(set: &PackSet, opts: &PlcOptions, provenance: &Provenance) -> Result<Output, PlcError> {
+    let program = program::build(set, opts)?;
+    let base = names::sanitize(&opts.name);
+    let header = header(set, opts, provenance);
+    let mut st = comment(&header);
+    if let Some((name, members)) = &program.events_type {
+        let mut vars = String::new();
+        for m in members {
+            vars.push_str(&m.text());
+        }
+        let _ = write!(st, "\nTYPE {name} :\nSTRUCT\n{vars}END_STRUCT\nEND_TYPE\n");
+    }
+    let _ = write!(st, "\n{}\n{}", program.fb.text(), program.main.text());
+    let config = format!("{}\n{}", comment(&header), xml::configuration_text(&base, opts.cycle_ms));
+    let xml = xml::project(&program, &base, opts.cycle_ms, &header);
+    let files = vec![(format!("{base}.st"), st), (format!("{base}_config.st"), config), (format!("{base}.xml"), xml)];
+    let report = Report::new(set, opts, &program, &files)?;
+    Ok(Output { files, report, program })
+}
+
+/// The header lines (without comment delimiters).
+fn header(set: &PackSet, opts: &PlcOptions, provenance: &Provenance) -> Vec<String> {
+    let plants = set.members().iter().filter(|m| m.role == crate::pack::Role::Plant).count();
+    let mut lines = vec![
+        format!("@generated by codegen {} (`codegen plc`): do not edit.", env!("CARGO_PKG_VERSION")),
+        String::new(),
+        format!(
+            "Set '{}': {} plants, {} supervisors, {} events.",
+            opts.name,
+            plants,
+            set.members().len() - plants,
+            set.events().len()
+        ),
+    ];
+    lines.extend(provenance.lines());
+    lines.push(format!(
+        "Options: encoding={} avalanche={} policy={} guard={} on_fault={} seed={} cycle_ms={}",
+        opts.encoding.name(),
+        opts.avalanche.name(),
+        opts.policy.name(),
+        opts.guard,
+        opts.on_fault.name(),
+        opts.seed,
+        opts.cycle_ms
+    ));
+    lines
+}
+
+/// `lines` as one ST comment (any comment delimiter inside them broken up).
+fn comment(lines: &[String]) -> String {
+    let mut out = String::from("(*\n");
+    for l in lines {
+        let l = st::safe_comment(l);
+        let _ = writeln!(out, "{}", if l.is_empty() { l } else { format!("   {l}") });
+    }
+    out.push_str("*)\n");
+    out
+}

@@ -1,0 +1,685 @@
+//! The builder of the function block (plants, supervisors and interface in one scan) and of the
+//! program that instantiates it, as ST syntax trees.
+//!
+//! Each scan (design notes §8), in the order of the body's sections:
+//!
+//! 1. `init` — on the first scan and while `reset`: initial states, inputs' previous values, counters.
+//! 2. `inputs` — every input sampled once; an edge against the previous scan latches its event
+//!    (`pend_*`). An edge while another event is latched or arrived in the same scan is counted in
+//!    `simultaneous`; an edge of an event still latched is lost and counted in `overflows`.
+//! 3. `events` — this scan's event flags cleared; the latched event of lowest id, if any, becomes this
+//!    scan's uncontrollable event. So several edges in one scan are applied one per scan, in id order.
+//! 4. `faults` (bits) — an automaton holding the event with no transition for it: `unexpected`.
+//! 5. `aeem-set`, `transitions` — the uncontrollable event applied once to every automaton holding it.
+//! 6. `enabled` — per controllable event, whether every holder allows it (a pulsed output must also be
+//!    low, so every command shows as a rising edge).
+//! 7. `choice` — unless `hold` or the safe state: one event by the policy; dropped (and counted in
+//!    `guard_redecisions`) when the guard is on and an uncontrollable event arrived or is latched.
+//! 8. `aeem-set`, `transitions` — the chosen event applied once.
+//! 9. `aeem-reset` — every memory bit cleared.
+//! 10. `outputs` — set, clear, pulse countdown; all off in the safe state.
+
+use crate::emit::OnFault;
+use crate::model::EventId;
+use crate::pack::{PackSet, Role};
+
+use super::avalanche::{plan, Avalanche, Method, Plan};
+use super::choice::{self, PlantChoice};
+use super::io::{IoMap, Source};
+use super::names::{sanitize, Names};
+use super::spec::{Action, Edge, ScanPolicy};
+use super::st::{Expr, Op, Pou, Section, SectionKind, Stmt, Var, VarClass};
+use super::{Encoding, PlcError, PlcOptions};
+
+/// The counters the function block outputs, in the link's STATUS order where they have one.
+pub const COUNTERS: [&str; 6] =
+    ["events_in", "commands_out", "unexpected", "overflows", "guard_redecisions", "simultaneous"];
+
+/// The POUs and what the report says about them.
+#[derive(Clone, Debug)]
+pub struct Program {
+    /// The `EVENTS` structure type: name and members (absent when every uncontrollable event is mapped).
+    pub events_type: Option<(String, Vec<Var>)>,
+    /// The function block.
+    pub fb: Pou,
+    /// The program instantiating it.
+    pub main: Pou,
+    /// The I/O map.
+    pub io: IoMap,
+    /// Per automaton and avalanche event, how it is eliminated.
+    pub avalanche: Vec<(String, EventId, Method)>,
+    /// The AEEM memory bits.
+    pub memory_bits: Vec<String>,
+    /// Choice sites with a cursor (local queue).
+    pub sites: usize,
+}
+
+/// Identifiers of one automaton.
+struct Aut {
+    /// `st_<A>` (int) or the `X_<A>_` prefix (bits).
+    name: String,
+    /// The statement plans of the two passes (uncontrollable, controllable).
+    plans: [Plan; 2],
+}
+
+struct Builder<'a> {
+    set: &'a PackSet,
+    opts: &'a PlcOptions,
+    io: IoMap,
+    ev: Vec<String>,
+    pend: Vec<String>,
+    prev: Vec<String>,
+    auts: Vec<Aut>,
+    /// AEEM bits: (name, automaton, event).
+    bits: Vec<(String, usize, EventId)>,
+    /// Pulse counters per pulsed output (by output index).
+    pulse: Vec<Option<String>>,
+}
+
+/// Builds the program for `set` with `opts`.
+pub fn build(set: &PackSet, opts: &PlcOptions) -> Result<Program, PlcError> {
+    let events = set.events();
+    let mut names = Names::default();
+    for fixed in ["ready", "reset", "hold", "guard", "fired", "pending", "safe", "busy", "arrived", "EVENTS"]
+        .iter()
+        .chain(&COUNTERS)
+        .chain(&["en", "c", "i", "j", "k", "n", "p", "pc", "gq", "sc", "site", "cur", "rng", "sct"])
+    {
+        names.reserve(fixed);
+    }
+    let io = IoMap::new(&opts.spec, events, &mut names)?;
+    let n = events.len();
+    if n == 0 {
+        return Err(PlcError::Empty);
+    }
+    let per_event = |names: &mut Names, prefix: &str| -> Vec<String> {
+        events.ids().map(|e| names.fresh(prefix, events.name(e))).collect()
+    };
+    let ev = per_event(&mut names, "ev");
+    let pend = per_event(&mut names, "pend");
+    let prev = per_event(&mut names, "prev");
+    let mut auts = Vec::new();
+    let mut bits = Vec::new();
+    for (a, m) in set.members().iter().enumerate() {
+        let name = match opts.encoding {
+            Encoding::Int => names.fresh("st", m.name()),
+            Encoding::Bits => {
+                let base = names.fresh("X", m.name());
+                for s in 0..m.state_count() {
+                    if !names.reserve(&format!("{base}_{s}")) {
+                        return Err(PlcError::Duplicate(format!("{base}_{s}")));
+                    }
+                }
+                base
+            }
+        };
+        let option = match opts.encoding {
+            Encoding::Int => Avalanche::None,
+            Encoding::Bits => opts.avalanche,
+        };
+        let pass = |controllable: bool| {
+            plan(&m.out, &|e: EventId| events.is_controllable(e) == controllable, option).map_err(|u| {
+                PlcError::Unorderable {
+                    automaton: m.name().to_owned(),
+                    event: events.name(u.event).to_owned(),
+                    conflict: u.conflict,
+                }
+            })
+        };
+        let plans = [pass(false)?, pass(true)?];
+        for p in &plans {
+            for (&e, &method) in &p.methods {
+                if method == Method::Aeem {
+                    bits.push((names.fresh(&format!("m_{}", sanitize(m.name())), events.name(e)), a, e));
+                }
+            }
+        }
+        auts.push(Aut { name, plans });
+    }
+    let pulse = io
+        .outputs
+        .iter()
+        .map(|o| o.pulsed().then(|| names.fresh("pt", &o.variable)))
+        .collect();
+    let b = Builder { set, opts, io, ev, pend, prev, auts, bits, pulse };
+    b.check_owned()?;
+    Ok(b.finish())
+}
+
+impl Builder<'_> {
+    fn events(&self) -> &crate::model::EventTable {
+        self.set.events()
+    }
+
+    fn uncontrollable(&self) -> Vec<EventId> {
+        self.events().ids().filter(|&e| !self.events().is_controllable(e)).collect()
+    }
+
+    fn controllable(&self) -> Vec<EventId> {
+        self.events().ids().filter(|&e| self.events().is_controllable(e)).collect()
+    }
+
+    fn holders(&self, e: EventId) -> impl Iterator<Item = usize> + '_ {
+        self.set.members().iter().enumerate().filter(move |(_, m)| m.global.contains(&e)).map(|(a, _)| a)
+    }
+
+    /// Every controllable event must be generated by a plant (as the firmware requires).
+    fn check_owned(&self) -> Result<(), PlcError> {
+        for c in self.controllable() {
+            if !self.set.members().iter().any(|m| m.role == Role::Plant && m.global.contains(&c)) {
+                return Err(PlcError::Unowned(self.events().name(c).to_owned()));
+            }
+        }
+        Ok(())
+    }
+
+    fn state_var(&self, a: usize, s: usize) -> String {
+        format!("{}_{s}", self.auts[a].name)
+    }
+
+    /// Automaton `a` is in state `s`.
+    fn at(&self, a: usize, s: usize) -> Expr {
+        match self.opts.encoding {
+            Encoding::Int => Expr::var(&self.auts[a].name).op(Op::Eq, Expr::Int(s as i64)),
+            Encoding::Bits => Expr::var(self.state_var(a, s)),
+        }
+    }
+
+    /// Automaton `a` is in one of the states that have a transition on `e`.
+    fn allows(&self, a: usize, e: EventId) -> Expr {
+        let out = &self.set.members()[a].out;
+        let states = (0..out.len()).filter(|&s| out[s].iter().any(|&(x, _)| x == e));
+        Expr::fold(states.map(|s| self.at(a, s)), Op::Or, Expr::Bool(false))
+    }
+
+    /// A fault: the counter incremented, and the safe state entered under `on_fault = safe-state`.
+    fn fault(&self, counter: &str) -> Vec<Stmt> {
+        let mut out = vec![Stmt::incr(counter)];
+        if self.opts.on_fault == OnFault::SafeState {
+            out.push(Stmt::set("safe", Expr::Bool(true)));
+        }
+        out
+    }
+
+    fn source(&self, e: EventId) -> (Expr, Edge) {
+        match &self.io.sources[&e] {
+            Source::Input { variable, edge, .. } => (Expr::var(variable), *edge),
+            Source::Member(m) => (Expr::var(format!("EVENTS.{m}")), Edge::Rising),
+        }
+    }
+
+    fn init(&self) -> Vec<Stmt> {
+        let mut body = Vec::new();
+        for (a, m) in self.set.members().iter().enumerate() {
+            let initial = m.initial().index();
+            match self.opts.encoding {
+                Encoding::Int => body.push(Stmt::set(&self.auts[a].name, Expr::Int(initial as i64))),
+                Encoding::Bits => {
+                    for s in 0..m.state_count() {
+                        body.push(Stmt::set(self.state_var(a, s), Expr::Bool(s == initial)));
+                    }
+                }
+            }
+        }
+        for u in self.uncontrollable() {
+            body.push(Stmt::set(&self.pend[u.index()], Expr::Bool(false)));
+            body.push(Stmt::set(&self.prev[u.index()], self.source(u).0));
+        }
+        for (bit, ..) in &self.bits {
+            body.push(Stmt::set(bit, Expr::Bool(false)));
+        }
+        for (o, pt) in self.io.outputs.iter().zip(&self.pulse) {
+            body.push(Stmt::set(&o.variable, Expr::Bool(false)));
+            if let Some(pt) = pt {
+                body.push(Stmt::set(pt, Expr::Int(0)));
+            }
+        }
+        for c in COUNTERS {
+            body.push(Stmt::set(c, Expr::Int(0)));
+        }
+        body.push(Stmt::set("safe", Expr::Bool(false)));
+        body.push(Stmt::set("pending", Expr::Bool(false)));
+        match self.opts.policy {
+            ScanPolicy::First => {}
+            ScanPolicy::GlobalQueue => body.push(Stmt::set("gq", Expr::Int(0))),
+            ScanPolicy::LocalQueue => {
+                body.push(Stmt::set("pc", Expr::Int(0)));
+                if self.sites().iter().any(|p| !p.sites.is_empty()) {
+                    body.push(Stmt::For(
+                        "i".into(),
+                        0,
+                        self.site_count() - 1,
+                        vec![Stmt::Assign(Expr::at("sc", Expr::var("i")), Expr::Int(0))],
+                    ));
+                }
+            }
+            ScanPolicy::Random => body.push(Stmt::set("rng", Expr::Int(choice::minstd_seed(self.opts.seed)))),
+        }
+        body.push(Stmt::set("ready", Expr::Bool(true)));
+        vec![Stmt::when(Expr::var("ready").not().op(Op::Or, Expr::var("reset")), body)]
+    }
+
+    fn inputs(&self) -> Vec<Stmt> {
+        let us = self.uncontrollable();
+        if us.is_empty() {
+            return Vec::new();
+        }
+        let mut out =
+            vec![Stmt::set("busy", Expr::fold(us.iter().map(|u| Expr::var(&self.pend[u.index()])), Op::Or, Expr::Bool(false)))];
+        for u in us {
+            let (x, edge) = self.source(u);
+            let prev = Expr::var(&self.prev[u.index()]);
+            let cond = match edge {
+                Edge::Rising => x.clone().op(Op::And, prev.not()),
+                Edge::Falling => x.clone().not().op(Op::And, prev),
+                Edge::Both => x.clone().op(Op::Xor, prev),
+            };
+            let pend = &self.pend[u.index()];
+            out.push(Stmt::when(
+                cond,
+                vec![
+                    Stmt::when(Expr::var("busy"), vec![Stmt::incr("simultaneous")]),
+                    Stmt::when(Expr::var(pend), self.fault("overflows")),
+                    Stmt::set(pend, Expr::Bool(true)),
+                    Stmt::set("busy", Expr::Bool(true)),
+                ],
+            ));
+            out.push(Stmt::set(&self.prev[u.index()], x));
+        }
+        out
+    }
+
+    fn events_section(&self) -> Vec<Stmt> {
+        let mut out: Vec<Stmt> = self.ev.iter().map(|v| Stmt::set(v, Expr::Bool(false))).collect();
+        let us = self.uncontrollable();
+        if us.is_empty() {
+            return out;
+        }
+        out.push(Stmt::set("arrived", Expr::var("busy")));
+        let arms = us
+            .iter()
+            .map(|u| {
+                let (ev, pend) = (&self.ev[u.index()], &self.pend[u.index()]);
+                (
+                    Expr::var(pend),
+                    vec![Stmt::set(ev, Expr::Bool(true)), Stmt::set(pend, Expr::Bool(false)), Stmt::incr("events_in")],
+                )
+            })
+            .collect();
+        out.push(Stmt::If(arms, Vec::new()));
+        out.push(Stmt::set("pending", Expr::fold(us.iter().map(|u| Expr::var(&self.pend[u.index()])), Op::Or, Expr::Bool(false))));
+        out
+    }
+
+    /// Bits: an uncontrollable event some holder cannot take in its state.
+    fn faults(&self) -> Vec<Stmt> {
+        if self.opts.encoding != Encoding::Bits {
+            return Vec::new();
+        }
+        let mut out = Vec::new();
+        for u in self.uncontrollable() {
+            for a in self.holders(u) {
+                let cond = Expr::var(&self.ev[u.index()]).op(Op::And, self.allows(a, u).not());
+                out.push(Stmt::when(cond, self.fault("unexpected")));
+            }
+        }
+        out
+    }
+
+    /// The transition trigger of event `e` in automaton `a`: its AEEM bit, or the event flag.
+    fn trigger(&self, a: usize, e: EventId) -> (Expr, Option<&str>) {
+        match self.bits.iter().find(|(_, x, y)| *x == a && *y == e) {
+            Some((bit, ..)) => (Expr::var(bit), Some(bit.as_str())),
+            None => (Expr::var(&self.ev[e.index()]), None),
+        }
+    }
+
+    fn aeem_set(&self, controllable: bool) -> Vec<Stmt> {
+        self.bits
+            .iter()
+            .filter(|(_, _, e)| self.events().is_controllable(*e) == controllable)
+            .map(|(bit, _, e)| Stmt::when(Expr::var(&self.ev[e.index()]), vec![Stmt::set(bit, Expr::Bool(true))]))
+            .collect()
+    }
+
+    fn transitions(&self, controllable: bool) -> Vec<Stmt> {
+        let pass = usize::from(controllable);
+        let in_pass = |e: EventId| self.events().is_controllable(e) == controllable;
+        let mut out = Vec::new();
+        match self.opts.encoding {
+            Encoding::Int => {
+                for e in self.events().ids().filter(|&e| in_pass(e)) {
+                    let mut body = Vec::new();
+                    for a in self.holders(e) {
+                        let var = &self.auts[a].name;
+                        let mut arms: Vec<(Vec<i64>, Vec<Stmt>)> = Vec::new();
+                        for (s, edges) in self.set.members()[a].out.iter().enumerate() {
+                            for &(_, t) in edges.iter().filter(|(x, _)| *x == e) {
+                                let set = Stmt::set(var, Expr::Int(t.index() as i64));
+                                match arms.iter_mut().find(|(_, b)| b[0] == set) {
+                                    Some((labels, _)) => labels.push(s as i64),
+                                    None => arms.push((vec![s as i64], vec![set])),
+                                }
+                            }
+                        }
+                        let els = if controllable { Vec::new() } else { self.fault("unexpected") };
+                        if arms.is_empty() {
+                            body.extend(els);
+                        } else {
+                            body.push(Stmt::Case(Expr::var(var), arms, els));
+                        }
+                    }
+                    if !body.is_empty() {
+                        out.push(Stmt::when(Expr::var(&self.ev[e.index()]), body));
+                    }
+                }
+            }
+            Encoding::Bits => {
+                for (a, m) in self.set.members().iter().enumerate() {
+                    for &s in &self.auts[a].plans[pass].order {
+                        for &(e, t) in m.out[s].iter().filter(|(e, _)| in_pass(*e)) {
+                            let (trig, bit) = self.trigger(a, e);
+                            let mut body = Vec::new();
+                            if t.index() != s {
+                                body.push(Stmt::set(self.state_var(a, s), Expr::Bool(false)));
+                            }
+                            body.push(Stmt::set(self.state_var(a, t.index()), Expr::Bool(true)));
+                            if let Some(bit) = bit {
+                                body.push(Stmt::set(bit, Expr::Bool(false)));
+                            }
+                            out.push(Stmt::when(self.at(a, s).op(Op::And, trig), body));
+                        }
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    fn enabled(&self) -> Vec<Stmt> {
+        self.controllable()
+            .into_iter()
+            .map(|c| {
+                let mut terms: Vec<Expr> = self.holders(c).map(|a| self.allows(a, c)).collect();
+                for (o, pt) in self.io.outputs.iter().zip(&self.pulse) {
+                    if pt.is_some() && o.actions.iter().any(|&(e, ..)| e == c) {
+                        terms.push(Expr::var(&o.variable).not());
+                    }
+                }
+                let value = Expr::fold(terms, Op::And, Expr::Bool(true));
+                Stmt::Assign(Expr::at("en", Expr::Int(c.index() as i64)), value)
+            })
+            .collect()
+    }
+
+    /// The plants' generated events and choice sites, in plant order (as `firmware::table`'s side tables:
+    /// an event is generated by the first plant holding it; a site is a plant state with two or more
+    /// generated controllable out-events).
+    fn sites(&self) -> Vec<PlantChoice> {
+        let mut next = 0;
+        let mut taken: Vec<EventId> = Vec::new();
+        let mut out = Vec::new();
+        for (a, m) in self.set.members().iter().enumerate().filter(|(_, m)| m.role == Role::Plant) {
+            let events: Vec<EventId> = m
+                .alphabet()
+                .into_iter()
+                .filter(|&e| self.events().is_controllable(e) && !taken.contains(&e))
+                .collect();
+            taken.extend(&events);
+            let mut sites = Vec::new();
+            for (s, edges) in m.out.iter().enumerate() {
+                let mut own: Vec<EventId> = edges.iter().map(|&(e, _)| e).filter(|e| events.contains(e)).collect();
+                own.dedup();
+                if own.len() >= 2 {
+                    sites.push((self.at(a, s), next));
+                    next += 1;
+                }
+            }
+            out.push(PlantChoice { events: events.iter().map(|e| e.index() as i64).collect(), sites });
+        }
+        out
+    }
+
+    fn site_count(&self) -> i64 {
+        self.sites().iter().map(|p| p.sites.len() as i64).sum()
+    }
+
+    fn choice(&self) -> Vec<Stmt> {
+        let cs = self.controllable();
+        if cs.is_empty() {
+            return Vec::new();
+        }
+        let mut decide = choice::statements(self.opts.policy, self.events().len() as i64, &self.sites());
+        if !self.uncontrollable().is_empty() {
+            decide.push(Stmt::when(
+                Expr::var("c").op(Op::Ge, Expr::Int(0)).op(Op::And, Expr::var("guard")).op(Op::And, Expr::var("arrived")),
+                vec![Stmt::incr("guard_redecisions"), Stmt::set("c", Expr::Int(-1))],
+            ));
+        }
+        let fire = cs
+            .iter()
+            .map(|c| (vec![c.index() as i64], vec![Stmt::set(&self.ev[c.index()], Expr::Bool(true))]))
+            .collect();
+        vec![
+            Stmt::set("c", Expr::Int(-1)),
+            Stmt::when(Expr::var("hold").not().op(Op::And, Expr::var("safe").not()), decide),
+            Stmt::Case(Expr::var("c"), fire, Vec::new()),
+            Stmt::when(Expr::var("c").op(Op::Ge, Expr::Int(0)), vec![Stmt::incr("commands_out")]),
+            Stmt::set("fired", Expr::var("c")),
+        ]
+    }
+
+    fn aeem_reset(&self) -> Vec<Stmt> {
+        self.bits.iter().map(|(bit, ..)| Stmt::set(bit, Expr::Bool(false))).collect()
+    }
+
+    fn outputs(&self) -> Vec<Stmt> {
+        let mut out = Vec::new();
+        for (o, pt) in self.io.outputs.iter().zip(&self.pulse) {
+            for &(e, action, scans) in &o.actions {
+                let ev = Expr::var(&self.ev[e.index()]);
+                let act = match (action, pt) {
+                    (Action::Set, _) => Stmt::set(&o.variable, Expr::Bool(true)),
+                    (Action::Clear, _) => Stmt::set(&o.variable, Expr::Bool(false)),
+                    (Action::Pulse, Some(pt)) => Stmt::set(pt, Expr::Int(i64::from(scans))),
+                    (Action::Pulse, None) => continue,
+                };
+                out.push(Stmt::when(ev, vec![act]));
+            }
+            if let Some(pt) = pt {
+                let running = Expr::var(pt).op(Op::Gt, Expr::Int(0));
+                out.push(Stmt::set(&o.variable, running.clone()));
+                out.push(Stmt::when(running, vec![Stmt::set(pt, Expr::var(pt).op(Op::Sub, Expr::Int(1)))]));
+            }
+            if self.opts.on_fault == OnFault::SafeState {
+                out.push(Stmt::when(Expr::var("safe"), vec![Stmt::set(&o.variable, Expr::Bool(false))]));
+            }
+        }
+        out
+    }
+
+    fn finish(mut self) -> Program {
+        let events = self.set.events().clone();
+        let section = |kind, title: &str, stmts| Section { kind, title: title.to_owned(), stmts };
+        let sections = vec![
+            section(SectionKind::Init, "first scan and reset", self.init()),
+            section(SectionKind::Inputs, "sampled once, edges against the previous scan", self.inputs()),
+            section(SectionKind::Events, "one latched input per scan, in event order", self.events_section()),
+            section(SectionKind::Faults, "", self.faults()),
+            section(SectionKind::AeemSet, "uncontrollable", self.aeem_set(false)),
+            section(SectionKind::Transitions, "uncontrollable", self.transitions(false)),
+            section(SectionKind::Enabled, "", self.enabled()),
+            section(SectionKind::Choice, self.opts.policy.name(), self.choice()),
+            section(SectionKind::AeemSet, "controllable", self.aeem_set(true)),
+            section(SectionKind::Transitions, "controllable", self.transitions(true)),
+            section(SectionKind::AeemReset, "", self.aeem_reset()),
+            section(SectionKind::Outputs, "", self.outputs()),
+        ];
+        let sites = self.site_count().max(0) as usize;
+        let base = sanitize(&self.opts.name);
+        let fb_name = format!("{base}_sct");
+        let type_name = format!("{base}_events");
+        let members: Vec<Var> = self
+            .io
+            .members()
+            .map(|(e, m)| Var::new(m, "BOOL", format!("'{}': its rising edge", events.name(e))))
+            .collect();
+        let events_type = (!members.is_empty()).then(|| (type_name.clone(), members));
+
+        let mut inputs: Vec<Var> = Vec::new();
+        for (&e, s) in &self.io.sources {
+            if let Source::Input { variable, edge, address } = s {
+                let mut v = Var::new(variable, "BOOL", format!("'{}': {} edge", events.name(e), edge.name()));
+                v.address.clone_from(address);
+                inputs.push(v);
+            }
+        }
+        let io_inputs = inputs.clone();
+        if events_type.is_some() {
+            inputs.push(Var::new("EVENTS", &type_name, "internal uncontrollable events (tests)"));
+        }
+        inputs.push(Var::new("hold", "BOOL", "no command while TRUE").init("FALSE"));
+        inputs.push(
+            Var::new("guard", "BOOL", "inexact-synchronisation guard").init(if self.opts.guard { "TRUE" } else { "FALSE" }),
+        );
+        inputs.push(Var::new("reset", "BOOL", "initial states while TRUE").init("FALSE"));
+
+        let mut outputs: Vec<Var> = self
+            .io
+            .outputs
+            .iter()
+            .map(|o| {
+                let what: Vec<String> = o
+                    .actions
+                    .iter()
+                    .map(|&(e, a, n)| match a {
+                        Action::Pulse => format!("'{}' pulse {n}", events.name(e)),
+                        _ => format!("'{}' {}", events.name(e), a.name()),
+                    })
+                    .collect();
+                let mut v = Var::new(&o.variable, "BOOL", what.join(", "));
+                v.address.clone_from(&o.address);
+                v
+            })
+            .collect();
+        let io_outputs = outputs.clone();
+        outputs.push(Var::new("fired", "INT", "controllable event id fired this scan, -1 none").init("-1"));
+        outputs.push(Var::new("pending", "BOOL", "uncontrollable events latched, not yet applied"));
+        outputs.push(Var::new("safe", "BOOL", "a fault stopped the controller"));
+        for c in COUNTERS {
+            outputs.push(Var::new(c, "UDINT", ""));
+        }
+
+        let mut locals = vec![Var::new("ready", "BOOL", "initialised")];
+        for (a, m) in self.set.members().iter().enumerate() {
+            let role = m.role.as_str();
+            match self.opts.encoding {
+                Encoding::Int => locals.push(Var::new(
+                    &self.auts[a].name,
+                    "INT",
+                    format!("{role} {}: state index, initial {}", m.name(), m.initial().index()),
+                )),
+                Encoding::Bits => {
+                    for s in 0..m.state_count() {
+                        let state = &m.automaton.states[s].name;
+                        locals.push(Var::new(self.state_var(a, s), "BOOL", format!("{role} {} in state '{state}'", m.name())));
+                    }
+                }
+            }
+        }
+        for e in events.ids() {
+            let kind = if events.is_controllable(e) { "controllable" } else { "uncontrollable" };
+            locals.push(Var::new(&self.ev[e.index()], "BOOL", format!("event {} '{}' ({kind}) this scan", e.index(), events.name(e))));
+        }
+        for u in self.uncontrollable() {
+            locals.push(Var::new(&self.pend[u.index()], "BOOL", "latched"));
+            locals.push(Var::new(&self.prev[u.index()], "BOOL", "input at the previous scan"));
+        }
+        for (bit, a, e) in &self.bits {
+            let m = &self.set.members()[*a];
+            locals.push(Var::new(bit, "BOOL", format!("AEEM bit of '{}' in {}", events.name(*e), m.name())));
+        }
+        for pt in self.pulse.iter().flatten() {
+            locals.push(Var::new(pt, "INT", "pulse scans left"));
+        }
+        let last = events.len() - 1;
+        let has_u = !self.uncontrollable().is_empty();
+        let has_c = !self.controllable().is_empty();
+        if has_u {
+            locals.push(Var::new("busy", "BOOL", "an event latched or arrived this scan"));
+            locals.push(Var::new("arrived", "BOOL", "an uncontrollable event arrived: the guard holds commands"));
+        }
+        if has_c {
+            locals.push(Var::new("en", format!("ARRAY[0..{last}] OF BOOL"), "enabled, by event id"));
+            locals.push(Var::new("c", "INT", "chosen event id, -1 none"));
+            locals.push(Var::new("i", "INT", ""));
+            match self.opts.policy {
+                ScanPolicy::First => {}
+                ScanPolicy::GlobalQueue => {
+                    locals.push(Var::new("j", "INT", ""));
+                    locals.push(Var::new("gq", "INT", "global cursor (event id)"));
+                }
+                ScanPolicy::LocalQueue => {
+                    locals.push(Var::new("p", "INT", "plant"));
+                    locals.push(Var::new("pc", "INT", "plant cursor"));
+                    locals.push(Var::new("cur", "INT", "site cursor in use"));
+                    if sites > 0 {
+                        locals.push(Var::new("site", "INT", "choice site, -1 none"));
+                        locals.push(Var::new("sc", format!("ARRAY[0..{}] OF INT", sites - 1), "cursor per choice site"));
+                    }
+                }
+                ScanPolicy::Random => {
+                    locals.push(Var::new("n", "INT", "enabled count"));
+                    locals.push(Var::new("k", "INT", ""));
+                    locals.push(Var::new("rng", "DINT", "MINSTD state").init(choice::minstd_seed(self.opts.seed).to_string()));
+                }
+            }
+        }
+        let fb = Pou {
+            program: false,
+            name: fb_name.clone(),
+            vars: vec![(VarClass::Input, inputs), (VarClass::Output, outputs), (VarClass::Local, locals)],
+            sections,
+        };
+
+        let mut main_vars: Vec<Var> = io_inputs.iter().chain(&io_outputs).cloned().collect();
+        let mut args: Vec<(String, Expr)> = io_inputs.iter().map(|v| (v.name.clone(), Expr::var(&v.name))).collect();
+        if let Some((ty, _)) = &events_type {
+            main_vars.push(Var::new("EVENTS", ty, "internal uncontrollable events (tests)"));
+            args.push(("EVENTS".into(), Expr::var("EVENTS")));
+        }
+        for v in ["hold", "guard", "reset"] {
+            let input = fb.vars[0].1.iter().find(|x| x.name == v).cloned();
+            if let Some(x) = input {
+                main_vars.push(x);
+            }
+            args.push((v.into(), Expr::var(v)));
+        }
+        main_vars.push(Var::new("sct", &fb_name, "plants, supervisors and interface"));
+        let mut run = vec![Stmt::Call("sct".into(), args)];
+        run.extend(io_outputs.iter().map(|v| Stmt::set(&v.name, Expr::var(format!("sct.{}", v.name)))));
+        let main = Pou {
+            program: true,
+            name: format!("{base}_main"),
+            vars: vec![(VarClass::Local, main_vars)],
+            sections: vec![Section { kind: SectionKind::Run, title: "the function block, then its outputs".into(), stmts: run }],
+        };
+        let mut avalanche: Vec<(String, EventId, Method)> = self
+            .auts
+            .iter()
+            .zip(self.set.members())
+            .flat_map(|(aut, m)| {
+                let case = self.opts.encoding == Encoding::Int;
+                aut.plans
+                    .iter()
+                    .flat_map(|p| p.methods.iter())
+                    .map(move |(&e, &method)| (m.name().to_owned(), e, if case { Method::Case } else { method }))
+            })
+            .collect();
+        // Automata in set order, events by id within each (the two passes merged).
+        let rank = |name: &str| self.set.members().iter().position(|m| m.name() == name);
+        avalanche.sort_by_key(|(a, e, _)| (rank(a), *e));
+        let memory_bits = std::mem::take(&mut self.bits).into_iter().map(|(b, ..)| b).collect();
+        Program { events_type, fb, main, io: self.io, avalanche, memory_bits, sites }
+    }
+}
