@@ -61,24 +61,11 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     let (closed, inputs, source) = match args.files.as_slice() {
         [one] if is_manifest(one) => {
             let m = Manifest::load(one)?;
-            opts.name = m.name.clone();
-            opts.guard = m.runtime.guard;
-            opts.seed = m.runtime.seed;
-            opts.on_fault = m.runtime.on_fault;
-            let spec = m.plc.clone().unwrap_or_default();
-            opts.policy = match (spec.policy, ScanPolicy::of_runtime(m.runtime.policy)) {
-                (Some(p), _) | (None, Some(p)) => p,
-                (None, None) => {
-                    return Err(format!(
-                        "{}: [runtime] policy {} has no scan-cycle form; set [plc] policy (first, global-queue, local-queue or random)",
-                        one.display(),
-                        m.runtime.policy
-                    )
-                    .into())
-                }
+            opts = PlcOptions {
+                encoding: args.encoding,
+                avalanche: args.avalanche,
+                ..PlcOptions::from_manifest(&m).map_err(|e| format!("{}: {e}", one.display()))?
             };
-            opts.cycle_ms = spec.cycle_ms.unwrap_or(opts.cycle_ms);
-            opts.spec = spec;
             let files = std::iter::once(one.clone())
                 .chain(m.plants.iter().chain(&m.specs).chain(&m.supervisors).map(|p| m.resolve(p)));
             (ClosedLoop::from_manifest(one)?, hashed(files)?, one.display().to_string())

@@ -101,6 +101,29 @@ impl Default for PlcOptions {
     }
 }
 
+impl PlcOptions {
+    /// The options a manifest gives: its name, `[runtime]` guard, seed and fault reaction, and its
+    /// `[plc]` section; the policy is `[plc] policy`, else `[runtime] policy` when it has a scan-cycle
+    /// form. The encoding and avalanche option stay at their defaults.
+    pub fn from_manifest(m: &crate::manifest::Manifest) -> Result<PlcOptions, PlcError> {
+        let spec = m.plc.clone().unwrap_or_default();
+        let policy = match (spec.policy, ScanPolicy::of_runtime(m.runtime.policy)) {
+            (Some(p), _) | (None, Some(p)) => p,
+            (None, None) => return Err(PlcError::Policy(m.runtime.policy.name())),
+        };
+        Ok(PlcOptions {
+            name: m.name.clone(),
+            policy,
+            guard: m.runtime.guard,
+            seed: m.runtime.seed,
+            on_fault: m.runtime.on_fault,
+            cycle_ms: spec.cycle_ms.unwrap_or(10),
+            spec,
+            ..PlcOptions::default()
+        })
+    }
+}
+
 /// Why a program cannot be written for a set.
 #[derive(Debug, thiserror::Error)]
 pub enum PlcError {
@@ -140,6 +163,9 @@ pub enum PlcError {
         /// The cycle is in the union with other ordered events.
         conflict: bool,
     },
+    /// The manifest's policy has no scan-cycle form and `[plc]` names none.
+    #[error("[runtime] policy {0} has no scan-cycle form; set [plc] policy (first, global-queue, local-queue or random)")]
+    Policy(&'static str),
     /// The closed loop for the simultaneity check could not be built.
     #[error("simultaneity check: {0}")]
     Synth(#[from] crate::synth::SynthError),

@@ -240,6 +240,7 @@ impl Builder<'_> {
         body.push(Stmt::set("safe", Expr::Bool(false)));
         body.push(Stmt::set("pending", Expr::Bool(false)));
         match self.opts.policy {
+            _ if self.controllable().is_empty() => {}
             ScanPolicy::First => {}
             ScanPolicy::GlobalQueue => body.push(Stmt::set("gq", Expr::Int(0))),
             ScanPolicy::LocalQueue => {

@@ -1,0 +1,268 @@
+//! The emitted ST program as a firmware on the link: a wrapper speaking the firmware's byte protocol
+//! (`firmware::link`) around the scan-cycle interpreter, so the virtual plant and the monitor judge the
+//! PLC program as they judge the firmware under QEMU.
+//!
+//! Event bytes from the plant become edges of the program's input variables (or `EVENTS` members), as
+//! the report's I/O map says: at most one change per input per scan, the input first brought to the
+//! level the edge starts from when it is not there. Changes of the output variables after a scan become
+//! command bytes (a rising edge: the variable's `set` or `pulse` event, a falling edge: its `clear`
+//! event; where a variable has several, the block's `fired` output names it); `fired` alone gives the
+//! controllable events that drive no output. HOLD and GO drive the `hold` input at once; RESET,
+//! STATUS and EXIT are answered in order, once the events before them have been applied (no edge
+//! waiting, `pending` low): RESET by a scan with `reset` (and `hold`) set, then READY; STATUS from the
+//! block's counters. A rise of `safe` sends SAFE.
+
+use std::collections::{BTreeMap, VecDeque};
+use std::thread::JoinHandle;
+use std::time::Duration;
+
+use codegen::link::memory::MemoryLink;
+use codegen::link::ByteLink;
+use codegen::model::EventTable;
+use codegen::plc::Report;
+use firmware::link::{EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS};
+
+use crate::st::Plc;
+
+/// The path of the function block instance in the program.
+const FB: &str = "sct";
+
+/// Where an uncontrollable event's edge is made.
+#[derive(Clone, Debug)]
+struct InputLine {
+    path: String,
+    edge: &'static str,
+}
+
+/// The I/O map of a generated program, by event id.
+#[derive(Clone, Debug, Default)]
+pub struct IoMap {
+    inputs: BTreeMap<u8, InputLine>,
+    /// Output variable → (event id, action).
+    outputs: BTreeMap<String, Vec<(u8, &'static str)>>,
+}
+
+impl IoMap {
+    /// The map the report gives, over the set's event ids.
+    pub fn new(report: &Report, events: &EventTable) -> IoMap {
+        let mut map = IoMap::default();
+        for io in &report.variables.io {
+            let id = events.id(&io.event).map(|e| e.as_u32()).unwrap_or_else(|| panic!("event {}", io.event));
+            let id = u8::try_from(id).unwrap_or_else(|_| panic!("event id {id} beyond the link"));
+            if io.direction == "input" {
+                map.inputs.insert(id, InputLine { path: io.variable.clone(), edge: io.kind });
+            } else {
+                map.outputs.entry(io.variable.clone()).or_default().push((id, io.kind));
+            }
+        }
+        map
+    }
+}
+
+/// What the wrapper measured, returned when the host sends EXIT.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ScanStats {
+    /// Scans run.
+    pub scans: u64,
+    /// Most statements one scan executed.
+    pub max_statements: u64,
+}
+
+/// The program and its input levels, as the wrapper drives them.
+pub struct Driver {
+    /// The interpreter.
+    pub plc: Plc,
+    io: IoMap,
+    levels: BTreeMap<String, bool>,
+    outputs: BTreeMap<String, bool>,
+    /// Statistics.
+    pub stats: ScanStats,
+}
+
+/// What one attempt to make an event's edge did.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Edge {
+    /// The edge is made this scan.
+    Made,
+    /// The input was brought to the edge's starting level this scan; try again next scan.
+    Prepared,
+    /// The input already changed this scan.
+    Busy,
+}
+
+impl Driver {
+    /// A driver for `text` (the `.st` file) with the map of its report.
+    pub fn new(text: &str, io: IoMap) -> Result<Driver, String> {
+        let plc = Plc::load(text)?;
+        let mut d = Driver { plc, io, levels: BTreeMap::new(), outputs: BTreeMap::new(), stats: ScanStats::default() };
+        d.snapshot()?;
+        Ok(d)
+    }
+
+    fn snapshot(&mut self) -> Result<(), String> {
+        for var in self.io.outputs.keys() {
+            self.outputs.insert(var.clone(), self.plc.get_bool(var)?);
+        }
+        Ok(())
+    }
+
+    /// Makes the edge of uncontrollable event `e` on its input, unless `used` says the input already
+    /// changed this scan (the input is then added to `used`).
+    pub fn edge(&mut self, e: u8, used: &mut Vec<String>) -> Result<Edge, String> {
+        let line = self.io.inputs.get(&e).ok_or(format!("event {e} has no input"))?.clone();
+        if used.contains(&line.path) {
+            return Ok(Edge::Busy);
+        }
+        used.push(line.path.clone());
+        let level = *self.levels.get(&line.path).unwrap_or(&false);
+        let (next, made) = match line.edge {
+            "rising" if level => (false, Edge::Prepared),
+            "falling" if !level => (true, Edge::Prepared),
+            _ => (!level, Edge::Made),
+        };
+        self.levels.insert(line.path.clone(), next);
+        self.plc.set_bool(&line.path, next)?;
+        Ok(made)
+    }
+
+    /// Whether `e` is an uncontrollable event the program has an input for.
+    pub fn has_input(&self, e: u8) -> bool {
+        self.io.inputs.contains_key(&e)
+    }
+
+    /// Runs one scan; returns the commands it fired, as output changes and `fired` show them.
+    pub fn scan(&mut self) -> Result<Vec<u8>, String> {
+        let n = self.plc.scan()?;
+        self.stats.scans += 1;
+        self.stats.max_statements = self.stats.max_statements.max(n);
+        let fired = self.plc.get_int(&format!("{FB}.fired"))?;
+        let mut commands = Vec::new();
+        let mut seen_fired = false;
+        for (var, actions) in &self.io.outputs {
+            let now = self.plc.get_bool(var)?;
+            let before = self.outputs.insert(var.clone(), now).unwrap_or(false);
+            if now == before {
+                continue;
+            }
+            let kinds: &[&str] = if now { &["set", "pulse"] } else { &["clear"] };
+            let candidates: Vec<u8> = actions.iter().filter(|(_, k)| kinds.contains(k)).map(|&(e, _)| e).collect();
+            let event = match candidates.as_slice() {
+                [] if !now => continue, // a pulse ending
+                [one] => *one,
+                many if many.iter().any(|&e| i64::from(e) == fired) => u8::try_from(fired).unwrap_or(0),
+                _ => return Err(format!("{var} changed to {now}, but no event of it fired ({fired})")),
+            };
+            seen_fired |= i64::from(event) == fired;
+            commands.push(event);
+        }
+        let mapped = self.io.outputs.values().flatten().any(|&(e, _)| i64::from(e) == fired);
+        match (fired >= 0, mapped, seen_fired) {
+            (true, false, _) => commands.push(u8::try_from(fired).map_err(|_| format!("fired {fired}"))?),
+            (true, true, false) => return Err(format!("event {fired} fired but its output did not change")),
+            _ => {}
+        }
+        if commands.len() > 1 {
+            return Err(format!("more than one command in a scan: {commands:?}"));
+        }
+        Ok(commands)
+    }
+
+    /// A scan with `reset` and `hold` set: the program back to its initial states, no command.
+    pub fn reset(&mut self) -> Result<(), String> {
+        let hold = self.plc.get_bool("hold")?;
+        self.plc.set_bool("reset", true)?;
+        self.plc.set_bool("hold", true)?;
+        self.plc.scan()?;
+        self.plc.set_bool("reset", false)?;
+        self.plc.set_bool("hold", hold)?;
+        self.snapshot()
+    }
+
+    /// The six STATUS counters (the block's, with the wrapper's `unknown` bytes last).
+    pub fn status(&self, unknown: u32) -> Result<[u32; 6], String> {
+        let mut out = [0; 6];
+        for (slot, name) in out.iter_mut().zip(["events_in", "commands_out", "unexpected", "overflows", "guard_redecisions"]) {
+            *slot = u32::try_from(self.plc.get_int(&format!("{FB}.{name}"))?).map_err(|e| e.to_string())?;
+        }
+        out[5] = unknown;
+        Ok(out)
+    }
+}
+
+/// Runs `driver` behind `link` in a thread, as the firmware would run; see the module documentation.
+/// The thread returns the scan statistics on EXIT, or the first error of the program or the link.
+pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<ScanStats, String>> {
+    std::thread::spawn(move || {
+        let io = |e: std::io::Error| e.to_string();
+        link.send(&[READY]).map_err(io)?;
+        let mut fifo: VecDeque<u8> = VecDeque::new();
+        let mut unknown = 0u32;
+        let mut was_safe = false;
+        let mut buf = [0u8; 512];
+        let mut idle = false;
+        loop {
+            let wait = if idle { Duration::from_millis(2) } else { Duration::ZERO };
+            let n = link.recv(&mut buf, wait).map_err(io)?;
+            for &b in &buf[..n] {
+                match b {
+                    HOLD | GO => driver.plc.set_bool("hold", b == HOLD)?,
+                    other => fifo.push_back(other),
+                }
+            }
+            let mut used = Vec::new();
+            let mut out = Vec::new();
+            let mut answered = false;
+            while let Some(&b) = fifo.front() {
+                match b {
+                    0..=MAX_EVENT if driver.has_input(b) => match driver.edge(b, &mut used)? {
+                        Edge::Made => {
+                            fifo.pop_front();
+                        }
+                        Edge::Prepared | Edge::Busy => break,
+                    },
+                    RESET | STATUS | EXIT => {
+                        if !used.is_empty() || driver.plc.get_bool(&format!("{FB}.pending"))? {
+                            break;
+                        }
+                        fifo.pop_front();
+                        answered = true;
+                        match b {
+                            RESET => {
+                                driver.reset()?;
+                                unknown = 0;
+                                was_safe = false;
+                                out.push(READY);
+                            }
+                            STATUS => {
+                                out.push(STATUS);
+                                for word in driver.status(unknown)? {
+                                    out.extend(word.to_le_bytes());
+                                }
+                            }
+                            _ => {
+                                link.send(&out).map_err(io)?;
+                                return Ok(driver.stats);
+                            }
+                        }
+                    }
+                    _ => {
+                        fifo.pop_front();
+                        unknown += 1;
+                    }
+                }
+            }
+            let commands = driver.scan()?;
+            out.extend(&commands);
+            let safe = driver.plc.get_bool(&format!("{FB}.safe"))?;
+            if safe && !was_safe {
+                out.push(SAFE);
+            }
+            was_safe = safe;
+            if !out.is_empty() {
+                link.send(&out).map_err(io)?;
+            }
+            let pending = driver.plc.get_bool(&format!("{FB}.pending"))?;
+            idle = n == 0 && fifo.is_empty() && commands.is_empty() && !answered && used.is_empty() && !pending;
+        }
+    })
+}
