@@ -241,7 +241,12 @@ fn the_program_and_the_firmware_runtime_agree_step_by_step() {
 
     for manifest in SYSTEMS {
         let (set, base) = system(manifest);
-        let tables = HostTables::new(ranked::encode(&set).unwrap()).unwrap();
+        let packed = ranked::encode(&set).unwrap();
+        // Per automaton, the state index of each runtime handle.
+        let states_of: Vec<std::collections::BTreeMap<u16, usize>> = (0..set.members().len())
+            .map(|a| packed.records(a).unwrap().iter().map(|r| (r.handle, r.state)).collect())
+            .collect();
+        let tables = HostTables::new(packed).unwrap();
         let sup = tables.set();
         let checked = CheckedSet::<1, 10, false, 3>::new(&sup).unwrap();
         for encoding in ENCODINGS {
@@ -266,7 +271,7 @@ fn the_program_and_the_firmware_runtime_agree_step_by_step() {
                             // Uncontrollable events every plant holding them allows now.
                             let possible: Vec<u8> = (0..set.events().len() as u8)
                                 .filter(|&e| d.has_input(e))
-                                .filter(|&e| plant_allows(&set, &states, e))
+                                .filter(|&e| plant_allows(&set, &states, &states_of, e))
                                 .collect();
                             if !possible.is_empty() && draw(2) == 0 {
                                 let e = possible[draw(possible.len())];
@@ -288,13 +293,7 @@ fn the_program_and_the_firmware_runtime_agree_step_by_step() {
                                 assert_eq!(fired, want, "{manifest} {encoding:?} {policy:?} step {step}");
                             }
                             for (a, m) in set.members().iter().enumerate() {
-                                let handle = usize::from(rt.states()[a]);
-                                let initial = m.initial().index();
-                                let by_index = match handle {
-                                    0 => initial,
-                                    h if h <= initial => h - 1,
-                                    h => h,
-                                };
+                                let by_index = states_of[a][&rt.states()[a]];
                                 assert_eq!(
                                     program_state(&d.plc, encoding, m),
                                     by_index,
@@ -316,22 +315,17 @@ fn the_program_and_the_firmware_runtime_agree_step_by_step() {
     }
 }
 
-/// Whether every plant holding `e` has a transition on it in the state the runtime reports (handles:
-/// the initial state first, then the others by index).
-fn plant_allows(set: &PackSet, handles: &[u16], e: u8) -> bool {
-    set.members().iter().zip(handles).filter(|(m, _)| m.role == codegen::pack::Role::Plant).all(|(m, &h)| {
-        let e = codegen::model::EventId::from_u32(u32::from(e));
-        if !m.global.contains(&e) {
-            return true;
-        }
-        let initial = m.initial().index();
-        let s = match usize::from(h) {
-            0 => initial,
-            h if h <= initial => h - 1,
-            h => h,
-        };
-        m.out[s].iter().any(|&(x, _)| x == e)
-    })
+/// Whether every plant holding `e` has a transition on it in the state the runtime reports.
+fn plant_allows(
+    set: &PackSet,
+    handles: &[u16],
+    states_of: &[std::collections::BTreeMap<u16, usize>],
+    e: u8,
+) -> bool {
+    let e = codegen::model::EventId::from_u32(u32::from(e));
+    set.members().iter().zip(handles).zip(states_of).filter(|((m, _), _)| m.role == codegen::pack::Role::Plant).all(
+        |((m, h), of)| !m.global.contains(&e) || m.out[of[h]].iter().any(|&(x, _)| x == e),
+    )
 }
 
 /// The state index of automaton `m` in the running program.

@@ -91,11 +91,12 @@ pub enum Edge {
 }
 
 impl Driver {
-    /// A driver for `text` (the `.st` file) with the map of its report.
+    /// A driver for `text` (the `.st` file) with the map of its report, after its first scan.
     pub fn new(text: &str, io: IoMap) -> Result<Driver, String> {
         let plc = Plc::load(text)?;
         let mut d = Driver { plc, io, levels: BTreeMap::new(), outputs: BTreeMap::new(), stats: ScanStats::default() };
-        d.snapshot()?;
+        // The boot scan: initial states, the inputs' first sample.
+        d.reset()?;
         Ok(d)
     }
 
