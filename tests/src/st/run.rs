@@ -22,10 +22,10 @@ pub enum Value {
     Struct(BTreeMap<String, Value>),
 }
 
-/// A block's code.
+/// A block's code, shared so a call does not copy it.
 #[derive(Clone, Debug)]
 struct Block {
-    body: Vec<Stmt>,
+    body: std::sync::Arc<Vec<Stmt>>,
 }
 
 /// The program of a source file, ready to scan.
@@ -73,7 +73,7 @@ impl Plc {
                         }
                         plc.program.clone_from(&name);
                     }
-                    plc.blocks.insert(name, (vars, Block { body }));
+                    plc.blocks.insert(name, (vars, Block { body: std::sync::Arc::new(body) }));
                 }
                 Unit::Configuration { .. } => return Err("a CONFIGURATION among the POUs".into()),
             }
@@ -96,7 +96,7 @@ impl Plc {
     }
 
     fn instance(&self, block: &str) -> Result<BTreeMap<String, Value>, String> {
-        let (decls, _) = self.blocks.get(block).ok_or(format!("no block {block}"))?;
+        let (decls, _) = self.blocks.get(block).ok_or_else(|| format!("no block {block}"))?;
         decls.iter().map(|d| Ok((d.name.clone(), self.initial(d)?))).collect()
     }
 
@@ -135,7 +135,7 @@ impl Plc {
     }
 
     fn run_block(&mut self, name: &str, vars: &mut BTreeMap<String, Value>) -> Result<(), String> {
-        let body = self.blocks.get(name).ok_or(format!("no block {name}"))?.1.body.clone();
+        let body = std::sync::Arc::clone(&self.blocks.get(name).ok_or_else(|| format!("no block {name}"))?.1.body);
         self.exec(&body, vars).map(|_| ())
     }
 
@@ -189,7 +189,7 @@ impl Plc {
                     };
                     let ty = self.type_of_instance(inst)?;
                     for (n, v) in values {
-                        let place = inner.get_mut(&n).ok_or(format!("{inst} has no input {n}"))?;
+                        let place = inner.get_mut(&n).ok_or_else(|| format!("{inst} has no input {n}"))?;
                         assign(place, v).map_err(|e| format!("{inst}.{n}: {e}"))?;
                     }
                     let r = self.run_block(&ty, &mut inner);
@@ -211,7 +211,7 @@ impl Plc {
                 Type::Named(n) if self.blocks.contains_key(n) => Some(n.clone()),
                 _ => None,
             })
-            .ok_or(format!("{inst} is no block instance of the program"))
+            .ok_or_else(|| format!("{inst} is no block instance of the program"))
     }
 
     fn path(&self, name: &str) -> Result<&Value, String> {
@@ -279,14 +279,14 @@ fn assign(place: &mut Value, v: Value) -> Result<(), String> {
 }
 
 fn index_of(lo: i64, len: usize, i: i64) -> Result<usize, String> {
-    usize::try_from(i - lo).ok().filter(|&k| k < len).ok_or(format!("index {i} out of bounds"))
+    usize::try_from(i - lo).ok().filter(|&k| k < len).ok_or_else(|| format!("index {i} out of bounds"))
 }
 
 fn lookup<'v>(vars: &'v BTreeMap<String, Value>, path: &Path) -> Result<&'v Value, String> {
     let mut scope = vars;
     let mut found: Option<&Value> = None;
     for (name, index) in &path.0 {
-        let mut v = scope.get(name).ok_or(format!("unknown variable {}", show(path)))?;
+        let mut v = scope.get(name).ok_or_else(|| format!("unknown variable {}", show(path)))?;
         if let Some(i) = index {
             let i = as_int(&eval(i, vars)?)?;
             let Value::Array(lo, items) = v else { return Err(format!("{name} is no array")) };
@@ -297,7 +297,7 @@ fn lookup<'v>(vars: &'v BTreeMap<String, Value>, path: &Path) -> Result<&'v Valu
             scope = inner;
         }
     }
-    found.ok_or(format!("empty path {}", show(path)))
+    found.ok_or_else(|| format!("empty path {}", show(path)))
 }
 
 fn lookup_mut<'v>(vars: &'v mut BTreeMap<String, Value>, path: &Path) -> Result<&'v mut Value, String> {
@@ -310,8 +310,8 @@ fn lookup_mut<'v>(vars: &'v mut BTreeMap<String, Value>, path: &Path) -> Result<
         });
     }
     let mut segs = path.0.iter().zip(indices);
-    let ((first, _), i0) = segs.next().ok_or("empty path")?;
-    let mut v = vars.get_mut(first).ok_or(format!("unknown variable {}", show(path)))?;
+    let ((first, _), i0) = segs.next().ok_or_else(|| "empty path".to_owned())?;
+    let mut v = vars.get_mut(first).ok_or_else(|| format!("unknown variable {}", show(path)))?;
     let mut index = i0;
     loop {
         if let Some(i) = index {
@@ -323,7 +323,7 @@ fn lookup_mut<'v>(vars: &'v mut BTreeMap<String, Value>, path: &Path) -> Result<
             None => return Ok(v),
             Some(((name, _), i)) => {
                 let Value::Struct(inner) = v else { return Err(format!("{} is no struct", show(path))) };
-                v = inner.get_mut(name).ok_or(format!("unknown member {}", show(path)))?;
+                v = inner.get_mut(name).ok_or_else(|| format!("unknown member {}", show(path)))?;
                 index = i;
             }
         }
