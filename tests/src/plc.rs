@@ -94,7 +94,13 @@ impl Driver {
     /// A driver for `text` (the `.st` file) with the map of its report, after its first scan.
     pub fn new(text: &str, io: IoMap) -> Result<Driver, String> {
         let plc = Plc::load(text)?;
-        let mut d = Driver { plc, io, levels: BTreeMap::new(), outputs: BTreeMap::new(), stats: ScanStats::default() };
+        let mut d = Driver {
+            plc,
+            io,
+            levels: BTreeMap::new(),
+            outputs: BTreeMap::new(),
+            stats: ScanStats::default(),
+        };
         // The boot scan: initial states, the inputs' first sample.
         d.reset()?;
         Ok(d)
@@ -146,7 +152,8 @@ impl Driver {
                 continue;
             }
             let kinds: &[&str] = if now { &["set", "pulse"] } else { &["clear"] };
-            let candidates: Vec<u8> = actions.iter().filter(|(_, k)| kinds.contains(k)).map(|&(e, _)| e).collect();
+            let candidates: Vec<u8> =
+                actions.iter().filter(|(_, k)| kinds.contains(k)).map(|&(e, _)| e).collect();
             let event = match candidates.as_slice() {
                 [] if !now => continue, // a pulse ending
                 [one] => *one,
@@ -182,7 +189,9 @@ impl Driver {
     /// The six STATUS counters (the block's, with the wrapper's `unknown` bytes last).
     pub fn status(&self, unknown: u32) -> Result<[u32; 6], String> {
         let mut out = [0; 6];
-        for (slot, name) in out.iter_mut().zip(["events_in", "commands_out", "unexpected", "overflows", "guard_redecisions"]) {
+        for (slot, name) in
+            out.iter_mut().zip(["events_in", "commands_out", "unexpected", "overflows", "guard_redecisions"])
+        {
             *slot = u32::try_from(self.plc.get_int(&format!("{FB}.{name}"))?).map_err(|e| e.to_string())?;
         }
         out[5] = unknown;
@@ -263,7 +272,8 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
                 link.send(&out).map_err(io)?;
             }
             let pending = driver.plc.get_bool(&format!("{FB}.pending"))?;
-            idle = n == 0 && fifo.is_empty() && commands.is_empty() && !answered && used.is_empty() && !pending;
+            idle =
+                n == 0 && fifo.is_empty() && commands.is_empty() && !answered && used.is_empty() && !pending;
         }
     })
 }

@@ -147,8 +147,11 @@ pub fn reverse_topological(out: &Out, events: &[EventId]) -> Option<Vec<usize>> 
     let mut preds: Vec<Vec<usize>> = vec![Vec::new(); n];
     let mut pending = vec![0usize; n];
     for (p, edges) in out.iter().enumerate() {
-        let mut targets: Vec<usize> =
-            edges.iter().filter(|(e, q)| events.contains(e) && q.index() != p).map(|(_, q)| q.index()).collect();
+        let mut targets: Vec<usize> = edges
+            .iter()
+            .filter(|(e, q)| events.contains(e) && q.index() != p)
+            .map(|(_, q)| q.index())
+            .collect();
         targets.sort_unstable();
         targets.dedup();
         pending[p] = targets.len();
@@ -217,7 +220,10 @@ mod tests {
         let methods: Vec<(u32, Method)> = p.methods.iter().map(|(e, m)| (e.as_u32(), *m)).collect();
         assert_eq!(methods, [(1, Method::Aeem), (2, Method::Order), (3, Method::Aeem)]);
         assert_eq!(p.order, [2, 3, 4, 0, 1], "for 2: 2 before 4 before 0 before 1");
-        assert_eq!(plan(&seed(), &all, Avalanche::Order), Err(Unorderable { event: EventId::from_u32(1), conflict: false }));
+        assert_eq!(
+            plan(&seed(), &all, Avalanche::Order),
+            Err(Unorderable { event: EventId::from_u32(1), conflict: false })
+        );
         let p = plan(&seed(), &all, Avalanche::Aeem).unwrap();
         assert_eq!(p.order, [0, 1, 2, 3, 4]);
         assert!(p.methods.values().all(|&m| m == Method::Aeem));

@@ -11,6 +11,13 @@ const MINSTD_A: i64 = 16_807;
 const MINSTD_Q: i64 = 127_773;
 const MINSTD_R: i64 = 2_836;
 const MINSTD_M: i64 = 2_147_483_647;
+// Schrage's conditions, checked at compile time: m = a·q + r, and both products stay below 2³¹ for any
+// state below the modulus.
+const _: () = assert!(
+    MINSTD_A * MINSTD_Q + MINSTD_R == MINSTD_M
+        && MINSTD_A * (MINSTD_Q - 1) < 1 << 31
+        && MINSTD_R * (MINSTD_M / MINSTD_Q) < 1 << 31
+);
 
 /// The initial value of the generator for a manifest seed (1 ..= 2³¹ − 2).
 pub fn minstd_seed(seed: u64) -> i64 {
@@ -115,16 +122,24 @@ fn local_queue(plants: &[PlantChoice]) -> Vec<Stmt> {
             if p.sites.is_empty() {
                 body.push(Stmt::set("cur", Expr::Int(0)));
             } else {
-                let arms = p.sites.iter().map(|(at, s)| (at.clone(), vec![Stmt::set("site", Expr::Int(*s))])).collect();
+                let arms = p
+                    .sites
+                    .iter()
+                    .map(|(at, s)| (at.clone(), vec![Stmt::set("site", Expr::Int(*s))]))
+                    .collect();
                 body.push(Stmt::If(arms, vec![Stmt::set("site", Expr::Int(-1))]));
                 body.push(Stmt::If(
-                    vec![(var("site").op(Op::Ge, Expr::Int(0)), vec![Stmt::set("cur", Expr::at("sc", var("site")))])],
+                    vec![(
+                        var("site").op(Op::Ge, Expr::Int(0)),
+                        vec![Stmt::set("cur", Expr::at("sc", var("site")))],
+                    )],
                     vec![Stmt::set("cur", Expr::Int(0))],
                 ));
             }
-            let at_or_after = p.events.iter().map(|&e| {
-                (var("cur").op(Op::Le, Expr::Int(e)).op(Op::And, en(Expr::Int(e))), vec![c_is(e)])
-            });
+            let at_or_after = p
+                .events
+                .iter()
+                .map(|&e| (var("cur").op(Op::Le, Expr::Int(e)).op(Op::And, en(Expr::Int(e))), vec![c_is(e)]));
             let wrapped = p.events.iter().map(|&e| (en(Expr::Int(e)), vec![c_is(e)]));
             body.push(Stmt::If(at_or_after.chain(wrapped).collect(), Vec::new()));
             if !p.sites.is_empty() {
@@ -145,7 +160,10 @@ fn local_queue(plants: &[PlantChoice]) -> Vec<Stmt> {
             Stmt::Case(var("p"), arms, Vec::new()),
             Stmt::when(
                 var("c").op(Op::Ge, Expr::Int(0)),
-                vec![Stmt::set("pc", var("p").op(Op::Add, Expr::Int(1)).op(Op::Mod, Expr::Int(count))), Stmt::Exit],
+                vec![
+                    Stmt::set("pc", var("p").op(Op::Add, Expr::Int(1)).op(Op::Mod, Expr::Int(count))),
+                    Stmt::Exit,
+                ],
             ),
         ],
     )]
@@ -160,8 +178,5 @@ mod tests {
         assert_eq!(minstd_seed(0), 1);
         assert_eq!(minstd_seed(2_147_483_646), 1);
         assert!((1..MINSTD_M).contains(&minstd_seed(u64::MAX)));
-        // Schrage: both products stay below 2³¹ for any state below the modulus.
-        assert!(MINSTD_A * (MINSTD_Q - 1) < 1 << 31 && MINSTD_R * (MINSTD_M / MINSTD_Q) < 1 << 31);
-        assert_eq!(MINSTD_A * MINSTD_Q + MINSTD_R, MINSTD_M);
     }
 }

@@ -67,12 +67,16 @@ impl IoMap {
         for i in &spec.inputs {
             let e = id(&i.event)?;
             if events.is_controllable(e) {
-                return Err(PlcError::WrongKind { event: i.event.clone(), what: "controllable: it cannot be an input" });
+                return Err(PlcError::WrongKind {
+                    event: i.event.clone(),
+                    what: "controllable: it cannot be an input",
+                });
             }
             if !variable(&i.variable)? {
                 return Err(PlcError::Duplicate(i.variable.clone()));
             }
-            let source = Source::Input { variable: i.variable.clone(), edge: i.edge, address: i.address.clone() };
+            let source =
+                Source::Input { variable: i.variable.clone(), edge: i.edge, address: i.address.clone() };
             if sources.insert(e, source).is_some() {
                 return Err(PlcError::Duplicate(i.event.clone()));
             }
@@ -89,10 +93,15 @@ impl IoMap {
             let scans = match (o.action, o.scans) {
                 (Action::Pulse, None) => 1,
                 (Action::Pulse, Some(n)) if n > 0 => n,
-                (Action::Pulse, Some(_)) => return Err(PlcError::Value(format!("{}: pulse of 0 scans", o.event))),
+                (Action::Pulse, Some(_)) => {
+                    return Err(PlcError::Value(format!("{}: pulse of 0 scans", o.event)))
+                }
                 (_, None) => 0,
                 (_, Some(_)) => {
-                    return Err(PlcError::Value(format!("{}: scans goes with action = \"pulse\" only", o.event)))
+                    return Err(PlcError::Value(format!(
+                        "{}: scans goes with action = \"pulse\" only",
+                        o.event
+                    )))
                 }
             };
             match outputs.iter_mut().find(|x| x.variable == o.variable) {

@@ -198,7 +198,8 @@ pub fn generate(set: &PackSet, opts: &PlcOptions, provenance: &Provenance) -> Re
     let _ = write!(st, "\n{}\n{}", program.fb.text(), program.main.text());
     let config = format!("{}\n{}", comment(&header), xml::configuration_text(&base, opts.cycle_ms));
     let xml = xml::project(&program, &base, opts.cycle_ms, &header);
-    let files = vec![(format!("{base}.st"), st), (format!("{base}_config.st"), config), (format!("{base}.xml"), xml)];
+    let files =
+        vec![(format!("{base}.st"), st), (format!("{base}_config.st"), config), (format!("{base}.xml"), xml)];
     let report = Report::new(set, opts, &program, &files)?;
     Ok(Output { files, report, program })
 }

@@ -7,11 +7,51 @@ use std::collections::BTreeSet;
 /// Reserved words a user-chosen variable name must not be (the keywords of the emitted subset and the
 /// elementary types).
 const RESERVED: &[&str] = &[
-    "AND", "ARRAY", "AT", "BOOL", "BY", "CASE", "CONFIGURATION", "DINT", "DO", "ELSE", "ELSIF", "END_CASE",
-    "END_FOR", "END_FUNCTION_BLOCK", "END_IF", "END_PROGRAM", "END_STRUCT", "END_TYPE", "END_VAR", "EXIT",
-    "FALSE", "FOR", "FUNCTION", "FUNCTION_BLOCK", "IF", "INT", "MOD", "NOT", "OF", "OR", "PROGRAM",
-    "RESOURCE", "RETURN", "STRUCT", "TASK", "THEN", "TO", "TRUE", "TYPE", "UDINT", "VAR", "VAR_INPUT",
-    "VAR_OUTPUT", "WHILE", "XOR",
+    "AND",
+    "ARRAY",
+    "AT",
+    "BOOL",
+    "BY",
+    "CASE",
+    "CONFIGURATION",
+    "DINT",
+    "DO",
+    "ELSE",
+    "ELSIF",
+    "END_CASE",
+    "END_FOR",
+    "END_FUNCTION_BLOCK",
+    "END_IF",
+    "END_PROGRAM",
+    "END_STRUCT",
+    "END_TYPE",
+    "END_VAR",
+    "EXIT",
+    "FALSE",
+    "FOR",
+    "FUNCTION",
+    "FUNCTION_BLOCK",
+    "IF",
+    "INT",
+    "MOD",
+    "NOT",
+    "OF",
+    "OR",
+    "PROGRAM",
+    "RESOURCE",
+    "RETURN",
+    "STRUCT",
+    "TASK",
+    "THEN",
+    "TO",
+    "TRUE",
+    "TYPE",
+    "UDINT",
+    "VAR",
+    "VAR_INPUT",
+    "VAR_OUTPUT",
+    "WHILE",
+    "XOR",
 ];
 
 /// `name` reduced to identifier characters: every other character an underscore, runs of underscores
@@ -93,7 +133,10 @@ mod tests {
         assert_eq!(names.fresh("EV", "A-B"), "EV_A_B_2", "case-insensitive clash");
         assert!(is_identifier("sensor_c1") && !is_identifier("1x") && !is_identifier("a__b"));
         let mut members = Names::default();
-        assert_eq!((members.plain("s_c1"), members.plain("1"), members.plain("AND")), ("s_c1".into(), "e_1".into(), "e_AND".into()));
+        assert_eq!(
+            (members.plain("s_c1"), members.plain("1"), members.plain("AND")),
+            ("s_c1".into(), "e_1".into(), "e_AND".into())
+        );
         assert!(!is_identifier("end_if") && !is_identifier("a b") && !is_identifier(""));
     }
 }

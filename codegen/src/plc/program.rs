@@ -19,6 +19,8 @@
 //! 9. `aeem-reset` — every memory bit cleared.
 //! 10. `outputs` — set, clear, pulse countdown; all off in the safe state.
 
+use std::ops::Not as _;
+
 use crate::emit::OnFault;
 use crate::model::EventId;
 use crate::pack::{PackSet, Role};
@@ -136,11 +138,7 @@ pub fn build(set: &PackSet, opts: &PlcOptions) -> Result<Program, PlcError> {
         }
         auts.push(Aut { name, plans });
     }
-    let pulse = io
-        .outputs
-        .iter()
-        .map(|o| o.pulsed().then(|| names.fresh("pt", &o.variable)))
-        .collect();
+    let pulse = io.outputs.iter().map(|o| o.pulsed().then(|| names.fresh("pt", &o.variable))).collect();
     let b = Builder { set, opts, io, ev, pend, prev, auts, bits, pulse };
     b.check_owned()?;
     Ok(b.finish())
@@ -265,8 +263,10 @@ impl Builder<'_> {
         if us.is_empty() {
             return Vec::new();
         }
-        let mut out =
-            vec![Stmt::set("busy", Expr::fold(us.iter().map(|u| Expr::var(&self.pend[u.index()])), Op::Or, Expr::Bool(false)))];
+        let mut out = vec![Stmt::set(
+            "busy",
+            Expr::fold(us.iter().map(|u| Expr::var(&self.pend[u.index()])), Op::Or, Expr::Bool(false)),
+        )];
         for u in us {
             let (x, edge) = self.source(u);
             let prev = Expr::var(&self.prev[u.index()]);
@@ -303,12 +303,19 @@ impl Builder<'_> {
                 let (ev, pend) = (&self.ev[u.index()], &self.pend[u.index()]);
                 (
                     Expr::var(pend),
-                    vec![Stmt::set(ev, Expr::Bool(true)), Stmt::set(pend, Expr::Bool(false)), Stmt::incr("events_in")],
+                    vec![
+                        Stmt::set(ev, Expr::Bool(true)),
+                        Stmt::set(pend, Expr::Bool(false)),
+                        Stmt::incr("events_in"),
+                    ],
                 )
             })
             .collect();
         out.push(Stmt::If(arms, Vec::new()));
-        out.push(Stmt::set("pending", Expr::fold(us.iter().map(|u| Expr::var(&self.pend[u.index()])), Op::Or, Expr::Bool(false))));
+        out.push(Stmt::set(
+            "pending",
+            Expr::fold(us.iter().map(|u| Expr::var(&self.pend[u.index()])), Op::Or, Expr::Bool(false)),
+        ));
         out
     }
 
@@ -339,7 +346,9 @@ impl Builder<'_> {
         self.bits
             .iter()
             .filter(|(_, _, e)| self.events().is_controllable(*e) == controllable)
-            .map(|(bit, _, e)| Stmt::when(Expr::var(&self.ev[e.index()]), vec![Stmt::set(bit, Expr::Bool(true))]))
+            .map(|(bit, _, e)| {
+                Stmt::when(Expr::var(&self.ev[e.index()]), vec![Stmt::set(bit, Expr::Bool(true))])
+            })
             .collect()
     }
 
@@ -429,7 +438,8 @@ impl Builder<'_> {
             taken.extend(&events);
             let mut sites = Vec::new();
             for (s, edges) in m.out.iter().enumerate() {
-                let mut own: Vec<EventId> = edges.iter().map(|&(e, _)| e).filter(|e| events.contains(e)).collect();
+                let mut own: Vec<EventId> =
+                    edges.iter().map(|&(e, _)| e).filter(|e| events.contains(e)).collect();
                 own.dedup();
                 if own.len() >= 2 {
                     sites.push((self.at(a, s), next));
@@ -453,7 +463,10 @@ impl Builder<'_> {
         let mut decide = choice::statements(self.opts.policy, self.events().len() as i64, &self.sites());
         if !self.uncontrollable().is_empty() {
             decide.push(Stmt::when(
-                Expr::var("c").op(Op::Ge, Expr::Int(0)).op(Op::And, Expr::var("guard")).op(Op::And, Expr::var("arrived")),
+                Expr::var("c")
+                    .op(Op::Ge, Expr::Int(0))
+                    .op(Op::And, Expr::var("guard"))
+                    .op(Op::And, Expr::var("arrived")),
                 vec![Stmt::incr("guard_redecisions"), Stmt::set("c", Expr::Int(-1))],
             ));
         }
@@ -540,9 +553,11 @@ impl Builder<'_> {
             inputs.push(Var::new("EVENTS", &type_name, "internal uncontrollable events (tests)"));
         }
         inputs.push(Var::new("hold", "BOOL", "no command while TRUE").init("FALSE"));
-        inputs.push(
-            Var::new("guard", "BOOL", "inexact-synchronisation guard").init(if self.opts.guard { "TRUE" } else { "FALSE" }),
-        );
+        inputs.push(Var::new("guard", "BOOL", "inexact-synchronisation guard").init(if self.opts.guard {
+            "TRUE"
+        } else {
+            "FALSE"
+        }));
         inputs.push(Var::new("reset", "BOOL", "initial states while TRUE").init("FALSE"));
 
         let mut outputs: Vec<Var> = self
@@ -583,14 +598,22 @@ impl Builder<'_> {
                 Encoding::Bits => {
                     for s in 0..m.state_count() {
                         let state = &m.automaton.states[s].name;
-                        locals.push(Var::new(self.state_var(a, s), "BOOL", format!("{role} {} in state '{state}'", m.name())));
+                        locals.push(Var::new(
+                            self.state_var(a, s),
+                            "BOOL",
+                            format!("{role} {} in state '{state}'", m.name()),
+                        ));
                     }
                 }
             }
         }
         for e in events.ids() {
             let kind = if events.is_controllable(e) { "controllable" } else { "uncontrollable" };
-            locals.push(Var::new(&self.ev[e.index()], "BOOL", format!("event {} '{}' ({kind}) this scan", e.index(), events.name(e))));
+            locals.push(Var::new(
+                &self.ev[e.index()],
+                "BOOL",
+                format!("event {} '{}' ({kind}) this scan", e.index(), events.name(e)),
+            ));
         }
         for u in self.uncontrollable() {
             locals.push(Var::new(&self.pend[u.index()], "BOOL", "latched"));
@@ -608,7 +631,11 @@ impl Builder<'_> {
         let has_c = !self.controllable().is_empty();
         if has_u {
             locals.push(Var::new("busy", "BOOL", "an event latched or arrived this scan"));
-            locals.push(Var::new("arrived", "BOOL", "an uncontrollable event arrived: the guard holds commands"));
+            locals.push(Var::new(
+                "arrived",
+                "BOOL",
+                "an uncontrollable event arrived: the guard holds commands",
+            ));
         }
         if has_c {
             locals.push(Var::new("en", format!("ARRAY[0..{last}] OF BOOL"), "enabled, by event id"));
@@ -626,13 +653,20 @@ impl Builder<'_> {
                     locals.push(Var::new("cur", "INT", "site cursor in use"));
                     if sites > 0 {
                         locals.push(Var::new("site", "INT", "choice site, -1 none"));
-                        locals.push(Var::new("sc", format!("ARRAY[0..{}] OF INT", sites - 1), "cursor per choice site"));
+                        locals.push(Var::new(
+                            "sc",
+                            format!("ARRAY[0..{}] OF INT", sites - 1),
+                            "cursor per choice site",
+                        ));
                     }
                 }
                 ScanPolicy::Random => {
                     locals.push(Var::new("n", "INT", "enabled count"));
                     locals.push(Var::new("k", "INT", ""));
-                    locals.push(Var::new("rng", "DINT", "MINSTD state").init(choice::minstd_seed(self.opts.seed).to_string()));
+                    locals.push(
+                        Var::new("rng", "DINT", "MINSTD state")
+                            .init(choice::minstd_seed(self.opts.seed).to_string()),
+                    );
                 }
             }
         }
@@ -644,7 +678,8 @@ impl Builder<'_> {
         };
 
         let mut main_vars: Vec<Var> = io_inputs.iter().chain(&io_outputs).cloned().collect();
-        let mut args: Vec<(String, Expr)> = io_inputs.iter().map(|v| (v.name.clone(), Expr::var(&v.name))).collect();
+        let mut args: Vec<(String, Expr)> =
+            io_inputs.iter().map(|v| (v.name.clone(), Expr::var(&v.name))).collect();
         if let Some((ty, _)) = &events_type {
             main_vars.push(Var::new("EVENTS", ty, "internal uncontrollable events (tests)"));
             args.push(("EVENTS".into(), Expr::var("EVENTS")));
@@ -663,7 +698,11 @@ impl Builder<'_> {
             program: true,
             name: format!("{base}_main"),
             vars: vec![(VarClass::Local, main_vars)],
-            sections: vec![Section { kind: SectionKind::Run, title: "the function block, then its outputs".into(), stmts: run }],
+            sections: vec![Section {
+                kind: SectionKind::Run,
+                title: "the function block, then its outputs".into(),
+                stmts: run,
+            }],
         };
         let mut avalanche: Vec<(String, EventId, Method)> = self
             .auts
@@ -671,10 +710,9 @@ impl Builder<'_> {
             .zip(self.set.members())
             .flat_map(|(aut, m)| {
                 let case = self.opts.encoding == Encoding::Int;
-                aut.plans
-                    .iter()
-                    .flat_map(|p| p.methods.iter())
-                    .map(move |(&e, &method)| (m.name().to_owned(), e, if case { Method::Case } else { method }))
+                aut.plans.iter().flat_map(|p| p.methods.iter()).map(move |(&e, &method)| {
+                    (m.name().to_owned(), e, if case { Method::Case } else { method })
+                })
             })
             .collect();
         // Automata in set order, events by id within each (the two passes merged).

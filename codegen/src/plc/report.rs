@@ -129,7 +129,13 @@ impl Report {
                 Source::Input { variable, edge, .. } => (variable.clone(), edge.name()),
                 Source::Member(m) => (format!("EVENTS.{m}"), "rising"),
             };
-            io.push(IoEntry { event: events.name(e).to_owned(), direction: "input", variable, kind, scans: 0 });
+            io.push(IoEntry {
+                event: events.name(e).to_owned(),
+                direction: "input",
+                variable,
+                kind,
+                scans: 0,
+            });
         }
         for o in &program.io.outputs {
             for &(e, action, scans) in &o.actions {
@@ -145,10 +151,11 @@ impl Report {
         let sections: BTreeMap<&'static str, usize> =
             program.fb.statements().into_iter().map(|(k, n)| (k.name(), n)).collect();
         let of = |k: SectionKind| sections.get(k.name()).copied().unwrap_or(0);
-        let seed_structure = [SectionKind::Init, SectionKind::AeemSet, SectionKind::Transitions, SectionKind::AeemReset]
-            .into_iter()
-            .map(of)
-            .sum();
+        let seed_structure =
+            [SectionKind::Init, SectionKind::AeemSet, SectionKind::Transitions, SectionKind::AeemReset]
+                .into_iter()
+                .map(of)
+                .sum();
         let statements = Statements {
             function_block: sections.values().sum(),
             program: program.main.statements().iter().map(|(_, n)| n).sum(),
@@ -176,7 +183,11 @@ impl Report {
             avalanche: program
                 .avalanche
                 .iter()
-                .map(|(a, e, m)| AvalancheEntry { automaton: a.clone(), event: events.name(*e).to_owned(), method: m.name() })
+                .map(|(a, e, m)| AvalancheEntry {
+                    automaton: a.clone(),
+                    event: events.name(*e).to_owned(),
+                    method: m.name(),
+                })
                 .collect(),
             simultaneity: simultaneity(set)?,
             choice_sites: program.sites,
@@ -193,7 +204,8 @@ impl Report {
             "variables: {} inputs, {} outputs, {} locals\n",
             self.variables.inputs, self.variables.outputs, self.variables.locals
         );
-        let sections: Vec<String> = self.statements.sections.iter().map(|(k, n)| format!("{k} {n}")).collect();
+        let sections: Vec<String> =
+            self.statements.sections.iter().map(|(k, n)| format!("{k} {n}")).collect();
         out += &format!(
             "statements: function block {} ({}), program {}; seed structure {}\n",
             self.statements.function_block,
@@ -213,7 +225,8 @@ impl Report {
         if self.simultaneity.order_matters.is_empty() {
             out += "; the order never matters\n";
         } else {
-            let pairs: Vec<String> = self.simultaneity.order_matters.iter().map(|[a, b]| format!("{a}/{b}")).collect();
+            let pairs: Vec<String> =
+                self.simultaneity.order_matters.iter().map(|[a, b]| format!("{a}/{b}")).collect();
             out += &format!(
                 "; the order matters for {} ({} closed-loop states)\n",
                 pairs.join(", "),
@@ -232,7 +245,8 @@ fn simultaneity(set: &PackSet) -> Result<Simultaneity, PlcError> {
         many => product(many, &Config::default())?,
     };
     let found = check(&closed, &[Problem::Simultaneity]);
-    let mut pairs: Vec<[String; 2]> = found.iter().map(|f| [f.events[0].clone(), f.events[1].clone()]).collect();
+    let mut pairs: Vec<[String; 2]> =
+        found.iter().map(|f| [f.events[0].clone(), f.events[1].clone()]).collect();
     pairs.sort();
     pairs.dedup();
     Ok(Simultaneity {

@@ -115,11 +115,6 @@ impl Expr {
         Expr::Bin(Box::new(self), op, Box::new(rhs))
     }
 
-    /// `NOT self`.
-    pub fn not(self) -> Expr {
-        Expr::Not(Box::new(self))
-    }
-
     /// The terms joined by `op`; `empty` when there are none.
     pub fn fold(terms: impl IntoIterator<Item = Expr>, op: Op, empty: Expr) -> Expr {
         terms.into_iter().reduce(|a, b| a.op(op, b)).unwrap_or(empty)
@@ -155,7 +150,10 @@ impl Expr {
                 a.write_operand(out, a.precedence() < p);
                 let _ = write!(out, " {} ", op.text());
                 let same = matches!(&**b, Expr::Bin(_, o, _) if *o == *op);
-                b.write_operand(out, b.precedence() < p || (b.precedence() == p && !(same && op.associative())));
+                b.write_operand(
+                    out,
+                    b.precedence() < p || (b.precedence() == p && !(same && op.associative())),
+                );
             }
             Expr::Call(f, args) => {
                 out.push_str(f);
@@ -186,6 +184,15 @@ impl Expr {
         let mut s = String::new();
         self.write(&mut s);
         s
+    }
+}
+
+/// `NOT e`.
+impl std::ops::Not for Expr {
+    type Output = Expr;
+
+    fn not(self) -> Expr {
+        Expr::Not(Box::new(self))
     }
 }
 
@@ -401,8 +408,11 @@ impl Var {
     pub fn text(&self) -> String {
         let at = self.address.as_ref().map(|a| format!(" AT {a}")).unwrap_or_default();
         let init = self.init.as_ref().map(|v| format!(" := {v}")).unwrap_or_default();
-        let comment =
-            if self.comment.is_empty() { String::new() } else { format!(" (* {} *)", safe_comment(&self.comment)) };
+        let comment = if self.comment.is_empty() {
+            String::new()
+        } else {
+            format!(" (* {} *)", safe_comment(&self.comment))
+        };
         format!("    {}{at} : {}{init};{comment}\n", self.name, self.ty)
     }
 }
@@ -498,6 +508,8 @@ impl Pou {
 
 #[cfg(test)]
 mod tests {
+    use std::ops::Not as _;
+
     use super::*;
 
     #[test]

@@ -53,7 +53,8 @@ fn data_type(ty: &str) -> String {
 
 fn variable(out: &mut String, v: &Var, indent: &str) {
     let address = v.address.as_ref().map(|a| format!(" address=\"{}\"", esc(a))).unwrap_or_default();
-    let _ = write!(out, "{indent}<variable name=\"{}\"{address}><type>{}</type>", esc(&v.name), data_type(&v.ty));
+    let _ =
+        write!(out, "{indent}<variable name=\"{}\"{address}><type>{}</type>", esc(&v.name), data_type(&v.ty));
     if let Some(init) = &v.init {
         let _ = write!(out, "<initialValue><simpleValue value=\"{}\"/></initialValue>", esc(init));
     }

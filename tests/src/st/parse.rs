@@ -22,7 +22,8 @@ enum Tok {
     Section(String),
 }
 
-const SYMS: [&str; 18] = [":=", "<>", "<=", ">=", "..", ":", ";", ",", "(", ")", "[", "]", ".", "=", "<", ">", "+", "-"];
+const SYMS: [&str; 18] =
+    [":=", "<>", "<=", ">=", "..", ":", ";", ",", "(", ")", "[", "]", ".", "=", "<", ">", "+", "-"];
 const MORE_SYMS: [&str; 2] = ["*", "/"];
 
 fn lex(text: &str) -> Result<Vec<(Tok, usize)>, String> {
@@ -529,8 +530,15 @@ impl Parser {
     }
 
     fn binary(&mut self, level: usize) -> Result<Expr, String> {
-        const LEVELS: [&[&str]; 7] =
-            [&["OR"], &["XOR"], &["AND", "&"], &["=", "<>"], &["<", ">", "<=", ">="], &["+", "-"], &["*", "/", "MOD"]];
+        const LEVELS: [&[&str]; 7] = [
+            &["OR"],
+            &["XOR"],
+            &["AND", "&"],
+            &["=", "<>"],
+            &["<", ">", "<=", ">="],
+            &["+", "-"],
+            &["*", "/", "MOD"],
+        ];
         if level == LEVELS.len() {
             return self.unary();
         }

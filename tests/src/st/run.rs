@@ -107,9 +107,14 @@ impl Plc {
                 let (lo, hi) = range(n);
                 Value::Int(0, lo, hi)
             }
-            Type::Array(lo, hi, t) => Value::Array(*lo, (*lo..=*hi).map(|_| self.zero(t)).collect::<Result<_, _>>()?),
+            Type::Array(lo, hi, t) => {
+                Value::Array(*lo, (*lo..=*hi).map(|_| self.zero(t)).collect::<Result<_, _>>()?)
+            }
             Type::Named(n) if self.types.contains_key(n) => Value::Struct(
-                self.types[n].iter().map(|d| Ok((d.name.clone(), self.initial(d)?))).collect::<Result<_, String>>()?,
+                self.types[n]
+                    .iter()
+                    .map(|d| Ok((d.name.clone(), self.initial(d)?)))
+                    .collect::<Result<_, String>>()?,
             ),
             Type::Named(n) => Value::Struct(self.instance(n)?),
         })
@@ -135,7 +140,8 @@ impl Plc {
     }
 
     fn run_block(&mut self, name: &str, vars: &mut BTreeMap<String, Value>) -> Result<(), String> {
-        let body = std::sync::Arc::clone(&self.blocks.get(name).ok_or_else(|| format!("no block {name}"))?.1.body);
+        let body =
+            std::sync::Arc::clone(&self.blocks.get(name).ok_or_else(|| format!("no block {name}"))?.1.body);
         self.exec(&body, vars).map(|_| ())
     }
 
@@ -182,8 +188,10 @@ impl Plc {
                 }
                 Stmt::Exit => return Ok(Flow::Exit),
                 Stmt::Call(inst, args) => {
-                    let values: Vec<(String, Value)> =
-                        args.iter().map(|(n, e)| Ok((n.clone(), eval(e, vars)?))).collect::<Result<_, String>>()?;
+                    let values: Vec<(String, Value)> = args
+                        .iter()
+                        .map(|(n, e)| Ok((n.clone(), eval(e, vars)?)))
+                        .collect::<Result<_, String>>()?;
                     let Some(Value::Struct(mut inner)) = vars.remove(inst) else {
                         return Err(format!("{inst} is no block instance"));
                     };
