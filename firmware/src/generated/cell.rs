@@ -3,7 +3,7 @@
 // Set 'cell': 4 plants, 6 supervisors, 23 events; layout ranked, 1028 bytes of blocks + 292 bytes of masks (97 masks).
 // Command: codegen emit examples/cell/cell.toml --reseed-every 1024
 // Inputs (SHA-256):
-//   fa3667402fb07527d3033bb935ad621054dff0b4e61c69c5467f1ce93da5ffbb  examples/cell/cell.toml
+//   e0ab8dd9e7fe137abfd1c0abaaff2de48f28d9d171dfb8e08613dae7dc217c65  examples/cell/cell.toml
 //   ca4a1689b28c9464619adbf249ed65a5215d30b256eb9f981548407ae27b4fe5  examples/cell/plants/G1.xmd
 //   a1d97f4ae52ce7b4bd826d6132d0f2832b819d532c406d889c0721a16c7b8529  examples/cell/plants/G2.xmd
 //   dc66f0ae5edea3cfc5d03b66d59605b1c012f51304f25a06fc258ad74dd13dc5  examples/cell/plants/G3.xmd

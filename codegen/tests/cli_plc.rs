@@ -1,0 +1,71 @@
+//! `codegen plc`: the files it writes are the same bytes run to run, and bad input exits 2 with a message.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn codegen(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_codegen")).args(args).output().expect("run codegen")
+}
+
+fn repo(rel: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(rel).display().to_string()
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_plc").join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut out: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .map(|p| (p.file_name().unwrap().to_string_lossy().into_owned(), std::fs::read(&p).unwrap()))
+        .collect();
+    out.sort();
+    out
+}
+
+#[test]
+fn the_cell_gives_the_same_bytes_twice_and_a_json_report() {
+    let (a, b) = (scratch("a"), scratch("b"));
+    let cell = repo("examples/cell/cell.toml");
+    for dir in [&a, &b] {
+        let out = codegen(&["plc", &cell, "--encoding", "bits", "--json", "-o", &dir.display().to_string()]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(json["schema"], 1);
+        assert_eq!(json["statements"]["sections"]["transitions"], 720, "one statement per transition");
+    }
+    let names: Vec<String> = files(&a).into_iter().map(|(n, _)| n).collect();
+    assert_eq!(names, ["cell.st", "cell.xml", "cell_config.st"]);
+    assert_eq!(files(&a), files(&b));
+    let st = String::from_utf8(files(&a)[0].1.clone()).unwrap();
+    assert!(st.contains("Inputs (SHA-256):") && st.contains("Command: codegen plc "), "provenance header");
+}
+
+#[test]
+fn bad_input_exits_2_naming_the_problem() {
+    let dir = scratch("bad").display().to_string();
+    let ads = repo("codegen/tests/data/TEST.ADS");
+    let out = codegen(&["plc", &ads, "--encoding", "bits", "--avalanche", "order", "-o", &dir]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--avalanche order: event '1' of TEST has a cycle"), "{err}");
+    let manifest = scratch("m").with_extension("toml");
+    std::fs::create_dir_all(manifest.parent().unwrap()).unwrap();
+    std::fs::write(
+        &manifest,
+        format!(
+            "name = \"x\"\nplants = [{:?}]\n[plc]\npolicy = \"first\"\n[[plc.inputs]]\nevent = \"1\"\nvariable = \"x\"\nedge = \"rising\"\n",
+            ads
+        ),
+    )
+    .unwrap();
+    let out = codegen(&["plc", &manifest.display().to_string(), "-o", &dir]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("plc: event '1' is controllable: it cannot be an input"), "{err}");
+    assert!(!Path::new(&dir).exists(), "nothing written");
+}
