@@ -4,11 +4,10 @@
 //! rest back (backpressure), and every event arrives. (The overflow path itself, for a line that cannot
 //! be held back, is exercised against the host-compiled runtime in `loopback.rs`.)
 
+use codegen::closed_loop::{parts, Options, Session, SessionConfig};
 use codegen::emit::Options as Runtime;
-use codegen::plant::closed_loop::{parts, Options};
-use codegen::plant::project::Project;
-use codegen::plant::session::{Session, SessionConfig};
-use codegen::qemu::Qemu;
+use codegen::project::Project;
+use codegen::target::qemu::Qemu;
 use end_to_end::{firmware_image, ticker, Scratch};
 
 /// Input buffer capacity of the test firmware.

@@ -1,9 +1,9 @@
 //! The manufacturing cell under QEMU: the real firmware image, synthesised from the cell's manifest,
 //! against the virtual plant for 100 000 events.
 
+use codegen::closed_loop::Options;
 use codegen::emit::Policy;
-use codegen::plant::closed_loop::Options;
-use codegen::plant::project::Project;
+use codegen::project::Project;
 use end_to_end::{example, qemu_closed_loop};
 
 #[test]

@@ -1,10 +1,10 @@
 //! The livelock example of the design notes (§4.1) under QEMU: a global queue cycles 1, 3, 1, 3 and never
 //! reaches the marked state 4; the local queues, fixed or random, keep reaching it.
 
+use codegen::closed_loop::Options;
 use codegen::emit::Policy;
 use codegen::monitor::Report;
-use codegen::plant::closed_loop::Options;
-use codegen::plant::project::Project;
+use codegen::project::Project;
 use end_to_end::{example, qemu_closed_loop};
 
 fn run(policy: Policy) -> Report {

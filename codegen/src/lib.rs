@@ -6,6 +6,7 @@
 #![deny(missing_docs)]
 
 pub mod check;
+pub mod closed_loop;
 pub mod emit;
 pub mod formats;
 pub mod link;
@@ -14,5 +15,6 @@ pub mod model;
 pub mod monitor;
 pub mod pack;
 pub mod plant;
-pub mod qemu;
+pub mod project;
 pub mod synth;
+pub mod target;

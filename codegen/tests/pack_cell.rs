@@ -105,7 +105,7 @@ fn every_layout_decodes_to_the_cell() {
 #[test]
 fn ranked_cell_takes_1028_bytes_of_blocks_and_97_masks() {
     let manifest = dir().join("../examples/cell/cell.toml");
-    let project = codegen::plant::project::Project::load(&manifest).unwrap();
+    let project = codegen::project::Project::load(&manifest).unwrap();
     for set in [project.set, cell()] {
         let packed = ranked::encode(&set).unwrap();
         assert_eq!(packed.masks.len(), 97);

@@ -18,8 +18,6 @@ mod diamond;
 mod finding;
 mod paths;
 mod scope;
-#[cfg(test)]
-mod testing;
 
 pub use finding::{Finding, Problem, Shape};
 pub use scope::{scopes, Scope};
@@ -70,7 +68,7 @@ mod tests {
 
     proptest! {
         #[test]
-        fn findings_match_brute_force(a in crate::pack::testing::arb_automaton("A".into(), 4, 6)) {
+        fn findings_match_brute_force(a in crate::model::testing::arb_automaton("A".into(), 4, 6)) {
             let found = run(&a, &Problem::ALL);
             let dist = distances(&a);
             let state_of = |name: &str| a.state_id(name).unwrap().index();

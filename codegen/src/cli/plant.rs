@@ -5,11 +5,11 @@ use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use codegen::closed_loop::{attach, Options};
 use codegen::link::Endpoint;
 use codegen::monitor::Report;
-use codegen::plant::closed_loop::{attach, Options};
-use codegen::plant::project::Project;
 use codegen::plant::PlantConfig;
+use codegen::project::Project;
 
 use super::Error;
 

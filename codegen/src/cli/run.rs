@@ -3,9 +3,9 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use codegen::plant::closed_loop::run_under_qemu;
-use codegen::plant::image::build_qemu_image;
-use codegen::plant::project::Project;
+use codegen::closed_loop::run_under_qemu;
+use codegen::project::Project;
+use codegen::target::image::build_qemu_image;
 
 use super::plant::{finish, Progress, RunArgs};
 use super::Error;

@@ -200,7 +200,8 @@ impl<const W: usize> HostTables<W> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pack::{ranked, testing::toggle, PackSet};
+    use crate::model::testing::toggle;
+    use crate::pack::{ranked, PackSet};
 
     #[test]
     fn host_tables_pass_the_runtime_check_and_refuse_another_width() {

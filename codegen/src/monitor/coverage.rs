@@ -3,8 +3,7 @@
 
 use std::collections::{BTreeSet, HashMap, VecDeque};
 
-use crate::model::EventId;
-use crate::plant::Composition;
+use crate::model::{Composition, EventId};
 
 /// A supervisor transition, as (local source state, global event id).
 pub type Edge = (u32, u32);
@@ -173,8 +172,8 @@ impl Taken {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::testing::{automaton, machine};
     use crate::model::{EventTable, Kind};
-    use crate::plant::composition::tests::{automaton, machine};
 
     #[test]
     fn only_transitions_the_closed_loop_reaches_count_and_distances_lead_to_them() {

@@ -217,7 +217,8 @@ fn decode_block(b: &Block, packed: &Packed, controllable: &[u32]) -> Result<Auto
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pack::testing::{arb_set, assert_round_trip, toggle};
+    use crate::model::testing::toggle;
+    use crate::pack::testing::{arb_set, assert_round_trip};
 
     #[test]
     fn toggle_is_one_byte() {

@@ -22,7 +22,8 @@ pub fn bytes(m: &Member) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pack::{testing::toggle, PackSet};
+    use crate::model::testing::toggle;
+    use crate::pack::PackSet;
 
     #[test]
     fn toggle_floor() {

@@ -218,7 +218,8 @@ pub fn decode(packed: &Packed) -> Result<Vec<Automaton>, DecodeError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pack::testing::{arb_set, assert_round_trip, toggle};
+    use crate::model::testing::toggle;
+    use crate::pack::testing::{arb_set, assert_round_trip};
 
     #[test]
     fn toggle_pair_bytes() {

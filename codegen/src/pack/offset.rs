@@ -181,7 +181,8 @@ fn decode_block(b: &Block, packed: &Packed) -> Result<Automaton, DecodeError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pack::testing::{assert_round_trip, toggle};
+    use crate::model::testing::toggle;
+    use crate::pack::testing::assert_round_trip;
 
     #[test]
     fn toggle_is_two_records() {

@@ -507,8 +507,9 @@ fn decode_block(b: &Block, packed: &Packed) -> Result<Automaton, DecodeError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::testing::toggle;
     use crate::model::{Automaton as Model, Kind, StateId};
-    use crate::pack::testing::{arb_set, assert_round_trip, corrupt, toggle};
+    use crate::pack::testing::{arb_set, assert_round_trip, corrupt};
     use firmware::table::{Automaton as RtAutomaton, SupervisorSet, TableError};
 
     /// Runs `f` on the firmware's view of `packed` (one-word bitsets, no automaton holding any event),

@@ -275,7 +275,7 @@ impl fmt::Display for Report {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pack::testing::toggle;
+    use crate::model::testing::toggle;
 
     #[test]
     fn memory_safe_supervisors_match_the_paper_formula() {

@@ -4,7 +4,7 @@
 //! moves every member whose alphabet holds it and is refused when one of them has no transition for it.
 //! The virtual plant runs the plant subsystems this way, the monitor the closed loop plants ‖ supervisors.
 
-use crate::model::{Automaton, EventId, EventTable, ModelError, StateId};
+use super::{Automaton, EventId, EventTable, ModelError, StateId};
 
 /// One automaton of a [`Composition`], with its transitions re-indexed by global event id.
 #[derive(Clone, Debug)]
@@ -24,7 +24,7 @@ struct Member {
 ///
 /// ```
 /// use codegen::model::{Automaton, EventTable, Kind};
-/// use codegen::plant::Composition;
+/// use codegen::model::Composition;
 ///
 /// let mut m = Automaton::new("M", Kind::Plant);
 /// let idle = m.add_state("idle", true).unwrap();
@@ -181,41 +181,10 @@ impl Composition {
 }
 
 #[cfg(test)]
-pub(crate) mod tests {
+mod tests {
     use super::*;
+    use crate::model::testing::{automaton, machine};
     use crate::model::Kind;
-
-    /// Builds an automaton from `(source, event, target)` triples; events in `controllable` are
-    /// controllable, states in `marked` are marked, state 0 is initial.
-    pub(crate) fn automaton(
-        name: &str,
-        kind: Kind,
-        states: usize,
-        marked: &[usize],
-        controllable: &[&str],
-        transitions: &[(usize, &str, usize)],
-    ) -> Automaton {
-        let mut a = Automaton::new(name, kind);
-        for s in 0..states {
-            a.add_state(s.to_string(), marked.contains(&s)).unwrap();
-        }
-        for &(_, e, _) in transitions {
-            if a.event_id(e).is_none() {
-                a.add_event(e, controllable.contains(&e)).unwrap();
-            }
-        }
-        for &(s, e, t) in transitions {
-            let e = a.event_id(e).unwrap();
-            a.add_transition(StateId::new(s).unwrap(), e, StateId::new(t).unwrap());
-        }
-        a.initial = Some(StateId::new(0).unwrap());
-        a
-    }
-
-    /// The classic small machine: idle –start→ busy –done→ idle.
-    pub(crate) fn machine(name: &str, start: &str, done: &str) -> Automaton {
-        automaton(name, Kind::Plant, 2, &[0], &[start], &[(0, start, 1), (1, done, 0)])
-    }
 
     #[test]
     fn shared_events_synchronise_and_private_ones_interleave() {
