@@ -2,7 +2,7 @@
 //! against the virtual plant for 100 000 events.
 
 use codegen::closed_loop::Options;
-use codegen::emit::Policy;
+use codegen::config::ChoicePolicy as Policy;
 use codegen::project::Project;
 use end_to_end::{example, qemu_closed_loop};
 

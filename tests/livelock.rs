@@ -2,7 +2,7 @@
 //! reaches the marked state 4; the local queues, fixed or random, keep reaching it.
 
 use codegen::closed_loop::Options;
-use codegen::emit::Policy;
+use codegen::config::ChoicePolicy as Policy;
 use codegen::monitor::Report;
 use codegen::project::Project;
 use end_to_end::{example, qemu_closed_loop};

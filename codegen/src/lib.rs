@@ -7,6 +7,7 @@
 
 pub mod check;
 pub mod closed_loop;
+pub mod config;
 pub mod emit;
 pub mod formats;
 pub mod link;

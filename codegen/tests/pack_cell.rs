@@ -159,7 +159,7 @@ fn modular_and_monolithic_rows() {
     let specs = read(&["E1", "E2", "E3", "E4", "E5", "E6", "E7"], "specs");
     let plants: Vec<_> =
         set.members().iter().filter(|m| m.role == Role::Plant).map(|m| m.automaton.clone()).collect();
-    let rows = codegen::pack::comparison::modular_and_monolithic(&plants, &specs, 23, &Default::default());
+    let rows = codegen::project::comparison::modular_and_monolithic(&plants, &specs, 23, &Default::default());
     let columns = |i: usize| {
         let c = rows[i].columns.as_ref().unwrap();
         (c.states, c.transitions, c.matrix(), c.chained_list(), c.memory_safe())

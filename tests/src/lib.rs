@@ -15,7 +15,6 @@ use codegen::model::{Automaton, Kind};
 use codegen::monitor::Report;
 use codegen::pack::PackSet;
 use codegen::project::Project;
-use codegen::target::image::build_qemu_image;
 use firmware::choice::Policy;
 use firmware::input_queue::InputQueue;
 use firmware::link::{Hold, Link, Poll, Port, READY};
@@ -148,17 +147,14 @@ impl Drop for Scratch {
 
 /// Emits `project`'s tables and builds the QEMU firmware on them, in `scratch`; returns the ELF.
 pub fn firmware_image(project: &Project, scratch: &Scratch) -> PathBuf {
-    let tables = scratch.path().join("tables.rs");
-    std::fs::write(&tables, project.emit().unwrap_or_else(|e| panic!("emit: {e}"))).unwrap();
-    build_qemu_image(&tables, &scratch.path().join("firmware.elf")).unwrap_or_else(|e| panic!("{e}"))
+    project.image(scratch.path()).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Builds `project`'s firmware, boots it under QEMU and runs the closed loop with `options`.
 pub fn qemu_closed_loop(project: &Project, options: &Options) -> Report {
-    let scratch = Scratch::new(&project.runtime.name);
+    let scratch = Scratch::new(&project.name);
     let elf = firmware_image(project, &scratch);
-    run_under_qemu(&elf, &project.set, &project.runtime.name, options, &mut |_| {})
-        .unwrap_or_else(|e| panic!("{e}"))
+    run_under_qemu(&elf, &project.set, &project.name, options, &mut |_| {}).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// A sensor that ticks freely (uncontrollable `tick`) and a controllable acknowledgement `ack` after an odd

@@ -6,10 +6,10 @@ use std::fmt::Write as _;
 use crate::pack::ranked::{Packed, NAME as LAYOUT};
 use crate::pack::Role;
 
-use super::board::{BoardSpec, SamplingSpec};
-use super::options::{Options, Policy};
+use super::policy::{fault_value, ram_bytes, rust_type};
 use super::provenance::Provenance;
 use super::side::{EmitError, SideTables};
+use crate::config::{BoardSpec, ChoicePolicy, RuntimeConfig, SamplingSpec};
 
 /// Rust source for `firmware`'s applications (`include!`d inside a module): constants `NAME`,
 /// `EVENT_WORDS`, `AUTOMATA`, `SITES`, `INPUT_SLOTS`, `SEED`, `WIDE`, `MASK_BYTES`, `CONFIG`, the types
@@ -20,15 +20,22 @@ use super::side::{EmitError, SideTables};
 /// `pub static SET: firmware::table::SupervisorSet<'static, EVENT_WORDS>`, the same set checked at compile
 /// time as `pub static CHECKED: firmware::table::CheckedSet`, and the board tables `BOARD`,
 /// `INPUT_PINS`, `INPUT_PULLS`, `OUTPUT_PINS` (empty without a `[board]`).
-/// Deterministic: the same arguments give the same bytes.
-pub fn emit(packed: &Packed, options: &Options, provenance: &Provenance) -> Result<String, EmitError> {
+/// `name` names the set, `runtime` is the run-time configuration the tables carry, `board` the pin map
+/// (without one the board tables are empty). Deterministic: the same arguments give the same bytes.
+pub fn emit(
+    packed: &Packed,
+    name: &str,
+    runtime: &RuntimeConfig,
+    board: Option<&BoardSpec>,
+    provenance: &Provenance,
+) -> Result<String, EmitError> {
     let side = SideTables::of(packed)?;
-    if options.input_buffer == 0 || options.input_buffer > usize::from(u16::MAX) {
-        return Err(EmitError::InputBuffer { capacity: options.input_buffer });
+    if runtime.input_buffer == 0 || runtime.input_buffer > usize::from(u16::MAX) {
+        return Err(EmitError::InputBuffer { capacity: runtime.input_buffer });
     }
     let mut out = String::new();
-    header(&mut out, packed, &side, options, provenance);
-    body(&mut out, packed, &side, options);
+    header(&mut out, packed, &side, name, runtime, provenance);
+    body(&mut out, packed, &side, name, runtime);
     let none = BoardSpec {
         name: String::from("none"),
         sampling: SamplingSpec::Interrupt,
@@ -37,11 +44,18 @@ pub fn emit(packed: &Packed, options: &Options, provenance: &Provenance) -> Resu
         outputs: Vec::new(),
     };
     out.push('\n');
-    out.push_str(&options.board.as_ref().unwrap_or(&none).rust(packed)?);
+    out.push_str(&super::board::rust(board.unwrap_or(&none), packed)?);
     Ok(out)
 }
 
-fn header(out: &mut String, packed: &Packed, side: &SideTables, options: &Options, provenance: &Provenance) {
+fn header(
+    out: &mut String,
+    packed: &Packed,
+    side: &SideTables,
+    name: &str,
+    runtime: &RuntimeConfig,
+    provenance: &Provenance,
+) {
     let plants = packed.automata.iter().filter(|b| b.role == Role::Plant).count();
     let blocks: usize = packed.automata.iter().map(|b| b.block.len()).sum();
     let words = packed.words();
@@ -54,7 +68,7 @@ fn header(out: &mut String, packed: &Packed, side: &SideTables, options: &Option
     let _ = writeln!(
         out,
         "// Set '{}': {} plants, {} supervisors, {} events; layout {}, {} bytes of blocks + {} bytes of masks ({} masks).",
-        options.name,
+        name,
         plants,
         packed.automata.len() - plants,
         packed.event_names.len(),
@@ -71,17 +85,15 @@ fn header(out: &mut String, packed: &Packed, side: &SideTables, options: &Option
     let _ = writeln!(
         out,
         "// Options: policy={} seed={} guard={} on_fault={} input_buffer={} reseed_every={}",
-        options.policy,
-        options.seed,
-        options.guard,
-        options.on_fault.name(),
-        options.input_buffer,
-        options.reseed_every
+        runtime.policy,
+        runtime.seed,
+        runtime.guard,
+        runtime.on_fault,
+        runtime.input_buffer,
+        runtime.reseed_every
     );
-    let ram: Vec<String> = Policy::ALL
-        .iter()
-        .map(|p| format!("{} {}", p.name(), p.ram_bytes(words, side.sites.len())))
-        .collect();
+    let ram: Vec<String> =
+        ChoicePolicy::ALL.iter().map(|&p| format!("{p} {}", ram_bytes(p, words, side.sites.len()))).collect();
     let _ = writeln!(
         out,
         "// Choice-policy RAM in bytes ({} choice sites): {}",
@@ -91,10 +103,10 @@ fn header(out: &mut String, packed: &Packed, side: &SideTables, options: &Option
     let _ = writeln!(out);
 }
 
-fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options) {
+fn body(out: &mut String, packed: &Packed, side: &SideTables, name: &str, runtime: &RuntimeConfig) {
     let words = packed.words();
     let _ = writeln!(out, "/// Name of the supervisor set.");
-    let _ = writeln!(out, "pub const NAME: &str = {:?};", options.name);
+    let _ = writeln!(out, "pub const NAME: &str = {name:?};");
     let _ = writeln!(out);
     let _ = writeln!(out, "/// Global event ids.");
     let _ = writeln!(out, "pub mod event {{");
@@ -109,8 +121,8 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options)
         ("Words of an event bitset.", "EVENT_WORDS", words.to_string()),
         ("Automata in the set (plants first).", "AUTOMATA", packed.automata.len().to_string()),
         ("Choice sites with two or more controllable out-events.", "SITES", side.sites.len().to_string()),
-        ("Slots of the input queue (capacity + 1).", "INPUT_SLOTS", (options.input_buffer + 1).to_string()),
-        ("Entropy seed of the random policies (QEMU; a board reseeds).", "SEED", options.seed.to_string()),
+        ("Slots of the input queue (capacity + 1).", "INPUT_SLOTS", (runtime.input_buffer + 1).to_string()),
+        ("Entropy seed of the random policies (QEMU; a board reseeds).", "SEED", runtime.seed.to_string()),
     ];
     for (doc, name, value) in consts {
         let ty = if name == "SEED" { "u64" } else { "usize" };
@@ -126,13 +138,13 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options)
         out,
         "pub type Runtime<P, E> = firmware::runtime::Runtime<'static, P, E, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES>;"
     );
-    let _ = writeln!(out, "/// The choice policy ({}).", options.policy);
-    let _ = writeln!(out, "pub type Policy = {};", options.policy.rust_type());
+    let _ = writeln!(out, "/// The choice policy ({}).", runtime.policy);
+    let _ = writeln!(out, "pub type Policy = {};", rust_type(runtime.policy));
     let _ = writeln!(out, "/// Run-time configuration.");
     let _ = writeln!(out, "pub const CONFIG: firmware::runtime::Config = firmware::runtime::Config {{");
-    let _ = writeln!(out, "    guard: {},", options.guard);
-    let _ = writeln!(out, "    on_fault: {},", options.on_fault.rust_value());
-    let _ = writeln!(out, "    reseed_every: {},", options.reseed_every);
+    let _ = writeln!(out, "    guard: {},", runtime.guard);
+    let _ = writeln!(out, "    on_fault: {},", fault_value(runtime.on_fault));
+    let _ = writeln!(out, "    reseed_every: {},", runtime.reseed_every);
     let _ = writeln!(out, "}};");
     let _ = writeln!(out);
     let quoted =

@@ -39,7 +39,6 @@
 mod bits;
 mod bitset;
 pub mod compact;
-pub mod comparison;
 mod decoded;
 mod error;
 pub mod floor;
