@@ -120,7 +120,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         let mut counters = FirmwareCounters::default();
         self.await_frame("STATUS", |f| match f {
             Frame::Status(c) => {
-                counters = c;
+                counters = c.into();
                 true
             }
             _ => false,
