@@ -2,13 +2,13 @@
 //! over an in-memory byte link: the closed loop without QEMU.
 
 use codegen::closed_loop::{attach, parts, Options, Session, SessionConfig};
-use codegen::emit::HostTables;
 use codegen::link::memory;
 use codegen::link::protocol::EXIT;
 use codegen::link::ByteLink;
 use codegen::model::StateId;
 use codegen::pack::{ranked, PackSet};
 use end_to_end::{published_cell, spawn_host_firmware, ticker};
+use firmware::build::HostTables;
 use firmware::choice::{Random, RandomLocalQueue};
 use firmware::fault::FaultPolicy;
 use firmware::runtime::Config;

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use codegen::formats::read_path;
 use codegen::model::Automaton;
-use codegen::pack::{compact, memory_safe, offset, ranked, report::Report, Layout, PackSet, Role};
+use codegen::pack::{compact, memory_safe, offset, ranked, report::Report, Layout, Measure, PackSet, Role};
 
 fn dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).to_path_buf()

@@ -7,7 +7,6 @@ use std::thread::JoinHandle;
 use std::time::Duration;
 
 use codegen::closed_loop::{run_under_qemu, Options};
-use codegen::emit::HostTables;
 use codegen::formats::read_path;
 use codegen::link::memory::MemoryLink;
 use codegen::link::ByteLink;
@@ -15,6 +14,7 @@ use codegen::model::{Automaton, Kind};
 use codegen::monitor::Report;
 use codegen::pack::PackSet;
 use codegen::project::Project;
+use firmware::build::HostTables;
 use firmware::choice::Policy;
 use firmware::input_queue::InputQueue;
 use firmware::link::{Hold, Link, Poll, Port, READY};

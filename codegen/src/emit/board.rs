@@ -148,6 +148,7 @@ mod tests {
         Packed {
             event_names: vec!["go".into(), "done".into()],
             controllable: vec![0b01],
+            plants: 0,
             masks: vec![],
             wide: false,
             automata: vec![],

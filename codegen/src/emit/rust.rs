@@ -3,13 +3,13 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use crate::pack::ranked::{Packed, NAME as LAYOUT};
-use crate::pack::Role;
+use firmware::build::{bitset, unowned, SideTables};
 
 use super::policy::{fault_value, ram_bytes, rust_type};
 use super::provenance::Provenance;
-use super::side::{EmitError, SideTables};
+use super::EmitError;
 use crate::config::{BoardSpec, ChoicePolicy, RuntimeConfig, SamplingSpec};
+use crate::pack::ranked::{Packed, NAME as LAYOUT};
 
 /// Rust source for `firmware`'s applications (`include!`d inside a module): constants `NAME`,
 /// `EVENT_WORDS`, `AUTOMATA`, `SITES`, `INPUT_SLOTS`, `SEED`, `WIDE`, `MASK_BYTES`, `CONFIG`, the types
@@ -29,7 +29,7 @@ pub fn emit(
     board: Option<&BoardSpec>,
     provenance: &Provenance,
 ) -> Result<String, EmitError> {
-    let side = SideTables::of(packed)?;
+    let side = side_tables(packed)?;
     if runtime.input_buffer == 0 || runtime.input_buffer > usize::from(u16::MAX) {
         return Err(EmitError::InputBuffer { capacity: runtime.input_buffer });
     }
@@ -48,6 +48,14 @@ pub fn emit(
     Ok(out)
 }
 
+/// The side tables of `packed`, refusing a controllable event no plant generates.
+fn side_tables(packed: &Packed) -> Result<SideTables, EmitError> {
+    if let Some(e) = unowned(packed) {
+        return Err(EmitError::Unowned { event: packed.event_names[e].clone() });
+    }
+    Ok(SideTables::of(packed)?)
+}
+
 fn header(
     out: &mut String,
     packed: &Packed,
@@ -56,7 +64,7 @@ fn header(
     runtime: &RuntimeConfig,
     provenance: &Provenance,
 ) {
-    let plants = packed.automata.iter().filter(|b| b.role == Role::Plant).count();
+    let plants = packed.plants;
     let blocks: usize = packed.automata.iter().map(|b| b.block.len()).sum();
     let words = packed.words();
     let _ = writeln!(
@@ -111,7 +119,7 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, name: &str, runtim
     let _ = writeln!(out, "/// Global event ids.");
     let _ = writeln!(out, "pub mod event {{");
     for (e, ident) in event_idents(&packed.event_names).iter().enumerate() {
-        let kind = if has(&packed.controllable, e) { "controllable" } else { "uncontrollable" };
+        let kind = if bitset::contains(&packed.controllable, e) { "controllable" } else { "uncontrollable" };
         let _ = writeln!(out, "    /// `{}` ({kind}).", packed.event_names[e]);
         let _ = writeln!(out, "    pub const {ident}: u8 = {e};");
     }
@@ -250,10 +258,6 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, name: &str, runtim
     let _ = writeln!(out, "}};");
 }
 
-fn has(words: &[u32], e: usize) -> bool {
-    words.get(e / 32).is_some_and(|w| w & (1 << (e % 32)) != 0)
-}
-
 fn hex_words(words: &[u32]) -> String {
     words.iter().map(|w| format!("0x{w:08x}")).collect::<Vec<_>>().join(", ")
 }
@@ -287,6 +291,62 @@ fn event_idents(names: &[String]) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::testing::toggle;
+    use crate::pack::{ranked, PackSet};
+    use firmware::build::HostTables;
+
+    #[test]
+    fn host_tables_pass_the_runtime_check_and_refuse_another_width() {
+        let set = PackSet::new(vec![toggle("G")], vec![toggle("S")]).unwrap();
+        let host = HostTables::<1>::new(ranked::encode(&set).unwrap()).unwrap();
+        let rt = host.set();
+        assert_eq!(rt.check(2), Ok(()));
+        assert_eq!(rt.plants, 1);
+        assert_eq!((rt.automata[1].start, rt.block.len()), (4, 8));
+        let after_a = rt.step(1, 0, 0).unwrap();
+        assert_eq!(rt.step(1, after_a, 1), Some(0));
+        let err = HostTables::<2>::new(ranked::encode(&set).unwrap()).unwrap_err();
+        assert_eq!(err.to_string(), "the set's event bitsets take 1 words, the runtime was built for 2");
+    }
+
+    #[test]
+    fn a_site_is_a_plant_state_with_two_owned_controllable_events() {
+        use crate::model::{Automaton, Kind};
+        let mut g = Automaton::new("G", Kind::Plant);
+        let s0 = g.add_state("0", true).unwrap();
+        let s1 = g.add_state("1", false).unwrap();
+        let a = g.add_event("a", true).unwrap();
+        let b = g.add_event("b", true).unwrap();
+        let u = g.add_event("u", false).unwrap();
+        g.initial = Some(s0);
+        g.add_transition(s0, a, s1);
+        g.add_transition(s0, b, s1);
+        g.add_transition(s1, u, s0);
+        g.add_transition(s1, a, s1);
+        let packed = ranked::encode(&PackSet::new(vec![g.clone()], vec![]).unwrap()).unwrap();
+        let side = side_tables(&packed).unwrap();
+        assert_eq!(side.sites, [0]);
+        assert_eq!(side.plant_events, [vec![0b011]]);
+        assert_eq!(side.holders, [1, 1, 1]);
+        // Sites are offsets in the blocks back to back (after H's record of 2 bytes); holder masks take a
+        // byte per 8 automata.
+        let mut h = Automaton::new("H", Kind::Plant);
+        let q = h.add_state("0", true).unwrap();
+        let x = h.add_event("x", false).unwrap();
+        h.initial = Some(q);
+        h.add_transition(q, x, q);
+        let sups = (0..8)
+            .map(|i| {
+                let mut s = h.clone();
+                s.name = format!("S{i}");
+                s
+            })
+            .collect();
+        let set = PackSet::new(vec![h, g], sups);
+        let side = side_tables(&ranked::encode(&set.unwrap()).unwrap()).unwrap();
+        assert_eq!(side.sites, [2]);
+        assert_eq!(side.holders.len(), 2 * 4);
+    }
 
     #[test]
     fn idents_are_valid_and_unique() {

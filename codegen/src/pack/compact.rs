@@ -18,7 +18,9 @@
 //! Limits: 65 535 states per automaton; no limit on events or transitions per state.
 
 use super::bits::{width, Reader, Writer};
-use super::{decoded::Recovered, DecodeError, PackError, PackSet, Role, Size};
+use firmware::build::bitset;
+
+use super::{decoded::Recovered, DecodeError, Measure, PackError, PackSet, Role, Size};
 use crate::model::Automaton;
 
 /// Layout name, as given to `--layout`.
@@ -65,9 +67,9 @@ impl Block {
     }
 }
 
-impl Packed {
+impl Measure for Packed {
     /// Bytes per automaton and of each side table.
-    pub fn size(&self) -> Size {
+    fn size(&self) -> Size {
         let n = self.automata.len();
         Size {
             layout: NAME,
@@ -159,7 +161,7 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
 
 /// Reads `packed` back into automata (plants first), checking every field and the directory.
 pub fn decode(packed: &Packed) -> Result<Vec<Automaton>, DecodeError> {
-    let controllable = super::bitset::from_ids(byte_set_ids(&packed.controllable), packed.event_names.len());
+    let controllable = bitset::from_ids(byte_set_ids(&packed.controllable), packed.event_names.len());
     packed.automata.iter().map(|b| decode_block(b, packed, &controllable)).collect()
 }
 

@@ -16,7 +16,7 @@
 //!
 //! Limits: at most 256 events, 255 transitions out of one state, 65 535 states per automaton.
 
-use super::{decoded::Recovered, DecodeError, PackError, PackSet, Role, Size};
+use super::{decoded::Recovered, DecodeError, Measure, PackError, PackSet, Role, Size};
 use crate::model::Automaton;
 
 /// Layout name, as given to `--layout`.
@@ -61,9 +61,11 @@ impl Packed {
     pub fn to_bytes(&self) -> Vec<u8> {
         [self.vector.as_slice(), self.controllable.as_slice()].concat()
     }
+}
 
+impl Measure for Packed {
     /// Bytes per automaton and of each side table.
-    pub fn size(&self) -> Size {
+    fn size(&self) -> Size {
         let ends = self.automata.iter().skip(1).map(|e| e.offset as usize).chain([self.vector.len()]);
         let n = self.automata.len();
         Size {
@@ -156,7 +158,7 @@ pub fn decode(packed: &Packed) -> Result<Vec<Automaton>, DecodeError> {
             ),
         });
     }
-    let controllable = super::bitset::from_ids(
+    let controllable = firmware::build::bitset::from_ids(
         packed.controllable.iter().enumerate().filter(|(_, &c)| c == 1).map(|(e, _)| e),
         packed.event_names.len(),
     );

@@ -37,7 +37,6 @@
 //! local modular supervisors.
 
 mod bits;
-mod bitset;
 pub mod compact;
 mod decoded;
 mod error;
@@ -56,4 +55,4 @@ pub(crate) mod testing;
 pub use error::{DecodeError, PackError};
 pub use layout::Layout;
 pub use set::{Member, PackSet, Role};
-pub use size::Size;
+pub use size::{Measure, Size};

@@ -11,7 +11,9 @@
 //!
 //! Limits: at most 256 events, 255 transitions out of one state, 65 536 bytes per block.
 
-use super::{bitset, decoded::Recovered, DecodeError, PackError, PackSet, Role, Size};
+use firmware::build::bitset;
+
+use super::{decoded::Recovered, DecodeError, Measure, PackError, PackSet, Role, Size};
 use crate::model::Automaton;
 
 /// Layout name, as given to `--layout`.
@@ -49,9 +51,9 @@ pub struct Block {
     pub alphabet: Vec<u32>,
 }
 
-impl Packed {
+impl Measure for Packed {
     /// Bytes per automaton and of each side table (bitsets in whole u32 words, as the runtime holds them).
-    pub fn size(&self) -> Size {
+    fn size(&self) -> Size {
         let n = self.automata.len();
         Size {
             layout: NAME,
