@@ -115,12 +115,12 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
         let w = width(s);
         let mut stream = Writer::default();
         let mut starts = Vec::with_capacity(s / STRIDE);
-        for (state, edges) in m.out.iter().enumerate() {
+        for state in 0..s {
             if state > 0 && state % STRIDE == 0 {
                 starts.push(stream.bit_len());
             }
             // `out` is sorted by global id, the order that numbers local events: one pass merges them.
-            let mut next = edges.iter().peekable();
+            let mut next = m.out(state).peekable();
             for &e in &alphabet {
                 let here = next.peek().is_some_and(|(ev, _)| *ev == e);
                 stream.put(usize::from(here), 1);
@@ -128,7 +128,7 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
                     next.next();
                 }
             }
-            for &(_, t) in edges {
+            for (_, t) in m.out(state) {
                 stream.put(t.index(), w);
             }
         }
@@ -253,7 +253,7 @@ mod tests {
             let packed = encode(&set).unwrap();
             assert_round_trip(&set, &decode(&packed).unwrap());
             for (m, b) in set.members().iter().zip(&packed.automata) {
-                let bits = m.state_count() * m.global.len() + m.transition_count() * width(m.state_count()) as usize;
+                let bits = m.state_count() * m.dfa.alphabet().len() + m.transition_count() * width(m.state_count()) as usize;
                 proptest::prop_assert_eq!(b.block.len(), bits.div_ceil(8));
                 let entries = (m.state_count() - 1) / STRIDE;
                 proptest::prop_assert_eq!(b.directory.len(), (entries * b.directory_width() as usize).div_ceil(8));

@@ -109,19 +109,20 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
             bytes: vector.len(),
             limit: u32::MAX as usize,
         })?;
-        for (s, edges) in m.out.iter().enumerate() {
-            if edges.len() > MAX_TRANSITIONS_PER_STATE {
+        for s in 0..m.state_count() {
+            let degree = m.degree(s);
+            if degree > MAX_TRANSITIONS_PER_STATE {
                 return Err(PackError::TooManyTransitions {
                     layout: NAME,
                     automaton: m.name().to_owned(),
                     state: m.automaton.states[s].name.clone(),
-                    transitions: edges.len(),
+                    transitions: degree,
                     limit: MAX_TRANSITIONS_PER_STATE,
                 });
             }
             // Counts ≤ 255, event ids < 256 and state indices < 65 536 were checked above.
-            vector.push(edges.len() as u8);
-            for &(e, t) in edges {
+            vector.push(degree as u8);
+            for (e, t) in m.out(s) {
                 vector.push(e.index() as u8);
                 vector.extend_from_slice(&(t.index() as u16).to_be_bytes());
             }

@@ -78,18 +78,19 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
     for m in set.members() {
         let mut offsets = Vec::with_capacity(m.state_count());
         let mut at = 0usize;
-        for (s, edges) in m.out.iter().enumerate() {
-            if edges.len() > MAX_TRANSITIONS_PER_STATE {
+        for s in 0..m.state_count() {
+            let degree = m.degree(s);
+            if degree > MAX_TRANSITIONS_PER_STATE {
                 return Err(PackError::TooManyTransitions {
                     layout: NAME,
                     automaton: m.name().to_owned(),
                     state: m.automaton.states[s].name.clone(),
-                    transitions: edges.len(),
+                    transitions: degree,
                     limit: MAX_TRANSITIONS_PER_STATE,
                 });
             }
             offsets.push(at);
-            at += 1 + 3 * edges.len();
+            at += 1 + 3 * degree;
         }
         if at > MAX_BLOCK_BYTES {
             return Err(PackError::BlockTooLarge {
@@ -102,9 +103,9 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
         // Every offset is below `at` ≤ 65 536, every count ≤ 255 and every event id < 256: the casts
         // below cannot truncate.
         let mut block = Vec::with_capacity(at);
-        for edges in &m.out {
-            block.push(edges.len() as u8);
-            for &(e, t) in edges {
+        for s in 0..m.state_count() {
+            block.push(m.degree(s) as u8);
+            for (e, t) in m.out(s) {
                 block.push(e.index() as u8);
                 block.extend_from_slice(&(offsets[t.index()] as u16).to_be_bytes());
             }

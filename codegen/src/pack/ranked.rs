@@ -50,10 +50,8 @@ fn source(set: &PackSet) -> Source {
                 name: m.name().to_owned(),
                 initial: m.initial().index(),
                 alphabet: m.alphabet().iter().map(|e| e.index()).collect(),
-                out: m
-                    .out
-                    .iter()
-                    .map(|edges| edges.iter().map(|(e, t)| (e.index(), t.index())).collect())
+                out: (0..m.state_count())
+                    .map(|s| m.out(s).map(|(e, t)| (e.index(), t.index())).collect())
                     .collect(),
             })
             .collect(),
@@ -186,10 +184,9 @@ mod tests {
                     handles[r.state] = r.handle;
                 }
                 assert_eq!(handles[m.initial().index()], 0);
-                for (s, edges) in m.out.iter().enumerate() {
+                for s in 0..m.state_count() {
                     for e in 0..set.events().len() {
-                        let want =
-                            edges.iter().find(|(ev, _)| ev.index() == e).map(|(_, t)| handles[t.index()]);
+                        let want = m.out(s).find(|(ev, _)| ev.index() == e).map(|(_, t)| handles[t.index()]);
                         assert_eq!(rt.step(a, handles[s], e as u8), want, "{} state {s} event {e}", m.name());
                     }
                 }
@@ -464,7 +461,7 @@ mod tests {
                 let max = if packed.wide { WIDE_HANDLE } else { NARROW_HANDLE };
                 proptest::prop_assert!(usize::from(last) <= max);
                 if b.scale > 1 && !packed.wide {
-                    let lens: Vec<usize> = m.out.iter().map(|e| 1 + e.len()).collect();
+                    let lens: Vec<usize> = (0..m.state_count()).map(|s| 1 + m.degree(s)).collect();
                     proptest::prop_assert!(extent(&lens, usize::from(b.scale) - 1).0 > NARROW_HANDLE);
                 }
             }

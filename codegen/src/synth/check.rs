@@ -2,10 +2,11 @@
 
 use crate::model::{Automaton, EventId, EventTable};
 
-use super::dfa::{Dfa, Reverse};
 use super::product::{tuple_name, Exploration, Options};
+use super::reverse::Reverse;
 use super::trim::coaccessible_mask;
 use super::{Config, Inputs, SynthError};
+use crate::model::Dfa;
 
 /// The supervisor disables an uncontrollable event the plant can generate.
 #[derive(Clone, Debug, PartialEq, Eq)]

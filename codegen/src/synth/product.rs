@@ -12,8 +12,8 @@
 
 use crate::model::{Automaton, Kind};
 
-use super::dfa::{Dfa, NONE};
 use super::{Config, Inputs, SynthError};
+use crate::model::{Dfa, NONE};
 
 /// Dense next-state table of one component over its own alphabet.
 struct Lookup {

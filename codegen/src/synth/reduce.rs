@@ -14,9 +14,9 @@
 
 use crate::model::Automaton;
 
-use super::dfa::{Dfa, DfaBuilder, NONE};
 use super::product::{Exploration, Options};
 use super::{Config, Inputs, SynthError};
+use crate::model::{Dfa, DfaBuilder, NONE};
 
 /// The control data of every supervisor state, as event bitsets.
 struct ControlData {

@@ -10,10 +10,11 @@
 
 use crate::model::{Automaton, Kind};
 
-use super::dfa::{Dfa, Reverse};
 use super::product::{tuple_name, Exploration, Options};
+use super::reverse::Reverse;
 use super::trim::{coaccessible_mask, restrict};
 use super::{Config, Inputs, SynthError};
+use crate::model::Dfa;
 
 /// A supervisor as product states: the walk, the trim controllable part and each state's product id.
 pub(crate) struct Synthesised {
