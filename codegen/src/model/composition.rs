@@ -73,6 +73,11 @@ impl Composition {
         })
     }
 
+    /// Every member's automaton over the global events, in member order.
+    pub fn dfas(&self) -> Vec<&Dfa> {
+        self.members.iter().map(|m| &m.dfa).collect()
+    }
+
     /// Number of member automata.
     pub fn len(&self) -> usize {
         self.members.len()

@@ -44,7 +44,7 @@ pub fn controllability(
     let dfas: Vec<&Dfa> = inputs.dfas.iter().collect();
     let x = Exploration::run(
         &dfas,
-        &inputs,
+        &inputs.controllable,
         Options { plants: plants.len(), parents: true },
         cfg,
         "closed loop",
@@ -64,7 +64,13 @@ pub(crate) fn first_blocking(
     cfg: &Config,
     what: &str,
 ) -> Result<(Exploration, Option<u32>), SynthError> {
-    let x = Exploration::run(dfas, inputs, Options { plants: dfas.len(), parents: true }, cfg, what)?;
+    let x = Exploration::run(
+        dfas,
+        &inputs.controllable,
+        Options { plants: dfas.len(), parents: true },
+        cfg,
+        what,
+    )?;
     let d = &x.dfa;
     let co = coaccessible_mask(d, &Reverse::new(d), &vec![true; d.state_count()]);
     let first = co.iter().position(|&c| !c).map(|s| s as u32);

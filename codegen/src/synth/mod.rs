@@ -38,7 +38,7 @@ pub use architecture::{local_modular, modular, monolithic, LocalModularResult, S
 pub use config::{Config, Observer};
 pub use error::SynthError;
 pub use minimize::minimize;
-pub use product::product;
+pub use product::{product, Reachable};
 pub use reduce::reduce;
 pub use supc::supc;
 

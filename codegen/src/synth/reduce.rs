@@ -42,7 +42,7 @@ impl ControlData {
         components.push(sup);
         let walk = Exploration::run(
             &components,
-            inputs,
+            &inputs.controllable,
             Options { plants: components.len(), parents: false },
             cfg,
             "plant || supervisor",

@@ -32,8 +32,13 @@ pub(crate) fn supc_dfa(
     what: &str,
 ) -> Result<Synthesised, SynthError> {
     let components: Vec<&Dfa> = plants.iter().chain(specs).copied().collect();
-    let walk =
-        Exploration::run(&components, inputs, Options { plants: plants.len(), parents: false }, cfg, what)?;
+    let walk = Exploration::run(
+        &components,
+        &inputs.controllable,
+        Options { plants: plants.len(), parents: false },
+        cfg,
+        what,
+    )?;
     let alive = controllable_nonblocking(&walk.dfa, walk.bad.iter().map(|&(s, _)| s), &inputs.controllable);
     let (dfa, product_ids) = restrict(&walk.dfa, &alive);
     Ok(Synthesised { walk, dfa, product_ids })
