@@ -2,14 +2,14 @@
 //! against the virtual plant for 100 000 events.
 
 use codegen::closed_loop::Options;
-use codegen::config::ChoicePolicy as Policy;
+use codegen::config::ChoicePolicy;
 use codegen::project::Project;
 use end_to_end::{example, qemu_closed_loop};
 
 #[test]
 fn cell_is_safe_live_and_fully_covered_for_100_000_events() {
     let project = Project::load(&example("cell/cell.toml")).unwrap();
-    assert_eq!(project.runtime.policy, Policy::RandomLocalQueue);
+    assert_eq!(project.runtime.policy, ChoicePolicy::RandomLocalQueue);
     let mut options = Options { events: 100_000, ..Options::default() };
     options.plant.delay_us = (0, 100);
     let report = qemu_closed_loop(&project, &options);

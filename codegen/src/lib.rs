@@ -5,7 +5,6 @@
 //! Data flows one way: model files → [`model`] → synthesis → packing → emitted tables → firmware.
 #![deny(missing_docs)]
 
-pub mod check;
 pub mod closed_loop;
 pub mod config;
 pub mod emit;
@@ -16,6 +15,7 @@ pub mod model;
 pub mod monitor;
 pub mod pack;
 pub mod plant;
+pub mod problems;
 pub mod project;
 pub mod synth;
 pub mod target;

@@ -18,7 +18,7 @@
 //! through the input buffer in order with the events (so a RESET or STATUS sees every event sent before
 //! it), except HOLD and GO.
 
-use crate::choice::Policy;
+use crate::choice::Choose;
 use crate::input_queue::InputConsumer;
 use crate::rng::Entropy;
 use crate::runtime::{Applied, Counters, Decision, Runtime};
@@ -142,7 +142,7 @@ impl Link {
     /// One turn of the loop: drains the input buffer into the runtime, then takes at most one decision
     /// (unless held) and sends what it fired.
     pub fn service<
-        P: Policy<W>,
+        P: Choose<W>,
         E: Entropy,
         const W: usize,
         const N: usize,

@@ -15,7 +15,7 @@ use codegen::monitor::Report;
 use codegen::pack::PackSet;
 use codegen::project::Project;
 use firmware::build::HostTables;
-use firmware::choice::Policy;
+use firmware::choice::Choose;
 use firmware::input_queue::InputQueue;
 use firmware::link::{Hold, Link, Poll, Port, READY};
 use firmware::rng::SeedEntropy;
@@ -80,7 +80,7 @@ pub fn spawn_host_firmware<
     mut link: MemoryLink,
 ) -> JoinHandle<Option<u8>>
 where
-    P: Policy<W> + Send + 'static,
+    P: Choose<W> + Send + 'static,
 {
     std::thread::spawn(move || {
         let set = tables.set();

@@ -6,9 +6,9 @@ use std::process::ExitCode;
 
 use serde_json::{json, Value};
 
-use codegen::check::{run as check, scopes, Finding, Problem, Shape};
 use codegen::manifest::{is_manifest, Manifest, ModelSet};
 use codegen::model::Automaton;
+use codegen::problems::{run as check, scopes, Finding, Problem, Shape};
 use codegen::project::supervisors;
 use codegen::synth::{product, Config};
 

@@ -15,9 +15,9 @@ use std::collections::HashMap;
 
 use crate::model::{Automaton, Kind};
 
-use super::check::first_blocking;
 use super::product::tuple_name;
 use super::supc::{supc_dfa, Synthesised};
+use super::verify::first_blocking;
 use super::{Config, Inputs, SynthError};
 use crate::model::Dfa;
 

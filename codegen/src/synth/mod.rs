@@ -11,7 +11,7 @@
 //! - [`product`]: reachable synchronous product of n automata, built on the fly.
 //! - [`trim`]: accessible, coaccessible and trim parts.
 //! - [`supc()`]: the supremal controllable nonblocking sublanguage of `K = G ‖ E` with respect to `G`;
-//!   [`check`] holds the controllability and nonblocking checks with counterexample traces.
+//!   [`verify`] holds the controllability and nonblocking checks with counterexample traces.
 //! - [`minimize()`]: the smallest automaton with the same generated and marked languages.
 //! - [`language`]: equality and inclusion of generated and marked languages, with a counterexample.
 //! - [`local_modular()`], [`modular()`] and [`monolithic()`]: the three architectures of the paper,
@@ -22,7 +22,6 @@
 //! bounds it and the walk stops with [`SynthError::StateLimit`] naming the limit.
 
 mod architecture;
-pub mod check;
 mod config;
 mod error;
 pub mod families;
@@ -33,6 +32,7 @@ mod reduce;
 mod reverse;
 mod supc;
 pub mod trim;
+pub mod verify;
 
 pub use architecture::{local_modular, modular, monolithic, LocalModularResult, Supervisor};
 pub use config::{Config, Observer};

@@ -48,10 +48,10 @@
 
 use crate::event_set::ones;
 
-mod check;
+mod checked;
 pub mod read;
 
-pub use check::{holder_bytes, CheckedSet};
+pub use checked::{holder_bytes, CheckedSet};
 
 /// Most automata in one set: one bit each in a `u32` of [`SupervisorSet::holders`].
 pub const MAX_AUTOMATA: usize = 32;

@@ -1,4 +1,5 @@
-//! Controllability and nonblocking checks, each with a shortest counterexample trace.
+//! Verifying a supervisor: the controllability and nonblocking checks, each with a shortest
+//! counterexample trace.
 
 use crate::model::{Automaton, EventId, EventTable};
 

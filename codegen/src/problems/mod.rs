@@ -1,5 +1,5 @@
-//! Implementation checks: which of Fabian & Hellgren's problems a supervisor set can still hit once it
-//! runs on a controller.
+//! Implementation problems (`codegen check`): which of Fabian & Hellgren's problems a supervisor set can
+//! still hit once it runs on a controller.
 //!
 //! Each check reads a deterministic automaton (a closed loop, built as the synchronous product of plants
 //! and supervisors) and reports [`Finding`]s with the state, the events and a shortest trace from the
