@@ -20,7 +20,7 @@
 use super::bits::{width, Reader, Writer};
 use firmware::build::bitset;
 
-use super::{decoded::Recovered, DecodeError, Measure, PackError, PackSet, Role, Size};
+use super::{decoded::Recovered, DecodeError, Measure, Names, PackError, PackSet, Size};
 use crate::model::Automaton;
 
 /// Layout name, as given to `--layout`.
@@ -37,17 +37,13 @@ pub struct Packed {
     pub controllable: Vec<u8>,
     /// Plants first, then supervisors.
     pub automata: Vec<Block>,
-    /// Event names by global id.
-    pub event_names: Vec<String>,
+    /// Names of the events and automata (not counted).
+    pub names: Names,
 }
 
 /// One automaton in the `compact` layout.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Block {
-    /// Automaton name.
-    pub name: String,
-    /// Plant or supervisor.
-    pub role: Role,
     /// Number of states.
     pub states: u16,
     /// Initial state index.
@@ -73,7 +69,7 @@ impl Measure for Packed {
         let n = self.automata.len();
         Size {
             layout: NAME,
-            per_automaton: self.automata.iter().map(|b| (b.name.clone(), b.block.len())).collect(),
+            per_automaton: self.names.with_bytes(self.automata.iter().map(|b| b.block.len())),
             side_tables: vec![
                 ("controllability", self.controllable.len()),
                 ("automaton offsets", 4 * n),
@@ -139,8 +135,6 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
             directory.put(start, d);
         }
         automata.push(Block {
-            name: m.name().to_owned(),
-            role: m.role,
             // Checked against MAX_STATES above.
             states: s as u16,
             initial: m.initial().index() as u16,
@@ -155,18 +149,24 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
             events.len(),
         ),
         automata,
-        event_names: events.ids().map(|e| events.name(e).to_owned()).collect(),
+        names: Names::of(set),
     })
 }
 
 /// Reads `packed` back into automata (plants first), checking every field and the directory.
 pub fn decode(packed: &Packed) -> Result<Vec<Automaton>, DecodeError> {
-    let controllable = bitset::from_ids(byte_set_ids(&packed.controllable), packed.event_names.len());
-    packed.automata.iter().map(|b| decode_block(b, packed, &controllable)).collect()
+    let controllable = bitset::from_ids(byte_set_ids(&packed.controllable), packed.names.events.len());
+    packed.automata.iter().enumerate().map(|(a, b)| decode_block(a, b, packed, &controllable)).collect()
 }
 
-fn decode_block(b: &Block, packed: &Packed, controllable: &[u32]) -> Result<Automaton, DecodeError> {
-    let what = || b.name.clone();
+fn decode_block(
+    a: usize,
+    b: &Block,
+    packed: &Packed,
+    controllable: &[u32],
+) -> Result<Automaton, DecodeError> {
+    let (name, role) = packed.names.automaton(a)?;
+    let what = || name.to_owned();
     let s = usize::from(b.states);
     let alphabet = byte_set_ids(&b.alphabet);
     let w = width(s);
@@ -212,8 +212,8 @@ fn decode_block(b: &Block, packed: &Packed, controllable: &[u32]) -> Result<Auto
     if usize::from(b.initial) >= s {
         return Err(DecodeError::BadState { what: what(), at: 0, target: usize::from(b.initial) });
     }
-    Recovered { name: &b.name, role: b.role, alphabet, states: s, initial: usize::from(b.initial), edges }
-        .build(&packed.event_names, controllable)
+    Recovered { name, role, alphabet, states: s, initial: usize::from(b.initial), edges }
+        .build(&packed.names.events, controllable)
 }
 
 #[cfg(test)]

@@ -16,7 +16,7 @@
 //!
 //! Limits: at most 256 events, 255 transitions out of one state, 65 535 states per automaton.
 
-use super::{decoded::Recovered, DecodeError, Measure, PackError, PackSet, Role, Size};
+use super::{decoded::Recovered, DecodeError, Measure, Names, PackError, PackSet, Size};
 use crate::model::Automaton;
 
 /// Layout name, as given to `--layout`.
@@ -37,17 +37,13 @@ pub struct Packed {
     pub controllable: Vec<u8>,
     /// Per automaton, its place in [`Packed::vector`] and its side data.
     pub automata: Vec<Entry>,
-    /// Event names by global id.
-    pub event_names: Vec<String>,
+    /// Names of the events and automata (not counted).
+    pub names: Names,
 }
 
 /// Where one automaton sits in the vector, with the data the vector does not hold.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Entry {
-    /// Automaton name.
-    pub name: String,
-    /// Plant or supervisor.
-    pub role: Role,
     /// First byte of the automaton in the vector.
     pub offset: u32,
     /// Initial state index.
@@ -71,11 +67,8 @@ impl Measure for Packed {
         Size {
             layout: NAME,
             per_automaton: self
-                .automata
-                .iter()
-                .zip(ends)
-                .map(|(e, end)| (e.name.clone(), end - e.offset as usize))
-                .collect(),
+                .names
+                .with_bytes(self.automata.iter().zip(ends).map(|(e, end)| end - e.offset as usize)),
             side_tables: vec![
                 ("controllability", self.controllable.len()),
                 ("automaton offsets", 4 * n),
@@ -131,42 +124,34 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
         for e in m.alphabet() {
             alphabet[e.index() / 8] |= 1 << (e.index() % 8);
         }
-        automata.push(Entry {
-            name: m.name().to_owned(),
-            role: m.role,
-            offset,
-            initial: m.initial().index() as u16,
-            alphabet,
-        });
+        automata.push(Entry { offset, initial: m.initial().index() as u16, alphabet });
     }
     Ok(Packed {
         vector,
         controllable: events.ids().map(|e| u8::from(events.is_controllable(e))).collect(),
         automata,
-        event_names: events.ids().map(|e| events.name(e).to_owned()).collect(),
+        names: Names::of(set),
     })
 }
 
 /// Reads `packed` back into automata (plants first), checking every index and event id.
 pub fn decode(packed: &Packed) -> Result<Vec<Automaton>, DecodeError> {
-    if packed.controllable.len() != packed.event_names.len() {
+    let events = packed.names.events.len();
+    if packed.controllable.len() != events {
         return Err(DecodeError::Inconsistent {
             what: NAME.to_owned(),
-            detail: format!(
-                "{} controllability bytes for {} events",
-                packed.controllable.len(),
-                packed.event_names.len()
-            ),
+            detail: format!("{} controllability bytes for {events} events", packed.controllable.len()),
         });
     }
     let controllable = firmware::build::bitset::from_ids(
         packed.controllable.iter().enumerate().filter(|(_, &c)| c == 1).map(|(e, _)| e),
-        packed.event_names.len(),
+        events,
     );
     let ends = packed.automata.iter().skip(1).map(|e| e.offset as usize).chain([packed.vector.len()]);
     let mut out = Vec::with_capacity(packed.automata.len());
-    for (entry, end) in packed.automata.iter().zip(ends) {
-        let what = || entry.name.clone();
+    for (a, (entry, end)) in packed.automata.iter().zip(ends).enumerate() {
+        let (name, role) = packed.names.automaton(a)?;
+        let what = || name.to_owned();
         let start = entry.offset as usize;
         let block = packed
             .vector
@@ -202,17 +187,10 @@ pub fn decode(packed: &Packed) -> Result<Vec<Automaton>, DecodeError> {
         if usize::from(entry.initial) >= states {
             return Err(DecodeError::BadState { what: what(), at: 0, target: usize::from(entry.initial) });
         }
-        let alphabet = (0..packed.event_names.len()).filter(|&e| in_alphabet(e)).collect();
+        let alphabet = (0..events).filter(|&e| in_alphabet(e)).collect();
         out.push(
-            Recovered {
-                name: &entry.name,
-                role: entry.role,
-                alphabet,
-                states,
-                initial: usize::from(entry.initial),
-                edges,
-            }
-            .build(&packed.event_names, &controllable)?,
+            Recovered { name, role, alphabet, states, initial: usize::from(entry.initial), edges }
+                .build(&packed.names.events, &controllable)?,
         );
     }
     Ok(out)

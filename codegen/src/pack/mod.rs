@@ -43,6 +43,7 @@ mod error;
 pub mod floor;
 mod layout;
 pub mod memory_safe;
+mod names;
 pub mod offset;
 pub mod paper;
 pub mod ranked;
@@ -54,5 +55,6 @@ pub(crate) mod testing;
 
 pub use error::{DecodeError, PackError};
 pub use layout::Layout;
+pub use names::Names;
 pub use set::{Member, PackSet, Role};
 pub use size::{Measure, Size};

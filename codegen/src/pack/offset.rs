@@ -13,7 +13,7 @@
 
 use firmware::build::bitset;
 
-use super::{decoded::Recovered, DecodeError, Measure, PackError, PackSet, Role, Size};
+use super::{decoded::Recovered, DecodeError, Measure, Names, PackError, PackSet, Size};
 use crate::model::Automaton;
 
 /// Layout name, as given to `--layout`.
@@ -28,8 +28,8 @@ pub const MAX_BLOCK_BYTES: usize = 65_536;
 /// A set in the `offset` layout.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Packed {
-    /// Event names by global id.
-    pub event_names: Vec<String>,
+    /// Names of the events and automata (not counted).
+    pub names: Names,
     /// Bitset over global event ids: the controllable ones.
     pub controllable: Vec<u32>,
     /// Plants first, then supervisors.
@@ -39,10 +39,6 @@ pub struct Packed {
 /// One automaton in the `offset` layout.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Block {
-    /// Automaton name.
-    pub name: String,
-    /// Plant or supervisor.
-    pub role: Role,
     /// Offset of the initial state's count byte in [`Block::block`].
     pub initial: u16,
     /// The states and transitions (see the module documentation).
@@ -57,7 +53,7 @@ impl Measure for Packed {
         let n = self.automata.len();
         Size {
             layout: NAME,
-            per_automaton: self.automata.iter().map(|b| (b.name.clone(), b.block.len())).collect(),
+            per_automaton: self.names.with_bytes(self.automata.iter().map(|b| b.block.len())),
             side_tables: vec![
                 ("controllability", 4 * self.controllable.len()),
                 ("automaton offsets", 4 * n),
@@ -111,15 +107,13 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
             }
         }
         automata.push(Block {
-            name: m.name().to_owned(),
-            role: m.role,
             initial: offsets[m.initial().index()] as u16,
             block,
             alphabet: bitset::from_ids(m.alphabet().iter().map(|e| e.index()), events.len()),
         });
     }
     Ok(Packed {
-        event_names: events.ids().map(|e| events.name(e).to_owned()).collect(),
+        names: Names::of(set),
         controllable: bitset::from_ids(
             events.ids().filter(|&e| events.is_controllable(e)).map(|e| e.index()),
             events.len(),
@@ -132,11 +126,12 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
 ///
 /// States are named by index and unmarked: layouts keep no marking, the runtime needs none.
 pub fn decode(packed: &Packed) -> Result<Vec<Automaton>, DecodeError> {
-    packed.automata.iter().map(|b| decode_block(b, packed)).collect()
+    packed.automata.iter().enumerate().map(|(a, b)| decode_block(a, b, packed)).collect()
 }
 
-fn decode_block(b: &Block, packed: &Packed) -> Result<Automaton, DecodeError> {
-    let what = || b.name.clone();
+fn decode_block(a: usize, b: &Block, packed: &Packed) -> Result<Automaton, DecodeError> {
+    let (name, role) = packed.names.automaton(a)?;
+    let what = || name.to_owned();
     let bytes = &b.block;
     // First pass: where each state starts.
     let mut starts = Vec::new();
@@ -171,14 +166,14 @@ fn decode_block(b: &Block, packed: &Packed) -> Result<Automaton, DecodeError> {
     }
     let initial = state_at(usize::from(b.initial), 0)?;
     Recovered {
-        name: &b.name,
-        role: b.role,
+        name,
+        role,
         alphabet: bitset::ids(&b.alphabet).collect(),
         states: starts.len(),
         initial,
         edges,
     }
-    .build(&packed.event_names, &packed.controllable)
+    .build(&packed.names.events, &packed.controllable)
 }
 
 #[cfg(test)]
@@ -196,7 +191,7 @@ mod tests {
         assert_eq!(packed.automata[0].alphabet, [0b11]);
         assert_eq!(packed.automata[0].initial, 0);
         assert_eq!(packed.controllable, [0b01]);
-        assert_eq!(packed.event_names, ["a", "b"]);
+        assert_eq!(packed.names.events, ["a", "b"]);
     }
 
     #[test]
