@@ -4,7 +4,7 @@
 //! moves every member whose alphabet holds it and is refused when one of them has no transition for it.
 //! The virtual plant runs the plant subsystems this way, the monitor the closed loop plants ‖ supervisors.
 
-use super::{Automaton, Dfa, EventId, EventTable, ModelError, StateId};
+use super::{Automaton, Dfa, EventId, EventTable, ModelError};
 
 /// One automaton of a [`Composition`]: its [`Dfa`] over the global event ids, with a per-event alphabet
 /// lookup and its state names for messages.
@@ -88,11 +88,6 @@ impl Composition {
         self.members.is_empty()
     }
 
-    /// Number of global events.
-    pub fn event_count(&self) -> usize {
-        self.events
-    }
-
     /// The name of member `i`.
     pub fn name(&self, i: usize) -> &str {
         &self.names[i]
@@ -166,11 +161,6 @@ impl Composition {
     /// Whether every member is in a marked state.
     pub fn is_marked(&self, state: &[u32]) -> bool {
         self.members.iter().zip(state).all(|(m, &s)| (s as usize) < m.dfa.state_count() && m.dfa.is_marked(s))
-    }
-
-    /// The local state of member `i` in `state`, as a model id.
-    pub fn local_state(&self, state: &[u32], i: usize) -> StateId {
-        StateId::from_u32(state[i])
     }
 }
 

@@ -66,9 +66,9 @@ pub enum ProjectError {
     /// A model file named on the command line is bad.
     #[error(transparent)]
     Model(#[from] ParseError),
-    /// An input file could not be read to hash it.
+    /// An input file could not be read to hash it, or the emitted tables could not be written.
     #[error("{}: {source}", path.display())]
-    Input {
+    File {
         /// The file.
         path: PathBuf,
         /// What the system said.
@@ -89,14 +89,6 @@ pub enum ProjectError {
     /// The tables cannot be emitted.
     #[error(transparent)]
     Emit(#[from] EmitError),
-    /// The emitted tables could not be written.
-    #[error("{}: {source}", path.display())]
-    Write {
-        /// The file.
-        path: PathBuf,
-        /// What the system said.
-        source: std::io::Error,
-    },
     /// The firmware did not build.
     #[error(transparent)]
     Image(#[from] ImageError),
@@ -125,7 +117,7 @@ pub fn supervisor_set(manifest: &Manifest) -> Result<PackSet, ProjectError> {
 
 /// Reads and hashes `path`.
 fn hash(path: &Path) -> Result<Input, ProjectError> {
-    Input::read(path).map_err(|source| ProjectError::Input { path: path.to_owned(), source })
+    Input::read(path).map_err(|source| ProjectError::File { path: path.to_owned(), source })
 }
 
 impl Project {
@@ -253,7 +245,7 @@ impl Project {
     pub fn image(&self, dir: &Path) -> Result<PathBuf, ProjectError> {
         let tables = dir.join("tables.rs");
         std::fs::write(&tables, self.emit()?)
-            .map_err(|source| ProjectError::Write { path: tables.clone(), source })?;
+            .map_err(|source| ProjectError::File { path: tables.clone(), source })?;
         Ok(build_qemu_image(&tables, &dir.join("firmware.elf"))?)
     }
 }
