@@ -1,5 +1,6 @@
-//! This module is the home of the `offset` layout: the runtime's table before the
-//! [`ranked`](super::ranked) layout replaced it, kept for the size report.
+//! This module is the home of the `offset` layout: the memory-safe records with targets stored as
+//! record offsets, the offset-addressed variant the design notes ask the size report to show (and the
+//! runtime's table before [`ranked`](super::ranked) replaced it).
 //!
 //! Each automaton is one byte block. For every state in index order: one count byte `n`, then `n` records
 //! `[global event id][target offset, u16 big-endian]`, where the target is the byte offset of the target
