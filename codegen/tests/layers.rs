@@ -1,6 +1,7 @@
 //! The import graph of the two crates, as `ARCHITECTURE.md` draws it: every `crate::` path from one
 //! top-level module into another points to a lower layer — never up, never sideways — so the graph has
-//! no circle. A new top-level module must be given its layer here and in `ARCHITECTURE.md`.
+//! no circle. A new top-level module must be given its layer here and in `ARCHITECTURE.md` (whose layer
+//! tables are checked against these).
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -158,4 +159,39 @@ fn the_manifest_only_reads() {
 fn paths_are_found_in_code_not_comments() {
     let text = "use crate::model::X;\n// crate::pack\nuse crate::{synth::Y, emit};\nlet a = crate::link::z(); // crate::plant\n";
     assert_eq!(crate_paths(text), BTreeSet::from(["emit", "link", "model", "synth"].map(String::from)));
+}
+
+/// The layer table under heading `## {section}` of `ARCHITECTURE.md`, lowest layer first: rows
+/// `| N | `a`, `b` (note) |`.
+fn documented(section: &str) -> Vec<Vec<String>> {
+    let text = std::fs::read_to_string(root().join("ARCHITECTURE.md")).unwrap();
+    let start = text.find(&format!("\n## {section}\n")).unwrap_or_else(|| panic!("no section {section}"));
+    let mut rows: Vec<(usize, Vec<String>)> = Vec::new();
+    for line in text[start + 1..].lines().skip(1).take_while(|l| !l.starts_with("## ")) {
+        let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+        let Some(layer) = cells.get(1).and_then(|c| c.parse().ok()) else { continue };
+        let mut modules: Vec<String> = cells[2].split('`').skip(1).step_by(2).map(String::from).collect();
+        modules.sort();
+        rows.push((layer, modules));
+    }
+    rows.sort();
+    assert!(rows.iter().enumerate().all(|(i, (layer, _))| *layer == i), "{section}: layers 0, 1, 2, …");
+    rows.into_iter().map(|(_, m)| m).collect()
+}
+
+fn listed(table: &[&[&str]]) -> Vec<Vec<String>> {
+    table
+        .iter()
+        .map(|m| {
+            let mut modules: Vec<String> = m.iter().map(|s| s.to_string()).collect();
+            modules.sort();
+            modules
+        })
+        .collect()
+}
+
+#[test]
+fn architecture_md_draws_the_same_layers() {
+    assert_eq!(documented("codegen"), listed(CODEGEN));
+    assert_eq!(documented("firmware"), listed(FIRMWARE));
 }
