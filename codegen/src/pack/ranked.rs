@@ -3,10 +3,8 @@
 //! the firmware's own tests). Here a [`PackSet`] goes in, and the tables are decoded back to automata
 //! (the encoder's test oracle) and measured.
 //!
-//! Limits (the encoder's, named in its errors): at most 256 events, 65 536 states per automaton and a
-//! block whose records fit 2-byte handles at some scale up to 255, 65 536 distinct masks, and records
-//! starting in the first 64 KiB of the blocks back to back (the runtime holds a state as its record's
-//! 16-bit offset in them).
+//! Its limits are the layout's (`firmware::table`); a set beyond one is refused with the number and the
+//! limit ([`PackError::Ranked`]).
 
 use firmware::build::{bitset, Source, SourceAutomaton};
 
