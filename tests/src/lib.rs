@@ -6,17 +6,16 @@ use std::path::{Path, PathBuf};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
-use codegen::emit::HostTables;
+use codegen::closed_loop::{run_under_qemu, Options};
 use codegen::formats::read_path;
 use codegen::link::memory::MemoryLink;
 use codegen::link::ByteLink;
 use codegen::model::{Automaton, Kind};
 use codegen::monitor::Report;
 use codegen::pack::PackSet;
-use codegen::plant::closed_loop::{run_under_qemu, Options};
-use codegen::plant::image::build_qemu_image;
-use codegen::plant::project::Project;
-use firmware::choice::Policy;
+use codegen::project::Project;
+use firmware::build::HostTables;
+use firmware::choice::Choose;
 use firmware::input_queue::InputQueue;
 use firmware::link::{Hold, Link, Poll, Port, READY};
 use firmware::rng::SeedEntropy;
@@ -81,7 +80,7 @@ pub fn spawn_host_firmware<
     mut link: MemoryLink,
 ) -> JoinHandle<Option<u8>>
 where
-    P: Policy<W> + Send + 'static,
+    P: Choose<W> + Send + 'static,
 {
     std::thread::spawn(move || {
         let set = tables.set();
@@ -148,17 +147,14 @@ impl Drop for Scratch {
 
 /// Emits `project`'s tables and builds the QEMU firmware on them, in `scratch`; returns the ELF.
 pub fn firmware_image(project: &Project, scratch: &Scratch) -> PathBuf {
-    let tables = scratch.path().join("tables.rs");
-    std::fs::write(&tables, project.emit().unwrap_or_else(|e| panic!("emit: {e}"))).unwrap();
-    build_qemu_image(&tables, &scratch.path().join("firmware.elf")).unwrap_or_else(|e| panic!("{e}"))
+    project.image(scratch.path()).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Builds `project`'s firmware, boots it under QEMU and runs the closed loop with `options`.
 pub fn qemu_closed_loop(project: &Project, options: &Options) -> Report {
-    let scratch = Scratch::new(&project.runtime.name);
+    let scratch = Scratch::new(&project.name);
     let elf = firmware_image(project, &scratch);
-    run_under_qemu(&elf, &project.set, &project.runtime.name, options, &mut |_| {})
-        .unwrap_or_else(|e| panic!("{e}"))
+    run_under_qemu(&elf, &project.set, &project.name, options, &mut |_| {}).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// A sensor that ticks freely (uncontrollable `tick`) and a controllable acknowledgement `ack` after an odd

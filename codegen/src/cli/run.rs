@@ -3,9 +3,8 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use codegen::plant::closed_loop::run_under_qemu;
-use codegen::plant::image::build_qemu_image;
-use codegen::plant::project::Project;
+use codegen::closed_loop::run_under_qemu;
+use codegen::project::Project;
 
 use super::plant::{finish, Progress, RunArgs};
 use super::Error;
@@ -28,17 +27,14 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     let project = Project::load(&args.manifest)?;
     let options = args.run.options(project.runtime.seed);
     let scratch = Scratch::new()?;
-    let tables = scratch.0.join("tables.rs");
-    std::fs::write(&tables, project.emit()?).map_err(|e| format!("{}: {e}", tables.display()))?;
-    eprintln!("codegen run: building the {} firmware for QEMU", project.runtime.name);
-    let elf = build_qemu_image(&tables, &scratch.0.join("firmware.elf"))?;
+    eprintln!("codegen run: building the {} firmware for QEMU", project.name);
+    let elf = project.image(&scratch.0)?;
     eprintln!(
         "codegen run: closed loop under QEMU for {} events, plant seed {}",
         options.events, options.plant.seed
     );
     let mut progress = Progress::new(options.events);
-    let report =
-        run_under_qemu(&elf, &project.set, &project.runtime.name, &options, &mut |r| progress.show(r));
+    let report = run_under_qemu(&elf, &project.set, &project.name, &options, &mut |r| progress.show(r));
     progress.clear();
     finish(&report?, args.run.json)
 }

@@ -39,7 +39,7 @@ pub fn scopes<'a>(plants: &'a [Automaton], supervisors: &'a [Automaton]) -> Vec<
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::check::testing::build;
+    use crate::model::testing::build;
 
     #[test]
     fn local_plants_share_an_event() {

@@ -1,5 +1,6 @@
-//! The check that makes the runtime's unchecked reads sound, as a `const fn`: the emitted tables run it
-//! at compile time, host tools at run time.
+//! This module is the home of [`CheckedSet`] and of the check behind it that makes the runtime's
+//! unchecked reads sound, a `const fn`: the emitted tables run it at compile time, host tools at run
+//! time.
 
 use super::{SupervisorSet, TableError, MAX_AUTOMATA, MAX_BLOCK, MAX_EVENTS, MAX_MASKS};
 

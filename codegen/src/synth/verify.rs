@@ -1,11 +1,13 @@
-//! Controllability and nonblocking checks, each with a shortest counterexample trace.
+//! Verifying a supervisor: the controllability and nonblocking checks, each with a shortest
+//! counterexample trace.
 
 use crate::model::{Automaton, EventId, EventTable};
 
-use super::dfa::{Dfa, Reverse};
 use super::product::{tuple_name, Exploration, Options};
+use super::reverse::Reverse;
 use super::trim::coaccessible_mask;
 use super::{Config, Inputs, SynthError};
+use crate::model::Dfa;
 
 /// The supervisor disables an uncontrollable event the plant can generate.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -43,7 +45,7 @@ pub fn controllability(
     let dfas: Vec<&Dfa> = inputs.dfas.iter().collect();
     let x = Exploration::run(
         &dfas,
-        &inputs,
+        &inputs.controllable,
         Options { plants: plants.len(), parents: true },
         cfg,
         "closed loop",
@@ -63,7 +65,13 @@ pub(crate) fn first_blocking(
     cfg: &Config,
     what: &str,
 ) -> Result<(Exploration, Option<u32>), SynthError> {
-    let x = Exploration::run(dfas, inputs, Options { plants: dfas.len(), parents: true }, cfg, what)?;
+    let x = Exploration::run(
+        dfas,
+        &inputs.controllable,
+        Options { plants: dfas.len(), parents: true },
+        cfg,
+        what,
+    )?;
     let d = &x.dfa;
     let co = coaccessible_mask(d, &Reverse::new(d), &vec![true; d.state_count()]);
     let first = co.iter().position(|&c| !c).map(|s| s as u32);

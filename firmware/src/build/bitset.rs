@@ -1,6 +1,9 @@
-//! Sets of global event ids as `u32` words, the form the runtime tests membership in.
-//!
-//! Bit `e % 32` of word `e / 32` stands for event `e`; a set over `n` events takes `⌈n / 32⌉` words.
+//! Sets of global event ids as `u32` words of any length, the host's form of the runtime's bitsets
+//! ([`crate::event_set`]): bit `e % 32` of word `e / 32` stands for event `e`; a set over `n` events
+//! takes `⌈n / 32⌉` words.
+
+use alloc::vec;
+use alloc::vec::Vec;
 
 /// The words of the set holding `ids`, sized for a table of `len` events.
 pub fn from_ids(ids: impl IntoIterator<Item = usize>, len: usize) -> Vec<u32> {

@@ -1,5 +1,5 @@
-//! Implementation checks: which of Fabian & Hellgren's problems a supervisor set can still hit once it
-//! runs on a controller.
+//! Implementation problems (`codegen check`): which of Fabian & Hellgren's problems a supervisor set can
+//! still hit once it runs on a controller.
 //!
 //! Each check reads a deterministic automaton (a closed loop, built as the synchronous product of plants
 //! and supervisors) and reports [`Finding`]s with the state, the events and a shortest trace from the
@@ -18,8 +18,6 @@ mod diamond;
 mod finding;
 mod paths;
 mod scope;
-#[cfg(test)]
-mod testing;
 
 pub use finding::{Finding, Problem, Shape};
 pub use scope::{scopes, Scope};
@@ -70,7 +68,7 @@ mod tests {
 
     proptest! {
         #[test]
-        fn findings_match_brute_force(a in crate::pack::testing::arb_automaton("A".into(), 4, 6)) {
+        fn findings_match_brute_force(a in crate::model::testing::arb_automaton("A".into(), 4, 6)) {
             let found = run(&a, &Problem::ALL);
             let dist = distances(&a);
             let state_of = |name: &str| a.state_id(name).unwrap().index();

@@ -86,7 +86,7 @@ impl<'a> Paths<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::check::testing::livelock;
+    use crate::model::testing::livelock;
 
     #[test]
     fn traces_are_shortest() {

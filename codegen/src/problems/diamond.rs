@@ -64,7 +64,7 @@ fn open(paths: &Paths, s: StateId, x: EventId, y: EventId) -> Option<(Shape, Str
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::check::testing::{build, livelock};
+    use crate::model::testing::{build, livelock};
 
     #[test]
     fn livelock_has_choice_problems_at_1_and_3() {

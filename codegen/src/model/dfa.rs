@@ -1,4 +1,6 @@
-//! This module is the home of [`Dfa`], the compact automaton every synthesis algorithm works on.
+//! This module is the home of [`Dfa`]: an automaton's transitions re-indexed by the global event ids of
+//! one [`EventTable`] — what synthesis works on, what the packed layouts are written from and what a
+//! [`Composition`](super::Composition) steps.
 //!
 //! States are dense `u32` ids; the transitions of all states sit in two flat arrays (events and targets)
 //! indexed by a per-state offset (compressed sparse rows), sorted by event within each state. Events are
@@ -6,9 +8,7 @@
 //! There is no per-state allocation: an automaton with `s` states and `t` transitions takes about
 //! `9 s + 8 t` bytes ([`Dfa::memory_usage`]).
 
-use crate::model::{Automaton, EventId, EventTable, Kind, StateId};
-
-use super::SynthError;
+use super::{Automaton, Event, EventId, EventTable, Kind, ModelError, State, StateId};
 
 /// Marker for "no state" in `u32` state arrays.
 pub(crate) const NONE: u32 = u32::MAX;
@@ -31,10 +31,14 @@ pub struct Dfa {
 }
 
 impl Dfa {
-    /// Converts `a` (which must pass [`Automaton::validate`]) to global event ids of `table`.
-    pub fn from_automaton(a: &Automaton, table: &EventTable) -> Result<Dfa, SynthError> {
-        a.validate().map_err(|source| SynthError::Model { automaton: a.name.clone(), source })?;
-        let global = table.global_ids(a).ok_or_else(|| SynthError::EventNotInTable(a.name.clone()))?;
+    /// Converts `a` to global event ids of `table`; refuses an automaton that fails
+    /// [`Automaton::validate`] or has an event `table` does not hold.
+    pub fn from_automaton(a: &Automaton, table: &EventTable) -> Result<Dfa, ModelError> {
+        a.validate()?;
+        let global = table.global_ids(a).ok_or_else(|| {
+            let missing = a.events.iter().find(|e| table.id(&e.name).is_none());
+            ModelError::UnknownEvent(missing.map_or_else(String::new, |e| e.name.clone()))
+        })?;
         let mut alphabet: Vec<u32> = global.iter().map(|e| e.as_u32()).collect();
         alphabet.sort_unstable();
         let mut rows: Vec<(u32, u32, u32)> = a
@@ -72,13 +76,10 @@ impl Dfa {
         for &e in &self.alphabet {
             let id = EventId::from_u32(e);
             local[e as usize] = a.events.len() as u32;
-            a.events.push(crate::model::Event {
-                name: table.name(id).to_owned(),
-                controllable: table.is_controllable(id),
-            });
+            a.events.push(Event { name: table.name(id).to_owned(), controllable: table.is_controllable(id) });
         }
         for s in 0..self.state_count() as u32 {
-            a.states.push(crate::model::State { name: state_name(s), marked: self.marked[s as usize] });
+            a.states.push(State { name: state_name(s), marked: self.marked[s as usize] });
         }
         a.initial = self.initial.map(StateId::from_u32);
         a.transitions.reserve(self.transition_count());
@@ -123,6 +124,11 @@ impl Dfa {
     pub fn edges(&self, s: u32) -> impl Iterator<Item = (u32, u32)> + '_ {
         let r = self.offsets[s as usize]..self.offsets[s as usize + 1];
         self.events[r.clone()].iter().copied().zip(self.targets[r].iter().copied())
+    }
+
+    /// Number of transitions leaving `s`.
+    pub fn degree(&self, s: u32) -> usize {
+        self.offsets[s as usize + 1] - self.offsets[s as usize]
     }
 
     /// The target of `s` under event `e`, if the transition exists.
@@ -179,45 +185,5 @@ impl DfaBuilder {
         }
         self.dfa.initial = if self.dfa.marked.is_empty() { None } else { initial };
         self.dfa
-    }
-}
-
-/// Predecessor lists of a [`Dfa`] in compressed sparse rows: for each state, the (source, event) pairs
-/// of the transitions entering it.
-pub(crate) struct Reverse {
-    offsets: Vec<usize>,
-    sources: Vec<u32>,
-    events: Vec<u32>,
-}
-
-impl Reverse {
-    /// Builds the predecessor lists of `dfa` with a counting sort on targets.
-    pub(crate) fn new(dfa: &Dfa) -> Self {
-        let n = dfa.state_count();
-        let mut offsets = vec![0usize; n + 1];
-        for &t in &dfa.targets {
-            offsets[t as usize + 1] += 1;
-        }
-        for i in 0..n {
-            offsets[i + 1] += offsets[i];
-        }
-        let mut fill = offsets.clone();
-        let mut sources = vec![0u32; dfa.targets.len()];
-        let mut events = vec![0u32; dfa.targets.len()];
-        for s in 0..n {
-            for i in dfa.offsets[s]..dfa.offsets[s + 1] {
-                let t = dfa.targets[i] as usize;
-                sources[fill[t]] = s as u32;
-                events[fill[t]] = dfa.events[i];
-                fill[t] += 1;
-            }
-        }
-        Reverse { offsets, sources, events }
-    }
-
-    /// The (source, event) pairs of the transitions entering `s`.
-    pub(crate) fn preds(&self, s: u32) -> impl Iterator<Item = (u32, u32)> + '_ {
-        let r = self.offsets[s as usize]..self.offsets[s as usize + 1];
-        self.sources[r.clone()].iter().copied().zip(self.events[r].iter().copied())
     }
 }

@@ -4,16 +4,15 @@
 //! moves every member whose alphabet holds it and is refused when one of them has no transition for it.
 //! The virtual plant runs the plant subsystems this way, the monitor the closed loop plants ‖ supervisors.
 
-use crate::model::{Automaton, EventId, EventTable, ModelError, StateId};
+use super::{Automaton, Dfa, EventId, EventTable, ModelError};
 
-/// One automaton of a [`Composition`], with its transitions re-indexed by global event id.
+/// One automaton of a [`Composition`]: its [`Dfa`] over the global event ids, with a per-event alphabet
+/// lookup and its state names for messages.
 #[derive(Clone, Debug)]
 struct Member {
+    dfa: Dfa,
     /// Whether each global event is in the member's alphabet.
     alphabet: Vec<bool>,
-    /// Per state: `(global event, target)` sorted by event, for binary search.
-    delta: Vec<Vec<(u32, u32)>>,
-    marked: Vec<bool>,
     initial: u32,
     state_names: Vec<String>,
 }
@@ -24,7 +23,7 @@ struct Member {
 ///
 /// ```
 /// use codegen::model::{Automaton, EventTable, Kind};
-/// use codegen::plant::Composition;
+/// use codegen::model::Composition;
 ///
 /// let mut m = Automaton::new("M", Kind::Plant);
 /// let idle = m.add_state("idle", true).unwrap();
@@ -54,28 +53,16 @@ impl Composition {
     pub fn new(automata: &[&Automaton], table: &EventTable) -> Result<Self, ModelError> {
         let mut members = Vec::with_capacity(automata.len());
         for a in automata {
-            a.validate()?;
-            let global = table.global_ids(a).ok_or_else(|| {
-                let missing = a.events.iter().find(|e| table.id(&e.name).is_none());
-                ModelError::UnknownEvent(missing.map_or_else(String::new, |e| e.name.clone()))
-            })?;
+            let dfa = Dfa::from_automaton(a, table)?;
+            let initial = dfa.initial().ok_or_else(|| ModelError::MissingInitial(a.name.clone()))?;
             let mut alphabet = vec![false; table.len()];
-            for g in &global {
-                alphabet[g.index()] = true;
+            for &e in dfa.alphabet() {
+                alphabet[e as usize] = true;
             }
-            let mut delta = vec![Vec::new(); a.states.len()];
-            for t in &a.transitions {
-                delta[t.source.index()].push((global[t.event.index()].as_u32(), t.target.as_u32()));
-            }
-            for out in &mut delta {
-                out.sort_unstable();
-            }
-            let initial = a.initial.ok_or_else(|| ModelError::MissingInitial(a.name.clone()))?;
             members.push(Member {
+                dfa,
                 alphabet,
-                delta,
-                marked: a.states.iter().map(|s| s.marked).collect(),
-                initial: initial.as_u32(),
+                initial,
                 state_names: a.states.iter().map(|s| s.name.clone()).collect(),
             });
         }
@@ -86,6 +73,11 @@ impl Composition {
         })
     }
 
+    /// Every member's automaton over the global events, in member order.
+    pub fn dfas(&self) -> Vec<&Dfa> {
+        self.members.iter().map(|m| &m.dfa).collect()
+    }
+
     /// Number of member automata.
     pub fn len(&self) -> usize {
         self.members.len()
@@ -94,11 +86,6 @@ impl Composition {
     /// Whether there is no member (then every event is allowed and every state marked).
     pub fn is_empty(&self) -> bool {
         self.members.is_empty()
-    }
-
-    /// Number of global events.
-    pub fn event_count(&self) -> usize {
-        self.events
     }
 
     /// The name of member `i`.
@@ -123,9 +110,11 @@ impl Composition {
 
     /// Where member `i` goes from its local `state` on `event`, if it has that transition.
     pub fn local_step(&self, i: usize, state: u32, event: EventId) -> Option<u32> {
-        let out = self.members[i].delta.get(state as usize)?;
-        let e = event.as_u32();
-        out.binary_search_by_key(&e, |&(ev, _)| ev).ok().map(|k| out[k].1)
+        let dfa = &self.members[i].dfa;
+        if state as usize >= dfa.state_count() {
+            return None;
+        }
+        dfa.step(state, event.as_u32())
     }
 
     /// Whether `event` can happen in `state`: every member holding it has a transition for it. An event
@@ -171,51 +160,15 @@ impl Composition {
 
     /// Whether every member is in a marked state.
     pub fn is_marked(&self, state: &[u32]) -> bool {
-        self.members.iter().zip(state).all(|(m, &s)| m.marked.get(s as usize).copied().unwrap_or(false))
-    }
-
-    /// The local state of member `i` in `state`, as a model id.
-    pub fn local_state(&self, state: &[u32], i: usize) -> StateId {
-        StateId::from_u32(state[i])
+        self.members.iter().zip(state).all(|(m, &s)| (s as usize) < m.dfa.state_count() && m.dfa.is_marked(s))
     }
 }
 
 #[cfg(test)]
-pub(crate) mod tests {
+mod tests {
     use super::*;
+    use crate::model::testing::{automaton, machine};
     use crate::model::Kind;
-
-    /// Builds an automaton from `(source, event, target)` triples; events in `controllable` are
-    /// controllable, states in `marked` are marked, state 0 is initial.
-    pub(crate) fn automaton(
-        name: &str,
-        kind: Kind,
-        states: usize,
-        marked: &[usize],
-        controllable: &[&str],
-        transitions: &[(usize, &str, usize)],
-    ) -> Automaton {
-        let mut a = Automaton::new(name, kind);
-        for s in 0..states {
-            a.add_state(s.to_string(), marked.contains(&s)).unwrap();
-        }
-        for &(_, e, _) in transitions {
-            if a.event_id(e).is_none() {
-                a.add_event(e, controllable.contains(&e)).unwrap();
-            }
-        }
-        for &(s, e, t) in transitions {
-            let e = a.event_id(e).unwrap();
-            a.add_transition(StateId::new(s).unwrap(), e, StateId::new(t).unwrap());
-        }
-        a.initial = Some(StateId::new(0).unwrap());
-        a
-    }
-
-    /// The classic small machine: idle –start→ busy –done→ idle.
-    pub(crate) fn machine(name: &str, start: &str, done: &str) -> Automaton {
-        automaton(name, Kind::Plant, 2, &[0], &[start], &[(0, start, 1), (1, done, 0)])
-    }
 
     #[test]
     fn shared_events_synchronise_and_private_ones_interleave() {

@@ -37,7 +37,7 @@ pub fn find(paths: &Paths) -> Vec<Finding> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::check::testing::{build, livelock};
+    use crate::model::testing::{build, livelock};
 
     /// `seed/TEST.ADS`, transitions as in the file (odd labels controllable).
     fn seed() -> crate::model::Automaton {

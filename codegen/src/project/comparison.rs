@@ -1,7 +1,8 @@
 //! The paper's columns for the other two architectures of the same problem: modular and monolithic.
 
-use super::{paper::Columns, report::Comparison};
 use crate::model::Automaton;
+use crate::pack::paper::Columns;
+use crate::pack::report::Comparison;
 use crate::synth::{modular, monolithic, Config};
 
 /// Synthesises the modular (one supervisor per specification against the whole plant, conflicting ones

@@ -1,18 +1,22 @@
-//! The closed loop as one call: a packed supervisor set's plants as the virtual plant, its plants ‖
-//! supervisors as the monitor, attached to a firmware over a link — or to a firmware image booted under
-//! QEMU for the run.
+//! The closed loop: a supervisor set's plants as the [virtual plant](crate::plant), its plants ‖
+//! supervisors as the [monitor](crate::monitor), attached to a firmware over a [link](crate::link) — one
+//! that is already running ([`attach`]), or a firmware image booted under an emulator for the run
+//! ([`run_under_qemu`]). The [`Session`] drives the link protocol's control side.
+
+mod session;
+
+pub use session::{Session, SessionConfig, SessionError};
 
 use std::path::Path;
 use std::time::Duration;
 
-use super::session::{Session, SessionConfig, SessionError};
-use super::{PlantConfig, VirtualPlant};
 use crate::link::protocol::EXIT;
 use crate::link::ByteLink;
 use crate::model::{Automaton, ModelError};
 use crate::monitor::{Monitor, Report};
 use crate::pack::{PackSet, Role};
-use crate::qemu::{Qemu, QemuConfig, QemuError};
+use crate::plant::{PlantConfig, VirtualPlant};
+use crate::target::qemu::{Qemu, QemuConfig, QemuError};
 
 /// Everything a closed-loop run is configured by, besides the supervisor set.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -9,11 +9,11 @@
 
 use std::time::{Duration, Instant};
 
-use super::VirtualPlant;
 use crate::link::protocol::{Decoder, Frame, GO, HOLD, RESET, STATUS};
 use crate::link::ByteLink;
 use crate::model::EventId;
 use crate::monitor::{FirmwareCounters, Monitor, Report, Verdict};
+use crate::plant::VirtualPlant;
 
 /// Longest single wait on the link, so the plant's timers stay accurate.
 const POLL: Duration = Duration::from_millis(2);
@@ -120,7 +120,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         let mut counters = FirmwareCounters::default();
         self.await_frame("STATUS", |f| match f {
             Frame::Status(c) => {
-                counters = c;
+                counters = c.into();
                 true
             }
             _ => false,
