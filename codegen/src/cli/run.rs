@@ -25,7 +25,7 @@ pub struct Args {
 /// Runs `run`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
     let project = Project::load(&args.manifest)?;
-    let options = args.run.options(project.runtime.seed);
+    let options = args.run.options(&project.runtime);
     let scratch = Scratch::new()?;
     eprintln!("codegen run: building the {} firmware for QEMU", project.name);
     let elf = project.image(&scratch.0)?;

@@ -13,7 +13,7 @@ use std::time::Duration;
 use crate::link::protocol::EXIT;
 use crate::link::ByteLink;
 use crate::model::{Automaton, ModelError};
-use crate::monitor::{Monitor, Report};
+use crate::monitor::{ChoiceModel, Monitor, Report};
 use crate::pack::{PackSet, Role};
 use crate::plant::{PlantConfig, VirtualPlant};
 use crate::target::qemu::{Qemu, QemuConfig, QemuError};
@@ -31,6 +31,8 @@ pub struct Options {
     pub window_us: u64,
     /// How to start QEMU.
     pub qemu: QemuConfig,
+    /// The controller's choice policy as the plant's steering models it.
+    pub choices: ChoiceModel,
 }
 
 impl Default for Options {
@@ -41,6 +43,7 @@ impl Default for Options {
             session: SessionConfig::default(),
             window_us: 500_000,
             qemu: QemuConfig::default(),
+            choices: ChoiceModel::RandomLocalQueue,
         }
     }
 }
@@ -88,7 +91,8 @@ pub fn parts(set: &PackSet, options: &Options) -> Result<(VirtualPlant, Monitor)
     };
     let (plants, supervisors) = (of(Role::Plant), of(Role::Supervisor));
     let plant = VirtualPlant::new(&plants, set.events(), options.plant.clone())?;
-    let monitor = Monitor::new(&plants, &supervisors, set.events(), options.window_us)?;
+    let mut monitor = Monitor::new(&plants, &supervisors, set.events(), options.window_us)?;
+    monitor.model_choices(options.choices);
     Ok((plant, monitor))
 }
 

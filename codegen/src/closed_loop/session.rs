@@ -12,13 +12,21 @@ use std::time::{Duration, Instant};
 use crate::link::protocol::{Decoder, Frame, GO, HOLD, RESET, STATUS};
 use crate::link::ByteLink;
 use crate::model::EventId;
-use crate::monitor::{FirmwareCounters, Monitor, Report, Verdict};
+use crate::monitor::{FirmwareCounters, Monitor, Move, Report, Verdict};
 use crate::plant::VirtualPlant;
 
 /// Longest single wait on the link, so the plant's timers stay accurate.
 const POLL: Duration = Duration::from_millis(2);
 /// How often the progress callback runs.
 const PROGRESS_EVERY: Duration = Duration::from_millis(200);
+/// How long the plant holds its next event when the steering prefers the controller to choose first;
+/// a command ends the wait at once, and without one the plant goes on after this.
+const PATIENCE: Duration = Duration::from_millis(3);
+/// Most events the steering adds to an emission to get ahead of the controller's decision.
+const MAX_STEERED_BURST: usize = 8;
+/// Events without a new transition after which the plant starts to mix its own timing into the
+/// steering, and per how many more events the mix grows by a tenth (up to a half).
+const STAGNATION: u64 = 250;
 
 /// Timing of a session.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -63,6 +71,10 @@ pub struct Session<'a, L: ByteLink + ?Sized> {
     /// Times the plant's next emission is due; `None` while it has nothing to produce.
     next_emit: Option<Instant>,
     last_activity: Instant,
+    /// Whether the plant already held back once since the controller's last command.
+    waited: bool,
+    /// Transitions taken so far, and the event count at which the last new one was taken.
+    progress: (usize, u64),
     /// Bytes from the firmware that the protocol does not define in its direction.
     garbled: u64,
 }
@@ -86,6 +98,8 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             start: now,
             next_emit: Some(now),
             last_activity: now,
+            waited: false,
+            progress: (0, 0),
             garbled: 0,
         }
     }
@@ -198,20 +212,42 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         u64::try_from(self.start.elapsed().as_micros()).unwrap_or(u64::MAX)
     }
 
+    /// The plant's next emission: one event or a burst, sent as one write. When the plant steers (see
+    /// [`Move`]), it first lets the controller choose if that is better, and goes on past the drawn
+    /// length, holding the controller, while its own next event beats the controller's choice.
     fn emit(&mut self) -> Result<(), SessionError> {
+        let steers = self.plant.steers();
+        if steers && !self.waited && self.monitor.next_move() == Move::Controller {
+            self.waited = true;
+            self.next_emit = Some(Instant::now() + PATIENCE);
+            return Ok(());
+        }
+        self.explore_when_stuck();
         let len = self.plant.burst_len();
         let t = self.micros();
         let mut bytes = Vec::with_capacity(len);
+        let mut held = false;
         let mut violated = false;
-        while bytes.len() < len && !violated {
+        while !violated {
+            if bytes.len() >= len {
+                let ahead = steers && bytes.len() < len + MAX_STEERED_BURST;
+                if !(ahead && self.monitor.next_move() == Move::PlantFirst) {
+                    break;
+                }
+                held = true;
+            }
             let monitor = &mut *self.monitor;
-            let Some(e) = self.plant.emit_one(|e| monitor.distance_after(e)) else { break };
+            let Some(e) = self.plant.emit_one(|e| monitor.rank_after(e)) else { break };
             bytes.push(e.as_u32() as u8);
             violated = self.monitor.uncontrollable(e, t) == Verdict::Violation;
         }
         if bytes.is_empty() {
             self.next_emit = None;
             return Ok(());
+        }
+        if held {
+            bytes.insert(0, HOLD);
+            bytes.push(GO);
         }
         self.link.send(&bytes)?;
         if violated {
@@ -222,10 +258,23 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         Ok(())
     }
 
+    /// Lets the plant mix its own timing into the steering while no new transition is taken.
+    fn explore_when_stuck(&mut self) {
+        let report = self.monitor.report();
+        let taken = report.coverage.iter().map(|c| c.taken).sum();
+        if taken != self.progress.0 {
+            self.progress = (taken, report.events);
+        }
+        let stuck = report.events - self.progress.1;
+        let tenths = (stuck / STAGNATION).min(5) as u32;
+        self.plant.explore(tenths * 100);
+    }
+
     fn handle(&mut self, frame: Frame) -> Result<(), SessionError> {
         match frame {
             Frame::Command(c) => {
                 self.last_activity = Instant::now();
+                self.waited = false;
                 let event = EventId::from_u32(u32::from(c));
                 match self.monitor.command(event, self.micros()) {
                     Verdict::Ok | Verdict::Desync { resolved: true } => {

@@ -48,6 +48,17 @@ impl Graph {
         self.reach.id(state)
     }
 
+    /// The local states of state number `s`.
+    pub fn tuple(&self, s: u32) -> Vec<u32> {
+        self.reach.tuple(s)
+    }
+
+    /// The transitions out of state number `s`: `(global event, target state number)`, in one fixed
+    /// order.
+    pub fn edges(&self, s: u32) -> impl Iterator<Item = (u32, u32)> + '_ {
+        self.reach.dfa().edges(s)
+    }
+
     /// The state reached from state number `from` by `event`, if any.
     pub fn next(&self, from: u32, event: EventId) -> Option<u32> {
         if from as usize >= self.len() {
@@ -79,22 +90,28 @@ impl Graph {
         out
     }
 
-    /// Per state number: the fewest events to a state where `wanted` holds for one of its transitions
-    /// (`u32::MAX` when none can be reached). Breadth first over the reversed transitions.
-    pub fn distances(&self, wanted: impl Fn(&[u32], u32) -> bool) -> Vec<u32> {
+    /// Per state number: the fewest events to a state where `wanted(state, k)` holds for its `k`-th
+    /// outgoing transition (in the order of [`Graph::edges`]; `u32::MAX` when none can be reached),
+    /// along transitions for which `usable(state, k)` holds. Breadth first over the reversed transitions.
+    pub fn distances(
+        &self,
+        wanted: impl Fn(u32, usize) -> bool,
+        usable: impl Fn(u32, usize) -> bool,
+    ) -> Vec<u32> {
         let dfa = self.reach.dfa();
         let n = self.len();
         let mut into: Vec<Vec<u32>> = vec![Vec::new(); n];
         for s in 0..n as u32 {
-            for (_, t) in dfa.edges(s) {
-                into[t as usize].push(s);
+            for (k, (_, t)) in dfa.edges(s).enumerate() {
+                if usable(s, k) {
+                    into[t as usize].push(s);
+                }
             }
         }
         let mut dist = vec![u32::MAX; n];
         let mut queue = VecDeque::new();
         for s in 0..n as u32 {
-            let state = self.reach.tuple(s);
-            if dfa.edges(s).any(|(e, _)| wanted(&state, e)) {
+            if (0..dfa.edges(s).count()).any(|k| wanted(s, k)) {
                 dist[s as usize] = 0;
                 queue.push_back(s);
             }
@@ -167,7 +184,7 @@ mod tests {
         let a = table.id("a").unwrap();
         assert_eq!(g.controllable_edges(&closed, 1..2, &controllable), [BTreeSet::from([(0, a.as_u32())])]);
         assert_eq!(Graph::explore(&closed, 1).unwrap_err(), TooLarge { limit: 1 });
-        let d = g.distances(|_, e| e == a.as_u32());
+        let d = g.distances(|s, k| g.edges(s).nth(k).is_some_and(|(e, _)| e == a.as_u32()), |_, _| true);
         assert_eq!(d, [0, 1]);
         assert_eq!(g.next(0, a), Some(1));
         assert_eq!(g.id(&[1, 1]), Some(1));

@@ -2,12 +2,14 @@
 
 use std::collections::{BTreeSet, VecDeque};
 
+use super::choice_model::{ChoiceModel, Choices};
 use super::coverage::{Edge, Graph, Taken};
 use super::report::{CoverageLine, FirmwareCounters, Report};
+use super::steering::{Move, Steering};
 use crate::model::{Automaton, Composition, EventId, EventTable, ModelError};
 
 /// Most firmware views kept at once; the ones that have seen the most events win.
-const MAX_VIEWS: usize = 64;
+const MAX_VIEWS: usize = 4096;
 /// Most violation messages kept for the report.
 const MAX_FINDINGS: usize = 10;
 /// Largest closed loop explored for the coverage denominator.
@@ -66,8 +68,10 @@ pub struct Monitor {
     graph: Option<Graph>,
     reachable: Option<Vec<BTreeSet<Edge>>>,
     taken: Taken,
-    /// Per closed-loop state number: events to the nearest transition not taken yet (empty: stale).
-    distance: Vec<u32>,
+    /// Where the plant should lead the closed loop next.
+    steering: Steering,
+    /// The controller's choices as far as the monitor can tell.
+    choices: Choices,
     report: Report,
     gap: u64,
 }
@@ -87,6 +91,7 @@ impl Monitor {
         let graph = Graph::explore(&closed, EXPLORATION_LIMIT).ok();
         let reachable = graph.as_ref().map(|g| g.controllable_edges(&closed, sups.clone(), &controllable));
         let physical = closed.initial();
+        let choices = Choices::new(ChoiceModel::Uniform, &closed, plants.len(), &controllable);
         let mut report = Report {
             coverage: supervisors
                 .iter()
@@ -113,7 +118,8 @@ impl Monitor {
             graph,
             reachable,
             taken: Taken::new(supervisors.len()),
-            distance: Vec::new(),
+            steering: Steering::new(),
+            choices,
             report,
             gap: 0,
             closed,
@@ -165,8 +171,18 @@ impl Monitor {
             return self.violation(format!("command '{name}' disabled by {refusers}"));
         }
         let verdict = if self.closed.allows(&self.physical, event) {
+            let enabled: Vec<u32> = self
+                .closed
+                .enabled(&self.physical)
+                .into_iter()
+                .map(EventId::as_u32)
+                .filter(|&e| self.controllable[e as usize])
+                .collect();
+            if self.choices.fired(&self.closed, &self.physical, &enabled, event.as_u32()).is_some() {
+                self.steering.invalidate();
+            }
             if self.taken.record(&self.closed, self.plants, &self.physical, event) {
-                self.distance.clear();
+                self.steering.invalidate();
             }
             self.closed.step(&mut self.physical, event);
             self.views = views;
@@ -193,29 +209,52 @@ impl Monitor {
         verdict
     }
 
-    /// How many events the closed loop would be, after the plant's `event` in the current state, from
-    /// the nearest reachable controllable supervisor transition not taken yet; `None` when no such
-    /// transition is left (or the closed loop was too large to explore). The plant uses it to steer
-    /// towards what the run has not covered.
-    pub fn distance_after(&mut self, event: EventId) -> Option<u32> {
+    /// How good the plant's `event` is now for reaching a controllable supervisor transition the run has
+    /// not taken yet: the expected events from the state it leads to (in sixteenths; lower is better,
+    /// see [`Steering`]); `None` when no such transition is left (or the closed loop was too large to
+    /// explore). The plant uses it to steer towards what the run has not covered.
+    pub fn rank_after(&mut self, event: EventId) -> Option<u32> {
+        self.refresh_steering();
         let graph = self.graph.as_ref()?;
-        if self.distance.is_empty() {
-            let (closed, taken, plants, controllable) =
-                (&self.closed, &self.taken, self.plants, &self.controllable);
-            self.distance = graph.distances(|state, e| {
-                controllable[e as usize]
-                    && (plants..closed.len()).any(|i| {
-                        closed.has_event(i, EventId::from_u32(e))
-                            && !taken.of(i - plants).contains(&(state[i], e))
-                    })
-            });
-        }
         let next = graph.next(graph.id(&self.physical)?, event)?;
-        self.distance.get(next as usize).copied().filter(|&d| d != u32::MAX)
+        self.steering.rank_after(next)
+    }
+
+    /// Who should move next from the current state to reach a transition not taken yet: the controller
+    /// (the plant holds its next event back), or the plant (see [`Move`]).
+    pub fn next_move(&mut self) -> Move {
+        self.refresh_steering();
+        let Some(graph) = self.graph.as_ref() else { return Move::Plant };
+        graph.id(&self.physical).map_or(Move::Plant, |s| self.steering.next_move(graph, s))
+    }
+
+    fn refresh_steering(&mut self) {
+        let Some(graph) = self.graph.as_ref() else { return };
+        let (closed, taken, plants, choices) = (&self.closed, &self.taken, self.plants, &self.choices);
+        self.steering.refresh(
+            graph,
+            &self.controllable,
+            |s, e| {
+                let state = graph.tuple(s);
+                (plants..closed.len()).any(|i| {
+                    closed.has_event(i, EventId::from_u32(e))
+                        && !taken.of(i - plants).contains(&(state[i], e))
+                })
+            },
+            |s, commands| choices.chances(closed, &graph.tuple(s), commands),
+        );
+    }
+
+    /// Models the controller's choice policy for the steering (uniform until told).
+    pub fn model_choices(&mut self, model: ChoiceModel) {
+        self.choices = Choices::new(model, &self.closed, self.plants, &self.controllable);
+        self.steering.invalidate();
     }
 
     /// The link was reset: plant, controller and monitor are back in the initial state.
     pub fn reset(&mut self) {
+        self.choices.reset();
+        self.steering.invalidate();
         self.physical = self.closed.initial();
         self.views = BTreeSet::from([View { seen: self.sent, state: self.physical.clone() }]);
         self.unread.clear();

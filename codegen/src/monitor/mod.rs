@@ -15,10 +15,14 @@
 //!
 //! The figures end up in a [`Report`], printed as a table or as JSON.
 
+mod choice_model;
 mod coverage;
 mod judge;
 mod report;
+mod steering;
 
+pub use choice_model::ChoiceModel;
 pub use coverage::{Edge, Graph, Taken, TooLarge};
 pub use judge::{Monitor, Verdict};
 pub use report::{CoverageLine, FirmwareCounters, Report, SCHEMA};
+pub use steering::Move;
