@@ -7,14 +7,32 @@
 #
 #   bash scripts/footprint.sh            # the committed cell tables
 #   SCT_TABLES=other.rs bash scripts/footprint.sh
+#   ELF=path bash scripts/footprint.sh  # another image (the memory check fails on one not linked for QEMU)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 cargo qemu-build --quiet
 target_dir="${CARGO_TARGET_DIR:-target}"
-elf="$target_dir/thumbv7m-none-eabi/release/cell-qemu"
+export elf="${ELF:-$target_dir/thumbv7m-none-eabi/release/cell-qemu}"
 bin="$(rustc --print sysroot)/lib/rustlib/$(rustc -vV | sed -n 's/^host: //p')/bin"
 
+# The image must be linked for the lm3s6965evb: vector table at 0, every loaded byte in its 256 KiB of
+# flash or 64 KiB of SRAM, initialised data loaded from flash, stack at the top of SRAM.
+"$bin/llvm-readobj" --elf-output-style=GNU -l -s "$elf" | awk '
+  function hex(s,   v, i) { v = 0; sub(/^0x/, "", s); for (i = 1; i <= length(s); i++) v = v * 16 + index("0123456789abcdef", tolower(substr(s, i, 1))) - 1; return v }
+  $1 == "LOAD" {
+    vma = hex($3); lma = hex($4); file = hex($5); mem = hex($6)
+    in_flash = vma + mem <= 262144; in_ram = vma >= 536870912 && vma + mem <= 536936448
+    if (!in_flash && !in_ram) bad = bad sprintf("segment at %s (%d bytes) is outside flash and RAM\n", $3, mem)
+    if (file > 0 && lma + file > 262144) bad = bad sprintf("segment loaded at %s is outside flash\n", $4)
+  }
+  $NF == "__RESET_VECTOR" && hex($2) != 4 { bad = bad "vector table is not at 0\n" }
+  $NF == "_stack_start" && hex($2) != 536936448 { bad = bad "stack top is not 0x20010000\n" }
+  $NF == "__RESET_VECTOR" || $NF == "_stack_start" { seen++ }
+  END {
+    if (seen != 2) bad = bad "no __RESET_VECTOR or _stack_start symbol\n"
+    if (bad != "") { printf "footprint: %s is not linked for the lm3s6965evb:\n%s", ENVIRON["elf"], bad > "/dev/stderr"; exit 1 }
+  }'
 "$bin/llvm-size" "$elf"
 "$bin/llvm-nm" --print-size --size-sort --radix=d -C "$elf" | awk '
   function add(kind, size, name) { total[kind] += size; items[kind] = items[kind] sprintf("    %5d  %s\n", size, name) }
