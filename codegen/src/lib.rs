@@ -15,4 +15,5 @@ pub mod monitor;
 pub mod pack;
 pub mod plant;
 pub mod qemu;
+pub mod rp2040;
 pub mod synth;

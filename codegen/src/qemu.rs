@@ -210,7 +210,7 @@ impl Drop for Qemu {
 }
 
 /// Reads a child's pipe to the end in a thread, into a shared buffer.
-fn collect(
+pub(crate) fn collect(
     pipe: Option<impl Read + Send + 'static>,
 ) -> (Arc<Mutex<Vec<u8>>>, Option<std::thread::JoinHandle<()>>) {
     let buf = Arc::new(Mutex::new(Vec::new()));
@@ -233,7 +233,7 @@ fn collect(
 }
 
 /// Kills `child` after `timeout` unless `done` is set first.
-fn watchdog(child: Arc<Mutex<Child>>, done: Arc<(Mutex<bool>, Condvar)>, timeout: Duration) {
+pub(crate) fn watchdog(child: Arc<Mutex<Child>>, done: Arc<(Mutex<bool>, Condvar)>, timeout: Duration) {
     std::thread::spawn(move || {
         let (flag, cvar) = &*done;
         let Ok(guard) = flag.lock() else { return };

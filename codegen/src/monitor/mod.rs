@@ -12,12 +12,15 @@
 //!   resets, and the firmware's own counters (overflows, guard re-decisions, unexpected events), from
 //!   which events lost silently are derived.
 //!
-//! The figures end up in a [`Report`], printed as a table or as JSON.
+//! The figures end up in a [`Report`], printed as a table or as JSON; a run on a board's pins adds what
+//! only pins show ([`BoardFigures`]).
 
+mod board;
 mod coverage;
 mod judge;
 mod report;
 
+pub use board::{BoardFigures, CallCost, RuntimeCost};
 pub use coverage::{Edge, Graph, Taken, TooLarge};
 pub use judge::{Monitor, Verdict};
 pub use report::{CoverageLine, FirmwareCounters, Report, SCHEMA};

@@ -59,6 +59,7 @@ impl Project {
             guard: m.runtime.guard,
             on_fault: m.runtime.on_fault,
             input_buffer: m.runtime.input_buffer,
+            board: m.board.clone(),
             ..emit::Options::default()
         };
         let files = std::iter::once(m.file.clone())
