@@ -6,6 +6,7 @@
 #![deny(missing_docs)]
 
 pub mod check;
+pub mod child;
 pub mod emit;
 pub mod formats;
 pub mod link;

@@ -9,23 +9,21 @@
 //! runtime's entry points to a stats file ([`BoardFigures`]). Its README documents all of it.
 //!
 //! As with [`crate::qemu`], the child is killed when the [`Harness`] value is dropped, when its deadline
-//! passes and — on Linux — when the thread that started it dies.
+//! passes and when the thread that started it dies ([`crate::child`]).
 
-use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, ExitStatus, Stdio};
+use std::process::{Command, ExitStatus};
 use std::sync::atomic::{AtomicU32, Ordering};
-use std::sync::{Arc, Condvar, Mutex};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use serde_json::json;
 
+use crate::child::{ConnectError, Emulator};
 use crate::emit::board::{BoardSpec, SamplingSpec};
 use crate::link::StreamLink;
 use crate::model::EventTable;
 use crate::monitor::BoardFigures;
 use crate::plant::image::workspace_root;
-use crate::qemu::{collect, watchdog};
 
 /// The harness's entry point, relative to the workspace root.
 pub const SCRIPT: &str = "harness/rp2040/src/main.js";
@@ -186,13 +184,9 @@ pub fn pin_map(board: &BoardSpec, events: &EventTable) -> Result<String, PinMapE
 /// A running harness; see the module documentation.
 #[derive(Debug)]
 pub struct Harness {
-    child: Arc<Mutex<Child>>,
-    /// Set (and notified) when the owner is done, so the watchdog stops.
-    done: Arc<(Mutex<bool>, Condvar)>,
+    process: Emulator,
     dir: PathBuf,
     stats: PathBuf,
-    stderr: Arc<Mutex<Vec<u8>>>,
-    stderr_reader: Option<std::thread::JoinHandle<()>>,
 }
 
 impl Harness {
@@ -212,17 +206,8 @@ impl Harness {
         let socket = dir.join("board.sock");
         let stats = dir.join("stats.json");
         let mut cmd = Command::new(&config.node);
-        cmd.arg(&config.script)
-            .arg("--elf")
-            .arg(elf)
-            .arg("--pins")
-            .arg(pins)
-            .arg("--socket")
-            .arg(&socket)
-            .arg("--stats")
-            .arg(&stats)
-            .arg("--seed")
-            .arg(config.seed.to_string());
+        cmd.arg(&config.script).arg("--elf").arg(elf).arg("--pins").arg(pins).arg("--socket").arg(&socket);
+        cmd.arg("--stats").arg(&stats).arg("--seed").arg(config.seed.to_string());
         if let Some(rtt) = &config.rtt {
             cmd.arg("--rtt").arg(rtt);
         }
@@ -235,73 +220,20 @@ impl Harness {
         if config.overlap {
             cmd.arg("--overlap");
         }
-        cmd.stdin(Stdio::null()).stdout(Stdio::null()).stderr(Stdio::piped());
-        // SAFETY: the closure runs in the forked child before exec and only calls `prctl`, which is
-        // async-signal-safe; it touches no memory of the parent.
-        unsafe {
-            cmd.pre_exec(|| {
-                if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL) != 0 {
-                    return Err(std::io::Error::last_os_error());
-                }
-                Ok(())
-            });
-        }
-        let mut child =
-            cmd.spawn().map_err(|source| HarnessError::Spawn { program: config.node.clone(), source })?;
-        let (stderr, stderr_reader) = collect(child.stderr.take());
-        let child = Arc::new(Mutex::new(child));
-        let done = Arc::new((Mutex::new(false), Condvar::new()));
-        watchdog(Arc::clone(&child), Arc::clone(&done), config.timeout);
-        let mut harness = Harness { child, done, dir, stats, stderr, stderr_reader };
-        let link = harness.connect(&socket)?;
+        let process = Emulator::spawn(&mut cmd, config.timeout)
+            .map_err(|source| HarnessError::Spawn { program: config.node.clone(), source })?;
+        let mut harness = Harness { process, dir, stats };
+        let link = harness.process.connect(&socket, Duration::from_secs(20)).map_err(|e| match e {
+            ConnectError::Exited { status, stderr } => HarnessError::Exited { status, stderr },
+            ConnectError::Timeout { path, source } => HarnessError::Connect { path, source },
+        })?;
         Ok((harness, link))
-    }
-
-    fn connect(&mut self, socket: &Path) -> Result<StreamLink, HarnessError> {
-        let deadline = Instant::now() + Duration::from_secs(20);
-        loop {
-            match StreamLink::unix(socket) {
-                Ok(link) => return Ok(link),
-                Err(source) => {
-                    if let Some(status) = self.try_status() {
-                        self.join_stderr();
-                        return Err(HarnessError::Exited { status, stderr: self.stderr() });
-                    }
-                    if Instant::now() >= deadline {
-                        return Err(HarnessError::Connect { path: socket.to_owned(), source });
-                    }
-                    std::thread::sleep(Duration::from_millis(10));
-                }
-            }
-        }
-    }
-
-    fn join_stderr(&mut self) {
-        if let Some(reader) = self.stderr_reader.take() {
-            let _ = reader.join();
-        }
-    }
-
-    /// The exit status, if the harness has exited.
-    pub fn try_status(&self) -> Option<ExitStatus> {
-        self.child.lock().ok()?.try_wait().ok().flatten()
     }
 
     /// Waits up to `timeout` for the harness to exit (after EXIT, or once the link is closed); kills it
     /// when the time is up and returns `None`.
     pub fn wait(&mut self, timeout: Duration) -> Option<ExitStatus> {
-        let deadline = Instant::now() + timeout;
-        loop {
-            if let Some(status) = self.try_status() {
-                self.join_stderr();
-                return Some(status);
-            }
-            if Instant::now() >= deadline {
-                self.kill();
-                return None;
-            }
-            std::thread::sleep(Duration::from_millis(5));
-        }
+        self.process.wait(timeout)
     }
 
     /// The figures the harness wrote when the run ended (call after [`Harness::wait`]).
@@ -317,25 +249,12 @@ impl Harness {
 
     /// What the harness printed on stderr so far (its settings, its summary, its errors).
     pub fn stderr(&self) -> String {
-        self.stderr.lock().map(|b| String::from_utf8_lossy(&b).into_owned()).unwrap_or_default()
-    }
-
-    fn kill(&self) {
-        if let Ok(mut child) = self.child.lock() {
-            let _ = child.kill();
-            let _ = child.wait();
-        }
+        self.process.stderr()
     }
 }
 
 impl Drop for Harness {
     fn drop(&mut self) {
-        self.kill();
-        let (flag, cvar) = &*self.done;
-        if let Ok(mut done) = flag.lock() {
-            *done = true;
-            cvar.notify_all();
-        }
         let _ = std::fs::remove_dir_all(&self.dir);
     }
 }
@@ -343,6 +262,7 @@ impl Drop for Harness {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::emit::board::{InputSpec, OutputSpec};
     use crate::model::{Automaton, Kind};
 
     fn events() -> EventTable {
@@ -352,35 +272,29 @@ mod tests {
         EventTable::build([&a]).unwrap()
     }
 
-    fn board(text: &str) -> BoardSpec {
-        #[derive(serde::Deserialize)]
-        struct File {
-            board: BoardSpec,
+    fn board() -> BoardSpec {
+        BoardSpec {
+            name: "t".into(),
+            sampling: SamplingSpec::Timer,
+            sample_period_us: Some(500),
+            inputs: vec![InputSpec {
+                event: "done".into(),
+                pin: 3,
+                edge: "rising".into(),
+                pull: "down".into(),
+            }],
+            outputs: vec![OutputSpec {
+                event: "go".into(),
+                pin: 5,
+                action: "pulse".into(),
+                pulse_ms: Some(20),
+            }],
         }
-        toml::from_str::<File>(text).unwrap().board
     }
-
-    const BOARD: &str = r#"
-        [board]
-        name = "t"
-        sampling = "timer"
-        sample_period_us = 500
-        [[board.inputs]]
-        event = "done"
-        pin = 3
-        edge = "rising"
-        pull = "down"
-        [[board.outputs]]
-        event = "go"
-        pin = 5
-        action = "pulse"
-        pulse_ms = 20
-    "#;
 
     #[test]
     fn pin_map_names_events_by_their_firmware_ids() {
-        let map: serde_json::Value =
-            serde_json::from_str(&pin_map(&board(BOARD), &events()).unwrap()).unwrap();
+        let map: serde_json::Value = serde_json::from_str(&pin_map(&board(), &events()).unwrap()).unwrap();
         assert_eq!(map["sampling"], "timer");
         assert_eq!(map["sample_period_us"], 500);
         assert_eq!(
@@ -395,13 +309,14 @@ mod tests {
 
     #[test]
     fn pin_map_refuses_an_event_no_pin_carries() {
-        let no_output = BOARD.split("[[board.outputs]]").next().unwrap();
+        let no_output = BoardSpec { outputs: vec![], ..board() };
         assert_eq!(
-            pin_map(&board(no_output), &events()),
+            pin_map(&no_output, &events()),
             Err(PinMapError::Unmapped { what: "command", event: "go".into(), pin: "output pin" })
         );
-        let stranger = BOARD.replace("\"done\"", "\"nope\"");
-        assert_eq!(pin_map(&board(&stranger), &events()), Err(PinMapError::UnknownEvent("nope".into())));
+        let mut stranger = board();
+        stranger.inputs[0].event = "nope".into();
+        assert_eq!(pin_map(&stranger, &events()), Err(PinMapError::UnknownEvent("nope".into())));
     }
 
     #[test]
