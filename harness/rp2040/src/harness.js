@@ -3,12 +3,13 @@
 // input pins (`pins.js`), output pin changes become commands back to the host, the control bytes are
 // answered as the QEMU firmware answers them, and what only pins show is counted.
 //
-// Events reach the pins in the host's order, one at a time: each waits until the firmware has read the
-// edge before it (edge interrupts: the handler cleared its latch; timer sampling: the next sample) and
-// until its pin may change again (`pins.js`). On real pins two edges inside one read lose their order —
-// the firmware takes them in pin-table order — so an event that has to wait for the read of the one
-// before is counted as *simultaneous*: on a board its order would have been lost. With `together` the
-// harness does not wait and the order is lost as it would be (the report then shows what that does).
+// Events reach the pins in the host's order: two edges the firmware reads at once (one sample, one pass
+// of the edge handler) it takes in its own order — the pin table's — not in the order they came, so an
+// event whose edge comes while an earlier one is still unread is *simultaneous*, and is made at once only
+// if the firmware's order puts it after every unread one; else it waits until they have been read (edge
+// interrupts: the handler cleared their latches; timer sampling: the next sample). With `together` the
+// harness does not wait and the order is lost as on real pins (the report then shows what that does).
+// An event also waits until its pin may change again (`pins.js`).
 // Nor does an event reach the pins while a command pulse is being given: a device commanded by a pulse
 // answers once it has the whole pulse, and the plant's answer must not let the firmware fire the same
 // pulse again while it is still high (`overlap` lifts this; the events that waited are counted).
@@ -73,7 +74,10 @@ export class Harness {
       edges: 0,
       deferred: 0,
       after_pulse: 0,
+      longest_wait_us: 0,
+      longest_queue: 0,
       simultaneous: 0,
+      kept_in_order: 0,
       missed: 0,
       during_decide: 0,
       unmapped: 0,
@@ -162,9 +166,13 @@ export class Harness {
     if (this.finished || this.off) return;
     const b = this.board;
     this.pump();
+    const head = this.queue[0];
     const waitsForPin =
-      this.running && this.queue.length > 0 && (this.unread.length === 0 || this.together) && (this.pulsing.size === 0 || this.overlap);
-    const ready = waitsForPin ? this.pins.readyAt(this.queue[0].event) : Infinity;
+      this.running &&
+      head !== undefined &&
+      (this.together || this.inOrder(head.event)) &&
+      (this.pulsing.size === 0 || this.overlap);
+    const ready = waitsForPin ? this.pins.readyAt(head.event) : Infinity;
     const next = Math.min(this.timeline.length > 0 ? this.timeline[0].at : Infinity, ready);
     b.run(next, STEP_BUDGET);
     while (this.timeline.length > 0 && this.timeline[0].at <= b.nanos) this.applyEdge(this.timeline.shift());
@@ -209,7 +217,8 @@ export class Harness {
 
   /** Queues uncontrollable event `event` for its edge (`pump`). */
   inject(event) {
-    this.queue.push({ event, waited: false, deferred: false, afterPulse: false });
+    this.queue.push({ event, since: this.board.nanos, waited: false, reordered: false, deferred: false, afterPulse: false });
+    this.stats.longest_queue = Math.max(this.stats.longest_queue, this.queue.length);
   }
 
   /**
@@ -226,7 +235,11 @@ export class Harness {
         head.waited = true;
         this.stats.simultaneous++;
       }
-      if (this.unread.length > 0 && !this.together) return;
+      if (this.unread.length > 0 && !this.together && !this.inOrder(head.event)) {
+        if (!head.reordered) this.stats.kept_in_order++;
+        head.reordered = true;
+        return;
+      }
       if (this.pulsing.size > 0 && !this.overlap) {
         if (!head.afterPulse) this.stats.after_pulse++;
         head.afterPulse = true;
@@ -238,6 +251,7 @@ export class Harness {
         return;
       }
       this.queue.shift();
+      this.stats.longest_wait_us = Math.max(this.stats.longest_wait_us, Math.round((b.nanos - head.since) / 1000));
       const { edges, problem } = this.pins.edgesFor(head.event, b.nanos);
       if (problem) {
         this.stats[problem]++;
@@ -247,6 +261,12 @@ export class Harness {
       for (const e of later) this.schedule(e);
       this.applyEdge(edge);
     }
+  }
+
+  /** Whether the firmware, reading `event`'s edge with the unread ones, takes it after all of them. */
+  inOrder(event) {
+    const order = this.pins.orderOf(event);
+    return this.unread.every((u) => u.order < order);
   }
 
   /** Drops the edges the firmware has read from `unread` (edge interrupts: their latch is clear; timer
@@ -276,7 +296,7 @@ export class Harness {
       const bit = level ? EDGE_HIGH : EDGE_LOW;
       if (this.pins.sampling === 'interrupt' && b.latched(pin) & bit) this.stats.missed++; // latch still full
       if (b.deciding) this.stats.during_decide++;
-      this.unread.push({ pin, bit });
+      this.unread.push({ pin, bit, order: this.pins.orderOf(event) });
     } else if (this.pins.sampling === 'timer') {
       // A pulse's return: the firmware saw the pulse only if it sampled while it lasted.
       const open = this.sampled ? undefined : this.unread.find((u) => u.pin === pin);

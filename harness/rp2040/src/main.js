@@ -111,7 +111,7 @@ function main() {
         { seed: opts.seed, inputPulseNs, shortPulseNs: opts.shortPulseUs * 1000, together: opts.together, overlap: opts.overlap },
         (bytes) => socket.write(bytes),
         log === null ? null : (bytes) => fs.writeSync(log, bytes),
-        trace === null ? null : (line) => fs.writeSync(trace, `${(performance.now()*1000).toFixed(0)} ${line}\n`),
+        trace === null ? null : (line) => fs.writeSync(trace, `${line}\n`),
       );
     } catch (e) {
       fail(e.message);

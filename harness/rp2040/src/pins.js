@@ -56,14 +56,17 @@ export class PinMap {
 
     /** Per input pin: { pin, kind: 'pulse' | 'level', rest, level, freeAt }. */
     this.inputPins = new Map();
-    /** Per event: { pin, edge }, the first input mapped to it. */
+    /** Per event: { pin, edge, order }, the first input mapped to it. */
     this.inputOf = new Map();
-    for (const i of inputs) {
+    for (const [index, i] of inputs.entries()) {
       const pin = checkPin(i.pin);
       const event = checkEvent(i.event);
       if (!['rising', 'falling', 'both'].includes(i.edge)) fail(`input ${i.name}: edge '${i.edge}'`);
       if (!['floating', 'up', 'down'].includes(i.pull)) fail(`input ${i.name}: pull '${i.pull}'`);
-      if (!this.inputOf.has(event)) this.inputOf.set(event, { pin, edge: i.edge, name: i.name });
+      // The order the firmware takes edges read at once in: the table's with timer sampling
+      // (`Board::changes`), pin by pin with edge interrupts (the handler scans the pins in ascending order).
+      const order = sampling === 'timer' ? index : pin * inputs.length + index;
+      if (!this.inputOf.has(event)) this.inputOf.set(event, { pin, edge: i.edge, name: i.name, order });
       const on = inputs.filter((j) => j.pin === pin);
       const kind = on.length === 1 && i.edge !== 'both' ? 'pulse' : 'level';
       const rest = kind === 'pulse' ? i.edge === 'falling' : i.pull === 'up';
@@ -102,6 +105,11 @@ export class PinMap {
       p.level = p.rest;
       p.freeAt = 0;
     }
+  }
+
+  /** Where `event` comes among edges the firmware reads at once (-1 for an unmapped event). */
+  orderOf(event) {
+    return this.inputOf.get(event)?.order ?? -1;
   }
 
   /** When the input pin of `event` may change next (0 for an unmapped event). */
@@ -153,9 +161,9 @@ export class PinMap {
   }
 }
 
-/** The default input pulse width: two sampling periods in timer mode (a level that long is always
- * sampled, whatever the jitter of the sampling tick), 100 µs with edge interrupts (which latch any
- * edge). */
+/** The default input pulse width: one and a half sampling periods in timer mode (a level that long is
+ * sampled at least once, whatever the jitter of the sampling tick), 100 µs with edge interrupts (which
+ * latch any edge). The firmware samples on a 1 ms tick, so never more often than every millisecond. */
 export function defaultInputPulseNs(map) {
-  return map.sampling === 'timer' ? 2 * Math.max(map.sample_period_us, 1000) * US : 100 * US;
+  return map.sampling === 'timer' ? 1.5 * Math.max(map.sample_period_us, 1000) * US : 100 * US;
 }

@@ -41,6 +41,7 @@ function legacy(name) {
     parts.push(name.slice(i, i + len));
     i += len;
   }
+  if (name[i] !== 'E') throw new Malformed(name);
   if (parts.length > 1 && /^h[0-9a-f]{16}$/.test(parts[parts.length - 1])) parts.pop();
   const unescape = (p) =>
     p
