@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
+use codegen::emit::board::SamplingSpec;
 use codegen::emit::HostTables;
 use codegen::formats::read_path;
 use codegen::link::memory::MemoryLink;
@@ -13,9 +14,10 @@ use codegen::link::ByteLink;
 use codegen::model::{Automaton, Kind};
 use codegen::monitor::Report;
 use codegen::pack::PackSet;
-use codegen::plant::closed_loop::{run_under_qemu, Options};
-use codegen::plant::image::build_qemu_image;
+use codegen::plant::closed_loop::{run_on_rp2040, run_under_qemu, Options};
+use codegen::plant::image::{build_pico_image, build_qemu_image};
 use codegen::plant::project::Project;
+use codegen::rp2040::pin_map;
 use firmware::choice::Policy;
 use firmware::input_queue::InputQueue;
 use firmware::link::{Hold, Link, Poll, Port, READY};
@@ -158,6 +160,32 @@ pub fn qemu_closed_loop(project: &Project, options: &Options) -> Report {
     let scratch = Scratch::new(&project.runtime.name);
     let elf = firmware_image(project, &scratch);
     run_under_qemu(&elf, &project.set, &project.runtime.name, options, &mut |_| {})
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Emits `project`'s tables and pin map with the board reading its inputs by `sampling` (timer sampling
+/// every millisecond), builds the Pico firmware on them in `scratch`; returns the ELF and the pin map file.
+pub fn pico_image(project: &Project, sampling: SamplingSpec, scratch: &Scratch) -> (PathBuf, PathBuf) {
+    let mut project = project.clone();
+    let board =
+        project.runtime.board.as_mut().unwrap_or_else(|| panic!("{}: no [board]", project.runtime.name));
+    board.sampling = sampling;
+    board.sample_period_us = (sampling == SamplingSpec::Timer).then_some(1000);
+    let pins = scratch.path().join("pins.json");
+    std::fs::write(&pins, pin_map(board, project.set.events()).unwrap_or_else(|e| panic!("{e}"))).unwrap();
+    let tables = scratch.path().join("tables.rs");
+    std::fs::write(&tables, project.emit().unwrap_or_else(|e| panic!("emit: {e}"))).unwrap();
+    let elf =
+        build_pico_image(&tables, &scratch.path().join("firmware.elf")).unwrap_or_else(|e| panic!("{e}"));
+    (elf, pins)
+}
+
+/// Builds `project`'s Pico firmware for `sampling` and runs the closed loop with `options` on the emulated
+/// RP2040, through the board's pins.
+pub fn pico_closed_loop(project: &Project, sampling: SamplingSpec, options: &Options) -> Report {
+    let scratch = Scratch::new(&format!("{}-pico", project.runtime.name));
+    let (elf, pins) = pico_image(project, sampling, &scratch);
+    run_on_rp2040(&elf, &pins, &project.set, &project.runtime.name, options, &mut |_| {})
         .unwrap_or_else(|e| panic!("{e}"))
 }
 

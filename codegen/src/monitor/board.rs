@@ -72,9 +72,16 @@ pub struct BoardFigures {
     pub deferred: u64,
     /// Events that waited for a command pulse to end.
     pub after_pulse: u64,
-    /// Events that came while the firmware had not read the edge before: on real pins the two would be
-    /// read at once, their order lost (simultaneity).
+    /// Longest an event waited for its edge, in µs of emulated time.
+    pub longest_wait_us: u64,
+    /// Most events waiting for their edges at once.
+    pub longest_queue: u64,
+    /// Events whose edge came while the firmware had not read the one before: two edges in one read
+    /// (simultaneity), which the firmware takes in its pin table's order, not in the order they came.
     pub simultaneous: u64,
+    /// Of those, the ones that waited for the read because the firmware would have taken them first: on
+    /// real pins their order would have been lost.
+    pub kept_in_order: u64,
     /// Edges the firmware never saw (a pulse between two samples, or a latch still full).
     pub missed: u64,
     /// Edges that arrived while the firmware was inside `decide` (inexact synchronisation).
@@ -108,19 +115,21 @@ impl fmt::Display for BoardFigures {
         };
         writeln!(
             f,
-            "  pins      {} ({} sampling{period}), {} ms emulated, {} boots: {} input edges, {} simultaneous, \
-             {} missed, {} during a decision, {} deferred, {} after a pulse; {} commands seen, {} short pulses \
-             (< {} µs), {} fired but not shown",
+            "  pins      {} ({} sampling{period}), {} ms emulated, {} boots: {} input edges, {} simultaneous \
+             ({} kept in order), {} missed, {} during a decision, {} deferred, {} after a pulse (longest wait \
+             {} µs); {} commands seen, {} short pulses (< {} µs), {} fired but not shown",
             self.target,
             self.sampling,
             self.emulated_ms,
             self.boots,
             self.edges,
             self.simultaneous,
+            self.kept_in_order,
             self.missed,
             self.during_decide,
             self.deferred,
             self.after_pulse,
+            self.longest_wait_us,
             self.commands_seen,
             self.short_pulses,
             self.short_pulse_us,
