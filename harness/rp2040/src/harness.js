@@ -114,6 +114,7 @@ export class Harness {
     this.running = false;
     this.safeAnnounced = false;
     this.off = this.held !== null;
+    this.readySent = this.off;
     this.stats.boots++;
     this.seenThisBoot = 0;
     this.board = new Board(this.image, this.pins, this.bits, {
@@ -347,7 +348,8 @@ export class Harness {
     const { flags } = status;
     if (!this.running && flags & RUNNING) {
       this.running = true;
-      if (this.stats.boots === 1) this.send(Uint8Array.of(READY));
+      if (!this.readySent) this.send(Uint8Array.of(READY));
+      this.readySent = true;
       this.pump();
     }
     if (flags & SAFE_FLAG && !this.safeAnnounced) {

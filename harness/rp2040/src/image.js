@@ -4,6 +4,9 @@
 // anyway and prove nothing — then the core started at the application's vector table, after the
 // second-stage bootloader (which only sets up the flash interface, already usable in the emulator).
 
+import { parseElf } from './elf.js';
+import { findMethod } from './symbols.js';
+
 /** The RP2040's XIP flash window as the Pico fills it (2 MiB), and its SRAM (264 KiB). */
 export const FLASH = { start: 0x10000000, end: 0x10000000 + 2 * 1024 * 1024 };
 export const SRAM = { start: 0x20000000, end: 0x20000000 + 264 * 1024 };
@@ -60,4 +63,27 @@ export function loadImage(mcu, elf) {
   core.VTOR = VECTOR_TABLE;
   core.SP = mcu.readUint32(VECTOR_TABLE);
   core.PC = mcu.readUint32(VECTOR_TABLE + 4) & ~1;
+}
+
+/**
+ * The firmware image in `bytes` (the file `file`), checked (`checkImage`), with the addresses the harness
+ * needs: `{ elf, status, rtt, probes: { apply, decide } }` — the `SCT_STATUS` block the firmware
+ * publishes, its `_SEGGER_RTT` control block (if any), and the runtime's two entry points. Throws
+ * (`ElfError`, `ImageError`, or an `Error` for a missing symbol) naming the file.
+ */
+export function firmwareImage(bytes, file) {
+  const elf = parseElf(bytes, file);
+  checkImage(elf, file);
+  const symbol = (name) => elf.symbols.find((s) => s.name === name)?.value;
+  const status = symbol('SCT_STATUS');
+  if (status === undefined) throw new ImageError(`${file}: no SCT_STATUS symbol (is it the cell-pico firmware?)`);
+  try {
+    const probes = {
+      apply: findMethod(elf.symbols, 'firmware::runtime::Runtime', 'apply'),
+      decide: findMethod(elf.symbols, 'firmware::runtime::Runtime', 'decide'),
+    };
+    return { elf, status, rtt: symbol('_SEGGER_RTT'), probes };
+  } catch (e) {
+    throw new ImageError(`${file}: ${e.message}`);
+  }
 }

@@ -3,23 +3,21 @@
 // board for the one host that connects (README of this directory).
 //
 //   node src/main.js --elf FILE --pins FILE.json --socket PATH [--seed N] [--input-pulse-us N]
-//                    [--short-pulse-us N] [--rtt FILE] [--stats FILE]
+//                    [--short-pulse-us N] [--together] [--overlap] [--rtt FILE] [--stats FILE] [--trace FILE]
 
 import fs from 'node:fs';
 import net from 'node:net';
 import { parseArgs } from 'node:util';
 
-import { parseElf } from './elf.js';
 import { Harness } from './harness.js';
-import { checkImage } from './image.js';
-import { defaultInputPulseNs } from './pins.js';
-import { findMethod } from './symbols.js';
+import { firmwareImage } from './image.js';
+import { defaultInputPulseNs, PinMap } from './pins.js';
 
 /** Wall time one burst of stepping may take before the host's bytes are read again. */
 const SLICE_MS = 2;
 
 const USAGE = `usage: main.js --elf FILE --pins FILE.json --socket PATH [--seed N] [--input-pulse-us N]
-                [--short-pulse-us N] [--rtt FILE] [--stats FILE]`;
+                [--short-pulse-us N] [--together] [--overlap] [--rtt FILE] [--stats FILE] [--trace FILE]`;
 
 function fail(message, code = 2) {
   process.stderr.write(`rp2040 harness: ${message}\n`);
@@ -55,35 +53,23 @@ function options() {
     if (!/^\d+$/.test(v)) fail(`--${name} ${v}: not a non-negative integer`);
     return Number(v);
   };
-  return { ...values, seed: BigInt(values.seed.match(/^\d+$/) ? values.seed : fail(`--seed ${values.seed}: not a number`)), inputPulseUs: number('input-pulse-us'), shortPulseUs: number('short-pulse-us') };
-}
-
-/** The image with the addresses the harness needs; every failure names the file. */
-function image(file) {
-  let elf;
-  try {
-    elf = parseElf(fs.readFileSync(file), file);
-    checkImage(elf, file);
-  } catch (e) {
-    fail(e.message);
-  }
-  const symbol = (name) => elf.symbols.find((s) => s.name === name)?.value;
-  const status = symbol('SCT_STATUS');
-  if (status === undefined) fail(`${file}: no SCT_STATUS symbol (is it the cell-pico firmware?)`);
-  try {
-    const probes = {
-      apply: findMethod(elf.symbols, 'firmware::runtime::Runtime', 'apply'),
-      decide: findMethod(elf.symbols, 'firmware::runtime::Runtime', 'decide'),
-    };
-    return { elf, status, rtt: symbol('_SEGGER_RTT'), probes };
-  } catch (e) {
-    return fail(`${file}: ${e.message}`);
-  }
+  if (!/^\d+$/.test(values.seed)) fail(`--seed ${values.seed}: not a non-negative integer`);
+  return {
+    ...values,
+    seed: BigInt(values.seed),
+    inputPulseUs: number('input-pulse-us'),
+    shortPulseUs: number('short-pulse-us'),
+  };
 }
 
 function main() {
   const opts = options();
-  const img = image(opts.elf);
+  let img;
+  try {
+    img = firmwareImage(fs.readFileSync(opts.elf), opts.elf);
+  } catch (e) {
+    fail(e.message);
+  }
   let map;
   try {
     map = JSON.parse(fs.readFileSync(opts.pins, 'utf8'));
@@ -91,6 +77,11 @@ function main() {
     fail(`${opts.pins}: ${e.message}`);
   }
   const inputPulseNs = opts.inputPulseUs !== undefined ? opts.inputPulseUs * 1000 : defaultInputPulseNs(map);
+  try {
+    new PinMap(map, inputPulseNs); // refused before anyone connects
+  } catch (e) {
+    fail(`${opts.pins}: ${e.message}`);
+  }
   const log = opts.rtt ? fs.openSync(opts.rtt, 'w') : null;
   try {
     fs.rmSync(opts.socket, { force: true });

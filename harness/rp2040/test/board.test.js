@@ -6,25 +6,16 @@ import assert from 'node:assert/strict';
 import fs from 'node:fs';
 import test from 'node:test';
 
-import { parseElf } from '../src/elf.js';
 import { Harness } from '../src/harness.js';
-import { checkImage } from '../src/image.js';
+import { firmwareImage } from '../src/image.js';
 import { defaultInputPulseNs } from '../src/pins.js';
 import { EXIT, GO, HOLD, READY, RESET, STATUS } from '../src/protocol.js';
-import { findMethod } from '../src/symbols.js';
 
 const { PICO_ELF, PICO_PINS } = process.env;
 const skip = !(PICO_ELF && PICO_PINS) && 'needs PICO_ELF and PICO_PINS (cargo test -p end-to-end --test pico sets them)';
 
 function image() {
-  const elf = parseElf(fs.readFileSync(PICO_ELF), PICO_ELF);
-  checkImage(elf, PICO_ELF);
-  const symbol = (name) => elf.symbols.find((s) => s.name === name)?.value;
-  const probes = {
-    apply: findMethod(elf.symbols, 'firmware::runtime::Runtime', 'apply'),
-    decide: findMethod(elf.symbols, 'firmware::runtime::Runtime', 'decide'),
-  };
-  return { elf, status: symbol('SCT_STATUS'), rtt: symbol('_SEGGER_RTT'), probes };
+  return firmwareImage(fs.readFileSync(PICO_ELF), PICO_ELF);
 }
 
 /**
@@ -35,12 +26,13 @@ function drive(script, options = {}) {
   const map = JSON.parse(fs.readFileSync(PICO_PINS, 'utf8'));
   const sent = [];
   const trace = [];
+  const rtt = [];
   const h = new Harness(
     image(),
     map,
     { seed: 5n, inputPulseNs: defaultInputPulseNs(map), shortPulseNs: 1_000_000, ...options },
     (bytes) => sent.push(...bytes),
-    null,
+    (bytes) => rtt.push(...bytes),
     (line) => trace.push(line),
   );
   for (const [steps, bytes] of [...script, [0, [HOLD, STATUS, EXIT]]]) {
@@ -49,14 +41,15 @@ function drive(script, options = {}) {
   }
   for (let i = 0; i < 100_000 && !h.finished; i++) h.step();
   assert.ok(h.finished, 'EXIT answered');
-  return { sent, trace, report: h.report(), status: h.exitStatus, map };
+  return { sent, trace, rtt, report: h.report(), status: h.exitStatus, map };
 }
 
 const eventsOf = (map) => map.inputs.map((i) => i.event);
 const byPin = (map, pin) => map.inputs.find((i) => i.pin === pin).event;
 
 test('boots, says READY, resets on hold and answers STATUS with the published counters', { skip }, () => {
-  const { sent, report, status, map } = drive([[50, [HOLD, STATUS, RESET]], [10, [GO]], [200, []]]);
+  const { sent, report, status, map, rtt } = drive([[50, [HOLD, STATUS, RESET]], [10, [GO]], [200, []]]);
+  assert.ok(rtt.length > 0, 'the defmt frames the firmware wrote over RTT were drained');
   assert.equal(sent.indexOf(READY) >= 0, true);
   const ready = sent.filter((b) => b === READY).length;
   assert.equal(ready, 2, 'once at power-on, once for the RESET');
@@ -70,6 +63,12 @@ test('boots, says READY, resets on hold and answers STATUS with the published co
   const commands = sent.filter((b) => map.outputs.some((o) => o.event === b));
   assert.ok(commands.length > 0, 'the firmware fired its first commands');
   assert.ok(report.cost.idle_decision.calls > 0 && report.cost.decision.calls > 0);
+});
+
+test('a RESET not on hold powers the board on and says READY once its loop runs', { skip }, () => {
+  const { sent, report } = drive([[50, [RESET]], [200, []]]);
+  assert.equal(sent.filter((b) => b === READY).length, 2);
+  assert.equal(report.boots, 2);
 });
 
 test('events reach the firmware through the pins, in the order sent', { skip }, () => {
