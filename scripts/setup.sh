@@ -6,7 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # The components the toolchain file names (rustup installs nothing by itself when RUSTUP_AUTO_INSTALL=0).
-# llvm-tools carries llvm-size and llvm-nm for scripts/footprint.sh.
+# llvm-tools carries llvm-size and llvm-nm for scripts/measure/footprint.py.
 missing=()
 for component in rustfmt clippy llvm-tools rust-src; do
   rustup component list --installed | grep -q "^$component" || missing+=("$component")

@@ -4,11 +4,10 @@
 //! rest back (backpressure), and every event arrives. (The overflow path itself, for a line that cannot
 //! be held back, is exercised against the host-compiled runtime in `loopback.rs`.)
 
-use codegen::emit::Options as Runtime;
-use codegen::plant::closed_loop::{parts, Options};
-use codegen::plant::project::Project;
-use codegen::plant::session::{Session, SessionConfig};
-use codegen::qemu::Qemu;
+use codegen::closed_loop::{parts, Options, Session, SessionConfig};
+use codegen::config::RuntimeConfig;
+use codegen::project::Project;
+use codegen::target::qemu::Qemu;
 use end_to_end::{firmware_image, ticker, Scratch};
 
 /// Input buffer capacity of the test firmware.
@@ -16,8 +15,8 @@ const CAPACITY: usize = 8;
 
 #[test]
 fn bursts_between_two_decisions_lose_nothing() {
-    let runtime = Runtime { name: "ticker".into(), input_buffer: CAPACITY, ..Runtime::default() };
-    let project = Project::new(vec![ticker()], vec![], runtime).unwrap();
+    let runtime = RuntimeConfig { input_buffer: CAPACITY, ..RuntimeConfig::default() };
+    let project = Project::new("ticker", vec![ticker()], vec![], runtime).unwrap();
     let scratch = Scratch::new("burst");
     let elf = firmware_image(&project, &scratch);
     let options = Options::default();

@@ -1,15 +1,15 @@
 //! The manufacturing cell under QEMU: the real firmware image, synthesised from the cell's manifest,
 //! against the virtual plant for 100 000 events.
 
-use codegen::emit::Policy;
-use codegen::plant::closed_loop::Options;
-use codegen::plant::project::Project;
+use codegen::closed_loop::Options;
+use codegen::config::ChoicePolicy;
+use codegen::project::Project;
 use end_to_end::{example, qemu_closed_loop};
 
 #[test]
 fn cell_is_safe_live_and_fully_covered_for_100_000_events() {
     let project = Project::load(&example("cell/cell.toml")).unwrap();
-    assert_eq!(project.runtime.policy, Policy::RandomLocalQueue);
+    assert_eq!(project.runtime.policy, ChoicePolicy::RandomLocalQueue);
     let mut options = Options { events: 100_000, ..Options::default() };
     options.plant.delay_us = (0, 100);
     let report = qemu_closed_loop(&project, &options);

@@ -1,15 +1,14 @@
 //! The virtual plant driving the firmware's runtime — the very code that ships, compiled for the host —
 //! over an in-memory byte link: the closed loop without QEMU.
 
-use codegen::emit::HostTables;
+use codegen::closed_loop::{attach, parts, Options, Session, SessionConfig};
 use codegen::link::memory;
 use codegen::link::protocol::EXIT;
 use codegen::link::ByteLink;
 use codegen::model::StateId;
 use codegen::pack::{ranked, PackSet};
-use codegen::plant::closed_loop::{attach, parts, Options};
-use codegen::plant::session::{Session, SessionConfig};
 use end_to_end::{published_cell, spawn_host_firmware, ticker};
+use firmware::build::HostTables;
 use firmware::choice::{Random, RandomLocalQueue};
 use firmware::fault::FaultPolicy;
 use firmware::runtime::Config;

@@ -2,11 +2,11 @@
 //! (`harness/rp2040/`), the virtual plant on its pins: 20 000 events with GPIO edge interrupts and
 //! 20 000 with timer sampling. And the harness refuses an image linked for another chip.
 
-use codegen::emit::board::SamplingSpec;
+use codegen::closed_loop::Options;
+use codegen::config::SamplingSpec;
 use codegen::monitor::Report;
-use codegen::plant::closed_loop::Options;
-use codegen::plant::project::Project;
-use codegen::rp2040::{Harness, HarnessConfig, HarnessError};
+use codegen::project::Project;
+use codegen::target::rp2040::{Harness, HarnessConfig, HarnessError};
 use end_to_end::{example, firmware_image, pico_closed_loop, pico_image, Scratch};
 
 fn run(sampling: SamplingSpec) -> Report {

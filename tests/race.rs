@@ -3,9 +3,9 @@
 //! counted with the inexact-synchronisation guard off and on. The guard catches the events already in the
 //! input buffer when a choice is made; those still on the wire no guard can catch.
 
+use codegen::closed_loop::Options;
 use codegen::monitor::Report;
-use codegen::plant::closed_loop::Options;
-use codegen::plant::project::Project;
+use codegen::project::Project;
 use end_to_end::{example, qemu_closed_loop};
 
 fn run(guard: bool) -> Report {

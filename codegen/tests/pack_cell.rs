@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use codegen::formats::read_path;
 use codegen::model::Automaton;
-use codegen::pack::{compact, memory_safe, offset, ranked, report::Report, Layout, PackSet, Role};
+use codegen::pack::{compact, memory_safe, offset, ranked, report::Report, Layout, Measure, PackSet, Role};
 
 fn dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).to_path_buf()
@@ -105,7 +105,7 @@ fn every_layout_decodes_to_the_cell() {
 #[test]
 fn ranked_cell_takes_1028_bytes_of_blocks_and_97_masks() {
     let manifest = dir().join("../examples/cell/cell.toml");
-    let project = codegen::plant::project::Project::load(&manifest).unwrap();
+    let project = codegen::project::Project::load(&manifest).unwrap();
     for set in [project.set, cell()] {
         let packed = ranked::encode(&set).unwrap();
         assert_eq!(packed.masks.len(), 97);
@@ -159,7 +159,7 @@ fn modular_and_monolithic_rows() {
     let specs = read(&["E1", "E2", "E3", "E4", "E5", "E6", "E7"], "specs");
     let plants: Vec<_> =
         set.members().iter().filter(|m| m.role == Role::Plant).map(|m| m.automaton.clone()).collect();
-    let rows = codegen::pack::comparison::modular_and_monolithic(&plants, &specs, 23, &Default::default());
+    let rows = codegen::project::comparison::modular_and_monolithic(&plants, &specs, 23, &Default::default());
     let columns = |i: usize| {
         let c = rows[i].columns.as_ref().unwrap();
         (c.states, c.transitions, c.matrix(), c.chained_list(), c.memory_safe())

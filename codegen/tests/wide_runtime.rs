@@ -3,9 +3,9 @@
 //! input and decision by decision, is the one the checked readers (`SupervisorSet::step`) give, so the
 //! hot path's unchecked wide reads agree with the checked ones.
 
-use codegen::emit::HostTables;
 use codegen::model::{Automaton, Kind, StateId};
 use codegen::pack::{ranked, PackSet};
+use firmware::build::HostTables;
 use firmware::choice::First;
 use firmware::fault::FaultPolicy;
 use firmware::rng::SeedEntropy;

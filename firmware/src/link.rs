@@ -7,7 +7,7 @@
 //! | byte | direction | meaning |
 //! |---|---|---|
 //! | `0xF0` RESET | host → fw | automata to initial states, counters to zero, safe state left; answered by READY |
-//! | `0xF1` STATUS | both | request; answered by `0xF1` then six `u32` little-endian: events_in, commands_out, unexpected, overflows, guard_redecisions, unknown_bytes |
+//! | `0xF1` STATUS | both | request; answered by `0xF1` then the [`Counters`] in [`STATUS_BYTES`] bytes: six `u32` little-endian, events_in, commands_out, unexpected, overflows, guard_redecisions, unknown_bytes ([`Counters::from_status`] reads them back) |
 //! | `0xF2` EXIT | host → fw | end the emulation: status 0, or 1 in the safe state |
 //! | `0xF3` READY | fw → host | once at boot and after each RESET |
 //! | `0xF4` SAFE | fw → host | a fault put the firmware in the safe state; it stopped deciding |
@@ -18,10 +18,10 @@
 //! through the input buffer in order with the events (so a RESET or STATUS sees every event sent before
 //! it), except HOLD and GO.
 
-use crate::choice::Policy;
+use crate::choice::Choose;
 use crate::input_queue::InputConsumer;
 use crate::rng::Entropy;
-use crate::runtime::{Applied, Decision, Runtime};
+use crate::runtime::{Applied, Counters, Decision, Runtime};
 use core::sync::atomic::{AtomicBool, Ordering};
 
 /// Host → firmware: back to the initial state.
@@ -40,6 +40,27 @@ pub const HOLD: u8 = 0xF5;
 pub const GO: u8 = 0xF6;
 /// Highest event id the link can carry.
 pub const MAX_EVENT: u8 = 0xEF;
+/// Bytes of a STATUS answer after its leading [`STATUS`]: the six counters of
+/// [`Counters::to_array`], each a `u32` little-endian.
+pub const STATUS_BYTES: usize = 24;
+
+impl Counters {
+    /// The counters a STATUS answer carries in its `bytes` after the leading [`STATUS`] (what
+    /// [`Link::service`] sends, read back by the host).
+    pub fn from_status(bytes: &[u8; STATUS_BYTES]) -> Counters {
+        let word = |i: usize| {
+            u32::from_le_bytes([bytes[4 * i], bytes[4 * i + 1], bytes[4 * i + 2], bytes[4 * i + 3]])
+        };
+        Counters {
+            events_in: word(0),
+            commands_out: word(1),
+            unexpected: word(2),
+            overflows: word(3),
+            guard_redecisions: word(4),
+            unknown_bytes: word(5),
+        }
+    }
+}
 
 /// The decision gate that HOLD and GO set from the receive interrupt.
 #[derive(Debug, Default)]
@@ -121,7 +142,7 @@ impl Link {
     /// One turn of the loop: drains the input buffer into the runtime, then takes at most one decision
     /// (unless held) and sends what it fired.
     pub fn service<
-        P: Policy<W>,
+        P: Choose<W>,
         E: Entropy,
         const W: usize,
         const N: usize,

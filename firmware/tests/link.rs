@@ -90,6 +90,26 @@ fn commands_status_reset_and_exit() {
 }
 
 #[test]
+fn a_status_answer_reads_back_as_the_runtimes_counters() {
+    let (set, _) = livelock();
+    let mut rt = runtime(set, FaultPolicy::Continue);
+    let mut q = InputQueue::<8>::new();
+    let (mut tx, mut rx) = q.split();
+    let (hold, mut link, mut wire) = (Hold::new(), Link::new(), Wire::default());
+    settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+    // An unexpected event and a byte that means nothing, so that several counters differ.
+    send(&mut tx, &hold, &[TO4, 0xFE, link::STATUS]);
+    wire.sent.clear();
+    settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+    let at = wire.sent.iter().position(|&b| b == link::STATUS).unwrap();
+    let answer: &[u8; link::STATUS_BYTES] =
+        wire.sent[at + 1..at + 1 + link::STATUS_BYTES].try_into().unwrap();
+    let counters = firmware::runtime::Counters::from_status(answer);
+    assert_eq!(counters, *rt.counters());
+    assert_eq!((counters.commands_out, counters.unexpected, counters.unknown_bytes), (2, 1, 1));
+}
+
+#[test]
 fn hold_queues_a_burst_and_go_releases_it() {
     let (set, _) = livelock();
     let mut rt = runtime(set, FaultPolicy::Continue);

@@ -6,7 +6,7 @@ mod common;
 
 use common::Role;
 use common::{encode, handles, Spec};
-use firmware::choice::{First, GlobalQueue, LocalQueue, Policy, Random, RandomGlobalQueue, RandomLocalQueue};
+use firmware::choice::{Choose, First, GlobalQueue, LocalQueue, Random, RandomGlobalQueue, RandomLocalQueue};
 use firmware::fault::FaultPolicy;
 use firmware::rng::SeedEntropy;
 use firmware::runtime::{Applied, Config, Decision, Runtime};
@@ -53,7 +53,7 @@ fn delta(spec: &Spec, state: usize, event: u8) -> Option<usize> {
     spec.transitions.iter().find(|t| t.0 == state && t.1 == event).map(|t| t.2)
 }
 
-fn check<P: Policy<1> + Default>(
+fn check<P: Choose<1> + Default>(
     specs: &[Spec],
     controllable: &[bool],
     ops: &[Op],

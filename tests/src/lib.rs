@@ -6,19 +6,18 @@ use std::path::{Path, PathBuf};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
-use codegen::emit::board::SamplingSpec;
-use codegen::emit::HostTables;
+use codegen::closed_loop::{run_on_rp2040, run_under_qemu, Options};
+use codegen::config::SamplingSpec;
 use codegen::formats::read_path;
 use codegen::link::memory::MemoryLink;
 use codegen::link::ByteLink;
 use codegen::model::{Automaton, Kind};
 use codegen::monitor::Report;
 use codegen::pack::PackSet;
-use codegen::plant::closed_loop::{run_on_rp2040, run_under_qemu, Options};
-use codegen::plant::image::{build_pico_image, build_qemu_image};
-use codegen::plant::project::Project;
-use codegen::rp2040::pin_map;
-use firmware::choice::Policy;
+use codegen::project::Project;
+use codegen::target::rp2040::pin_map;
+use firmware::build::HostTables;
+use firmware::choice::Choose;
 use firmware::input_queue::InputQueue;
 use firmware::link::{Hold, Link, Poll, Port, READY};
 use firmware::rng::SeedEntropy;
@@ -83,7 +82,7 @@ pub fn spawn_host_firmware<
     mut link: MemoryLink,
 ) -> JoinHandle<Option<u8>>
 where
-    P: Policy<W> + Send + 'static,
+    P: Choose<W> + Send + 'static,
 {
     std::thread::spawn(move || {
         let set = tables.set();
@@ -150,42 +149,35 @@ impl Drop for Scratch {
 
 /// Emits `project`'s tables and builds the QEMU firmware on them, in `scratch`; returns the ELF.
 pub fn firmware_image(project: &Project, scratch: &Scratch) -> PathBuf {
-    let tables = scratch.path().join("tables.rs");
-    std::fs::write(&tables, project.emit().unwrap_or_else(|e| panic!("emit: {e}"))).unwrap();
-    build_qemu_image(&tables, &scratch.path().join("firmware.elf")).unwrap_or_else(|e| panic!("{e}"))
+    project.image(scratch.path()).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Builds `project`'s firmware, boots it under QEMU and runs the closed loop with `options`.
 pub fn qemu_closed_loop(project: &Project, options: &Options) -> Report {
-    let scratch = Scratch::new(&project.runtime.name);
+    let scratch = Scratch::new(&project.name);
     let elf = firmware_image(project, &scratch);
-    run_under_qemu(&elf, &project.set, &project.runtime.name, options, &mut |_| {})
-        .unwrap_or_else(|e| panic!("{e}"))
+    run_under_qemu(&elf, &project.set, &project.name, options, &mut |_| {}).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Emits `project`'s tables and pin map with the board reading its inputs by `sampling` (timer sampling
 /// every millisecond), builds the Pico firmware on them in `scratch`; returns the ELF and the pin map file.
 pub fn pico_image(project: &Project, sampling: SamplingSpec, scratch: &Scratch) -> (PathBuf, PathBuf) {
     let mut project = project.clone();
-    let board =
-        project.runtime.board.as_mut().unwrap_or_else(|| panic!("{}: no [board]", project.runtime.name));
+    let board = project.board.as_mut().unwrap_or_else(|| panic!("{}: no [board]", project.name));
     board.sampling = sampling;
     board.sample_period_us = (sampling == SamplingSpec::Timer).then_some(1000);
     let pins = scratch.path().join("pins.json");
     std::fs::write(&pins, pin_map(board, project.set.events()).unwrap_or_else(|e| panic!("{e}"))).unwrap();
-    let tables = scratch.path().join("tables.rs");
-    std::fs::write(&tables, project.emit().unwrap_or_else(|e| panic!("emit: {e}"))).unwrap();
-    let elf =
-        build_pico_image(&tables, &scratch.path().join("firmware.elf")).unwrap_or_else(|e| panic!("{e}"));
+    let elf = project.pico_image(scratch.path()).unwrap_or_else(|e| panic!("{e}"));
     (elf, pins)
 }
 
 /// Builds `project`'s Pico firmware for `sampling` and runs the closed loop with `options` on the emulated
 /// RP2040, through the board's pins.
 pub fn pico_closed_loop(project: &Project, sampling: SamplingSpec, options: &Options) -> Report {
-    let scratch = Scratch::new(&format!("{}-pico", project.runtime.name));
+    let scratch = Scratch::new(&format!("{}-pico", project.name));
     let (elf, pins) = pico_image(project, sampling, &scratch);
-    run_on_rp2040(&elf, &pins, &project.set, &project.runtime.name, options, &mut |_| {})
+    run_on_rp2040(&elf, &pins, &project.set, &project.name, options, &mut |_| {})
         .unwrap_or_else(|e| panic!("{e}"))
 }
 

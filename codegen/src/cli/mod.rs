@@ -9,7 +9,6 @@ mod inspect;
 mod pack;
 mod plant;
 mod run;
-mod set;
 mod synth;
 
 use std::error::Error as StdError;

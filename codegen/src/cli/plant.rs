@@ -5,11 +5,11 @@ use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use codegen::closed_loop::{attach, Options};
 use codegen::link::Endpoint;
 use codegen::monitor::Report;
-use codegen::plant::closed_loop::{attach, Options};
-use codegen::plant::project::Project;
 use codegen::plant::PlantConfig;
+use codegen::project::Project;
 
 use super::Error;
 
@@ -113,7 +113,7 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     let options = args.run.options(project.runtime.seed);
     let mut link = args.connect.connect().map_err(|e| format!("connecting to {:?}: {e}", args.connect))?;
     let mut progress = Progress::new(options.events);
-    let report = attach(&mut link, &project.set, &project.runtime.name, &options, &mut |r| progress.show(r));
+    let report = attach(&mut link, &project.set, &project.name, &options, &mut |r| progress.show(r));
     progress.clear();
     finish(&report?, args.run.json)
 }

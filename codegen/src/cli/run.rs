@@ -4,11 +4,10 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use codegen::emit::board::SamplingSpec;
-use codegen::plant::closed_loop::{run_on_rp2040, run_under_qemu};
-use codegen::plant::image::{build_pico_image, build_qemu_image};
-use codegen::plant::project::Project;
-use codegen::rp2040::pin_map;
+use codegen::closed_loop::{run_on_rp2040, run_under_qemu};
+use codegen::config::SamplingSpec;
+use codegen::project::Project;
+use codegen::target::rp2040::pin_map;
 
 use super::plant::{finish, Progress, RunArgs};
 use super::Error;
@@ -61,35 +60,30 @@ enum Sampling {
 
 /// Runs `run`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
-    let mut project = Project::load(&args.manifest)?;
+    let project = Project::load(&args.manifest)?;
     if args.target == Target::Rp2040 {
         return run_rp2040(args, project);
     }
     if args.sampling.is_some() || args.sample_period_us.is_some() || args.rtt.is_some() {
         return Err("--sampling, --sample-period-us and --rtt go with --target rp2040".into());
     }
-    project.runtime.board = None;
     let options = args.run.options(project.runtime.seed);
     let scratch = Scratch::new()?;
-    let tables = scratch.0.join("tables.rs");
-    std::fs::write(&tables, project.emit()?).map_err(|e| format!("{}: {e}", tables.display()))?;
-    eprintln!("codegen run: building the {} firmware for QEMU", project.runtime.name);
-    let elf = build_qemu_image(&tables, &scratch.0.join("firmware.elf"))?;
+    eprintln!("codegen run: building the {} firmware for QEMU", project.name);
+    let elf = project.image(&scratch.0)?;
     eprintln!(
         "codegen run: closed loop under QEMU for {} events, plant seed {}",
         options.events, options.plant.seed
     );
     let mut progress = Progress::new(options.events);
-    let report =
-        run_under_qemu(&elf, &project.set, &project.runtime.name, &options, &mut |r| progress.show(r));
+    let report = run_under_qemu(&elf, &project.set, &project.name, &options, &mut |r| progress.show(r));
     progress.clear();
     finish(&report?, args.run.json)
 }
 
 /// `run --target rp2040`: the Pico firmware on the manifest's pins, sampling as asked.
 fn run_rp2040(args: Args, mut project: Project) -> Result<ExitCode, Error> {
-    let board =
-        project.runtime.board.as_mut().ok_or("--target rp2040: the manifest has no [board] section")?;
+    let board = project.board.as_mut().ok_or("--target rp2040: the manifest has no [board] section")?;
     match args.sampling {
         Some(Sampling::Interrupt) => {
             board.sampling = SamplingSpec::Interrupt;
@@ -108,19 +102,17 @@ fn run_rp2040(args: Args, mut project: Project) -> Result<ExitCode, Error> {
     options.rp2040.seed = options.plant.seed;
     options.rp2040.rtt = args.rtt.clone();
     let scratch = Scratch::new()?;
-    let tables = scratch.0.join("tables.rs");
-    std::fs::write(&tables, project.emit()?).map_err(|e| format!("{}: {e}", tables.display()))?;
     let pins_file = scratch.0.join("pins.json");
     std::fs::write(&pins_file, pins).map_err(|e| format!("{}: {e}", pins_file.display()))?;
-    eprintln!("codegen run: building the {} firmware for the Pico", project.runtime.name);
-    let elf = build_pico_image(&tables, &scratch.0.join("firmware.elf"))?;
+    eprintln!("codegen run: building the {} firmware for the Pico", project.name);
+    let elf = project.pico_image(&scratch.0)?;
     eprintln!(
         "codegen run: closed loop on an emulated RP2040 for {} events, plant seed {}",
         options.events, options.plant.seed
     );
     let mut progress = Progress::new(options.events);
-    let name = project.runtime.name.clone();
-    let report = run_on_rp2040(&elf, &pins_file, &project.set, &name, &options, &mut |r| progress.show(r));
+    let report =
+        run_on_rp2040(&elf, &pins_file, &project.set, &project.name, &options, &mut |r| progress.show(r));
     progress.clear();
     finish(&report?, args.run.json)
 }

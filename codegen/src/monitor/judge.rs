@@ -4,8 +4,7 @@ use std::collections::{BTreeSet, VecDeque};
 
 use super::coverage::{Edge, Graph, Taken};
 use super::report::{CoverageLine, FirmwareCounters, Report};
-use crate::model::{Automaton, EventId, EventTable, ModelError};
-use crate::plant::Composition;
+use crate::model::{Automaton, Composition, EventId, EventTable, ModelError};
 
 /// Most firmware views kept at once; the ones that have seen the most events win.
 const MAX_VIEWS: usize = 64;
@@ -334,8 +333,8 @@ impl Monitor {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::testing::{automaton, machine};
     use crate::model::Kind;
-    use crate::plant::composition::tests::{automaton, machine};
 
     /// Two machines and a one-slot buffer between them (the textbook small factory, no breakdowns):
     /// the supervisor lets M1 start only when the buffer is empty and M2 only when it is full.

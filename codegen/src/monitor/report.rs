@@ -2,15 +2,17 @@
 
 use std::fmt;
 
+use firmware::runtime::Counters;
 use serde::Serialize;
 
-use super::BoardFigures;
+use crate::target::rp2040::BoardFigures;
 
 /// Version of the JSON form of [`Report`]; bumped when a field changes meaning or goes away (2: `target`
 /// and `board`).
 pub const SCHEMA: u32 = 2;
 
-/// The firmware's own counters (link STATUS answer), summed over every reset of a run.
+/// The firmware's own counters ([`Counters`], the link's STATUS answer) summed over every reset of a run,
+/// as the report prints them.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct FirmwareCounters {
     /// Uncontrollable events it took into its input buffer.
@@ -25,6 +27,19 @@ pub struct FirmwareCounters {
     pub guard_redecisions: u64,
     /// Bytes that were neither an event id nor a known control byte.
     pub unknown_bytes: u64,
+}
+
+impl From<Counters> for FirmwareCounters {
+    fn from(c: Counters) -> Self {
+        FirmwareCounters {
+            events_in: c.events_in.into(),
+            commands_out: c.commands_out.into(),
+            unexpected: c.unexpected.into(),
+            overflows: c.overflows.into(),
+            guard_redecisions: c.guard_redecisions.into(),
+            unknown_bytes: c.unknown_bytes.into(),
+        }
+    }
 }
 
 impl FirmwareCounters {

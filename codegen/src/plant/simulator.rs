@@ -1,7 +1,7 @@
 //! The virtual plant proper: the product system G1..Gn as the physical world the controller drives.
 
-use super::{Composition, Rng};
-use crate::model::{Automaton, EventId, EventTable, ModelError};
+use super::Rng;
+use crate::model::{Automaton, Composition, EventId, EventTable, ModelError};
 
 /// How the virtual plant produces its uncontrollable events. Every draw comes from one [`Rng`] seeded
 /// with [`PlantConfig::seed`], so the same seed and the same commands give the same events.
@@ -226,7 +226,7 @@ impl VirtualPlant {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plant::composition::tests::machine;
+    use crate::model::testing::machine;
     use proptest::prelude::*;
 
     fn two_machines(config: PlantConfig) -> (VirtualPlant, EventTable) {

@@ -1,0 +1,276 @@
+//! A closed-loop session: the virtual plant and the monitor driving a firmware over a byte link.
+//!
+//! The session owns the link protocol's control side. [`Session::sync`] brings the firmware to a known
+//! point (HOLD, STATUS to collect its counters, RESET, wait for READY, GO); [`Session::run`] then
+//! exchanges events until the monitor has seen the requested number: the plant's events go out after
+//! their drawn delays (bursts as one write), every command coming back is judged, taken by the plant
+//! and may be answered at once (a race). A violation, an unresolved desynchronisation, a firmware fault
+//! or a stall resets both sides and the run goes on; all of it is counted.
+
+use std::time::{Duration, Instant};
+
+use crate::link::protocol::{Decoder, Frame, GO, HOLD, RESET, STATUS};
+use crate::link::ByteLink;
+use crate::model::EventId;
+use crate::monitor::{FirmwareCounters, Monitor, Report, Verdict};
+use crate::plant::VirtualPlant;
+
+/// Longest single wait on the link, so the plant's timers stay accurate.
+const POLL: Duration = Duration::from_millis(2);
+/// How often the progress callback runs.
+const PROGRESS_EVERY: Duration = Duration::from_millis(200);
+
+/// Timing of a session.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SessionConfig {
+    /// How long to wait for a READY or STATUS answer.
+    pub answer_timeout: Duration,
+    /// With nothing for the plant to do and no command for this long, the loop is blocked: reset.
+    pub stall_timeout: Duration,
+}
+
+impl Default for SessionConfig {
+    fn default() -> Self {
+        SessionConfig { answer_timeout: Duration::from_secs(10), stall_timeout: Duration::from_secs(2) }
+    }
+}
+
+/// A session failed to talk to the firmware.
+#[derive(Debug, thiserror::Error)]
+pub enum SessionError {
+    /// The link failed or closed.
+    #[error("link: {0}")]
+    Io(#[from] std::io::Error),
+    /// The firmware did not answer in time.
+    #[error("no {what} answer from the firmware within {} ms", timeout.as_millis())]
+    NoAnswer {
+        /// What was awaited.
+        what: &'static str,
+        /// How long.
+        timeout: Duration,
+    },
+}
+
+/// The virtual plant and the monitor attached to one firmware link; see the module documentation.
+pub struct Session<'a, L: ByteLink + ?Sized> {
+    link: &'a mut L,
+    plant: &'a mut VirtualPlant,
+    monitor: &'a mut Monitor,
+    config: SessionConfig,
+    decoder: Decoder,
+    inbox: std::collections::VecDeque<Frame>,
+    start: Instant,
+    /// Times the plant's next emission is due; `None` while it has nothing to produce.
+    next_emit: Option<Instant>,
+    last_activity: Instant,
+    /// Bytes from the firmware that the protocol does not define in its direction.
+    garbled: u64,
+}
+
+impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
+    /// A session over `link`; nothing is sent until [`Session::sync`].
+    pub fn new(
+        link: &'a mut L,
+        plant: &'a mut VirtualPlant,
+        monitor: &'a mut Monitor,
+        config: SessionConfig,
+    ) -> Self {
+        let now = Instant::now();
+        Session {
+            link,
+            plant,
+            monitor,
+            config,
+            decoder: Decoder::default(),
+            inbox: Default::default(),
+            start: now,
+            next_emit: Some(now),
+            last_activity: now,
+            garbled: 0,
+        }
+    }
+
+    /// The monitor's figures so far.
+    pub fn report(&self) -> &Report {
+        self.monitor.report()
+    }
+
+    /// Brings the firmware to its initial state, in step with plant and monitor, and lets it decide.
+    /// With `count`, the counters the firmware had (since its last reset) go into the report; the first
+    /// sync of a run passes `false`, since what the firmware did before was not monitored.
+    pub fn sync(&mut self, count: bool) -> Result<(), SessionError> {
+        self.hold_and_collect(count)?;
+        self.link.send(&[RESET])?;
+        self.await_frame("READY", |f| f == Frame::Ready)?;
+        self.plant.reset();
+        self.monitor.reset();
+        if count {
+            self.monitor.report_mut().resyncs += 1;
+        }
+        self.link.send(&[GO])?;
+        self.next_emit = Some(Instant::now());
+        self.last_activity = Instant::now();
+        Ok(())
+    }
+
+    /// Stops the firmware deciding and adds its counters to the report. The firmware's later commands
+    /// are not judged; call at the end of a run, or before a reset.
+    pub fn hold_and_collect(&mut self, count: bool) -> Result<FirmwareCounters, SessionError> {
+        self.link.send(&[HOLD, STATUS])?;
+        let mut counters = FirmwareCounters::default();
+        self.await_frame("STATUS", |f| match f {
+            Frame::Status(c) => {
+                counters = c.into();
+                true
+            }
+            _ => false,
+        })?;
+        if count {
+            self.monitor.firmware_counters(counters);
+        }
+        Ok(counters)
+    }
+
+    /// Runs the closed loop until the monitor has seen `events` events in all, calling `progress` now
+    /// and then.
+    pub fn run(&mut self, events: u64, progress: &mut dyn FnMut(&Report)) -> Result<(), SessionError> {
+        let mut last_progress = Instant::now();
+        let mut buf = [0u8; 256];
+        while self.monitor.report().events < events {
+            let now = Instant::now();
+            if self.next_emit.is_some_and(|t| t <= now) {
+                self.emit()?;
+            }
+            let wait = self.next_emit.map_or(POLL, |t| t.saturating_duration_since(Instant::now()).min(POLL));
+            let n = self.link.recv(&mut buf, wait)?;
+            for &b in &buf[..n] {
+                if let Some(frame) = self.decoder.push(b) {
+                    self.inbox.push_back(frame);
+                }
+            }
+            while let Some(frame) = self.inbox.pop_front() {
+                self.handle(frame)?;
+            }
+            if self.next_emit.is_none() && self.last_activity.elapsed() > self.config.stall_timeout {
+                self.monitor.report_mut().stalls += 1;
+                self.sync(true)?;
+            }
+            if last_progress.elapsed() >= PROGRESS_EVERY {
+                last_progress = Instant::now();
+                progress(self.monitor.report());
+            }
+        }
+        Ok(())
+    }
+
+    /// Ends the run: holds the firmware, collects its counters and completes the report.
+    pub fn finish(mut self) -> Result<Report, SessionError> {
+        self.hold_and_collect(true)?;
+        let seconds = self.start.elapsed().as_secs_f64();
+        let garbled = self.garbled;
+        self.monitor.list_uncovered();
+        let report = self.monitor.report_mut();
+        report.garbled = garbled;
+        report.finish(seconds);
+        Ok(report.clone())
+    }
+
+    /// Holds the firmware, sends `n` uncontrollable events the plant produces one after another as one
+    /// write, and lets the firmware go: a burst of `n` inputs between two of its decisions. Returns
+    /// the number sent (fewer when the plant ran out of events).
+    pub fn burst(&mut self, n: usize) -> Result<usize, SessionError> {
+        self.link.send(&[HOLD])?;
+        let mut bytes = Vec::with_capacity(n + 1);
+        let t = self.micros();
+        while bytes.len() < n {
+            let Some(e) = self.plant.emit_one(|_| None) else { break };
+            self.monitor.uncontrollable(e, t);
+            bytes.push(e.as_u32() as u8);
+        }
+        let sent = bytes.len();
+        bytes.push(GO);
+        self.link.send(&bytes)?;
+        self.last_activity = Instant::now();
+        Ok(sent)
+    }
+
+    fn micros(&self) -> u64 {
+        u64::try_from(self.start.elapsed().as_micros()).unwrap_or(u64::MAX)
+    }
+
+    fn emit(&mut self) -> Result<(), SessionError> {
+        let len = self.plant.burst_len();
+        let t = self.micros();
+        let mut bytes = Vec::with_capacity(len);
+        let mut violated = false;
+        while bytes.len() < len && !violated {
+            let monitor = &mut *self.monitor;
+            let Some(e) = self.plant.emit_one(|e| monitor.distance_after(e)) else { break };
+            bytes.push(e.as_u32() as u8);
+            violated = self.monitor.uncontrollable(e, t) == Verdict::Violation;
+        }
+        if bytes.is_empty() {
+            self.next_emit = None;
+            return Ok(());
+        }
+        self.link.send(&bytes)?;
+        if violated {
+            return self.sync(true);
+        }
+        self.last_activity = Instant::now();
+        self.next_emit = Some(Instant::now() + Duration::from_micros(self.plant.next_delay_us(false)));
+        Ok(())
+    }
+
+    fn handle(&mut self, frame: Frame) -> Result<(), SessionError> {
+        match frame {
+            Frame::Command(c) => {
+                self.last_activity = Instant::now();
+                let event = EventId::from_u32(u32::from(c));
+                match self.monitor.command(event, self.micros()) {
+                    Verdict::Ok | Verdict::Desync { resolved: true } => {
+                        self.plant.set_state(self.monitor.plant_state());
+                        let delay = Duration::from_micros(self.plant.next_delay_us(true));
+                        let due = Instant::now() + delay;
+                        self.next_emit = Some(self.next_emit.map_or(due, |t| t.min(due)));
+                    }
+                    Verdict::Desync { resolved: false } | Verdict::Violation => self.sync(true)?,
+                }
+            }
+            Frame::Safe => {
+                self.monitor.firmware_safe();
+                self.sync(true)?;
+            }
+            Frame::Ready | Frame::Status(_) => {}
+            Frame::Unknown(_) => self.garbled += 1,
+        }
+        Ok(())
+    }
+
+    /// Reads until `want` accepts a frame; frames before it are dropped (they predate the sync point).
+    fn await_frame(
+        &mut self,
+        what: &'static str,
+        mut want: impl FnMut(Frame) -> bool,
+    ) -> Result<(), SessionError> {
+        let deadline = Instant::now() + self.config.answer_timeout;
+        let mut buf = [0u8; 256];
+        loop {
+            while let Some(frame) = self.inbox.pop_front() {
+                if want(frame) {
+                    return Ok(());
+                }
+            }
+            let left = deadline.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                return Err(SessionError::NoAnswer { what, timeout: self.config.answer_timeout });
+            }
+            let n = self.link.recv(&mut buf, left.min(Duration::from_millis(50)))?;
+            for &b in &buf[..n] {
+                if let Some(frame) = self.decoder.push(b) {
+                    self.inbox.push_back(frame);
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,11 @@
+//! What a firmware is configured with besides its tables: the run-time configuration ([`RuntimeConfig`],
+//! the manifest's `[runtime]`) and the pin map of a real board ([`BoardSpec`], `[board]`).
+//!
+//! These are plain values: the manifest deserialises them, `codegen emit`'s options override them, and
+//! [`crate::emit`] writes them into the tables. Nothing here reads a file or knows a table.
+
+mod board;
+mod runtime;
+
+pub use board::{BoardSpec, InputSpec, OutputSpec, SamplingSpec};
+pub use runtime::{ChoicePolicy, OnFault, RuntimeConfig};
