@@ -141,7 +141,7 @@ pub fn run_under_qemu(
 }
 
 /// Runs the Pico image `elf` on the RP2040 harness with the pin map file `pins`
-/// ([`crate::rp2040::pin_map`]), runs the closed loop through its pins, ends the run and adds the
+/// ([`crate::target::rp2040::pin_map`]), runs the closed loop through its pins, ends the run and adds the
 /// harness's figures (what only pins show, the runtime's cost on the M0+) to the report.
 pub fn run_on_rp2040(
     elf: &Path,
