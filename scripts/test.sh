@@ -13,10 +13,13 @@ cargo clippy -p firmware --features qemu --target thumbv7m-none-eabi --release -
 cargo clippy -p firmware --features pico --target thumbv6m-none-eabi --release --bins -- -D warnings
 cargo qemu-build
 cargo pico-build
-# Measurements, checked against .ci/expected/ (the scripts' own tests first): the runtime's cost under QEMU,
-# the footprint from the symbol table in both symbol manglings rustc uses.
+# Measurements, checked against .ci/expected/ (the scripts' own tests first): the runtime's cost under QEMU
+# and on the emulated RP2040 (with the Pico build's footprint), the footprint from the symbol table in both
+# symbol manglings rustc uses. (The Pico closed loop and the RP2040 harness's own tests run in
+# `cargo test`: tests/pico.rs.)
 python3 -m unittest discover -s scripts/measure
 python3 scripts/measure/cost.py
+python3 scripts/measure/pico_cost.py
 python3 scripts/measure/footprint.py
 python3 scripts/measure/footprint.py --target-dir target/v0-mangling \
   --cargo-config 'target.thumbv7m-none-eabi.rustflags=["-Csymbol-mangling-version=v0"]' | tail -n 20

@@ -18,7 +18,7 @@ const CODEGEN: &[&[&str]] = &[
 
 /// firmware's library modules, lowest layer first (the applications in `src/bin/` sit on top).
 const FIRMWARE: &[&[&str]] = &[
-    &["board", "event_set", "fault", "input_queue", "rng"],
+    &["board", "event_set", "fault", "input_queue", "rng", "status"],
     &["table"],
     &["build", "choice"],
     &["runtime"],

@@ -21,4 +21,5 @@ pub mod input_queue;
 pub mod link;
 pub mod rng;
 pub mod runtime;
+pub mod status;
 pub mod table;

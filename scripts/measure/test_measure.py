@@ -10,6 +10,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 import cost  # noqa: E402
 import expect  # noqa: E402
 import footprint  # noqa: E402
+import pico_cost  # noqa: E402
 
 LEGACY = [
     (170, "t", "firmware::runtime::Runtime$LT$P$C$E$C$_$C$_$C$_$C$_$GT$::apply::h6306e7a570cfb011"),
@@ -74,6 +75,47 @@ events in 9906, commands out 4928, unexpected 0
     def test_a_wrong_calibration_fails(self):
         with self.assertRaises(SystemExit):
             cost.parse(self.GOOD.replace("3201 ticks", "2000 ticks"))
+
+
+class PicoCost(unittest.TestCase):
+    @staticmethod
+    def call(calls, avg, mx):
+        return {"calls": calls, "avg_cycles": avg * 1.5, "max_cycles": mx * 2, "avg_instructions": avg,
+                "max_instructions": mx}
+
+    def report(self, **board):
+        cost_ = {"apply": self.call(11000, 340, 499), "decision": self.call(8800, 574, 1003),
+                 "idle_decision": self.call(9000, 61, 61), "redecision": self.call(0, 0, 0)}
+        return {"target": "rp2040", "violations": 0, "board": {"hidden_commands": 0, "missed": 0, "cost": cost_, **board}}
+
+    def test_figures(self):
+        f = pico_cost.parse(self.report())
+        self.assertEqual((f["apply.avg"], f["apply.max"], f["decide.avg"], f["decide.max"]), (340, 499, 574, 1003))
+        self.assertEqual((f["apply.cycles.avg"], f["decide.cycles.max"], f["idle_decide.avg"]), (510, 2006, 61))
+        self.assertNotIn("idle_decide.max", f)
+
+    def test_a_qemu_report_or_a_broken_run_fails(self):
+        with self.assertRaises(SystemExit):
+            pico_cost.parse({"target": "qemu", "board": None})
+        with self.assertRaises(SystemExit) as e:
+            pico_cost.parse(self.report(hidden_commands=2))
+        self.assertIn("2 hidden commands", str(e.exception.code))
+        bad = self.report()
+        bad["board"]["cost"]["decision"]["calls"] = 0
+        with self.assertRaises(SystemExit):
+            pico_cost.parse(bad)
+
+    def test_an_image_linked_for_another_chip_fails(self):
+        pico = [(".vector_table", 0x1000_0100, 192), (".boot2", 0x1000_0000, 256), (".text", 0x1000_01C0, 9572),
+                (".data", 0x2000_0000, 60), (".bss", 0x2000_003C, 88), (".uninit", 0x2000_0094, 1308)]
+        pico_cost.check_memory("cell-pico", pico)
+        self.assertEqual(pico_cost.footprint(pico), {"flash": 10080, "static_ram": 1456})
+        lm3s = [(".vector_table", 0, 192), (".text", 0xC0, 9280), (".boot2", 0x32C0, 256), (".data", 0x2000_0000, 60)]
+        with self.assertRaises(SystemExit) as e:
+            pico_cost.check_memory("cell-pico", lm3s)
+        self.assertIn("not linked for the RP2040", str(e.exception.code))
+        with self.assertRaises(SystemExit):
+            pico_cost.check_memory("cell-pico", pico + [(".stray", 0x2010_0000, 4)])
 
 
 class Expectations(unittest.TestCase):

@@ -6,7 +6,8 @@ use std::path::{Path, PathBuf};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
-use codegen::closed_loop::{run_under_qemu, Options};
+use codegen::closed_loop::{run_on_rp2040, run_under_qemu, Options};
+use codegen::config::SamplingSpec;
 use codegen::formats::read_path;
 use codegen::link::memory::MemoryLink;
 use codegen::link::ByteLink;
@@ -14,6 +15,7 @@ use codegen::model::{Automaton, Kind};
 use codegen::monitor::Report;
 use codegen::pack::PackSet;
 use codegen::project::Project;
+use codegen::target::rp2040::pin_map;
 use firmware::build::HostTables;
 use firmware::choice::Choose;
 use firmware::input_queue::InputQueue;
@@ -155,6 +157,28 @@ pub fn qemu_closed_loop(project: &Project, options: &Options) -> Report {
     let scratch = Scratch::new(&project.name);
     let elf = firmware_image(project, &scratch);
     run_under_qemu(&elf, &project.set, &project.name, options, &mut |_| {}).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Emits `project`'s tables and pin map with the board reading its inputs by `sampling` (timer sampling
+/// every millisecond), builds the Pico firmware on them in `scratch`; returns the ELF and the pin map file.
+pub fn pico_image(project: &Project, sampling: SamplingSpec, scratch: &Scratch) -> (PathBuf, PathBuf) {
+    let mut project = project.clone();
+    let board = project.board.as_mut().unwrap_or_else(|| panic!("{}: no [board]", project.name));
+    board.sampling = sampling;
+    board.sample_period_us = (sampling == SamplingSpec::Timer).then_some(1000);
+    let pins = scratch.path().join("pins.json");
+    std::fs::write(&pins, pin_map(board, project.set.events()).unwrap_or_else(|e| panic!("{e}"))).unwrap();
+    let elf = project.pico_image(scratch.path()).unwrap_or_else(|e| panic!("{e}"));
+    (elf, pins)
+}
+
+/// Builds `project`'s Pico firmware for `sampling` and runs the closed loop with `options` on the emulated
+/// RP2040, through the board's pins.
+pub fn pico_closed_loop(project: &Project, sampling: SamplingSpec, options: &Options) -> Report {
+    let scratch = Scratch::new(&format!("{}-pico", project.name));
+    let (elf, pins) = pico_image(project, sampling, &scratch);
+    run_on_rp2040(&elf, &pins, &project.set, &project.name, options, &mut |_| {})
+        .unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// A sensor that ticks freely (uncontrollable `tick`) and a controllable acknowledgement `ack` after an odd

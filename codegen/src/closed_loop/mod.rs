@@ -1,7 +1,8 @@
 //! The closed loop: a supervisor set's plants as the [virtual plant](crate::plant), its plants ‖
 //! supervisors as the [monitor](crate::monitor), attached to a firmware over a [link](crate::link) — one
-//! that is already running ([`attach`]), or a firmware image booted under an emulator for the run
-//! ([`run_under_qemu`]). The [`Session`] drives the link protocol's control side.
+//! that is already running ([`attach`]), or a firmware image booted under an emulator for the run: QEMU
+//! ([`run_under_qemu`]), or the Pico image on an emulated RP2040 through its pins ([`run_on_rp2040`]).
+//! The [`Session`] drives the link protocol's control side.
 
 mod session;
 
@@ -17,6 +18,7 @@ use crate::monitor::{ChoiceModel, Monitor, Report};
 use crate::pack::{PackSet, Role};
 use crate::plant::{PlantConfig, VirtualPlant};
 use crate::target::qemu::{Qemu, QemuConfig, QemuError};
+use crate::target::rp2040::{Harness, HarnessConfig, HarnessError};
 
 /// Everything a closed-loop run is configured by, besides the supervisor set.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -31,6 +33,8 @@ pub struct Options {
     pub window_us: u64,
     /// How to start QEMU.
     pub qemu: QemuConfig,
+    /// How to start the RP2040 harness.
+    pub rp2040: HarnessConfig,
     /// The controller's choice policy as the plant's steering models it.
     pub choices: ChoiceModel,
 }
@@ -43,6 +47,7 @@ impl Default for Options {
             session: SessionConfig::default(),
             window_us: 500_000,
             qemu: QemuConfig::default(),
+            rp2040: HarnessConfig::default(),
             choices: ChoiceModel::RandomLocalQueue,
         }
     }
@@ -55,6 +60,7 @@ impl Options {
         let mut options = Options { events, ..Options::default() };
         options.qemu.timeout = Duration::from_secs(60)
             + Duration::from_millis(10).saturating_mul(u32::try_from(events).unwrap_or(u32::MAX));
+        options.rp2040.timeout = options.qemu.timeout;
         options
     }
 }
@@ -68,12 +74,15 @@ pub enum ClosedLoopError {
     /// The emulator did not start.
     #[error(transparent)]
     Qemu(#[from] QemuError),
+    /// The RP2040 harness did not start, or its figures could not be read.
+    #[error(transparent)]
+    Harness(#[from] HarnessError),
     /// Talking to the firmware failed.
-    #[error("{source}{}", if stderr.is_empty() { String::new() } else { format!("\nqemu stderr: {stderr}") })]
+    #[error("{source}{}", if stderr.is_empty() { String::new() } else { format!("\nemulator stderr: {stderr}") })]
     Session {
         /// Why.
         source: SessionError,
-        /// What QEMU printed on stderr, if it ran.
+        /// What the emulator printed on stderr, if it ran.
         stderr: String,
     },
 }
@@ -106,6 +115,7 @@ pub fn attach(
     progress: &mut dyn FnMut(&Report),
 ) -> Result<Report, ClosedLoopError> {
     let (mut plant, mut monitor) = parts(set, options)?;
+    monitor.report_mut().target = "link".into();
     monitor.report_mut().name = name.to_owned();
     monitor.report_mut().seed = options.plant.seed;
     let mut session = Session::new(link, &mut plant, &mut monitor, options.session.clone());
@@ -123,12 +133,39 @@ pub fn run_under_qemu(
     progress: &mut dyn FnMut(&Report),
 ) -> Result<Report, ClosedLoopError> {
     let (mut qemu, mut link) = Qemu::start(elf, &options.qemu)?;
-    let report = attach(&mut link, set, name, options, progress).map_err(|e| match e {
+    let mut report = attach(&mut link, set, name, options, progress).map_err(|e| match e {
         ClosedLoopError::Session { source, .. } => ClosedLoopError::Session { source, stderr: qemu.stderr() },
         other => other,
     })?;
+    report.target = "qemu".into();
     // Leaving is a courtesy: the report is complete, and dropping `qemu` kills it anyway.
     let _ = link.send(&[EXIT]);
     let _ = qemu.wait(Duration::from_secs(5));
+    Ok(report)
+}
+
+/// Runs the Pico image `elf` on the RP2040 harness with the pin map file `pins`
+/// ([`crate::target::rp2040::pin_map`]), runs the closed loop through its pins, ends the run and adds the
+/// harness's figures (what only pins show, the runtime's cost on the M0+) to the report.
+pub fn run_on_rp2040(
+    elf: &Path,
+    pins: &Path,
+    set: &PackSet,
+    name: &str,
+    options: &Options,
+    progress: &mut dyn FnMut(&Report),
+) -> Result<Report, ClosedLoopError> {
+    let (mut harness, mut link) = Harness::start(elf, pins, &options.rp2040)?;
+    let mut report = attach(&mut link, set, name, options, progress).map_err(|e| match e {
+        ClosedLoopError::Session { source, .. } => {
+            ClosedLoopError::Session { source, stderr: harness.stderr() }
+        }
+        other => other,
+    })?;
+    report.target = "rp2040".into();
+    let _ = link.send(&[EXIT]);
+    drop(link);
+    harness.wait(Duration::from_secs(10));
+    report.board = Some(harness.figures()?);
     Ok(report)
 }

@@ -13,7 +13,8 @@
 //!   resets, and the firmware's own counters (overflows, guard re-decisions, unexpected events), from
 //!   which events lost silently are derived.
 //!
-//! The figures end up in a [`Report`], printed as a table or as JSON.
+//! The figures end up in a [`Report`], printed as a table or as JSON; a run on a board's pins adds what
+//! only pins show ([`BoardFigures`](crate::target::rp2040::BoardFigures)).
 
 mod choice_model;
 mod coverage;

@@ -5,8 +5,11 @@ use std::fmt;
 use firmware::runtime::Counters;
 use serde::Serialize;
 
-/// Version of the JSON form of [`Report`]; bumped when a field changes meaning or goes away.
-pub const SCHEMA: u32 = 1;
+use crate::target::rp2040::BoardFigures;
+
+/// Version of the JSON form of [`Report`]; bumped when a field changes meaning or goes away (2: `target`
+/// and `board`).
+pub const SCHEMA: u32 = 2;
 
 /// The firmware's own counters ([`Counters`], the link's STATUS answer) summed over every reset of a run,
 /// as the report prints them.
@@ -68,6 +71,9 @@ pub struct CoverageLine {
 pub struct Report {
     /// JSON schema version.
     pub schema: u32,
+    /// What ran the firmware: `qemu`, `rp2040` (emulated Pico, through its pins), or `link` (a firmware
+    /// started elsewhere, `codegen plant`).
+    pub target: String,
     /// Name of the supervisor set.
     pub name: String,
     /// Seed of the virtual plant.
@@ -118,6 +124,8 @@ pub struct Report {
     pub seconds: f64,
     /// Events per second over the run.
     pub events_per_second: f64,
+    /// What the board's pins showed (`rp2040`; `None` over a byte link).
+    pub board: Option<BoardFigures>,
 }
 
 impl Report {
@@ -155,8 +163,9 @@ impl fmt::Display for Report {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(
             f,
-            "closed loop '{}': {} events ({} commands, {} plant events) in {:.2} s, {:.0} events/s, seed {}",
+            "closed loop '{}' on {}: {} events ({} commands, {} plant events) in {:.2} s, {:.0} events/s, seed {}",
             self.name,
+            self.target,
             self.events,
             self.commands,
             self.uncontrollable,
@@ -201,6 +210,9 @@ impl fmt::Display for Report {
         }
         for u in &self.uncovered {
             writeln!(f, "            not taken: {u}")?;
+        }
+        if let Some(board) = &self.board {
+            write!(f, "{board}")?;
         }
         Ok(())
     }

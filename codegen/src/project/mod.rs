@@ -10,7 +10,7 @@
 //! | supervisor set | [`PackSet`] | [`supervisor_set`] |
 //! | tables | [`Packed`] (`ranked`) | [`Project::tables`] |
 //! | emitted source | `String` | [`Project::emit`] |
-//! | firmware image | an ELF | [`Project::image`] |
+//! | firmware image | an ELF | [`Project::image`] (QEMU), [`Project::pico_image`] |
 //!
 //! A [`Project`] carries a supervisor set with what the later stages need besides it: its name, the
 //! run-time configuration, the board's pin map and where it came from (the emitted header's inputs and
@@ -28,7 +28,7 @@ use crate::model::Automaton;
 use crate::pack::ranked::{self, Packed};
 use crate::pack::{PackError, PackSet};
 use crate::synth::{local_modular, Config, SynthError};
-use crate::target::image::{build_qemu_image, ImageError};
+use crate::target::image::{build_pico_image, build_qemu_image, ImageError};
 
 /// A supervisor set with everything the tables, the firmware build and the closed loop need.
 #[derive(Clone, Debug)]
@@ -243,10 +243,21 @@ impl Project {
     /// The firmware-image stage: emits the tables into `dir/tables.rs` and builds the QEMU firmware on
     /// them; returns the ELF, `dir/firmware.elf`.
     pub fn image(&self, dir: &Path) -> Result<PathBuf, ProjectError> {
+        Ok(build_qemu_image(&self.tables_file(dir)?, &dir.join("firmware.elf"))?)
+    }
+
+    /// The same stage for the Raspberry Pi Pico: the tables, with the board's pin map, built into the
+    /// Pico firmware (`cell-pico`); returns the ELF, `dir/firmware.elf`.
+    pub fn pico_image(&self, dir: &Path) -> Result<PathBuf, ProjectError> {
+        Ok(build_pico_image(&self.tables_file(dir)?, &dir.join("firmware.elf"))?)
+    }
+
+    /// Emits the tables into `dir/tables.rs`.
+    fn tables_file(&self, dir: &Path) -> Result<PathBuf, ProjectError> {
         let tables = dir.join("tables.rs");
         std::fs::write(&tables, self.emit()?)
             .map_err(|source| ProjectError::File { path: tables.clone(), source })?;
-        Ok(build_qemu_image(&tables, &dir.join("firmware.elf"))?)
+        Ok(tables)
     }
 }
 

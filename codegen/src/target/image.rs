@@ -1,7 +1,7 @@
-//! Builds the firmware image QEMU boots, for a given tables file.
+//! Builds the firmware images QEMU boots and the RP2040 harness loads, for a given tables file.
 //!
-//! The QEMU application (`firmware`, binary `cell-qemu`) includes the tables named by the `SCT_TABLES`
-//! environment variable. Building it is one `cargo build` in the workspace root (where
+//! The applications (`firmware`, binaries `cell-qemu` and `cell-pico`) include the tables named by the
+//! `SCT_TABLES` environment variable. Building it is one `cargo build` in the workspace root (where
 //! `.cargo/config.toml` holds the Cortex-M link flags). Cargo writes the ELF to one fixed path, so two
 //! builds with different tables would overwrite each other: builds are serialised with a lock file
 //! and each ELF is copied to a path of its own before the lock is released.
@@ -15,6 +15,10 @@ use std::process::{Command, Stdio};
 pub const TARGET: &str = "thumbv7m-none-eabi";
 /// The firmware binary that runs on QEMU.
 pub const BINARY: &str = "cell-qemu";
+/// The Cortex-M target of the Raspberry Pi Pico.
+pub const PICO_TARGET: &str = "thumbv6m-none-eabi";
+/// The Pico's firmware binary (what `cargo pico-build` makes).
+pub const PICO_BINARY: &str = "cell-pico";
 
 /// Building the firmware failed.
 #[derive(Debug, thiserror::Error)]
@@ -36,8 +40,8 @@ pub enum ImageError {
         stderr: String,
     },
     /// Cargo succeeded but named no executable.
-    #[error("cargo built no {BINARY} executable")]
-    NoExecutable,
+    #[error("cargo built no {0} executable")]
+    NoExecutable(&'static str),
 }
 
 /// The workspace root this crate was built in (where `.cargo/config.toml` and `firmware/` are).
@@ -49,6 +53,23 @@ pub fn workspace_root() -> PathBuf {
 /// Builds the QEMU firmware with the tables in `tables` (a Rust source file as `codegen emit` writes it)
 /// and copies the ELF to `out`.
 pub fn build_qemu_image(tables: &Path, out: &Path) -> Result<PathBuf, ImageError> {
+    build_image(tables, out, "qemu", TARGET, BINARY)
+}
+
+/// Builds the Pico firmware with the tables in `tables` (they must carry a `[board]` pin map) and copies
+/// the ELF to `out`.
+pub fn build_pico_image(tables: &Path, out: &Path) -> Result<PathBuf, ImageError> {
+    build_image(tables, out, "pico", PICO_TARGET, PICO_BINARY)
+}
+
+/// `cargo build -p firmware --release --features FEATURE --target TARGET --bin BINARY` on `tables`.
+fn build_image(
+    tables: &Path,
+    out: &Path,
+    feature: &str,
+    target: &str,
+    binary: &'static str,
+) -> Result<PathBuf, ImageError> {
     let root = workspace_root();
     let io = |what: String| move |source| ImageError::Io { what, source };
     let tables = std::fs::canonicalize(tables).map_err(io(format!("tables {}", tables.display())))?;
@@ -67,11 +88,11 @@ pub fn build_qemu_image(tables: &Path, out: &Path) -> Result<PathBuf, ImageError
             "firmware",
             "--release",
             "--features",
-            "qemu",
+            feature,
             "--target",
-            TARGET,
+            target,
             "--bin",
-            BINARY,
+            binary,
         ])
         .arg("--message-format=json-render-diagnostics")
         .env("SCT_TABLES", &tables)
@@ -87,9 +108,9 @@ pub fn build_qemu_image(tables: &Path, out: &Path) -> Result<PathBuf, ImageError
     let elf = String::from_utf8_lossy(&output.stdout)
         .lines()
         .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
-        .filter(|m| m["reason"] == "compiler-artifact" && m["target"]["name"] == BINARY)
+        .filter(|m| m["reason"] == "compiler-artifact" && m["target"]["name"] == binary)
         .find_map(|m| m["executable"].as_str().map(PathBuf::from))
-        .ok_or(ImageError::NoExecutable)?;
+        .ok_or(ImageError::NoExecutable(binary))?;
     std::fs::copy(&elf, out).map_err(io(format!("copying {} to {}", elf.display(), out.display())))?;
     Ok(out.to_path_buf())
 }

@@ -5,17 +5,15 @@
 //! run in parallel; the guest waits until the host connects), semihosting on (the firmware exits QEMU
 //! with a status and logs to QEMU's stdout) and, by default, `-icount shift=7,sleep=off` (deterministic
 //! virtual time that races ahead while the guest sleeps in `wfi`). The child is killed when the [`Qemu`]
-//! value is dropped, when its deadline passes (a watchdog thread), and — on Linux — when the thread that
-//! started it dies (`PR_SET_PDEATHSIG`).
+//! value is dropped, when its deadline passes, and when the thread that started it dies
+//! ([`super::child`]).
 
-use std::io::Read;
-use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, ExitStatus, Stdio};
+use std::process::{Command, ExitStatus};
 use std::sync::atomic::{AtomicU32, Ordering};
-use std::sync::{Arc, Condvar, Mutex};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
+use super::child::{ConnectError, Emulator};
 use crate::link::StreamLink;
 
 /// How to start QEMU.
@@ -85,14 +83,8 @@ pub enum QemuError {
 /// A running emulator; see the module documentation.
 #[derive(Debug)]
 pub struct Qemu {
-    child: Arc<Mutex<Child>>,
-    /// Set (and notified) when the owner is done, so the watchdog stops.
-    done: Arc<(Mutex<bool>, Condvar)>,
+    process: Emulator,
     dir: PathBuf,
-    stdout: Arc<Mutex<Vec<u8>>>,
-    stderr: Arc<Mutex<Vec<u8>>>,
-    /// The thread reading stderr, joined when QEMU exits early so its message is complete.
-    stderr_reader: Option<std::thread::JoinHandle<()>>,
 }
 
 impl Qemu {
@@ -114,137 +106,43 @@ impl Qemu {
         if let Some(shift) = config.icount_shift {
             cmd.arg("-icount").arg(format!("shift={shift},sleep=off"));
         }
-        cmd.arg("-kernel").arg(kernel).stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::piped());
-        // SAFETY: the closure runs in the forked child before exec and only calls `prctl`, which is
-        // async-signal-safe; it touches no memory of the parent.
-        unsafe {
-            cmd.pre_exec(|| {
-                if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL) != 0 {
-                    return Err(std::io::Error::last_os_error());
-                }
-                Ok(())
-            });
-        }
-        let mut child =
-            cmd.spawn().map_err(|source| QemuError::Spawn { program: config.program.clone(), source })?;
-        let (stdout, _) = collect(child.stdout.take());
-        let (stderr, stderr_reader) = collect(child.stderr.take());
-        let child = Arc::new(Mutex::new(child));
-        let done = Arc::new((Mutex::new(false), Condvar::new()));
-        watchdog(Arc::clone(&child), Arc::clone(&done), config.timeout);
-        let mut qemu = Qemu { child, done, dir, stdout, stderr, stderr_reader };
-        let link = qemu.connect(&socket)?;
+        cmd.arg("-kernel").arg(kernel);
+        let process = Emulator::spawn(&mut cmd, config.timeout)
+            .map_err(|source| QemuError::Spawn { program: config.program.clone(), source })?;
+        let mut qemu = Qemu { process, dir };
+        let link = qemu.process.connect(&socket, Duration::from_secs(10)).map_err(|e| match e {
+            ConnectError::Exited { status, stderr } => QemuError::Exited { status, stderr },
+            ConnectError::Timeout { path, source } => QemuError::Connect { path, source },
+        })?;
         Ok((qemu, link))
-    }
-
-    fn connect(&mut self, socket: &Path) -> Result<StreamLink, QemuError> {
-        let deadline = Instant::now() + Duration::from_secs(10);
-        loop {
-            match StreamLink::unix(socket) {
-                Ok(link) => return Ok(link),
-                Err(source) => {
-                    if let Some(status) = self.try_status() {
-                        if let Some(reader) = self.stderr_reader.take() {
-                            let _ = reader.join();
-                        }
-                        return Err(QemuError::Exited { status, stderr: self.stderr() });
-                    }
-                    if Instant::now() >= deadline {
-                        return Err(QemuError::Connect { path: socket.to_owned(), source });
-                    }
-                    std::thread::sleep(Duration::from_millis(10));
-                }
-            }
-        }
     }
 
     /// The exit status, if QEMU has exited.
     pub fn try_status(&self) -> Option<ExitStatus> {
-        self.child.lock().ok()?.try_wait().ok().flatten()
+        self.process.try_status()
     }
 
     /// Waits up to `timeout` for QEMU to exit (after the firmware was told to leave); kills it when the
     /// time is up and returns `None`.
     pub fn wait(&mut self, timeout: Duration) -> Option<ExitStatus> {
-        let deadline = Instant::now() + timeout;
-        loop {
-            if let Some(status) = self.try_status() {
-                return Some(status);
-            }
-            if Instant::now() >= deadline {
-                self.kill();
-                return None;
-            }
-            std::thread::sleep(Duration::from_millis(5));
-        }
+        self.process.wait(timeout)
     }
 
     /// What QEMU printed on stdout so far (semihosting output of the firmware).
     pub fn stdout(&self) -> String {
-        self.stdout.lock().map(|b| String::from_utf8_lossy(&b).into_owned()).unwrap_or_default()
+        self.process.stdout()
     }
 
     /// What QEMU printed on stderr so far.
     pub fn stderr(&self) -> String {
-        self.stderr.lock().map(|b| String::from_utf8_lossy(&b).into_owned()).unwrap_or_default()
-    }
-
-    fn kill(&self) {
-        if let Ok(mut child) = self.child.lock() {
-            let _ = child.kill();
-            let _ = child.wait();
-        }
+        self.process.stderr()
     }
 }
 
 impl Drop for Qemu {
     fn drop(&mut self) {
-        self.kill();
-        let (flag, cvar) = &*self.done;
-        if let Ok(mut done) = flag.lock() {
-            *done = true;
-            cvar.notify_all();
-        }
         let _ = std::fs::remove_dir_all(&self.dir);
     }
-}
-
-/// Reads a child's pipe to the end in a thread, into a shared buffer.
-fn collect(
-    pipe: Option<impl Read + Send + 'static>,
-) -> (Arc<Mutex<Vec<u8>>>, Option<std::thread::JoinHandle<()>>) {
-    let buf = Arc::new(Mutex::new(Vec::new()));
-    let mut reader = None;
-    if let Some(mut pipe) = pipe {
-        let out = Arc::clone(&buf);
-        reader = Some(std::thread::spawn(move || {
-            let mut chunk = [0u8; 4096];
-            while let Ok(n) = pipe.read(&mut chunk) {
-                if n == 0 {
-                    break;
-                }
-                if let Ok(mut b) = out.lock() {
-                    b.extend_from_slice(&chunk[..n]);
-                }
-            }
-        }));
-    }
-    (buf, reader)
-}
-
-/// Kills `child` after `timeout` unless `done` is set first.
-fn watchdog(child: Arc<Mutex<Child>>, done: Arc<(Mutex<bool>, Condvar)>, timeout: Duration) {
-    std::thread::spawn(move || {
-        let (flag, cvar) = &*done;
-        let Ok(guard) = flag.lock() else { return };
-        let Ok((guard, _)) = cvar.wait_timeout_while(guard, timeout, |d| !*d) else { return };
-        if !*guard {
-            if let Ok(mut c) = child.lock() {
-                let _ = c.kill();
-                let _ = c.wait();
-            }
-        }
-    });
 }
 
 #[cfg(test)]

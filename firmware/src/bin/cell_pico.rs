@@ -20,6 +20,7 @@ mod tables {
 use firmware::board::Outputs;
 use firmware::link::{Hold, Note, Port, SAFE};
 use firmware::rng::Entropy;
+use firmware::status::Published;
 use rp2040_hal::gpio::{new_pin, DynBankId, DynPinId, DynPullType, FunctionSioInput, FunctionSioOutput, Pin};
 use rp2040_hal::pac;
 
@@ -33,6 +34,11 @@ const XOSC_HZ: u32 = 12_000_000;
 
 /// Never set: the board has no host link to send HOLD.
 static HOLD: Hold = Hold::new();
+
+/// The runtime's counters after every turn of the loop, for an emulator harness or a debugger
+/// (`firmware::status`; `harness/rp2040/` reads it by this name).
+#[no_mangle]
+static SCT_STATUS: Published = Published::new();
 
 type InPin = Pin<DynPinId, FunctionSioInput, DynPullType>;
 type OutPin = Pin<DynPinId, FunctionSioOutput, DynPullType>;
@@ -97,7 +103,7 @@ impl<L: rtic::Mutex<T = Outs>> Port for Driver<'_, L> {
 
 #[rtic::app(device = rp2040_hal::pac)]
 mod app {
-    use super::{halt, pin, tables, Driver, InPin, Outs, Rosc, Rt, HOLD, XOSC_HZ};
+    use super::{halt, pin, tables, Driver, InPin, Outs, Rosc, Rt, HOLD, SCT_STATUS, XOSC_HZ};
     use embedded_hal::digital::InputPin;
     use firmware::board::{Edge, Outputs, Pull, Sampling};
     use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
@@ -256,7 +262,9 @@ mod app {
     fn idle(mut cx: idle::Context) -> ! {
         let (rx, rt, link) = (cx.local.consumer, cx.local.runtime, cx.local.link);
         loop {
-            match link.service(rt, rx, &HOLD, &mut Driver(&mut cx.shared.outputs)) {
+            let poll = link.service(rt, rx, &HOLD, &mut Driver(&mut cx.shared.outputs));
+            SCT_STATUS.store(&rt.counters().to_array(), rt.is_safe());
+            match poll {
                 Poll::Busy => {}
                 Poll::Idle | Poll::Exit(_) => cortex_m::interrupt::free(|_| {
                     if rx.is_empty() {
