@@ -12,6 +12,7 @@
 
 use std::collections::HashMap;
 
+use super::steering::{Round, Site};
 use crate::config::ChoicePolicy;
 use crate::model::{Composition, EventId};
 
@@ -70,6 +71,24 @@ impl Choices {
                     && closed.local_step(p, local, EventId::from_u32(e)).is_some()
             })
             .collect()
+    }
+
+    /// The choice site `command` is chosen at in `state`, under a policy with rounds: its plant in its
+    /// current state, when that state offers two or more commands.
+    pub fn site(&self, closed: &Composition, state: &[u32], command: u32) -> Option<Site> {
+        if self.model != ChoiceModel::RandomLocalQueue {
+            return None;
+        }
+        let p = (*self.owner.get(command as usize)?)?;
+        (self.offered(closed, p, state[p]).len() >= 2).then_some((p, state[p]))
+    }
+
+    /// Where the round of `site` stands.
+    pub fn round(&self, closed: &Composition, (p, local): Site) -> Round {
+        Round {
+            offered: self.offered(closed, p, local),
+            left: self.rounds.get(&(p, local)).cloned().unwrap_or_default(),
+        }
     }
 
     /// The controller fired `command` in `state`, where `enabled` were the enabled commands; returns the

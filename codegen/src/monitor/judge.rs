@@ -5,7 +5,7 @@ use std::collections::{BTreeSet, VecDeque};
 use super::choice_model::{ChoiceModel, Choices};
 use super::coverage::{Edge, Graph, Taken};
 use super::report::{CoverageLine, FirmwareCounters, Report};
-use super::steering::{Move, Steering};
+use super::steering::{Command, Move, Steering};
 use crate::model::{Automaton, Composition, EventId, EventTable, ModelError};
 
 /// Most firmware views kept at once; the ones that have seen the most events win.
@@ -178,8 +178,8 @@ impl Monitor {
                 .map(EventId::as_u32)
                 .filter(|&e| self.controllable[e as usize])
                 .collect();
-            if self.choices.fired(&self.closed, &self.physical, &enabled, event.as_u32()).is_some() {
-                self.steering.invalidate();
+            if let Some(site) = self.choices.fired(&self.closed, &self.physical, &enabled, event.as_u32()) {
+                self.steering.round_moved(site, &self.choices.round(&self.closed, site));
             }
             if self.taken.record(&self.closed, self.plants, &self.physical, event) {
                 self.steering.invalidate();
@@ -234,14 +234,23 @@ impl Monitor {
         self.steering.refresh(
             graph,
             &self.controllable,
-            |s, e| {
+            |s, commands| {
                 let state = graph.tuple(s);
-                (plants..closed.len()).any(|i| {
-                    closed.has_event(i, EventId::from_u32(e))
-                        && !taken.of(i - plants).contains(&(state[i], e))
-                })
+                let chances = choices.chances(closed, &state, commands);
+                commands
+                    .iter()
+                    .zip(chances)
+                    .map(|(&e, chance)| Command {
+                        target: (plants..closed.len()).any(|i| {
+                            closed.has_event(i, EventId::from_u32(e))
+                                && !taken.of(i - plants).contains(&(state[i], e))
+                        }),
+                        chance,
+                        site: choices.site(closed, &state, e),
+                    })
+                    .collect()
             },
-            |s, commands| choices.chances(closed, &graph.tuple(s), commands),
+            |site| choices.round(closed, site),
         );
     }
 
