@@ -9,7 +9,7 @@ use codegen::model::StateId;
 use codegen::pack::{ranked, PackSet};
 use end_to_end::{published_cell, spawn_host_firmware, ticker};
 use firmware::build::HostTables;
-use firmware::choice::{Random, RandomLocalQueue};
+use firmware::choice::{First, Random, RandomLocalQueue};
 use firmware::fault::FaultPolicy;
 use firmware::runtime::Config;
 
@@ -70,4 +70,22 @@ fn a_burst_up_to_the_buffer_loses_nothing_and_beyond_it_the_overflow_is_reported
     assert_eq!(burst(7), (7, 0));
     let (taken, overflows) = burst(12);
     assert_eq!((taken, overflows), (7, 5), "every event is either taken or counted");
+}
+
+/// A firmware whose choices can never cover the cell (`first` takes the lowest enabled command, so a
+/// choice site's other commands never come): the steering, stuck, restarts the closed loop every 2 000
+/// events without a new transition — and that is neither a violation nor a link resync.
+#[test]
+fn a_stuck_steering_restarts_the_closed_loop() {
+    let set = published_cell();
+    let tables = HostTables::new(ranked::encode(&set).unwrap()).unwrap();
+    let (mut host, target) = memory::pair();
+    let firmware = spawn_host_firmware::<_, 1, 10, false, 3, 33>(tables, CONFIG, First, 7, target);
+    let options = Options { events: 12_000, ..Options::default() };
+    let report = attach(&mut host, &set, "cell", &options, &mut |_| {}).unwrap();
+    host.send(&[EXIT]).unwrap();
+    assert_eq!(firmware.join().unwrap(), Some(0));
+    assert!(!report.full_coverage(), "first cannot cover the cell: {report}");
+    assert!(report.steering_resets >= 2, "{report}");
+    assert_eq!((report.violations, report.resyncs, report.stalls), (0, 0, 0), "{report}");
 }

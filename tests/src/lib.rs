@@ -12,7 +12,7 @@ use codegen::formats::read_path;
 use codegen::link::memory::MemoryLink;
 use codegen::link::ByteLink;
 use codegen::model::{Automaton, Kind};
-use codegen::monitor::Report;
+use codegen::monitor::{ChoiceModel, Report};
 use codegen::pack::PackSet;
 use codegen::project::Project;
 use codegen::target::rp2040::pin_map;
@@ -156,7 +156,8 @@ pub fn firmware_image(project: &Project, scratch: &Scratch) -> PathBuf {
 pub fn qemu_closed_loop(project: &Project, options: &Options) -> Report {
     let scratch = Scratch::new(&project.name);
     let elf = firmware_image(project, &scratch);
-    run_under_qemu(&elf, &project.set, &project.name, options, &mut |_| {}).unwrap_or_else(|e| panic!("{e}"))
+    let options = steered_for(project, options);
+    run_under_qemu(&elf, &project.set, &project.name, &options, &mut |_| {}).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Emits `project`'s tables and pin map with the board reading its inputs by `sampling` (timer sampling
@@ -177,8 +178,14 @@ pub fn pico_image(project: &Project, sampling: SamplingSpec, scratch: &Scratch) 
 pub fn pico_closed_loop(project: &Project, sampling: SamplingSpec, options: &Options) -> Report {
     let scratch = Scratch::new(&format!("{}-pico", project.name));
     let (elf, pins) = pico_image(project, sampling, &scratch);
-    run_on_rp2040(&elf, &pins, &project.set, &project.name, options, &mut |_| {})
+    let options = steered_for(project, options);
+    run_on_rp2040(&elf, &pins, &project.set, &project.name, &options, &mut |_| {})
         .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// `options` with the steering modelling `project`'s choice policy, as `codegen run` does.
+fn steered_for(project: &Project, options: &Options) -> Options {
+    Options { choices: ChoiceModel::of(project.runtime.policy), ..options.clone() }
 }
 
 /// A sensor that ticks freely (uncontrollable `tick`) and a controllable acknowledgement `ack` after an odd

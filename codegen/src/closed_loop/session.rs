@@ -27,6 +27,10 @@ const MAX_STEERED_BURST: usize = 8;
 /// Events without a new transition after which the plant starts to mix its own timing into the
 /// steering, and per how many more events the mix grows by a tenth (up to a half).
 const STAGNATION: u64 = 250;
+/// Events without a new transition after which the steering restarts the closed loop: the monitor's
+/// mirror of the controller's choice rounds may have lost step (a choice the guard dropped still counts
+/// in the firmware's round), and a reset puts both back in step.
+const STEERING_RESET: u64 = 2_000;
 
 /// Timing of a session.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -113,14 +117,21 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
     /// With `count`, the counters the firmware had (since its last reset) go into the report; the first
     /// sync of a run passes `false`, since what the firmware did before was not monitored.
     pub fn sync(&mut self, count: bool) -> Result<(), SessionError> {
+        self.restart(count)?;
+        if count {
+            self.monitor.report_mut().resyncs += 1;
+        }
+        Ok(())
+    }
+
+    /// Resets firmware, plant and monitor to the initial state (the firmware's counters collected when
+    /// `count`) and lets the firmware decide again.
+    fn restart(&mut self, count: bool) -> Result<(), SessionError> {
         self.hold_and_collect(count)?;
         self.link.send(&[RESET])?;
         self.await_frame("READY", |f| f == Frame::Ready)?;
         self.plant.reset();
         self.monitor.reset();
-        if count {
-            self.monitor.report_mut().resyncs += 1;
-        }
         self.link.send(&[GO])?;
         self.next_emit = Some(Instant::now());
         self.last_activity = Instant::now();
@@ -151,6 +162,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         let mut last_progress = Instant::now();
         let mut buf = [0u8; 256];
         while self.monitor.report().events < events {
+            self.explore_when_stuck()?;
             let now = Instant::now();
             if self.next_emit.is_some_and(|t| t <= now) {
                 self.emit()?;
@@ -222,7 +234,6 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             self.next_emit = Some(Instant::now() + PATIENCE);
             return Ok(());
         }
-        self.explore_when_stuck();
         let len = self.plant.burst_len();
         let t = self.micros();
         let mut bytes = Vec::with_capacity(len);
@@ -258,16 +269,23 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         Ok(())
     }
 
-    /// Lets the plant mix its own timing into the steering while no new transition is taken.
-    fn explore_when_stuck(&mut self) {
+    /// Lets the plant mix its own timing into the steering while no new transition is taken, and
+    /// restarts the closed loop when that goes on for long.
+    fn explore_when_stuck(&mut self) -> Result<(), SessionError> {
         let report = self.monitor.report();
         let taken = report.coverage.iter().map(|c| c.taken).sum();
         if taken != self.progress.0 {
             self.progress = (taken, report.events);
         }
         let stuck = report.events - self.progress.1;
+        if stuck >= STEERING_RESET && self.monitor.is_steering() && self.plant.steers() {
+            self.progress.1 = report.events;
+            self.monitor.report_mut().steering_resets += 1;
+            return self.restart(true);
+        }
         let tenths = (stuck / STAGNATION).min(5) as u32;
         self.plant.explore(tenths * 100);
+        Ok(())
     }
 
     fn handle(&mut self, frame: Frame) -> Result<(), SessionError> {

@@ -220,6 +220,12 @@ impl Monitor {
         self.steering.rank_after(next)
     }
 
+    /// Whether the monitor is steering: it could explore the closed loop and some reachable transition
+    /// is not taken yet.
+    pub fn is_steering(&self) -> bool {
+        self.graph.is_some() && !self.report.full_coverage()
+    }
+
     /// Who should move next from the current state to reach a transition not taken yet: the controller
     /// (the plant holds its next event back), or the plant (see [`Move`]).
     pub fn next_move(&mut self) -> Move {

@@ -93,6 +93,8 @@ pub struct Report {
     pub desyncs: u64,
     /// Times the link was reset to bring plant and controller back together.
     pub resyncs: u64,
+    /// Times the plant's steering restarted the closed loop after long without a new transition.
+    pub steering_resets: u64,
     /// Times the closed loop blocked: nothing for the plant to do and no command (then reset).
     pub stalls: u64,
     /// Bytes from the firmware the protocol does not define in that direction.
@@ -185,10 +187,11 @@ impl fmt::Display for Report {
         let fw = &self.firmware;
         writeln!(
             f,
-            "  link      {} desyncs, {} resyncs, {} stalls, {} overflows, {} lost, {} guard re-decisions, \
-             {} unexpected, {} unknown bytes in, {} garbled bytes out",
+            "  link      {} desyncs, {} resyncs, {} steering resets, {} stalls, {} overflows, {} lost, \
+             {} guard re-decisions, {} unexpected, {} unknown bytes in, {} garbled bytes out",
             self.desyncs,
             self.resyncs,
+            self.steering_resets,
             self.stalls,
             self.overflows,
             self.lost,
