@@ -154,10 +154,33 @@ pub fn firmware_image(project: &Project, scratch: &Scratch) -> PathBuf {
 
 /// Builds `project`'s firmware, boots it under QEMU and runs the closed loop with `options`.
 pub fn qemu_closed_loop(project: &Project, options: &Options) -> Report {
+    let seed = options.plant.seed;
+    qemu_closed_loops(project, options, &[seed]).remove(0)
+}
+
+/// Builds `project`'s firmware once and runs the closed loop under QEMU with `options` for each of `seeds`
+/// (the plant's seed), two runs at a time; the reports in the order of `seeds`.
+pub fn qemu_closed_loops(project: &Project, options: &Options, seeds: &[u64]) -> Vec<Report> {
     let scratch = Scratch::new(&project.name);
     let elf = firmware_image(project, &scratch);
     let options = steered_for(project, options);
-    run_under_qemu(&elf, &project.set, &project.name, &options, &mut |_| {}).unwrap_or_else(|e| panic!("{e}"))
+    let run = |seed: u64| {
+        let mut options = options.clone();
+        options.plant.seed = seed;
+        run_under_qemu(&elf, &project.set, &project.name, &options, &mut |_| {})
+            .unwrap_or_else(|e| panic!("seed {seed}: {e}"))
+    };
+    seeds
+        .chunks(2)
+        .flat_map(|pair| {
+            std::thread::scope(|s| {
+                let runs: Vec<_> = pair.iter().map(|&seed| s.spawn(move || run(seed))).collect();
+                runs.into_iter()
+                    .map(|r| r.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+                    .collect::<Vec<_>>()
+            })
+        })
+        .collect()
 }
 
 /// Emits `project`'s tables and pin map with the board reading its inputs by `sampling` (timer sampling
