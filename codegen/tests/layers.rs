@@ -23,6 +23,7 @@ const FIRMWARE: &[&[&str]] = &[
     &["build", "choice"],
     &["runtime"],
     &["link"],
+    &["event_loop"],
 ];
 
 /// Directories and files of `src` that are not library modules.

@@ -15,6 +15,7 @@ pub mod board;
 #[cfg(feature = "build")]
 pub mod build;
 pub mod choice;
+pub mod event_loop;
 pub mod event_set;
 pub mod fault;
 pub mod input_queue;

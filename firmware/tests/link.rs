@@ -1,12 +1,13 @@
-//! The link protocol and every fault path, driven through `Link::service` as the QEMU application does.
+//! The link protocol and every fault path, driven through `EventLoop::turn` as the QEMU application does.
 
 mod common;
 
 use common::{livelock, A, B, TO1, TO4};
 use firmware::choice::LocalQueue;
+use firmware::event_loop::{EventLoop, Note, Poll, Port};
 use firmware::fault::FaultPolicy;
 use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
-use firmware::link::{self, Hold, Link, Note, Poll, Port};
+use firmware::link::{self, Hold};
 use firmware::rng::SeedEntropy;
 use firmware::runtime::{Config, Runtime};
 use firmware::table::{CheckedSet, SupervisorSet};
@@ -36,9 +37,15 @@ fn runtime(set: &'static SupervisorSet<'static, 1>, on_fault: FaultPolicy) -> Rt
 }
 
 /// Services until idle or exit; returns the last poll.
-fn settle(link: &mut Link, rt: &mut Rt, rx: &mut InputConsumer<'_>, hold: &Hold, wire: &mut Wire) -> Poll {
+fn settle(
+    event_loop: &mut EventLoop,
+    rt: &mut Rt,
+    rx: &mut InputConsumer<'_>,
+    hold: &Hold,
+    wire: &mut Wire,
+) -> Poll {
     for _ in 0..100 {
-        match link.service(rt, rx, hold, wire) {
+        match event_loop.turn(rt, rx, hold, wire) {
             Poll::Busy => {}
             other => return other,
         }
@@ -69,24 +76,24 @@ fn commands_status_reset_and_exit() {
     let mut rt = runtime(set, FaultPolicy::Continue);
     let mut q = InputQueue::<8>::new();
     let (mut tx, mut rx) = q.split();
-    let (hold, mut link, mut wire) = (Hold::new(), Link::new(), Wire::default());
-    assert_eq!(settle(&mut link, &mut rt, &mut rx, &hold, &mut wire), Poll::Idle);
+    let (hold, mut event_loop, mut wire) = (Hold::new(), EventLoop::new(), Wire::default());
+    assert_eq!(settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire), Poll::Idle);
     assert_eq!(wire.sent, [A, A], "1 -a-> 3 -a-> 4");
     send(&mut tx, &hold, &[TO1]);
-    settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+    settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
     assert_eq!(wire.sent[2..], [B], "local queue at 1 now takes b");
     wire.sent.clear();
     send(&mut tx, &hold, &[link::STATUS]);
-    settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+    settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
     assert_eq!(status(&wire.sent), [1, 3, 0, 0, 0, 0]);
     wire.sent.clear();
     send(&mut tx, &hold, &[link::RESET, link::STATUS]);
-    settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+    settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
     assert_eq!(wire.sent[0], link::READY);
     assert_eq!(status(&wire.sent[1..]), [0, 0, 0, 0, 0, 0]);
     assert_eq!(wire.sent[26..], [A, A], "back in state 1 with fresh cursors");
     send(&mut tx, &hold, &[link::EXIT]);
-    assert_eq!(settle(&mut link, &mut rt, &mut rx, &hold, &mut wire), Poll::Exit(0));
+    assert_eq!(settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire), Poll::Exit(0));
 }
 
 #[test]
@@ -95,12 +102,12 @@ fn a_status_answer_reads_back_as_the_runtimes_counters() {
     let mut rt = runtime(set, FaultPolicy::Continue);
     let mut q = InputQueue::<8>::new();
     let (mut tx, mut rx) = q.split();
-    let (hold, mut link, mut wire) = (Hold::new(), Link::new(), Wire::default());
-    settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+    let (hold, mut event_loop, mut wire) = (Hold::new(), EventLoop::new(), Wire::default());
+    settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
     // An unexpected event and a byte that means nothing, so that several counters differ.
     send(&mut tx, &hold, &[TO4, 0xFE, link::STATUS]);
     wire.sent.clear();
-    settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+    settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
     let at = wire.sent.iter().position(|&b| b == link::STATUS).unwrap();
     let answer: &[u8; link::STATUS_BYTES] =
         wire.sent[at + 1..at + 1 + link::STATUS_BYTES].try_into().unwrap();
@@ -115,18 +122,18 @@ fn hold_queues_a_burst_and_go_releases_it() {
     let mut rt = runtime(set, FaultPolicy::Continue);
     let mut q = InputQueue::<8>::new();
     let (mut tx, mut rx) = q.split();
-    let (hold, mut link, mut wire) = (Hold::new(), Link::new(), Wire::default());
+    let (hold, mut event_loop, mut wire) = (Hold::new(), EventLoop::new(), Wire::default());
     send(&mut tx, &hold, &[link::HOLD]);
-    assert_eq!(settle(&mut link, &mut rt, &mut rx, &hold, &mut wire), Poll::Idle);
+    assert_eq!(settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire), Poll::Idle);
     assert!(wire.sent.is_empty(), "held: no decision");
     send(&mut tx, &hold, &[link::GO]);
-    settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+    settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
     assert_eq!(wire.sent, [A, A]);
     // Held again, a burst of two inputs is applied in order before the next decision.
     send(&mut tx, &hold, &[link::HOLD, TO1]);
-    settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+    settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
     send(&mut tx, &hold, &[link::GO]);
-    settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+    settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
     assert_eq!(wire.sent[2..], [B]);
 }
 
@@ -149,11 +156,11 @@ fn faults_are_counted_and_continue_keeps_deciding() {
     let mut rt = runtime(set, FaultPolicy::Continue);
     let mut q = InputQueue::<4>::new();
     let (mut tx, mut rx) = q.split();
-    let (hold, mut link, mut wire) = (Hold::new(), Link::new(), Wire::default());
-    settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+    let (hold, mut event_loop, mut wire) = (Hold::new(), EventLoop::new(), Wire::default());
+    settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
     // In state 4: to4 is unexpected; 0xF9 and event 200 are unknown; a (controllable) from the host too.
     send(&mut tx, &hold, &[TO4, 0xF9, 200]);
-    settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+    settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
     send(&mut tx, &hold, &[A]);
     for b in [TO1, TO1] {
         if tx.push(b).is_err() {
@@ -161,7 +168,7 @@ fn faults_are_counted_and_continue_keeps_deciding() {
         }
     }
     tx.count_overflow();
-    settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+    settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
     assert_eq!(
         wire.notes.iter().filter(|n| matches!(n, Note::Unexpected { event: TO4, automaton: 0 })).count(),
         1
@@ -189,21 +196,21 @@ fn each_fault_enters_the_safe_state_which_reset_leaves() {
         let mut rt = runtime(set, FaultPolicy::SafeState);
         let mut q = InputQueue::<4>::new();
         let (mut tx, mut rx) = q.split();
-        let (hold, mut link, mut wire) = (Hold::new(), Link::new(), Wire::default());
-        settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+        let (hold, mut event_loop, mut wire) = (Hold::new(), EventLoop::new(), Wire::default());
+        settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
         assert_eq!(wire.sent, [A, A], "{what}");
         inject(&mut tx);
         tx.push(TO1).unwrap();
-        settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+        settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
         assert_eq!(wire.sent[2..], [link::SAFE], "{what}: SAFE once, no decision after");
         tx.push(link::STATUS).unwrap();
-        settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+        settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
         assert_eq!(wire.sent[3], link::STATUS, "{what}: no second SAFE");
         tx.push(link::EXIT).unwrap();
-        assert_eq!(settle(&mut link, &mut rt, &mut rx, &hold, &mut wire), Poll::Exit(1), "{what}");
+        assert_eq!(settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire), Poll::Exit(1), "{what}");
         wire.sent.clear();
         tx.push(link::RESET).unwrap();
-        settle(&mut link, &mut rt, &mut rx, &hold, &mut wire);
+        settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
         assert_eq!(wire.sent, [link::READY, A, A], "{what}: reset leaves the safe state");
     }
 }

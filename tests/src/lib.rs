@@ -18,8 +18,9 @@ use codegen::project::Project;
 use codegen::target::rp2040::pin_map;
 use firmware::build::HostTables;
 use firmware::choice::Choose;
+use firmware::event_loop::{EventLoop, Poll, Port};
 use firmware::input_queue::InputQueue;
-use firmware::link::{Hold, Link, Poll, Port, READY};
+use firmware::link::{Hold, READY};
 use firmware::rng::SeedEntropy;
 use firmware::runtime::{Config, Runtime};
 use firmware::table::CheckedSet;
@@ -62,7 +63,7 @@ impl Port for Outbox {
     }
 }
 
-/// Runs the firmware's runtime and link service on `tables` in a thread, as the QEMU application does,
+/// Runs the firmware's runtime and event loop on `tables` in a thread, as the QEMU application does,
 /// behind `link`: every chunk of bytes received is pushed into an input buffer of `Q - 1` slots before
 /// the loop runs (so a burst larger than the buffer overflows, which the runtime reports), then the loop
 /// serves until it is idle. The thread ends on EXIT (returning its status) or when the host hangs up.
@@ -92,7 +93,7 @@ where
         let mut queue = InputQueue::<Q>::new();
         let (mut tx, mut rx) = queue.split();
         let hold = Hold::new();
-        let mut service = Link::new();
+        let mut event_loop = EventLoop::new();
         let mut out = Outbox(Vec::new());
         link.send(&[READY]).ok()?;
         let mut buf = [0u8; 512];
@@ -107,7 +108,7 @@ where
                     }
                 }
             }
-            let poll = service.service(&mut rt, &mut rx, &hold, &mut out);
+            let poll = event_loop.turn(&mut rt, &mut rx, &hold, &mut out);
             if !out.0.is_empty() {
                 link.send(&out.0).ok()?;
                 out.0.clear();
