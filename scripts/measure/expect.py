@@ -104,11 +104,13 @@ def rewrite(path, measured):
         for raw in f:
             body, _, comment = raw.rstrip("\n").partition("#")
             m = LINE.match(body.strip())
-            if m and m.group(1) in measured:
-                fields = body.split()
-                fields[1] = f"{measured[m.group(1)]:g}"
-                body = "  ".join(fields)
-                raw = body + (("  #" + comment) if comment else "")
+            value = re.match(r"(\s*\S+\s+)(\S+)(\s*)", body) if m and m.group(1) in measured else None
+            if value:
+                # The new value in the old one's column, the columns after it where they were.
+                text = f"{measured[m.group(1)]:g}"
+                width = len(value.group(2)) + len(value.group(3))
+                padded = text + " " * max(width - len(text), 1 if value.group(3) else 0)
+                raw = value.group(1) + padded + raw.rstrip("\n")[value.end():]
             else:
                 raw = raw.rstrip("\n")
             lines.append(raw)

@@ -137,6 +137,18 @@ class Expectations(unittest.TestCase):
         with self.assertRaises(SystemExit):
             self.check("tables 50 20% <= 55\n", {"tables": 58})
 
+    def test_rewrite_keeps_columns_comments_tolerances_and_goals(self):
+        text = "# sizes\ncode     100   5%   <= 120  # the runtime\ntables   50    0\nnames 7 0\n"
+        with tempfile.NamedTemporaryFile("w", suffix=".size", delete=False) as f:
+            f.write(text)
+        try:
+            expect.rewrite(f.name, {"code": 98, "tables": 1524, "names": 9})
+            with open(f.name, encoding="utf-8") as g:
+                self.assertEqual(g.read(), "# sizes\ncode     98    5%   <= 120  # the runtime\n"
+                                           "tables   1524 0\nnames 9 0\n")
+        finally:
+            os.unlink(f.name)
+
 
 if __name__ == "__main__":
     unittest.main()
