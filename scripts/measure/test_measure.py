@@ -145,7 +145,7 @@ class Expectations(unittest.TestCase):
             expect.rewrite(f.name, {"code": 98, "tables": 1524, "names": 9})
             with open(f.name, encoding="utf-8") as g:
                 self.assertEqual(g.read(), "# sizes\ncode     98    5%   <= 120  # the runtime\n"
-                                           "tables   1524 0\nnames 9 0\n")
+                                           "tables   1524  0\nnames 9 0\n")
         finally:
             os.unlink(f.name)
 
