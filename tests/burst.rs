@@ -30,10 +30,9 @@ fn bursts_between_two_decisions_lose_nothing() {
         let after = session.hold_and_collect(false).unwrap();
         let taken = after.events_in - before.events_in;
         let overflowed = after.overflows - before.overflows;
-        assert_eq!(taken + overflowed, n as u64, "burst of {n}: events lost silently");
-        if n <= CAPACITY {
-            assert_eq!(overflowed, 0, "burst of {n} fits the buffer");
-        }
+        // Backpressure: a burst of any length arrives whole, none of it overflows — the firmware masks its
+        // receive interrupt while the buffer is full and the emulated UART holds the rest back.
+        assert_eq!((taken, overflowed), (n as u64, 0), "burst of {n}: taken, overflowed");
     }
     drop(session);
     assert!(qemu.wait(std::time::Duration::from_millis(10)).is_none(), "still running until killed");

@@ -5,7 +5,7 @@
 use codegen::closed_loop::Options;
 use codegen::config::ChoicePolicy;
 use codegen::project::Project;
-use end_to_end::{example, qemu_closed_loops};
+use end_to_end::{assert_clean, example, qemu_closed_loops};
 
 /// The plant's seeds tried: the README's figures come from 1..=20 (`codegen run --events 10000 --seed S`).
 const SEEDS: [u64; 6] = [1, 2, 3, 7, 13, 20];
@@ -20,18 +20,17 @@ fn cell_is_safe_live_and_fully_covered_within_10_000_events_on_every_seed() {
 
     for (seed, report) in SEEDS.iter().zip(&reports) {
         eprintln!("seed {seed}: {report}");
+        let what = format!("seed {seed}");
         assert_eq!(report.seed, *seed);
-        assert!(report.events >= 10_000, "seed {seed}: {report}");
-        assert_eq!(report.violations, 0, "seed {seed}: {report}");
+        assert_clean(report, &what);
         // Marked states throughout: on average every few dozen events, never a long stretch without.
-        assert!(report.marked_visits >= report.events / 100, "seed {seed}: {report}");
-        assert!(report.longest_marked_gap < 2_000, "seed {seed}: {report}");
-        assert!(report.events_since_marked < 2_000, "seed {seed}: {report}");
+        assert!(report.marked_visits >= report.events / 100, "{what}: {report}");
+        assert!(report.longest_marked_gap < 2_000, "{what}: {report}");
+        assert!(report.events_since_marked < 2_000, "{what}: {report}");
         // Every reachable controllable supervisor transition of the cell (365) taken, well within the run.
-        assert!(report.full_coverage(), "seed {seed}: {report}");
         let taken: usize = report.coverage.iter().map(|c| c.taken).sum();
-        assert_eq!(taken, 365, "seed {seed}: {report}");
-        assert!(report.full_coverage_at.is_some_and(|at| at <= 10_000), "seed {seed}: {report}");
-        assert_eq!((report.lost, report.overflows, report.stalls), (0, 0, 0), "seed {seed}: {report}");
+        assert_eq!(taken, 365, "{what}: {report}");
+        assert!(report.full_coverage(), "{what}: {report}");
+        assert!(report.full_coverage_at.is_some_and(|at| at <= 10_000), "{what}: {report}");
     }
 }

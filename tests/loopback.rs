@@ -7,7 +7,7 @@ use codegen::link::protocol::EXIT;
 use codegen::link::ByteLink;
 use codegen::model::StateId;
 use codegen::pack::{ranked, PackSet};
-use end_to_end::{published_cell, spawn_host_firmware, ticker};
+use end_to_end::{assert_clean, published_cell, spawn_host_firmware, ticker};
 use firmware::build::HostTables;
 use firmware::choice::{First, Random, RandomLocalQueue};
 use firmware::fault::FaultPolicy;
@@ -24,20 +24,15 @@ fn cell_closed_loop_is_safe_live_and_covers_every_supervisor_transition() {
     // 3 choice sites.
     let policy = RandomLocalQueue::<1, 3>::default();
     let firmware = spawn_host_firmware::<_, 1, 10, false, 3, 33>(tables, CONFIG, policy, 7, target);
-    let options = Options { events: 100_000, ..Options::default() };
+    let options = Options { events: 20_000, ..Options::default() };
     let report = attach(&mut host, &set, "cell", &options, &mut |_| {}).unwrap();
     host.send(&[EXIT]).unwrap();
     assert_eq!(firmware.join().unwrap(), Some(0));
 
-    assert_eq!(report.violations, 0, "{report}");
-    assert!(report.events >= 100_000);
-    assert!(report.marked_visits > 1_000, "{report}");
+    assert_clean(&report, "cell on the host runtime");
+    assert!(report.marked_visits > 200, "{report}");
     assert!(report.longest_marked_gap < 2_000, "{report}");
     assert!(report.full_coverage(), "{report}");
-    assert_eq!((report.lost, report.overflows), (0, 0), "{report}");
-    // Commands fired after the last event counted and before HOLD took effect are not judged.
-    assert!(report.firmware.commands_out >= report.commands, "{report}");
-    assert_eq!(report.firmware.events_in, report.uncontrollable, "{report}");
 }
 
 /// The ticker plant alone, packed.

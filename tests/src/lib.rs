@@ -207,6 +207,24 @@ pub fn pico_closed_loop(project: &Project, sampling: SamplingSpec, options: &Opt
         .unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// Asserts that a closed-loop run under `what` was clean end to end: no violation, and the link in step
+/// throughout — nothing lost, garbled, unexpected or unknown, no resynchronisation, stall or restart, and
+/// the firmware's own counts of events taken and commands fired equal to what the host sent and judged.
+pub fn assert_clean(report: &Report, what: &str) {
+    assert_eq!(report.violations, 0, "{what}: {report}");
+    assert!(report.findings.is_empty(), "{what}: {report}");
+    let link = (report.lost, report.overflows, report.stalls, report.reboots, report.resyncs, report.garbled);
+    assert_eq!(
+        link,
+        (0, 0, 0, 0, 0, 0),
+        "{what}: lost, overflows, stalls, reboots, resyncs, garbled: {report}"
+    );
+    let fw = &report.firmware;
+    assert_eq!((fw.unexpected, fw.unknown_bytes), (0, 0), "{what}: {report}");
+    assert_eq!(fw.events_in, report.uncontrollable, "{what}: events taken by the firmware: {report}");
+    assert_eq!(fw.commands_out, report.commands, "{what}: commands fired by the firmware: {report}");
+}
+
 /// `options` with the steering modelling `project`'s choice policy, as `codegen run` does.
 fn steered_for(project: &Project, options: &Options) -> Options {
     Options { choices: ChoiceModel::of(project.runtime.policy), ..options.clone() }

@@ -77,6 +77,14 @@ pub enum ClosedLoopError {
     /// The RP2040 harness did not start, or its figures could not be read.
     #[error(transparent)]
     Harness(#[from] HarnessError),
+    /// The firmware did not leave cleanly when the run was over.
+    #[error("the firmware's exit after the run: {status}{}", if stderr.is_empty() { String::new() } else { format!("\nemulator stderr: {stderr}") })]
+    Exit {
+        /// The emulator's exit status, or why there is none.
+        status: String,
+        /// What the emulator printed on stderr.
+        stderr: String,
+    },
     /// Talking to the firmware failed.
     #[error("{source}{}", if stderr.is_empty() { String::new() } else { format!("\nemulator stderr: {stderr}") })]
     Session {
@@ -138,10 +146,20 @@ pub fn run_under_qemu(
         other => other,
     })?;
     report.target = "qemu".into();
-    // Leaving is a courtesy: the report is complete, and dropping `qemu` kills it anyway.
-    let _ = link.send(&[EXIT]);
-    let _ = qemu.wait(Duration::from_secs(5));
-    Ok(report)
+    // The firmware must leave when told, with status 0 — or 1 where it ended in the safe state, which
+    // the monitor has counted as a violation. Anything else (a panic, a hang, a crash of the emulator)
+    // fails the run.
+    let sent = link.send(&[EXIT]);
+    let status = qemu.wait(Duration::from_secs(5));
+    match status.and_then(|s| s.code()) {
+        Some(0) if sent.is_ok() => Ok(report),
+        Some(1) if sent.is_ok() && report.violations > 0 => Ok(report),
+        _ => Err(ClosedLoopError::Exit {
+            status: status
+                .map_or_else(|| "still running 5 s after EXIT (killed)".to_owned(), |s| s.to_string()),
+            stderr: qemu.stderr(),
+        }),
+    }
 }
 
 /// Runs the Pico image `elf` on the RP2040 harness with the pin map file `pins`

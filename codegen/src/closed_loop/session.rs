@@ -81,6 +81,10 @@ pub struct Session<'a, L: ByteLink + ?Sized> {
     progress: (usize, u64),
     /// Bytes from the firmware that the protocol does not define in its direction.
     garbled: u64,
+    /// Whether the monitor is in step with the firmware: false from a violation, an unresolved
+    /// desynchronisation, SAFE or a restart until the next reset; the firmware's commands in between
+    /// are not judged.
+    in_step: bool,
 }
 
 impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
@@ -105,6 +109,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             waited: false,
             progress: (0, 0),
             garbled: 0,
+            in_step: true,
         }
     }
 
@@ -129,21 +134,23 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
     fn restart(&mut self, count: bool) -> Result<(), SessionError> {
         self.hold_and_collect(count)?;
         self.link.send(&[RESET])?;
-        self.await_frame("READY", |f| f == Frame::Ready)?;
+        self.await_frame("READY", count, |f| f == Frame::Ready)?;
         self.plant.reset();
         self.monitor.reset();
+        self.in_step = true;
         self.link.send(&[GO])?;
         self.next_emit = Some(Instant::now());
         self.last_activity = Instant::now();
         Ok(())
     }
 
-    /// Stops the firmware deciding and adds its counters to the report. The firmware's later commands
-    /// are not judged; call at the end of a run, or before a reset.
+    /// Stops the firmware deciding and adds its counters to the report (with `count`). Commands it fired
+    /// before the HOLD reached it are judged as they arrive, with `count`; after the STATUS answer it
+    /// fires none. Call at the end of a run, or before a reset.
     pub fn hold_and_collect(&mut self, count: bool) -> Result<FirmwareCounters, SessionError> {
         self.link.send(&[HOLD, STATUS])?;
         let mut counters = FirmwareCounters::default();
-        self.await_frame("STATUS", |f| match f {
+        self.await_frame("STATUS", count, |f| match f {
             Frame::Status(c) => {
                 counters = c.into();
                 true
@@ -262,7 +269,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         }
         self.link.send(&bytes)?;
         if violated {
-            return self.sync(true);
+            return self.out_of_step();
         }
         self.last_activity = Instant::now();
         self.next_emit = Some(Instant::now() + Duration::from_micros(self.plant.next_delay_us(false)));
@@ -301,23 +308,62 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
                         let due = Instant::now() + delay;
                         self.next_emit = Some(self.next_emit.map_or(due, |t| t.min(due)));
                     }
-                    Verdict::Desync { resolved: false } | Verdict::Violation => self.sync(true)?,
+                    Verdict::Desync { resolved: false } | Verdict::Violation => self.out_of_step()?,
                 }
             }
             Frame::Safe => {
                 self.monitor.firmware_safe();
-                self.sync(true)?;
+                self.out_of_step()?;
             }
-            Frame::Ready | Frame::Status(_) => {}
+            Frame::Ready => {
+                // Unasked: the firmware restarted, and its state is no longer the monitor's.
+                self.monitor.report_mut().reboots += 1;
+                self.out_of_step()?;
+            }
+            Frame::Status(_) => {}
             Frame::Unknown(_) => self.garbled += 1,
         }
         Ok(())
     }
 
-    /// Reads until `want` accepts a frame; frames before it are dropped (they predate the sync point).
+    /// The monitor lost step with the firmware (a violation, an unresolved desynchronisation, SAFE, a
+    /// restart): both sides are reset, and what the firmware fires until then is not judged.
+    fn out_of_step(&mut self) -> Result<(), SessionError> {
+        self.in_step = false;
+        self.sync(true)
+    }
+
+    /// A frame that arrived while [`Session::await_frame`] waited for another: with `judged`, what the
+    /// firmware did up to the sync point is judged and counted (a command, SAFE, a restart, a garbled
+    /// byte); without, it predates the monitored run and is dropped. Nothing here resynchronises: the
+    /// caller is on its way to a reset or to the end.
+    fn late(&mut self, frame: Frame, judged: bool) {
+        if !judged {
+            return;
+        }
+        match frame {
+            Frame::Command(_) | Frame::Safe if !self.in_step => {}
+            Frame::Command(c) => {
+                let event = EventId::from_u32(u32::from(c));
+                match self.monitor.command(event, self.micros()) {
+                    Verdict::Ok | Verdict::Desync { resolved: true } => {
+                        self.plant.set_state(self.monitor.plant_state())
+                    }
+                    Verdict::Desync { resolved: false } | Verdict::Violation => self.in_step = false,
+                }
+            }
+            Frame::Safe => self.monitor.firmware_safe(),
+            Frame::Ready => self.monitor.report_mut().reboots += 1,
+            Frame::Status(_) => {}
+            Frame::Unknown(_) => self.garbled += 1,
+        }
+    }
+
+    /// Reads until `want` accepts a frame; the frames before it go to [`Session::late`].
     fn await_frame(
         &mut self,
         what: &'static str,
+        judged: bool,
         mut want: impl FnMut(Frame) -> bool,
     ) -> Result<(), SessionError> {
         let deadline = Instant::now() + self.config.answer_timeout;
@@ -327,6 +373,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
                 if want(frame) {
                     return Ok(());
                 }
+                self.late(frame, judged);
             }
             let left = deadline.saturating_duration_since(Instant::now());
             if left.is_zero() {

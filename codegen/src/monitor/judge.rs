@@ -193,10 +193,16 @@ impl Monitor {
             // the views it decided in is unknown, so all of them stay candidates.
             let reordered = views.iter().rev().find_map(|v| {
                 let mut s = v.state.clone();
-                self.unread_from(v.seen).all(|u| self.closed.step(&mut s, u)).then_some(s)
+                self.unread_from(v.seen).all(|u| self.closed.step(&mut s, u)).then_some((v, s))
             });
             match reordered {
-                Some(state) => {
+                Some((view, state)) => {
+                    // The command's transition was taken too, in the state the controller decided in.
+                    if let Some(before) = self.state_before(view, event) {
+                        if self.taken.record(&self.closed, self.plants, &before, event) {
+                            self.steering.invalidate();
+                        }
+                    }
                     self.physical = state;
                     self.views = views;
                     Verdict::Desync { resolved: true }
@@ -317,6 +323,18 @@ impl Monitor {
             out.pop_first();
         }
         out
+    }
+
+    /// A closed-loop state the controller can have been in when it fired `event` and reached `after`:
+    /// one of the views before the command, with the events it had read by then.
+    fn state_before(&self, after: &View, event: EventId) -> Option<Vec<u32>> {
+        self.views.iter().filter(|w| w.seen <= after.seen).find_map(|w| {
+            let mut state = w.state.clone();
+            let read = usize::try_from(after.seen - w.seen).ok()?;
+            let replayed = self.unread_from(w.seen).take(read).all(|u| self.closed.step(&mut state, u));
+            let mut next = state.clone();
+            (replayed && self.closed.step(&mut next, event) && next == after.state).then_some(state)
+        })
     }
 
     /// The uncontrollable events sent from number `seen` on.
@@ -500,6 +518,9 @@ mod tests {
         assert_eq!(mon.plant_state(), [1, 0]);
         assert_eq!(mon.physical[2], 1, "s moved the supervisor after a");
         assert_eq!(mon.report().violations, 0);
+        // The supervisor's `a` transition from mode 0 was taken, though the command came as a desync.
+        assert_eq!((mon.report().coverage[0].taken, mon.report().coverage[0].reachable), (1, Some(1)));
+        assert!(mon.report().full_coverage_at.is_some());
     }
 
     #[test]

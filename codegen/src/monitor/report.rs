@@ -97,6 +97,8 @@ pub struct Report {
     pub steering_resets: u64,
     /// Times the closed loop blocked: nothing for the plant to do and no command (then reset).
     pub stalls: u64,
+    /// READYs the firmware sent unasked: it restarted in mid-run (then resynchronised).
+    pub reboots: u64,
     /// Bytes from the firmware the protocol does not define in that direction.
     pub garbled: u64,
     /// Times the closed loop entered a marked state.
@@ -187,12 +189,13 @@ impl fmt::Display for Report {
         let fw = &self.firmware;
         writeln!(
             f,
-            "  link      {} desyncs, {} resyncs, {} steering resets, {} stalls, {} overflows, {} lost, \
-             {} guard re-decisions, {} unexpected, {} unknown bytes in, {} garbled bytes out",
+            "  link      {} desyncs, {} resyncs, {} steering resets, {} stalls, {} reboots, {} overflows, \
+             {} lost, {} guard re-decisions, {} unexpected, {} unknown bytes in, {} garbled bytes out",
             self.desyncs,
             self.resyncs,
             self.steering_resets,
             self.stalls,
+            self.reboots,
             self.overflows,
             self.lost,
             self.guard_redecisions,
