@@ -6,12 +6,18 @@ usage: differential.py CODEGEN FAMILIES WORKDIR
 
 For each instance: the monolithic supervisor must have the same marked language (and, being trim, the
 same generated language) as libFAUDES' SupCon and TCT's supcon (compared with LanguageEquality and with
-isomorph after minstate); each local modular supervisor must equal libFAUDES' SupCon against its local
-plant; the conflict verdict of the unmerged local modular set must agree with libFAUDES' IsNonblocking and
-TCT's nonconflict; a reduced supervisor must give the same closed loop with its local plant (libFAUDES),
-and its size is printed next to TCT's supreduce. Prints one line per check and `N passed, M failed`.
+isomorph after minstate); each local modular supervisor's local plant must be the plants that share an
+event with its specifications (computed here), and the supervisor must equal libFAUDES' SupCon against
+that plant; the conflict verdict of the unmerged local modular set must agree with libFAUDES'
+IsNonblocking and TCT's nonconflict; the set `codegen synth` ships by default (conflicting supervisors
+merged) must give, with all the plants, the monolithic closed loop (marked and generated languages:
+libFAUDES); a reduced supervisor must give the same closed loop with its local plant (libFAUDES) and be no
+larger than TCT's supreduce. Besides the fixed instances, two random ones are drawn from fresh seeds each
+run (the seed is in the label, and `families random N DIR SEED` reproduces one). Prints one line per
+check and `N passed, M failed`.
 """
 import os
+import random
 import sys
 
 import faudes
@@ -75,6 +81,11 @@ def run_case(codegen, label, manifest, work):
     sups = [tools.read_xmd(os.path.join(out, "raw", s["name"] + ".xmd")) for s in raw["supervisors"]]
     spec_of = {a.name: a for a in specs}
     for s, a in zip(raw["supervisors"], sups):
+        alphabet = {e for name in s["specs"] for e in spec_of[name].events}
+        expected = sorted(p.name for p in plants if alphabet & set(p.events))
+        check(sorted(s["plants"]) == expected,
+              f"{label}: {s['name']} local plant {'+'.join(sorted(s['plants']))} = plants sharing an event "
+              f"with {'+'.join(s['specs'])}: {'+'.join(expected)}")
         local = [by_name[p] for p in s["plants"]] or []
         ref = tools.faudes_supc(local, [spec_of[e] for e in s["specs"]]) if local else None
         if ref is not None:
@@ -93,6 +104,12 @@ def run_case(codegen, label, manifest, work):
 
     red = tools.codegen_json(codegen, ["--reduce", "-o", out + "/red", manifest])
     full = tools.codegen_json(codegen, ["-o", out + "/full", manifest])
+    shipped = [tools.read_xmd(os.path.join(out, "full", s["name"] + ".xmd")) for s in full["supervisors"]]
+    loop = tools.faudes_product(plants + shipped)
+    mono = tools.faudes_supc(plants, specs)
+    check(faudes.LanguageEquality(loop, mono) and faudes.LanguageEquality(prefix(loop), prefix(mono)),
+          f"{label}: the shipped set ({len(shipped)} supervisors, nonconflicting {full['nonconflicting']}) "
+          f"with all plants = the monolithic closed loop (libFAUDES)")
     for s, f in zip(red["supervisors"], full["supervisors"]):
         local = [by_name[p] for p in s["plants"]]
         if not local or f["states"] == 0:
@@ -106,8 +123,10 @@ def run_case(codegen, label, manifest, work):
         pitct.condat("RDAT", "RG", "R_" + s["name"])
         pitct.supreduce("RSIM", "RG", "R_" + s["name"], "RDAT")
         check(closed_loop_equal(local, r, o),
-              f"{label}: reduced {s['name']} {f['states']} -> {s['states']} states keeps the closed loop "
-              f"(TCT supreduce: {pitct.statenum('RSIM')})")
+              f"{label}: reduced {s['name']} {f['states']} -> {s['states']} states keeps the closed loop")
+        tct_states = pitct.statenum("RSIM")
+        check(s["states"] <= tct_states,
+              f"{label}: reduced {s['name']} {s['states']} states <= TCT supreduce {tct_states}")
 
 
 def main():
@@ -119,6 +138,12 @@ def main():
         d = os.path.join(work, f"{family}-{n}")
         manifest = subprocess.run([families, family, str(n), d], check=True, capture_output=True, text=True).stdout.strip()
         cases.append((f"{family}-{n}", manifest, d))
+    for n in (3, 4):
+        seed = random.SystemRandom().randrange(1, 2**32)
+        d = os.path.join(work, f"random-{n}-s{seed}")
+        manifest = subprocess.run([families, "random", str(n), d, str(seed)], check=True, capture_output=True,
+                                  text=True).stdout.strip()
+        cases.append((f"random-{n} seed {seed}", manifest, d))
     here = os.path.dirname(os.path.abspath(__file__))
     cases.append(("cell", os.path.join(here, "..", "..", "examples", "cell", "cell.toml"), os.path.join(work, "cell")))
     for label, manifest, d in cases:
