@@ -1,8 +1,9 @@
 //! The manufacturing cell packed: the paper's 2347 bytes to the byte, a committed golden vector, the
 //! denser layout against it, and every layout decoded back to the automata it came from.
 //!
-//! `UPDATE_GOLDEN=1 cargo test -p codegen --test pack_cell` rewrites `tests/gen/` after a deliberate
-//! format change.
+//! The golden vector is never rewritten by a test: on a difference the test leaves the bytes it produced
+//! beside the build (its message names the file), for a reviewer to compare and, after a deliberate
+//! format change, to copy over `tests/gen/` by hand.
 
 use std::path::{Path, PathBuf};
 
@@ -32,17 +33,18 @@ fn cell() -> PackSet {
 
 fn golden(name: &str, bytes: &[u8]) {
     let path = dir().join("tests/gen").join(name);
-    if std::env::var_os("UPDATE_GOLDEN").is_some() {
-        std::fs::write(&path, bytes).unwrap();
-    }
     let want = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    assert!(
-        want == bytes,
-        "{} differs from the bytes produced ({} vs {} bytes)",
-        name,
-        want.len(),
-        bytes.len()
-    );
+    if want != bytes {
+        let produced = std::env::temp_dir().join(format!("pack_cell-{name}"));
+        std::fs::write(&produced, bytes).unwrap();
+        panic!(
+            "{} differs from the bytes produced ({} vs {} bytes), left in {}",
+            path.display(),
+            want.len(),
+            bytes.len(),
+            produced.display()
+        );
+    }
 }
 
 #[test]
