@@ -214,3 +214,83 @@ fn each_fault_enters_the_safe_state_which_reset_leaves() {
         assert_eq!(wire.sent, [link::READY, A, A], "{what}: reset leaves the safe state");
     }
 }
+
+/// What the wire carried: the commands fired and the counters of every STATUS answer, in order.
+fn read_wire(sent: &[u8]) -> (u32, Vec<[u32; 6]>) {
+    let (mut commands, mut answers, mut i) = (0, Vec::new(), 0);
+    while i < sent.len() {
+        match sent[i] {
+            link::STATUS => {
+                answers.push(status(&sent[i..]));
+                i += 1 + link::STATUS_BYTES;
+            }
+            A | B => {
+                commands += 1;
+                i += 1;
+            }
+            other => panic!("the firmware sent {other:#04x}"),
+        }
+    }
+    (commands, answers)
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(256))]
+
+    /// Any bytes from the host, in any chunks: no panic, and every byte accounted for — an uncontrollable
+    /// event of the set is taken (`events_in`), anything else that is not a control byte is an unknown
+    /// byte; the commands on the wire are the commands counted; STATUS answers never go backwards.
+    /// (RESET, which zeroes the counters, and EXIT are left out here; `commands_status_reset_and_exit`
+    /// covers them.)
+    #[test]
+    fn any_host_bytes_are_accounted_for(
+        chunks in proptest::collection::vec(proptest::collection::vec(proptest::prelude::any::<u8>(), 0..8), 0..40),
+    ) {
+        let (set, _) = livelock();
+        let mut rt = runtime(set, FaultPolicy::Continue);
+        let mut q = InputQueue::<8>::new();
+        let (mut tx, mut rx) = q.split();
+        let (hold, mut event_loop, mut wire) = (Hold::new(), EventLoop::new(), Wire::default());
+        let (mut events, mut unknown) = (0u32, 0u32);
+        for chunk in &chunks {
+            let chunk: Vec<u8> = chunk.iter().copied().filter(|&b| b != link::RESET && b != link::EXIT).collect();
+            for &b in &chunk {
+                match b {
+                    TO4 | TO1 => events += 1,
+                    link::STATUS | link::HOLD | link::GO => {}
+                    _ => unknown += 1,
+                }
+            }
+            send(&mut tx, &hold, &chunk);
+            // Released at the end of each chunk, so the loop always gets to decide.
+            send(&mut tx, &hold, &[link::GO]);
+            settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
+        }
+        let c = *rt.counters();
+        proptest::prop_assert_eq!((c.events_in, c.unknown_bytes, c.overflows), (events, unknown, 0));
+        proptest::prop_assert!(c.unexpected <= c.events_in);
+        let (commands, answers) = read_wire(&wire.sent);
+        proptest::prop_assert_eq!(commands, c.commands_out);
+        for pair in answers.windows(2) {
+            proptest::prop_assert!(pair[0].iter().zip(&pair[1]).all(|(a, b)| a <= b), "{:?}", answers);
+        }
+    }
+
+    /// Any bytes at all, RESET and EXIT included, under the safe-state policy: no panic, and after EXIT
+    /// the loop reports the exit status the runtime's state gives.
+    #[test]
+    fn any_host_bytes_never_panic_the_loop(bytes in proptest::collection::vec(proptest::prelude::any::<u8>(), 0..200)) {
+        let (set, _) = livelock();
+        let mut rt = runtime(set, FaultPolicy::SafeState);
+        let mut q = InputQueue::<8>::new();
+        let (mut tx, mut rx) = q.split();
+        let (hold, mut event_loop, mut wire) = (Hold::new(), EventLoop::new(), Wire::default());
+        for chunk in bytes.chunks(7) {
+            send(&mut tx, &hold, chunk);
+            if let Poll::Exit(status) = settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire) {
+                proptest::prop_assert_eq!(status, u8::from(rt.is_safe()));
+                break;
+            }
+        }
+    }
+}
