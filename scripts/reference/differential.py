@@ -13,11 +13,13 @@ IsNonblocking and TCT's nonconflict; the set `codegen synth` ships by default (c
 merged) must give, with all the plants, the monolithic closed loop (marked and generated languages:
 libFAUDES); a reduced supervisor must give the same closed loop with its local plant (libFAUDES) and be no
 larger than TCT's supreduce. Besides the fixed instances, two random ones are drawn from fresh seeds each
-run (the seed is in the label, and `families random N DIR SEED` reproduces one). Prints one line per
-check and `N passed, M failed`.
+run (the seed is in the label, and `families random N DIR SEED` reproduces one). The readers: libFAUDES
+reads the `.gen` files codegen writes, codegen the ones libFAUDES writes, each the same automaton as the
+IDES3 model. Prints one line per check and `N passed, M failed`.
 """
 import os
 import random
+import subprocess
 import sys
 
 import faudes
@@ -129,10 +131,47 @@ def run_case(codegen, label, manifest, work):
               f"{label}: reduced {s['name']} {s['states']} states <= TCT supreduce {tct_states}")
 
 
+def same_automaton(a, b):
+    """Same marked and generated languages, alphabets with the same controllability, same sizes (both
+    deterministic and accessible as written)."""
+    def events(g):
+        return sorted((g.EventName(e), g.Controllable(g.EventName(e))) for e in g.Alphabet())
+
+    return (faudes.LanguageEquality(a, b) and faudes.LanguageEquality(prefix(a), prefix(b))
+            and a.Size() == b.Size() and a.TransRelSize() == b.TransRelSize() and events(a) == events(b))
+
+
+def convert(codegen, src, dst):
+    subprocess.run([codegen, "convert", src, dst], check=True, capture_output=True, text=True)
+
+
+def readers(codegen, label, manifest, work):
+    """Our readers and writers against libFAUDES on every model of an instance: libFAUDES reads the `.gen`
+    we write from the IDES3 file (read here by the script's own parser), and we read the `.gen` libFAUDES
+    writes; each must be the same automaton."""
+    import tomllib
+
+    with open(manifest, "rb") as f:
+        m = tomllib.load(f)
+    os.makedirs(work, exist_ok=True)
+    for xmd in m.get("plants", []) + m.get("specs", []):
+        xmd = os.path.join(os.path.dirname(manifest), xmd)
+        a = tools.read_xmd(xmd)
+        ours = os.path.join(work, a.name + ".ours.gen")
+        convert(codegen, xmd, ours)
+        truth = tools.to_faudes(a)
+        check(same_automaton(faudes.System(ours), truth),
+              f"{label}: {a.name}: libFAUDES reads the .gen codegen writes as the IDES3 model")
+        theirs = os.path.join(work, a.name + ".faudes.gen")
+        truth.Write(theirs)
+        back = os.path.join(work, a.name + ".back.xmd")
+        convert(codegen, theirs, back)
+        check(same_automaton(tools.to_faudes(tools.read_xmd(back)), truth),
+              f"{label}: {a.name}: codegen reads the .gen libFAUDES writes as the IDES3 model")
+
+
 def main():
     codegen, families, work = sys.argv[1:4]
-    import subprocess
-
     cases = []
     for family, n in CASES:
         d = os.path.join(work, f"{family}-{n}")
@@ -148,6 +187,9 @@ def main():
     cases.append(("cell", os.path.join(here, "..", "..", "examples", "cell", "cell.toml"), os.path.join(work, "cell")))
     for label, manifest, d in cases:
         run_case(codegen, label, manifest, d)
+    for label, manifest, d in cases:
+        if label in ("cell", "factory-3") or label.startswith("random-3 "):
+            readers(codegen, label, manifest, os.path.join(d, "readers"))
     print(f"{passed} passed, {failed} failed")
     sys.exit(1 if failed else 0)
 
