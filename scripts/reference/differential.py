@@ -15,7 +15,8 @@ libFAUDES); a reduced supervisor must give the same closed loop with its local p
 larger than TCT's supreduce. Besides the fixed instances, two random ones are drawn from fresh seeds each
 run (the seed is in the label, and `families random N DIR SEED` reproduces one). The readers: libFAUDES
 reads the `.gen` files codegen writes, codegen the ones libFAUDES writes, each the same automaton as the
-IDES3 model. Prints one line per check and `N passed, M failed`.
+IDES3 model. `codegen check`'s findings on the closed loop of the shipped set are counted against a
+brute-force count on a product built here. Prints one line per check and `N passed, M failed`.
 """
 import os
 import random
@@ -112,6 +113,7 @@ def run_case(codegen, label, manifest, work):
     check(faudes.LanguageEquality(loop, mono) and faudes.LanguageEquality(prefix(loop), prefix(mono)),
           f"{label}: the shipped set ({len(shipped)} supervisors, nonconflicting {full['nonconflicting']}) "
           f"with all plants = the monolithic closed loop (libFAUDES)")
+    check_problems(codegen, label, manifest, shipped, plants)
     for s, f in zip(red["supervisors"], full["supervisors"]):
         local = [by_name[p] for p in s["plants"]]
         if not local or f["states"] == 0:
@@ -129,6 +131,67 @@ def run_case(codegen, label, manifest, work):
         tct_states = pitct.statenum("RSIM")
         check(s["states"] <= tct_states,
               f"{label}: reduced {s['name']} {s['states']} states <= TCT supreduce {tct_states}")
+
+
+def closed_loop(automata):
+    """The accessible synchronous product, built here from the automata's transition lists: (number of
+    states, transition map {(state, event): state}, controllability per event)."""
+    kinds = {}
+    for a in automata:
+        kinds.update(a.events)
+    delta = [{(src, e): dst for src, e, dst in a.trans} for a in automata]
+    start = tuple(a.initial for a in automata)
+    index, order, trans = {start: 0}, [start], {}
+    for here in order:
+        for e in sorted(kinds):
+            nxt = []
+            for a, d, q in zip(automata, delta, here):
+                t = d.get((q, e)) if e in a.events else q
+                if t is None:
+                    break
+                nxt.append(t)
+            else:
+                nxt = tuple(nxt)
+                if nxt not in index:
+                    index[nxt] = len(order)
+                    order.append(nxt)
+                trans[(index[here], e)] = index[nxt]
+    return len(order), trans, kinds
+
+
+def problems(n, trans, kinds):
+    """Fabian and Hellgren's problems counted by brute force: per event with p -e-> q -e-> r (p != q,
+    q != r) one avalanche; per state and pair of enabled events whose two orders do not meet, a choice
+    (both controllable), an inexact synchronisation (one of each) or a simultaneity (both uncontrollable)."""
+    counts = {"avalanche": 0, "choice": 0, "inexact-synchronisation": 0, "simultaneity": 0}
+    events = sorted(kinds)
+    for e in events:
+        if any(q != p and trans.get((q, e), q) != q for (p, x), q in trans.items() if x == e):
+            counts["avalanche"] += 1
+    for st in range(n):
+        enabled = [e for e in events if (st, e) in trans]
+        for i, x in enumerate(enabled):
+            for y in enabled[i + 1:]:
+                xy, yx = trans.get((trans[(st, x)], y)), trans.get((trans[(st, y)], x))
+                if xy is None or xy != yx:
+                    kind = {(True, True): "choice", (False, False): "simultaneity"}.get(
+                        (kinds[x], kinds[y]), "inexact-synchronisation")
+                    counts[kind] += 1
+    return counts
+
+
+def check_problems(codegen, label, manifest, shipped, plants):
+    """`codegen check` on the closed loop of plants and the shipped supervisors against the counts above."""
+    out = subprocess.run([codegen, "check", "--json", manifest], check=False, capture_output=True, text=True)
+    import json
+
+    scope = json.loads(out.stdout)["scopes"][0]
+    n, trans, kinds = closed_loop(plants + shipped)
+    ours = {p: sum(1 for f in scope["findings"] if f["problem"] == p) for p in problems(0, {}, {})}
+    want = problems(n, trans, kinds)
+    check((scope["states"], ours) == (n, want),
+          f"{label}: codegen check on the closed loop, {scope['states']} states {ours} = brute force "
+          f"{n} states {want}")
 
 
 def same_automaton(a, b):
