@@ -13,7 +13,8 @@ IsNonblocking and TCT's nonconflict; the set `codegen synth` ships by default (c
 merged) must give, with all the plants, the monolithic closed loop (marked and generated languages:
 libFAUDES); a reduced supervisor must give the same closed loop with its local plant (libFAUDES) and be no
 larger than TCT's supreduce. Besides the fixed instances, two random ones are drawn from fresh seeds each
-run (the seed is in the label, and `families random N DIR SEED` reproduces one). The readers: libFAUDES
+run (the seed is in the label; `SCT_DIFFERENTIAL_SEEDS=S3,S4` replays them, and `families random N DIR
+SEED` writes one). The readers: libFAUDES
 reads the `.gen` files codegen writes, codegen the ones libFAUDES writes, each the same automaton as the
 IDES3 model. `codegen check`'s findings on the closed loop of the shipped set are counted against a
 brute-force count on a product built here. Prints one line per check and `N passed, M failed`.
@@ -75,10 +76,16 @@ def run_case(codegen, label, manifest, work):
     tct = tools.Tct(os.path.join(work, "tct"), plants + specs)
     tct.supc("SUP", plants, specs)
     tct.create("OURS", ours)
-    pitct.minstate("OURSM", "OURS")
-    pitct.minstate("SUPM", "SUP")
-    check(pitct.isomorph("OURSM", "SUPM"),
-          f"{label}: monolithic = TCT supcon {pitct.statenum('SUP')}/{pitct.transnum('SUP')} (minimal forms isomorphic)")
+    if mono["total_states"] == 0 or pitct.statenum("SUP") == 0:
+        # TCT's minstate and isomorph are not defined on the empty DES: compare the sizes.
+        check(mono["total_states"] == pitct.statenum("SUP"),
+              f"{label}: monolithic {mono['total_states']} states = TCT supcon {pitct.statenum('SUP')} (empty)")
+    else:
+        pitct.minstate("OURSM", "OURS")
+        pitct.minstate("SUPM", "SUP")
+        check(pitct.isomorph("OURSM", "SUPM"),
+              f"{label}: monolithic = TCT supcon {pitct.statenum('SUP')}/{pitct.transnum('SUP')} "
+              f"(minimal forms isomorphic)")
 
     raw = tools.codegen_json(codegen, ["--no-merge", "-o", out + "/raw", manifest])
     sups = [tools.read_xmd(os.path.join(out, "raw", s["name"] + ".xmd")) for s in raw["supervisors"]]
@@ -97,7 +104,11 @@ def run_case(codegen, label, manifest, work):
     verdict = tools.faudes_nonconflicting(sups)
     check(verdict == raw["nonconflicting"],
           f"{label}: conflict verdict {raw['nonconflicting']} = libFAUDES IsNonblocking {verdict}")
-    if len(sups) >= 2:
+    if any(not a.states for a in sups):
+        # TCT's nonconflict answers false when a DES is empty; libFAUDES and we call an empty closed
+        # loop nonblocking (compared above). Said, not counted.
+        print(f"note  {label}: an empty supervisor: the conflict verdict is not compared with TCT's", flush=True)
+    elif len(sups) >= 2:
         universe = {e for a in sups for e in a.events}
         everything = tools.Fsa("all", [("0", True)], 0, {e: False for e in universe}, [(0, e, 0) for e in universe])
         tct.product("REST", sups[:-1] + [everything])
@@ -139,6 +150,8 @@ def closed_loop(automata):
     kinds = {}
     for a in automata:
         kinds.update(a.events)
+    if any(a.initial is None for a in automata):
+        return 0, {}, kinds
     delta = [{(src, e): dst for src, e, dst in a.trans} for a in automata]
     start = tuple(a.initial for a in automata)
     index, order, trans = {start: 0}, [start], {}
@@ -240,8 +253,10 @@ def main():
         d = os.path.join(work, f"{family}-{n}")
         manifest = subprocess.run([families, family, str(n), d], check=True, capture_output=True, text=True).stdout.strip()
         cases.append((f"{family}-{n}", manifest, d))
-    for n in (3, 4):
-        seed = random.SystemRandom().randrange(1, 2**32)
+    # SCT_DIFFERENTIAL_SEEDS=S3,S4 replays a run's random instances.
+    fixed = [int(x) for x in os.environ.get("SCT_DIFFERENTIAL_SEEDS", "").split(",") if x]
+    for i, n in enumerate((3, 4)):
+        seed = fixed[i] if i < len(fixed) else random.SystemRandom().randrange(1, 2**32)
         d = os.path.join(work, f"random-{n}-s{seed}")
         manifest = subprocess.run([families, "random", str(n), d, str(seed)], check=True, capture_output=True,
                                   text=True).stdout.strip()
