@@ -3,8 +3,10 @@
 //! Tables: the file named by the `SCT_TABLES` environment variable (absolute, or relative to the
 //! workspace root), else the committed `src/generated/cell.rs` (which a codegen test keeps
 //! byte-identical to `codegen emit examples/cell/cell.toml`). The applications read the chosen path from
-//! `SCT_TABLES_FILE`. Memory layout: the root `memory.x` (lm3s6965evb) for thumbv7m; `boards/pico/memory.x`
-//! for the RP2040 (thumbv6m).
+//! `SCT_TABLES_FILE`. Memory layout: `boards/lm3s6965/memory.x` for thumbv7m, `boards/pico/memory.x` for
+//! the RP2040 (thumbv6m). Neither may sit at the workspace root: the linker looks for `memory.x` in its
+//! working directory (where cargo runs rustc) before the search paths, so a root file would be linked
+//! into every target's image.
 
 use std::env;
 use std::path::PathBuf;
@@ -21,7 +23,8 @@ fn main() {
     println!("cargo:rustc-env=SCT_TABLES_FILE={}", tables.display());
 
     let target = env::var("TARGET").unwrap_or_default();
-    let memory_dir = if target.starts_with("thumbv6m") { crate_dir.join("boards/pico") } else { root };
+    let board = if target.starts_with("thumbv6m") { "boards/pico" } else { "boards/lm3s6965" };
+    let memory_dir = crate_dir.join(board);
     if target.starts_with("thumb") {
         println!("cargo:rerun-if-changed={}", memory_dir.join("memory.x").display());
         println!("cargo:rustc-link-search={}", memory_dir.display());

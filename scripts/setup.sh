@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # Installs what a fresh machine of this kind lacks (idempotent, quiet when everything is there):
 # the Rust components, the Cortex-M targets (from rustup, else built from rust-src), qemu-system-arm from
-# Debian, the reference tools for the differential tests.
+# Debian, the RP2040 harness's packages (npm), the reference tools for the differential tests.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # The components the toolchain file names (rustup installs nothing by itself when RUSTUP_AUTO_INSTALL=0).
-# llvm-tools carries llvm-size and llvm-nm for scripts/footprint.sh.
+# llvm-tools carries llvm-size and llvm-nm for scripts/measure/footprint.py.
 missing=()
 for component in rustfmt clippy llvm-tools rust-src; do
   rustup component list --installed | grep -q "^$component" || missing+=("$component")
@@ -23,6 +23,20 @@ if ! command -v qemu-system-arm >/dev/null; then
   echo "setup: installing qemu-system-arm" >&2
   apt-get update -qq
   DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends qemu-system-arm >/dev/null
+fi
+
+# The RP2040 harness (harness/rp2040: Node, rp2040js pinned by its package-lock.json). `npm ci` installs
+# exactly the lock; a copy of the lock in node_modules says the install is current.
+if ! command -v npm >/dev/null; then
+  echo "setup: installing Node.js and npm" >&2
+  apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends nodejs npm >/dev/null
+fi
+harness=harness/rp2040
+if ! cmp -s "$harness/package-lock.json" "$harness/node_modules/.installed-lock"; then
+  echo "setup: installing the RP2040 harness (npm ci in $harness)" >&2
+  (cd "$harness" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+  cp "$harness/package-lock.json" "$harness/node_modules/.installed-lock"
 fi
 
 # Reference tools for the differential tests and the timing comparison: libFAUDES (`faudes`) and TCT

@@ -3,15 +3,25 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
+bash scripts/thumb-targets.sh path
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets -- -D warnings
 cargo test --workspace
 bash scripts/reference/differential.sh
-# The firmware for both targets (lints included), then the cost binary under QEMU as a smoke test: it runs
-# the runtime on the cell's tables and exits non-zero on an unexpected event.
+# The firmware for both targets (lints included).
 cargo clippy -p firmware --features qemu --target thumbv7m-none-eabi --release --bins -- -D warnings
 cargo clippy -p firmware --features pico --target thumbv6m-none-eabi --release --bins -- -D warnings
 cargo qemu-build
 cargo pico-build
-cargo qemu-cost
-bash scripts/footprint.sh
+# Measurements, checked against .ci/expected/ (the scripts' own tests first): the runtime's cost under QEMU
+# and on the emulated RP2040 (with the Pico build's footprint), the footprint from the symbol table in both
+# symbol manglings rustc uses. (The Pico closed loop and the RP2040 harness's own tests run in
+# `cargo test`: tests/pico.rs.)
+python3 -m unittest discover -s scripts/measure
+python3 scripts/measure/cost.py
+python3 scripts/measure/pico_cost.py
+python3 scripts/measure/footprint.py
+python3 scripts/measure/footprint.py --target-dir target/v0-mangling \
+  --cargo-config 'target.thumbv7m-none-eabi.rustflags=["-Csymbol-mangling-version=v0"]' | tail -n 20
+# A machine without the thumb targets builds and runs the firmware (from rust-src).
+bash scripts/from-source-check.sh

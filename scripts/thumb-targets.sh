@@ -23,11 +23,12 @@ MARK=sct-built-from-rust-src   # left beside the libraries this script built, wi
 
 has_libs() { compgen -G "$1/libcore-*.rlib" >/dev/null; }
 
-# Builds core, alloc and compiler_builtins for target $1 from rust-src and copies the rlibs into $2.
+# Builds core, alloc and compiler_builtins for target $1 from rust-src and copies the rlibs into $2; $3 says
+# why (kept in the marker file).
 # Bitcode is embedded because the firmware's release profile uses LTO; compiler_builtins carries memcpy and
 # friends (`mem`), as the distributed no_std targets do.
 build_from_source() {
-  local target=$1 dest=$2
+  local target=$1 dest=$2 why=$3
   local work="${CARGO_TARGET_DIR:-target}/sysroot-src"
   rustup component add rust-src >/dev/null 2>&1 || true
   if [[ ! -d "$(rustc --print sysroot)/lib/rustlib/src/rust/library/core" ]]; then
@@ -74,11 +75,11 @@ EOF
     echo "thumb-targets: the build for $target left no core library in $deps" >&2
     return 1
   fi
-  rustc -vV >"$dest/$MARK"
+  { rustc -vV; echo "why: $why"; } >"$dest/$MARK"
 }
 
 install() {
-  local target libdir
+  local target libdir why
   for target in "${TARGETS[@]}"; do
     libdir="$(rustc --print target-libdir --target "$target")"
     has_libs "$libdir" && continue
@@ -86,12 +87,10 @@ install() {
       echo "thumb-targets: $target installed by rustup" >&2
       continue
     fi
-    if [[ "${SCT_THUMB_FROM_SOURCE:-0}" == 1 ]]; then
-      echo "thumb-targets: SCT_THUMB_FROM_SOURCE=1: providing $target from rust-src" >&2
-    else
-      echo "thumb-targets: rustup cannot install $target here; providing it from rust-src" >&2
-    fi
-    build_from_source "$target" "$libdir"
+    why="rustup could not install it"
+    [[ "${SCT_THUMB_FROM_SOURCE:-0}" == 1 ]] && why="SCT_THUMB_FROM_SOURCE=1"
+    echo "thumb-targets: $target: $why; providing it from rust-src" >&2
+    build_from_source "$target" "$libdir" "$why"
     # Objects built for this target against other libraries must not be linked with these.
     rm -rf "${CARGO_TARGET_DIR:-target}/$target"
   done
@@ -104,7 +103,7 @@ path() {
     if ! has_libs "$libdir"; then
       echo "$target: missing (run bash scripts/setup.sh)"
     elif [[ -f "$libdir/$MARK" ]]; then
-      echo "$target: built from rust-src by scripts/thumb-targets.sh (rustup could not install it)"
+      echo "$target: built from rust-src by scripts/thumb-targets.sh ($(sed -n 's/^why: //p' "$libdir/$MARK"))"
     else
       echo "$target: installed by rustup"
     fi
@@ -118,10 +117,10 @@ sysroot() {
   # The host's tools (rust-lld, which links the thumb targets) are looked up in the sysroot too.
   ln -sfn "$(rustc --print sysroot)/lib/rustlib/$host" "$dir/lib/rustlib/$host"
   for target in "${TARGETS[@]}"; do
-    if [[ -f "$dir/lib/rustlib/$target/lib/$MARK" ]] && cmp -s <(rustc -vV) "$dir/lib/rustlib/$target/lib/$MARK"; then
+    if [[ -f "$dir/lib/rustlib/$target/lib/$MARK" ]] && grep -qF "$(rustc -V)" "$dir/lib/rustlib/$target/lib/$MARK"; then
       continue
     fi
-    build_from_source "$target" "$dir/lib/rustlib/$target/lib"
+    build_from_source "$target" "$dir/lib/rustlib/$target/lib" "a sysroot of its own, for the from-source check"
   done
 }
 

@@ -1,22 +1,34 @@
 //! Writes a generated instance (see `codegen::synth::families`) as IDES3 files with a manifest:
-//! `cargo run --example families -- FAMILY N DIR` gives `DIR/FAMILY-N.toml`, `DIR/plants/*.xmd` and
-//! `DIR/specs/*.xmd`, ready for `codegen synth` and for the reference-tool scripts.
+//! `cargo run --example families -- FAMILY N DIR [SEED]` gives `DIR/FAMILY-N.toml` (`random-N-sSEED.toml`
+//! with a seed, `random` only), `DIR/plants/*.xmd` and `DIR/specs/*.xmd`, ready for `codegen synth` and
+//! for the reference-tool scripts.
 
 use std::path::Path;
 use std::process::ExitCode;
 
 use codegen::formats::write_path;
-use codegen::synth::families::{generate, FAMILIES};
+use codegen::synth::families::{generate, random_seeded, FAMILIES};
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let (Some(family), Some(Ok(n)), Some(dir)) =
         (args.first(), args.get(1).map(|n| n.parse::<usize>()), args.get(2))
     else {
-        eprintln!("usage: families FAMILY N DIR   (FAMILY: {})", FAMILIES.join(", "));
+        eprintln!(
+            "usage: families FAMILY N DIR [SEED]   (FAMILY: {}; SEED: random only)",
+            FAMILIES.join(", ")
+        );
         return ExitCode::from(2);
     };
-    let Some(inst) = generate(family, n) else {
+    let inst = match (family.as_str(), args.get(3).map(|s| s.parse::<u64>())) {
+        (_, None) => generate(family, n),
+        ("random", Some(Ok(seed))) => Some(random_seeded(n, seed)),
+        (_, Some(_)) => {
+            eprintln!("a SEED is a number, and only the random family takes one");
+            return ExitCode::from(2);
+        }
+    };
+    let Some(inst) = inst else {
         eprintln!("unknown family '{family}' (known: {})", FAMILIES.join(", "));
         return ExitCode::from(2);
     };

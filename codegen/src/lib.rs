@@ -2,10 +2,16 @@
 //! formats, synthesises local modular supervisors, packs them into microcontroller tables and drives the
 //! firmware against a virtual plant.
 //!
-//! Data flows one way: model files → [`model`] → synthesis → packing → emitted tables → firmware.
+//! Data flows one way along the pipeline [`project`] owns: manifest or model files ([`manifest`],
+//! [`formats`]) → automata ([`model`]) → supervisors ([`synth`]) → tables ([`pack`]) → emitted source
+//! ([`emit`]) → firmware image ([`target`]); the closed loop ([`closed_loop`]) then runs that firmware
+//! against the virtual plant ([`plant`]) and judges it ([`monitor`]) over a byte [`link`]. Imports follow
+//! the same direction: every module imports only modules of lower layers (`ARCHITECTURE.md`,
+//! `tests/layers.rs`), so there is no circle.
 #![deny(missing_docs)]
 
-pub mod check;
+pub mod closed_loop;
+pub mod config;
 pub mod emit;
 pub mod formats;
 pub mod link;
@@ -15,5 +21,7 @@ pub mod monitor;
 pub mod pack;
 pub mod plant;
 pub mod plc;
-pub mod qemu;
+pub mod problems;
+pub mod project;
 pub mod synth;
+pub mod target;

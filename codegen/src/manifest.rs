@@ -9,27 +9,32 @@
 //! [events.e1_lig]                               # optional per-event override
 //! controllable = true
 //!
-//! [runtime]                                     # all optional
-//! policy = "random-local-queue"                 # first | random | global-queue | random-global-queue
-//!                                               # | local-queue | random-local-queue
+//! [runtime]                                     # all optional: `config::RuntimeConfig`
+//! policy = "random-local-queue"                 # `config::ChoicePolicy`
 //! seed = 1
 //! guard = true                                  # inexact-synchronisation guard
 //! on_fault = "continue"                         # continue | safe-state
 //! input_buffer = 32
+//! reseed_every = 1024                           # random draws between two reseeds
 //!
-//! [board]                                       # optional: pins of a real board, see `emit::board`
+//! [board]                                       # optional: pins of a real board, `config::BoardSpec`
 //! name = "pico"
 //! ```
 //!
 //! Paths are relative to the manifest file. Unknown keys are refused, so a typo is an error rather than a
 //! silently ignored setting. Every error names the manifest file and the key it is about.
+//!
+//! This module reads and validates, nothing more: it reads the model files a manifest names into a
+//! [`ModelSet`] and checks that they agree; synthesising supervisors from them and everything after is
+//! the pipeline's ([`crate::project`]).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
-use crate::formats::{read_path, ParseError};
+use crate::config::{BoardSpec, PlcSpec, RuntimeConfig};
+use crate::formats::{read_path, read_paths, ParseError};
 use crate::model::{Automaton, EventTable, Kind, ModelError};
 
 /// Why a manifest could not be loaded or its automata read.
@@ -81,36 +86,6 @@ pub enum ManifestError {
     },
 }
 
-pub use crate::emit::{OnFault, Policy};
-
-/// The `[runtime]` section.
-#[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct Runtime {
-    /// Choice policy.
-    pub policy: Policy,
-    /// Seed of the random policies.
-    pub seed: u64,
-    /// Whether the inexact-synchronisation guard is on.
-    pub guard: bool,
-    /// Reaction to faults.
-    pub on_fault: OnFault,
-    /// Capacity of the input event buffer.
-    pub input_buffer: usize,
-}
-
-impl Default for Runtime {
-    fn default() -> Self {
-        Runtime {
-            policy: Policy::default(),
-            seed: 0,
-            guard: true,
-            on_fault: OnFault::default(),
-            input_buffer: 32,
-        }
-    }
-}
-
 /// An `[events.NAME]` override.
 #[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -137,21 +112,22 @@ pub struct Manifest {
     /// Per-event overrides, by event name.
     #[serde(default)]
     pub events: BTreeMap<String, EventOverride>,
-    /// Runtime settings.
+    /// The run-time configuration (`[runtime]`).
     #[serde(default)]
-    pub runtime: Runtime,
-    /// Pin map for a real board (see [`crate::emit::board`]).
+    pub runtime: RuntimeConfig,
+    /// Pin map for a real board (`[board]`).
     #[serde(default)]
-    pub board: Option<crate::emit::BoardSpec>,
-    /// I/O map and choices of the PLC program (see [`crate::plc::spec`]).
+    pub board: Option<BoardSpec>,
+    /// I/O map and choices of the PLC program (`[plc]`).
     #[serde(default)]
-    pub plc: Option<crate::plc::PlcSpec>,
+    pub plc: Option<PlcSpec>,
     /// The manifest file itself (set by [`Manifest::load`]).
     #[serde(skip)]
     pub file: PathBuf,
 }
 
-/// The automata of a manifest, read, with their kinds set and the event overrides applied.
+/// The automata of a manifest, read, with their kinds set and the event overrides applied: the models
+/// stage of the pipeline.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ModelSet {
     /// Plant subsystems, in manifest order.
@@ -163,17 +139,53 @@ pub struct ModelSet {
 }
 
 impl ModelSet {
-    /// The supervisors this set runs with: its ready supervisors first, then the local modular
-    /// supervisors synthesised from its specifications (none when it has no specifications).
-    pub fn all_supervisors(&self) -> Result<Vec<Automaton>, crate::synth::SynthError> {
-        let mut all = self.supervisors.clone();
-        if !self.specs.is_empty() {
-            let result =
-                crate::synth::local_modular(&self.plants, &self.specs, &crate::synth::Config::default())?;
-            all.extend(result.supervisors.into_iter().map(|s| s.automaton));
+    /// Reads model files named one by one, as the command line names them instead of a manifest:
+    /// automata from `supervisors`, or from `plants` but marked as supervisors by their file, are
+    /// supervisors; those from `specs` specifications; all others plants. Kinds stay as the files say.
+    pub fn from_files(
+        plants: &[PathBuf],
+        specs: &[PathBuf],
+        supervisors: &[PathBuf],
+    ) -> Result<ModelSet, ParseError> {
+        let mut set = ModelSet { plants: Vec::new(), specs: read_paths(specs)?, supervisors: Vec::new() };
+        for a in read_paths(plants)? {
+            if a.kind == Kind::Supervisor {
+                set.supervisors.push(a);
+            } else {
+                set.plants.push(a);
+            }
         }
-        Ok(all)
+        set.supervisors.extend(read_paths(supervisors)?);
+        Ok(set)
     }
+}
+
+/// Whether `path` names a manifest (a `.toml` file) rather than a model.
+pub fn is_manifest(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml"))
+}
+
+/// The `[board]` table of the TOML file at `path` (a pin map given apart from a manifest).
+pub fn read_board(path: &Path) -> Result<BoardSpec, ManifestError> {
+    #[derive(Deserialize)]
+    struct File {
+        board: BoardSpec,
+    }
+    let text = std::fs::read_to_string(path)
+        .map_err(|source| ManifestError::Read { file: path.to_owned(), source })?;
+    let file: File = parse_toml(path, &text)?;
+    Ok(file.board)
+}
+
+/// `text` (from `path`) as TOML of type `T`; an error names the file and the line.
+fn parse_toml<T: serde::de::DeserializeOwned>(path: &Path, text: &str) -> Result<T, ManifestError> {
+    toml::from_str(text).map_err(|e| ManifestError::Syntax {
+        file: path.to_owned(),
+        line: e.span().map_or(0, |s| {
+            text.as_bytes()[..s.start.min(text.len())].iter().filter(|&&b| b == b'\n').count() + 1
+        }),
+        message: e.message().to_owned(),
+    })
 }
 
 impl Manifest {
@@ -186,13 +198,7 @@ impl Manifest {
 
     /// Parses manifest `text`; `path` is where it came from (errors name it, paths resolve against it).
     pub fn parse(path: &Path, text: &str) -> Result<Manifest, ManifestError> {
-        let mut m: Manifest = toml::from_str(text).map_err(|e| ManifestError::Syntax {
-            file: path.to_owned(),
-            line: e.span().map_or(0, |s| {
-                text.as_bytes()[..s.start.min(text.len())].iter().filter(|&&b| b == b'\n').count() + 1
-            }),
-            message: e.message().to_owned(),
-        })?;
+        let mut m: Manifest = parse_toml(path, text)?;
         m.file = path.to_owned();
         Ok(m)
     }
@@ -255,7 +261,7 @@ mod tests {
     fn the_cell_manifest_loads_with_paths_relative_to_it() {
         let m = Manifest::load(&cell()).unwrap();
         assert_eq!(m.name, "cell");
-        assert_eq!(m.runtime.policy, Policy::RandomLocalQueue);
+        assert_eq!(m.runtime.policy, crate::config::ChoicePolicy::RandomLocalQueue);
         assert_eq!(m.runtime.seed, 1);
         let set = m.read_automata().unwrap();
         assert_eq!((set.plants.len(), set.specs.len(), set.supervisors.len()), (4, 7, 0));

@@ -7,9 +7,9 @@
 use std::collections::{BTreeSet, VecDeque};
 use std::path::Path;
 
-use codegen::emit::HostTables;
 use codegen::formats::read_path;
 use codegen::pack::{ranked, PackSet};
+use firmware::build::HostTables;
 use firmware::choice::RandomLocalQueue;
 use firmware::fault::FaultPolicy;
 use firmware::rng::{Rng, SeedEntropy};

@@ -2,8 +2,8 @@
 
 use std::path::Path;
 
-use codegen::check::{run, Problem};
 use codegen::formats::read_path;
+use codegen::problems::{run, Problem};
 
 fn read(rel: &str) -> codegen::model::Automaton {
     read_path(&Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)).unwrap_or_else(|e| panic!("{e}")).remove(0)

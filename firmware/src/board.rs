@@ -142,17 +142,25 @@ impl Board<'_> {
 }
 
 /// The output pins of a board, `K` distinct GPIOs, with the pulses in progress.
+///
+/// A pulse fired again while its pin is still high would only stretch the running pulse: the plant
+/// would see one rising edge for two commands. So the pin drops first and the new pulse starts after a
+/// low gap of at least one full millisecond ([`Outputs::tick_ms`] comes at any time within the first;
+/// the pulse starts on the second). A third firing during that gap is the same command again: it merges
+/// with the pulse about to start.
 pub struct Outputs<P, const K: usize> {
     pins: [P; K],
     numbers: [u8; K],
     /// Milliseconds left per pin of a running pulse (0: none).
     pulses: [u16; K],
+    /// Per pin, a pulse waiting for its low gap to end: (ticks of gap left, its length in milliseconds).
+    restarts: [(u8, u16); K],
 }
 
 impl<P: OutputPin, const K: usize> Outputs<P, K> {
     /// The pins, and the GPIO number of each.
     pub fn new(pins: [P; K], numbers: [u8; K]) -> Self {
-        Self { pins, numbers, pulses: [0; K] }
+        Self { pins, numbers, pulses: [0; K], restarts: [(0, 0); K] }
     }
 
     /// Runs every output action of `event`.
@@ -163,18 +171,34 @@ impl<P: OutputPin, const K: usize> Outputs<P, K> {
                 Action::Set => self.pins[k].set_high()?,
                 Action::Clear => self.pins[k].set_low()?,
                 Action::Pulse { ms } => {
-                    self.pins[k].set_high()?;
-                    self.pulses[k] = ms.max(1);
+                    if self.restarts[k].0 > 0 {
+                        // In the gap already: the pulse about to start stands for this firing too.
+                    } else if self.pulses[k] > 0 {
+                        self.pins[k].set_low()?;
+                        self.pulses[k] = 0;
+                        self.restarts[k] = (2, ms.max(1));
+                    } else {
+                        self.pins[k].set_high()?;
+                        self.pulses[k] = ms.max(1);
+                    }
                 }
             }
         }
         Ok(())
     }
 
-    /// One millisecond passed: ends the pulses that are due.
+    /// One millisecond passed: ends the pulses that are due, starts those whose gap is over.
     pub fn tick_ms(&mut self) -> Result<(), P::Error> {
-        for (pin, left) in self.pins.iter_mut().zip(self.pulses.iter_mut()) {
-            if *left > 0 {
+        for ((pin, left), restart) in
+            self.pins.iter_mut().zip(self.pulses.iter_mut()).zip(self.restarts.iter_mut())
+        {
+            if restart.0 > 0 {
+                restart.0 -= 1;
+                if restart.0 == 0 {
+                    pin.set_high()?;
+                    *left = restart.1;
+                }
+            } else if *left > 0 {
                 *left -= 1;
                 if *left == 0 {
                     pin.set_low()?;
@@ -187,6 +211,7 @@ impl<P: OutputPin, const K: usize> Outputs<P, K> {
     /// Every output low, pulses cancelled (the safe state).
     pub fn all_off(&mut self) -> Result<(), P::Error> {
         self.pulses = [0; K];
+        self.restarts = [(0, 0); K];
         for pin in &mut self.pins {
             pin.set_low()?;
         }
@@ -271,5 +296,24 @@ mod tests {
         out.tick_ms().unwrap();
         out.tick_ms().unwrap();
         assert_eq!(*log.borrow(), [(7, false), (9, false)], "pulse cancelled");
+    }
+
+    #[test]
+    fn a_pulse_fired_again_restarts_after_a_full_millisecond_low() {
+        let log = Rc::new(RefCell::new(Vec::new()));
+        let mut out = Outputs::new([Mock(9, log.clone())], [9]);
+        out.fire(&BOARD, 2).unwrap();
+        out.tick_ms().unwrap();
+        out.fire(&BOARD, 2).unwrap();
+        assert_eq!(*log.borrow(), [(9, true), (9, false)], "dropped at once: the plant sees a new edge");
+        out.tick_ms().unwrap();
+        out.fire(&BOARD, 2).unwrap();
+        assert_eq!(log.borrow().len(), 2, "still low through the first tick; a third firing merges");
+        out.tick_ms().unwrap();
+        assert_eq!(log.borrow().last(), Some(&(9, true)), "high again on the second tick");
+        out.tick_ms().unwrap();
+        out.tick_ms().unwrap();
+        assert_eq!(log.borrow().last(), Some(&(9, false)), "a full 2 ms pulse");
+        assert_eq!(log.borrow().len(), 4);
     }
 }

@@ -1,5 +1,5 @@
 //! The six choice policies of the runtime: which one controllable event to fire when the supervisors
-//! leave several enabled.
+//! leave several enabled. Each implements [`Choose`]; the emitted tables name theirs `Policy`.
 //!
 //! | policy | RAM | rule |
 //! |---|---|---|
@@ -61,8 +61,8 @@ impl<const W: usize> View<'_, W> {
     }
 }
 
-/// A choice policy.
-pub trait Policy<const W: usize> {
+/// A choice policy: picks one event of the enabled set, keeping what memory its rule needs.
+pub trait Choose<const W: usize> {
     /// One event of `enabled`, or `None` when `enabled` is empty.
     fn choose<E: Entropy>(
         &mut self,
@@ -79,7 +79,7 @@ pub trait Policy<const W: usize> {
 #[derive(Clone, Debug, Default)]
 pub struct First;
 
-impl<const W: usize> Policy<W> for First {
+impl<const W: usize> Choose<W> for First {
     fn choose<E: Entropy>(&mut self, _: View<'_, W>, enabled: &EventSet<W>, _: &mut Rng<E>) -> Option<u8> {
         enabled.first()
     }
@@ -91,7 +91,7 @@ impl<const W: usize> Policy<W> for First {
 #[derive(Clone, Debug, Default)]
 pub struct Random;
 
-impl<const W: usize> Policy<W> for Random {
+impl<const W: usize> Choose<W> for Random {
     fn choose<E: Entropy>(&mut self, _: View<'_, W>, enabled: &EventSet<W>, rng: &mut Rng<E>) -> Option<u8> {
         pick(enabled, &mut Bits::new(rng))
     }
@@ -105,7 +105,7 @@ pub struct GlobalQueue {
     cursor: u8,
 }
 
-impl<const W: usize> Policy<W> for GlobalQueue {
+impl<const W: usize> Choose<W> for GlobalQueue {
     fn choose<E: Entropy>(&mut self, _: View<'_, W>, enabled: &EventSet<W>, _: &mut Rng<E>) -> Option<u8> {
         let c = enabled.next_cyclic(self.cursor)?;
         self.cursor = c.wrapping_add(1);
@@ -129,7 +129,7 @@ impl<const W: usize> Default for RandomGlobalQueue<W> {
     }
 }
 
-impl<const W: usize> Policy<W> for RandomGlobalQueue<W> {
+impl<const W: usize> Choose<W> for RandomGlobalQueue<W> {
     fn choose<E: Entropy>(
         &mut self,
         view: View<'_, W>,
@@ -158,7 +158,7 @@ impl<const S: usize> Default for LocalQueue<S> {
     }
 }
 
-impl<const W: usize, const S: usize> Policy<W> for LocalQueue<S> {
+impl<const W: usize, const S: usize> Choose<W> for LocalQueue<S> {
     fn choose<E: Entropy>(&mut self, view: View<'_, W>, enabled: &EventSet<W>, _: &mut Rng<E>) -> Option<u8> {
         let plants = view.plants();
         for i in 0..plants {
@@ -201,7 +201,7 @@ impl<const W: usize, const S: usize> Default for RandomLocalQueue<W, S> {
     }
 }
 
-impl<const W: usize, const S: usize> Policy<W> for RandomLocalQueue<W, S> {
+impl<const W: usize, const S: usize> Choose<W> for RandomLocalQueue<W, S> {
     fn choose<E: Entropy>(
         &mut self,
         view: View<'_, W>,

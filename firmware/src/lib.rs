@@ -3,16 +3,24 @@
 //!
 //! The library is `no_std`, allocates nothing and touches no hardware, so the exact code that ships also
 //! runs on the host, where the virtual plant, property tests and benchmarks exercise it. The Cortex-M
-//! applications (`src/bin/`) only wire it to interrupts and pins.
+//! applications (`src/bin/`) only wire it to interrupts and pins. With the host-only feature `build`, the
+//! crate also builds the tables it reads ([`build`]).
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]
 
+#[cfg(feature = "build")]
+extern crate alloc;
+
 pub mod board;
+#[cfg(feature = "build")]
+pub mod build;
 pub mod choice;
+pub mod event_loop;
 pub mod event_set;
 pub mod fault;
 pub mod input_queue;
 pub mod link;
 pub mod rng;
 pub mod runtime;
+pub mod status;
 pub mod table;

@@ -1,5 +1,6 @@
-//! The byte protocol between the firmware and a host (the virtual plant over QEMU's UART socket, or a
-//! serial port), and the service routine that drives a [`Runtime`] from it.
+//! The byte protocol between the firmware and a host (the virtual plant over QEMU's UART socket, a serial
+//! port, or the RP2040 harness speaking it for the board's pins); [`crate::event_loop`] drives a
+//! `Runtime` from the bytes it defines.
 //!
 //! One byte per event: `0x00..=0xEF` is an event id — host → firmware an uncontrollable event the plant
 //! produced, firmware → host a controllable command the firmware fired. Control bytes:
@@ -7,7 +8,7 @@
 //! | byte | direction | meaning |
 //! |---|---|---|
 //! | `0xF0` RESET | host → fw | automata to initial states, counters to zero, safe state left; answered by READY |
-//! | `0xF1` STATUS | both | request; answered by `0xF1` then six `u32` little-endian: events_in, commands_out, unexpected, overflows, guard_redecisions, unknown_bytes |
+//! | `0xF1` STATUS | both | request; answered by `0xF1` then the [`Counters`] in [`STATUS_BYTES`] bytes: six `u32` little-endian, events_in, commands_out, unexpected, overflows, guard_redecisions, unknown_bytes ([`Counters::from_status`] reads them back) |
 //! | `0xF2` EXIT | host → fw | end the emulation: status 0, or 1 in the safe state |
 //! | `0xF3` READY | fw → host | once at boot and after each RESET |
 //! | `0xF4` SAFE | fw → host | a fault put the firmware in the safe state; it stopped deciding |
@@ -18,10 +19,7 @@
 //! through the input buffer in order with the events (so a RESET or STATUS sees every event sent before
 //! it), except HOLD and GO.
 
-use crate::choice::Policy;
-use crate::input_queue::InputConsumer;
-use crate::rng::Entropy;
-use crate::runtime::{Applied, Decision, Runtime};
+use crate::runtime::Counters;
 use core::sync::atomic::{AtomicBool, Ordering};
 
 /// Host → firmware: back to the initial state.
@@ -40,6 +38,27 @@ pub const HOLD: u8 = 0xF5;
 pub const GO: u8 = 0xF6;
 /// Highest event id the link can carry.
 pub const MAX_EVENT: u8 = 0xEF;
+/// Bytes of a STATUS answer after its leading [`STATUS`]: the six counters of
+/// [`Counters::to_array`], each a `u32` little-endian.
+pub const STATUS_BYTES: usize = 24;
+
+impl Counters {
+    /// The counters a STATUS answer carries in its `bytes` after the leading [`STATUS`] (what
+    /// [`EventLoop::turn`](crate::event_loop::EventLoop::turn) sends, read back by the host).
+    pub fn from_status(bytes: &[u8; STATUS_BYTES]) -> Counters {
+        let word = |i: usize| {
+            u32::from_le_bytes([bytes[4 * i], bytes[4 * i + 1], bytes[4 * i + 2], bytes[4 * i + 3]])
+        };
+        Counters {
+            events_in: word(0),
+            commands_out: word(1),
+            unexpected: word(2),
+            overflows: word(3),
+            guard_redecisions: word(4),
+            unknown_bytes: word(5),
+        }
+    }
+}
 
 /// The decision gate that HOLD and GO set from the receive interrupt.
 #[derive(Debug, Default)]
@@ -65,126 +84,5 @@ impl Hold {
     /// Whether deciding is on hold.
     pub fn is_held(&self) -> bool {
         self.0.load(Ordering::Relaxed)
-    }
-}
-
-/// Where the link's outgoing bytes and notes go (a UART and a log on the target, a vector in tests).
-pub trait Port {
-    /// Sends one byte to the host.
-    fn send(&mut self, byte: u8);
-
-    /// Something worth a log line happened (nothing by default).
-    fn note(&mut self, _note: Note) {}
-}
-
-/// A log-worthy event of [`Link::service`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Note {
-    /// An uncontrollable input some automaton holding it could not take.
-    Unexpected {
-        /// The event.
-        event: u8,
-        /// The first automaton that could not take it.
-        automaton: u8,
-    },
-    /// A byte that means nothing here.
-    Unknown(u8),
-    /// The runtime entered the safe state.
-    Safe,
-    /// A choice was dropped by the inexact-synchronisation guard.
-    Redecided,
-}
-
-/// What the caller does after a [`Link::service`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Poll {
-    /// Work may remain: call again.
-    Busy,
-    /// Nothing to do until the next input: sleep (`wfi`).
-    Idle,
-    /// The host asked to end: exit with this status.
-    Exit(u8),
-}
-
-/// The link's state beyond the runtime's: whether SAFE was announced.
-#[derive(Debug, Default)]
-pub struct Link {
-    safe_announced: bool,
-}
-
-impl Link {
-    /// A link that has not announced anything yet (the caller sends READY at boot).
-    pub const fn new() -> Self {
-        Self { safe_announced: false }
-    }
-
-    /// One turn of the loop: drains the input buffer into the runtime, then takes at most one decision
-    /// (unless held) and sends what it fired.
-    pub fn service<
-        P: Policy<W>,
-        E: Entropy,
-        const W: usize,
-        const N: usize,
-        const WIDE: bool,
-        const MASK: usize,
-    >(
-        &mut self,
-        rt: &mut Runtime<'_, P, E, W, N, WIDE, MASK>,
-        rx: &mut InputConsumer<'_>,
-        hold: &Hold,
-        port: &mut impl Port,
-    ) -> Poll {
-        while let Some(byte) = rx.pop() {
-            match byte {
-                0..=MAX_EVENT => match rt.apply(byte) {
-                    Applied::Taken => {}
-                    Applied::Unexpected { automaton } => {
-                        port.note(Note::Unexpected { event: byte, automaton })
-                    }
-                    Applied::Unknown => port.note(Note::Unknown(byte)),
-                },
-                RESET => {
-                    rt.reset();
-                    self.safe_announced = false;
-                    port.send(READY);
-                }
-                STATUS => {
-                    port.send(STATUS);
-                    for word in rt.counters().to_array() {
-                        for b in word.to_le_bytes() {
-                            port.send(b);
-                        }
-                    }
-                }
-                EXIT => return Poll::Exit(u8::from(rt.is_safe())),
-                HOLD | GO => {
-                    hold.filter(byte);
-                }
-                other => {
-                    rt.note_unknown_byte();
-                    port.note(Note::Unknown(other));
-                }
-            }
-        }
-        rt.note_overflows(rx.overflows());
-        if rt.is_safe() && !self.safe_announced {
-            self.safe_announced = true;
-            port.send(SAFE);
-            port.note(Note::Safe);
-        }
-        if hold.is_held() {
-            return Poll::Idle;
-        }
-        match rt.decide(|| !rx.is_empty()) {
-            Decision::Fired(c) => {
-                port.send(c);
-                Poll::Busy
-            }
-            Decision::Redecide => {
-                port.note(Note::Redecided);
-                Poll::Busy
-            }
-            Decision::Idle | Decision::Halted => Poll::Idle,
-        }
     }
 }

@@ -55,7 +55,7 @@
 //! assert_eq!(rt.decide(|| false), Decision::Fired(0));
 //! ```
 
-use crate::choice::{Policy, View};
+use crate::choice::{Choose, View};
 use crate::event_set::EventSet;
 use crate::fault::FaultPolicy;
 use crate::rng::{Entropy, Rng};
@@ -149,7 +149,7 @@ pub struct Runtime<'t, P, E, const W: usize, const N: usize, const WIDE: bool, c
     rng: Rng<E>,
 }
 
-impl<'t, P: Policy<W>, E: Entropy, const W: usize, const N: usize, const WIDE: bool, const MASK: usize>
+impl<'t, P: Choose<W>, E: Entropy, const W: usize, const N: usize, const WIDE: bool, const MASK: usize>
     Runtime<'t, P, E, W, N, WIDE, MASK>
 {
     /// A runtime in the initial states of `set`.

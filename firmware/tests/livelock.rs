@@ -4,7 +4,7 @@
 mod common;
 
 use common::{handles, livelock};
-use firmware::choice::{First, GlobalQueue, LocalQueue, Policy, Random, RandomGlobalQueue, RandomLocalQueue};
+use firmware::choice::{Choose, First, GlobalQueue, LocalQueue, Random, RandomGlobalQueue, RandomLocalQueue};
 use firmware::fault::FaultPolicy;
 use firmware::rng::SeedEntropy;
 use firmware::runtime::{Config, Decision, Runtime};
@@ -14,7 +14,7 @@ const CONFIG: Config = Config { guard: true, on_fault: FaultPolicy::Continue, re
 
 /// The states visited (1–4) in `steps` steps: the runtime decides; when nothing is enabled the plant
 /// produces its only uncontrollable event.
-fn run<P: Policy<1>>(policy: P, seed: u64, steps: usize) -> Vec<usize> {
+fn run<P: Choose<1>>(policy: P, seed: u64, steps: usize) -> Vec<usize> {
     let (set, spec) = livelock();
     let hs = handles(&spec);
     let number = |h: u16| hs.iter().position(|&o| o == h).unwrap() + 1;

@@ -9,19 +9,21 @@ use std::path::{Path, PathBuf};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
-use codegen::emit::HostTables;
+use codegen::closed_loop::{run_on_rp2040, run_under_qemu, Options};
+use codegen::config::SamplingSpec;
 use codegen::formats::read_path;
 use codegen::link::memory::MemoryLink;
 use codegen::link::ByteLink;
 use codegen::model::{Automaton, Kind};
-use codegen::monitor::Report;
+use codegen::monitor::{ChoiceModel, Report};
 use codegen::pack::PackSet;
-use codegen::plant::closed_loop::{run_under_qemu, Options};
-use codegen::plant::image::build_qemu_image;
-use codegen::plant::project::Project;
-use firmware::choice::Policy;
+use codegen::project::Project;
+use codegen::target::rp2040::pin_map;
+use firmware::build::HostTables;
+use firmware::choice::Choose;
+use firmware::event_loop::{EventLoop, Poll, Port};
 use firmware::input_queue::InputQueue;
-use firmware::link::{Hold, Link, Poll, Port, READY};
+use firmware::link::{Hold, READY};
 use firmware::rng::SeedEntropy;
 use firmware::runtime::{Config, Runtime};
 use firmware::table::CheckedSet;
@@ -64,7 +66,7 @@ impl Port for Outbox {
     }
 }
 
-/// Runs the firmware's runtime and link service on `tables` in a thread, as the QEMU application does,
+/// Runs the firmware's runtime and event loop on `tables` in a thread, as the QEMU application does,
 /// behind `link`: every chunk of bytes received is pushed into an input buffer of `Q - 1` slots before
 /// the loop runs (so a burst larger than the buffer overflows, which the runtime reports), then the loop
 /// serves until it is idle. The thread ends on EXIT (returning its status) or when the host hangs up.
@@ -84,7 +86,7 @@ pub fn spawn_host_firmware<
     mut link: MemoryLink,
 ) -> JoinHandle<Option<u8>>
 where
-    P: Policy<W> + Send + 'static,
+    P: Choose<W> + Send + 'static,
 {
     std::thread::spawn(move || {
         let set = tables.set();
@@ -94,7 +96,7 @@ where
         let mut queue = InputQueue::<Q>::new();
         let (mut tx, mut rx) = queue.split();
         let hold = Hold::new();
-        let mut service = Link::new();
+        let mut event_loop = EventLoop::new();
         let mut out = Outbox(Vec::new());
         link.send(&[READY]).ok()?;
         let mut buf = [0u8; 512];
@@ -109,7 +111,7 @@ where
                     }
                 }
             }
-            let poll = service.service(&mut rt, &mut rx, &hold, &mut out);
+            let poll = event_loop.turn(&mut rt, &mut rx, &hold, &mut out);
             if !out.0.is_empty() {
                 link.send(&out.0).ok()?;
                 out.0.clear();
@@ -151,17 +153,84 @@ impl Drop for Scratch {
 
 /// Emits `project`'s tables and builds the QEMU firmware on them, in `scratch`; returns the ELF.
 pub fn firmware_image(project: &Project, scratch: &Scratch) -> PathBuf {
-    let tables = scratch.path().join("tables.rs");
-    std::fs::write(&tables, project.emit().unwrap_or_else(|e| panic!("emit: {e}"))).unwrap();
-    build_qemu_image(&tables, &scratch.path().join("firmware.elf")).unwrap_or_else(|e| panic!("{e}"))
+    project.image(scratch.path()).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Builds `project`'s firmware, boots it under QEMU and runs the closed loop with `options`.
 pub fn qemu_closed_loop(project: &Project, options: &Options) -> Report {
-    let scratch = Scratch::new(&project.runtime.name);
+    let seed = options.plant.seed;
+    qemu_closed_loops(project, options, &[seed]).remove(0)
+}
+
+/// Builds `project`'s firmware once and runs the closed loop under QEMU with `options` for each of `seeds`
+/// (the plant's seed), two runs at a time; the reports in the order of `seeds`.
+pub fn qemu_closed_loops(project: &Project, options: &Options, seeds: &[u64]) -> Vec<Report> {
+    let scratch = Scratch::new(&project.name);
     let elf = firmware_image(project, &scratch);
-    run_under_qemu(&elf, &project.set, &project.runtime.name, options, &mut |_| {})
+    let options = steered_for(project, options);
+    let run = |seed: u64| {
+        let mut options = options.clone();
+        options.plant.seed = seed;
+        run_under_qemu(&elf, &project.set, &project.name, &options, &mut |_| {})
+            .unwrap_or_else(|e| panic!("seed {seed}: {e}"))
+    };
+    seeds
+        .chunks(2)
+        .flat_map(|pair| {
+            std::thread::scope(|s| {
+                let runs: Vec<_> = pair.iter().map(|&seed| s.spawn(move || run(seed))).collect();
+                runs.into_iter()
+                    .map(|r| r.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+                    .collect::<Vec<_>>()
+            })
+        })
+        .collect()
+}
+
+/// Emits `project`'s tables and pin map with the board reading its inputs by `sampling` (timer sampling
+/// every millisecond), builds the Pico firmware on them in `scratch`; returns the ELF and the pin map file.
+pub fn pico_image(project: &Project, sampling: SamplingSpec, scratch: &Scratch) -> (PathBuf, PathBuf) {
+    let mut project = project.clone();
+    let board = project.board.as_mut().unwrap_or_else(|| panic!("{}: no [board]", project.name));
+    board.sampling = sampling;
+    board.sample_period_us = (sampling == SamplingSpec::Timer).then_some(1000);
+    let pins = scratch.path().join("pins.json");
+    std::fs::write(&pins, pin_map(board, project.set.events()).unwrap_or_else(|e| panic!("{e}"))).unwrap();
+    let elf = project.pico_image(scratch.path()).unwrap_or_else(|e| panic!("{e}"));
+    (elf, pins)
+}
+
+/// Builds `project`'s Pico firmware for `sampling` and runs the closed loop with `options` on the emulated
+/// RP2040, through the board's pins.
+pub fn pico_closed_loop(project: &Project, sampling: SamplingSpec, options: &Options) -> Report {
+    let scratch = Scratch::new(&format!("{}-pico", project.name));
+    let (elf, pins) = pico_image(project, sampling, &scratch);
+    let options = steered_for(project, options);
+    run_on_rp2040(&elf, &pins, &project.set, &project.name, &options, &mut |_| {})
         .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Asserts that a closed-loop run under `what` was clean end to end: no violation, and the link in step
+/// throughout — nothing lost, garbled, unexpected or unknown, no resynchronisation, stall or restart, and
+/// the firmware's own counts of events taken and commands fired equal to what the host sent and judged.
+pub fn assert_clean(report: &Report, what: &str) {
+    assert_eq!(report.violations, 0, "{what}: {report}");
+    assert!(report.findings.is_empty(), "{what}: {report}");
+    let link = (report.lost, report.overflows, report.stalls, report.reboots, report.resyncs, report.garbled);
+    assert_eq!(
+        link,
+        (0, 0, 0, 0, 0, 0),
+        "{what}: lost, overflows, stalls, reboots, resyncs, garbled: {report}"
+    );
+    let fw = &report.firmware;
+    assert_eq!((fw.unexpected, fw.unknown_bytes), (0, 0), "{what}: {report}");
+    assert_eq!(fw.events_in, report.uncontrollable, "{what}: events taken by the firmware: {report}");
+    assert_eq!(fw.commands_out, report.commands, "{what}: commands fired by the firmware: {report}");
+}
+
+/// `options` with the steering modelling `project`'s choice policy, as `codegen run` does.
+fn steered_for(project: &Project, options: &Options) -> Options {
+    Options { choices: ChoiceModel::of(project.runtime.policy), ..options.clone() }
 }
 
 /// A sensor that ticks freely (uncontrollable `tick`) and a controllable acknowledgement `ack` after an odd

@@ -6,11 +6,12 @@ use std::process::ExitCode;
 
 use serde_json::{json, Value};
 
-use codegen::check::{run as check, scopes, Finding, Problem, Shape};
+use codegen::manifest::{is_manifest, Manifest, ModelSet};
 use codegen::model::Automaton;
+use codegen::problems::{run as check, scopes, Finding, Problem, Shape};
+use codegen::project::supervisors;
 use codegen::synth::{product, Config};
 
-use super::set::{is_manifest, ClosedLoop};
 use super::Error;
 
 /// Check a closed loop for avalanche, choice, inexact synchronisation and simultaneity problems.
@@ -58,8 +59,8 @@ struct Checked {
 pub fn run(args: Args) -> Result<ExitCode, Error> {
     let problems = if args.checks.is_empty() { Problem::ALL.to_vec() } else { args.checks.clone() };
     let closed = match args.files.as_slice() {
-        [one] if is_manifest(one) => ClosedLoop::from_manifest(one)?,
-        files => ClosedLoop::from_files(files, &[], &args.supervisors)?,
+        [one] if is_manifest(one) => supervisors(Manifest::load(one)?.read_automata()?)?,
+        files => ModelSet::from_files(files, &[], &args.supervisors)?,
     };
     let (plants, supervisors) = (closed.plants, closed.supervisors);
     let cfg = Config::default();

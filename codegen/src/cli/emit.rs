@@ -3,11 +3,8 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use codegen::emit::{emit, BoardSpec, Input, OnFault, Options, Policy, Provenance};
-use codegen::formats::read_path;
-use codegen::manifest::Manifest;
-use codegen::model::Automaton;
-use codegen::pack::{ranked, PackSet};
+use codegen::config::{ChoicePolicy, OnFault, RuntimeConfig};
+use codegen::project::Project;
 
 use super::Error;
 
@@ -33,23 +30,23 @@ pub struct Args {
     #[arg(long, default_value = "set")]
     name: String,
     /// Choice policy.
-    #[arg(long, value_enum, default_value_t = Policy::RandomLocalQueue)]
-    policy: Policy,
+    #[arg(long, value_enum, default_value_t = RuntimeConfig::default().policy)]
+    policy: ChoicePolicy,
     /// Seed of the random policies (QEMU; a board reseeds from its own entropy).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = RuntimeConfig::default().seed)]
     seed: u64,
     /// Inexact-synchronisation guard.
-    #[arg(long, default_value_t = true, action = clap::ArgAction::Set)]
+    #[arg(long, default_value_t = RuntimeConfig::default().guard, action = clap::ArgAction::Set)]
     guard: bool,
     /// Reaction to a fault.
-    #[arg(long, value_enum, default_value_t = OnFault::Continue)]
+    #[arg(long, value_enum, default_value_t = RuntimeConfig::default().on_fault)]
     on_fault: OnFault,
     /// Input buffer capacity in events.
-    #[arg(long, default_value_t = 32)]
+    #[arg(long, default_value_t = RuntimeConfig::default().input_buffer)]
     input_buffer: usize,
-    /// Random draws between two reseeds (0: never).
-    #[arg(long, default_value_t = 1024)]
-    reseed_every: u16,
+    /// Random draws between two reseeds (0: never) [default: the manifest's `reseed_every`, else 1024].
+    #[arg(long)]
+    reseed_every: Option<u16>,
     /// A TOML file with a `[board]` table: the pin map of a real board.
     #[arg(long, value_name = "FILE")]
     board: Option<PathBuf>,
@@ -60,107 +57,30 @@ pub struct Args {
 
 /// Runs `emit`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
-    if let Some(path) = &args.manifest {
-        return from_manifest(path, &args);
-    }
-    let mut inputs = Vec::new();
-    let mut read = |paths: &[PathBuf]| -> Result<Vec<Automaton>, Error> {
-        let mut out = Vec::new();
-        for p in paths {
-            out.extend(read_path(p)?);
-            inputs.push(Input::read(p).map_err(|e| format!("{}: {e}", p.display()))?);
+    let mut project = match &args.manifest {
+        Some(path) => Project::load(path)?,
+        None => {
+            let runtime = RuntimeConfig {
+                policy: args.policy,
+                seed: args.seed,
+                guard: args.guard,
+                on_fault: args.on_fault,
+                input_buffer: args.input_buffer,
+                ..RuntimeConfig::default()
+            };
+            Project::from_files(&args.name, &args.plants, &args.supervisors, args.board.as_deref(), runtime)?
         }
-        Ok(out)
     };
-    let plants = read(&args.plants)?;
-    let supervisors = read(&args.supervisors)?;
-    let board = match &args.board {
-        Some(path) => {
-            inputs.push(Input::read(path).map_err(|e| format!("{}: {e}", path.display()))?);
-            Some(read_board(path)?)
-        }
-        None => None,
-    };
-    let packed = ranked::encode(&PackSet::new(plants, supervisors)?)?;
-    let options = Options {
-        name: args.name.clone(),
-        policy: args.policy,
-        seed: args.seed,
-        guard: args.guard,
-        on_fault: args.on_fault,
-        input_buffer: args.input_buffer,
-        reseed_every: args.reseed_every,
-        board,
-    };
-    let provenance = Provenance { inputs, command: command(&args) };
-    let text = emit(&packed, &options, &provenance)?;
-    write(&args.output, &text)
-}
-
-/// `emit MANIFEST`: the manifest's ready supervisors and the local modular ones of its specifications.
-fn from_manifest(path: &std::path::Path, args: &Args) -> Result<ExitCode, Error> {
-    let m = Manifest::load(path)?;
-    let set = m.read_automata()?;
-    let supervisors = set.all_supervisors()?;
-    let mut inputs = vec![Input::read(path).map_err(|e| format!("{}: {e}", path.display()))?];
-    for f in m.plants.iter().chain(&m.specs).chain(&m.supervisors) {
-        let file = m.resolve(f);
-        inputs.push(Input::read(&file).map_err(|e| format!("{}: {e}", file.display()))?);
+    if let Some(n) = args.reseed_every {
+        project.runtime.reseed_every = n;
     }
-    let packed = ranked::encode(&PackSet::new(set.plants, supervisors)?)?;
-    let r = &m.runtime;
-    let options = Options {
-        name: m.name.clone(),
-        policy: r.policy,
-        seed: r.seed,
-        guard: r.guard,
-        on_fault: r.on_fault,
-        input_buffer: r.input_buffer,
-        reseed_every: args.reseed_every,
-        board: m.board.clone(),
-    };
-    let command =
-        format!("codegen emit {} --reseed-every {}", path.display(), args.reseed_every).replace('\\', "/");
-    let text = emit(&packed, &options, &Provenance { inputs, command })?;
-    write(&args.output, &text)
-}
-
-/// Writes the file and prints its summary lines (set, policy RAM) from its header.
-fn write(output: &std::path::Path, text: &str) -> Result<ExitCode, Error> {
-    std::fs::write(output, text).map_err(|e| format!("{}: {e}", output.display()))?;
+    let text = project.emit()?;
+    std::fs::write(&args.output, &text).map_err(|e| format!("{}: {e}", args.output.display()))?;
     for line in text.lines().take_while(|l| l.starts_with("//")) {
         if let Some(fact) = line.strip_prefix("// Set ").or_else(|| line.strip_prefix("// Choice-policy ")) {
             println!("{fact}");
         }
     }
-    println!("written to {}", output.display());
+    println!("written to {}", args.output.display());
     Ok(ExitCode::SUCCESS)
-}
-
-/// The command line that reproduces the output, paths as given, every option spelt out.
-fn command(args: &Args) -> String {
-    let mut words = vec![String::from("codegen emit"), format!("--name {}", args.name)];
-    words.extend(args.plants.iter().map(|p| format!("--plant {}", p.display())));
-    words.extend(args.supervisors.iter().map(|p| format!("--sup {}", p.display())));
-    words.push(format!("--policy {}", args.policy));
-    words.push(format!("--seed {}", args.seed));
-    words.push(format!("--guard {}", args.guard));
-    words.push(format!("--on-fault {}", args.on_fault.name()));
-    words.push(format!("--input-buffer {}", args.input_buffer));
-    words.push(format!("--reseed-every {}", args.reseed_every));
-    if let Some(board) = &args.board {
-        words.push(format!("--board {}", board.display()));
-    }
-    words.join(" ").replace('\\', "/")
-}
-
-/// The `[board]` table of a TOML file.
-fn read_board(path: &std::path::Path) -> Result<BoardSpec, Error> {
-    #[derive(serde::Deserialize)]
-    struct File {
-        board: BoardSpec,
-    }
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let file: File = toml::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-    Ok(file.board)
 }

@@ -10,7 +10,6 @@ mod pack;
 mod plant;
 mod plc;
 mod run;
-mod set;
 mod synth;
 
 use std::error::Error as StdError;

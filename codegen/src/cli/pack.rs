@@ -4,10 +4,12 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use codegen::pack::{comparison::modular_and_monolithic, report::Report, Layout, PackSet};
+use codegen::manifest::{Manifest, ModelSet};
+use codegen::pack::{report::Report, Layout, PackSet};
+use codegen::project::comparison::modular_and_monolithic;
+use codegen::project::supervisors;
 use codegen::synth::Config;
 
-use super::set::ClosedLoop;
 use super::Error;
 
 /// Report the size of a supervisor set in every table layout.
@@ -51,8 +53,8 @@ fn parse_layout(name: &str) -> Result<Layout, String> {
 /// Runs `pack`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
     let closed = match &args.manifest {
-        Some(path) => ClosedLoop::from_manifest(path)?,
-        None => ClosedLoop::from_files(&args.plants, &args.specs, &args.supervisors)?,
+        Some(path) => supervisors(Manifest::load(path)?.read_automata()?)?,
+        None => ModelSet::from_files(&args.plants, &args.specs, &args.supervisors)?,
     };
     let set = PackSet::new(closed.plants.clone(), closed.supervisors)?;
     let comparisons = if closed.specs.is_empty() {

@@ -5,11 +5,12 @@ use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use codegen::closed_loop::{attach, Options};
+use codegen::config::RuntimeConfig;
 use codegen::link::Endpoint;
-use codegen::monitor::Report;
-use codegen::plant::closed_loop::{attach, Options};
-use codegen::plant::project::Project;
+use codegen::monitor::{ChoiceModel, Report};
 use codegen::plant::PlantConfig;
+use codegen::project::Project;
 
 use super::Error;
 
@@ -47,9 +48,9 @@ pub struct RunArgs {
     /// Races: chance (per mille) that the plant answers a command at once, racing the next decision.
     #[arg(long, value_name = "PER_MILLE", default_value_t = 100)]
     pub race: u32,
-    /// Steering: chance (per mille) that the plant picks the event that brings the closed loop nearest
-    /// to a supervisor transition not covered yet.
-    #[arg(long, value_name = "PER_MILLE", default_value_t = 600)]
+    /// Steering: chance (per mille) that the plant picks the event that brings the closed loop soonest
+    /// to a supervisor transition not covered yet (0: no steering, the plant's own timing alone).
+    #[arg(long, value_name = "PER_MILLE", default_value_t = 1000)]
     pub guide: u32,
     /// Delay before each plant event, in microseconds: MIN..MAX (uniform).
     #[arg(long, value_name = "MIN..MAX", value_parser = parse_delay, default_value = "0..100")]
@@ -91,11 +92,13 @@ fn parse_delay(s: &str) -> Result<Delay, String> {
 }
 
 impl RunArgs {
-    /// The closed-loop options, with the manifest's seed unless `--seed` overrides it.
-    pub fn options(&self, manifest_seed: u64) -> Options {
+    /// The closed-loop options for a firmware running `runtime`, with its seed unless `--seed`
+    /// overrides it.
+    pub fn options(&self, runtime: &RuntimeConfig) -> Options {
         Options {
+            choices: ChoiceModel::of(runtime.policy),
             plant: PlantConfig {
-                seed: self.seed.unwrap_or(manifest_seed),
+                seed: self.seed.unwrap_or(runtime.seed),
                 delay_us: (self.delay_us.0, self.delay_us.1),
                 burst_per_mille: self.burst.per_mille,
                 burst_max: self.burst.max,
@@ -110,10 +113,10 @@ impl RunArgs {
 /// Runs `plant`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
     let project = Project::load(&args.manifest)?;
-    let options = args.run.options(project.runtime.seed);
+    let options = args.run.options(&project.runtime);
     let mut link = args.connect.connect().map_err(|e| format!("connecting to {:?}: {e}", args.connect))?;
     let mut progress = Progress::new(options.events);
-    let report = attach(&mut link, &project.set, &project.runtime.name, &options, &mut |r| progress.show(r));
+    let report = attach(&mut link, &project.set, &project.name, &options, &mut |r| progress.show(r));
     progress.clear();
     finish(&report?, args.run.json)
 }

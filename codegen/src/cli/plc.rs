@@ -1,14 +1,12 @@
 //! `codegen plc`: Structured Text and PLCopen XML for a scan-cycle controller.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use codegen::emit::{Input, Provenance};
-use codegen::manifest::Manifest;
-use codegen::pack::PackSet;
-use codegen::plc::{generate, Avalanche, Encoding, PlcOptions, ScanPolicy};
+use codegen::config::{RuntimeConfig, ScanPolicy};
+use codegen::plc::{Avalanche, Encoding};
+use codegen::project::Project;
 
-use super::set::{is_manifest, ClosedLoop};
 use super::Error;
 
 /// Write an IEC 61131-3 program (ST and PLCopen XML) running the supervisors on a PLC.
@@ -20,8 +18,8 @@ use super::Error;
 /// I/O and policy come from the manifest's `[plc]` section; events it does not map are internal.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// A project manifest (TOML; supervisors as listed, else synthesised local modular), or model files
-    /// (those marked as supervisors by their file are supervisors, the others plants).
+    /// A project manifest (TOML; supervisors as listed, else synthesised local modular), or plant model
+    /// files.
     #[arg(required_unless_present = "plants")]
     files: Vec<PathBuf>,
     /// A plant model file (repeat).
@@ -50,39 +48,23 @@ pub struct Args {
     output: PathBuf,
 }
 
+/// Whether `path` names a manifest (a TOML file) rather than a model file.
+fn is_manifest(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml"))
+}
+
 /// Runs `plc`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
-    let mut opts = PlcOptions {
-        name: args.name.clone(),
-        encoding: args.encoding,
-        avalanche: args.avalanche,
-        ..PlcOptions::default()
-    };
-    let (closed, inputs, source) = match args.files.as_slice() {
-        [one] if is_manifest(one) => {
-            let m = Manifest::load(one)?;
-            opts = PlcOptions {
-                encoding: args.encoding,
-                avalanche: args.avalanche,
-                ..PlcOptions::from_manifest(&m).map_err(|e| format!("{}: {e}", one.display()))?
-            };
-            let files = std::iter::once(one.clone())
-                .chain(m.plants.iter().chain(&m.specs).chain(&m.supervisors).map(|p| m.resolve(p)));
-            (ClosedLoop::from_manifest(one)?, hashed(files)?, one.display().to_string())
+    let project = match args.files.as_slice() {
+        [one] if is_manifest(one) && args.plants.is_empty() && args.supervisors.is_empty() => {
+            Project::load(one)?
         }
         files => {
-            let all = files.iter().chain(&args.plants).chain(&args.supervisors).cloned();
-            let mut plants = files.to_vec();
-            plants.extend(args.plants.iter().cloned());
-            (ClosedLoop::from_files(&plants, &[], &args.supervisors)?, hashed(all)?, String::new())
+            let plants: Vec<PathBuf> = files.iter().chain(&args.plants).cloned().collect();
+            Project::from_files(&args.name, &plants, &args.supervisors, None, RuntimeConfig::default())?
         }
     };
-    if let Some(p) = args.policy {
-        opts.policy = p;
-    }
-    let set = PackSet::new(closed.plants, closed.supervisors)?;
-    let provenance = Provenance { inputs, command: command(&args, &source, opts.policy) };
-    let out = generate(&set, &opts, &provenance)?;
+    let out = project.plc(args.encoding, args.avalanche, args.policy)?;
     std::fs::create_dir_all(&args.output).map_err(|e| format!("{}: {e}", args.output.display()))?;
     for (name, text) in &out.files {
         let path = args.output.join(name);
@@ -95,26 +77,4 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
         println!("written to {}", args.output.display());
     }
     Ok(ExitCode::SUCCESS)
-}
-
-/// Every file read and hashed, in order.
-fn hashed(files: impl Iterator<Item = PathBuf>) -> Result<Vec<Input>, Error> {
-    files.map(|f| Input::read(&f).map_err(|e| format!("{}: {e}", f.display()).into())).collect()
-}
-
-/// The command line that reproduces the files, paths as given, every option spelt out.
-fn command(args: &Args, manifest: &str, policy: ScanPolicy) -> String {
-    let mut words = vec![String::from("codegen plc")];
-    if manifest.is_empty() {
-        words.push(format!("--name {}", args.name));
-        words.extend(args.files.iter().map(|p| p.display().to_string()));
-        words.extend(args.plants.iter().map(|p| format!("--plant {}", p.display())));
-        words.extend(args.supervisors.iter().map(|p| format!("--sup {}", p.display())));
-    } else {
-        words.push(manifest.to_owned());
-    }
-    words.push(format!("--encoding {}", args.encoding.name()));
-    words.push(format!("--avalanche {}", args.avalanche.name()));
-    words.push(format!("--policy {}", policy.name()));
-    words.join(" ").replace('\\', "/")
 }

@@ -1,44 +1,118 @@
-//! `codegen run`: the main job — the closed loop of a manifest's supervisors under QEMU, with its report.
+//! `codegen run`: the main job — the closed loop of a manifest's supervisors under QEMU (or on an emulated
+//! RP2040, through the board's pins), with its report.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use codegen::plant::closed_loop::run_under_qemu;
-use codegen::plant::image::build_qemu_image;
-use codegen::plant::project::Project;
+use codegen::closed_loop::{run_on_rp2040, run_under_qemu};
+use codegen::config::SamplingSpec;
+use codegen::project::Project;
+use codegen::target::rp2040::pin_map;
 
 use super::plant::{finish, Progress, RunArgs};
 use super::Error;
 
 /// Synthesise the manifest's supervisors, pack and emit their tables, build the firmware for QEMU, boot
 /// it, attach the virtual plant and run the closed loop; print the report (safety, liveness, coverage
-/// per supervisor, link). Exit status 1 when the run saw a safety violation.
+/// per supervisor, link). With `--target rp2040`, build the Pico firmware instead and run it on an
+/// emulated RP2040, the plant on its pins (`[board]`). Exit status 1 when the run saw a safety
+/// violation.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// The project manifest (plants, specifications or supervisors, `[runtime]`).
+    /// The project manifest (plants, specifications or supervisors, `[runtime]`, `[board]`).
     #[arg(default_value = "examples/cell/cell.toml")]
     manifest: PathBuf,
+    /// What runs the firmware: QEMU's lm3s6965evb over its UART, or the Pico application on an
+    /// emulated RP2040 through its pins (`harness/rp2040/`).
+    #[arg(long, value_enum, default_value_t = Target::Qemu)]
+    target: Target,
+    /// How the Pico firmware reads its inputs (default: the manifest's `[board] sampling`).
+    #[arg(long, value_enum)]
+    sampling: Option<Sampling>,
+    /// Timer sampling period in µs (default: the manifest's, else 1000).
+    #[arg(long, value_name = "US")]
+    sample_period_us: Option<u32>,
+    /// Save the raw defmt frames the Pico firmware writes over RTT to FILE (`defmt-print -e ELF < FILE`).
+    #[arg(long, value_name = "FILE")]
+    rtt: Option<PathBuf>,
     /// Plant and report options.
     #[command(flatten)]
     run: RunArgs,
 }
 
+/// `--target`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum Target {
+    /// qemu-system-arm, lm3s6965evb (Cortex-M3).
+    Qemu,
+    /// The Pico application on rp2040js (Cortex-M0+).
+    Rp2040,
+}
+
+/// `--sampling`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum Sampling {
+    /// GPIO edge interrupts.
+    Interrupt,
+    /// A timer samples every input.
+    Timer,
+}
+
 /// Runs `run`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
     let project = Project::load(&args.manifest)?;
-    let options = args.run.options(project.runtime.seed);
+    if args.target == Target::Rp2040 {
+        return run_rp2040(args, project);
+    }
+    if args.sampling.is_some() || args.sample_period_us.is_some() || args.rtt.is_some() {
+        return Err("--sampling, --sample-period-us and --rtt go with --target rp2040".into());
+    }
+    let options = args.run.options(&project.runtime);
     let scratch = Scratch::new()?;
-    let tables = scratch.0.join("tables.rs");
-    std::fs::write(&tables, project.emit()?).map_err(|e| format!("{}: {e}", tables.display()))?;
-    eprintln!("codegen run: building the {} firmware for QEMU", project.runtime.name);
-    let elf = build_qemu_image(&tables, &scratch.0.join("firmware.elf"))?;
+    eprintln!("codegen run: building the {} firmware for QEMU", project.name);
+    let elf = project.image(&scratch.0)?;
     eprintln!(
         "codegen run: closed loop under QEMU for {} events, plant seed {}",
         options.events, options.plant.seed
     );
     let mut progress = Progress::new(options.events);
+    let report = run_under_qemu(&elf, &project.set, &project.name, &options, &mut |r| progress.show(r));
+    progress.clear();
+    finish(&report?, args.run.json)
+}
+
+/// `run --target rp2040`: the Pico firmware on the manifest's pins, sampling as asked.
+fn run_rp2040(args: Args, mut project: Project) -> Result<ExitCode, Error> {
+    let board = project.board.as_mut().ok_or("--target rp2040: the manifest has no [board] section")?;
+    match args.sampling {
+        Some(Sampling::Interrupt) => {
+            board.sampling = SamplingSpec::Interrupt;
+            board.sample_period_us = None;
+        }
+        Some(Sampling::Timer) => board.sampling = SamplingSpec::Timer,
+        None => {}
+    }
+    if board.sampling == SamplingSpec::Timer {
+        board.sample_period_us = args.sample_period_us.or(board.sample_period_us).or(Some(1000));
+    } else if args.sample_period_us.is_some() {
+        return Err("--sample-period-us goes with timer sampling".into());
+    }
+    let pins = pin_map(board, project.set.events())?;
+    let mut options = args.run.options(&project.runtime);
+    options.rp2040.seed = options.plant.seed;
+    options.rp2040.rtt = args.rtt.clone();
+    let scratch = Scratch::new()?;
+    let pins_file = scratch.0.join("pins.json");
+    std::fs::write(&pins_file, pins).map_err(|e| format!("{}: {e}", pins_file.display()))?;
+    eprintln!("codegen run: building the {} firmware for the Pico", project.name);
+    let elf = project.pico_image(&scratch.0)?;
+    eprintln!(
+        "codegen run: closed loop on an emulated RP2040 for {} events, plant seed {}",
+        options.events, options.plant.seed
+    );
+    let mut progress = Progress::new(options.events);
     let report =
-        run_under_qemu(&elf, &project.set, &project.runtime.name, &options, &mut |r| progress.show(r));
+        run_on_rp2040(&elf, &pins_file, &project.set, &project.name, &options, &mut |r| progress.show(r));
     progress.clear();
     finish(&report?, args.run.json)
 }

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 
-use codegen::formats::{read_path, write_path};
+use codegen::formats::{read_paths, write_path};
 use codegen::manifest::Manifest;
 use codegen::model::{Automaton, Kind};
 use codegen::synth::{self, Config, LocalModularResult, Observer, Supervisor};
@@ -68,15 +68,11 @@ impl Observer for Progress {
     }
 }
 
+/// Every automaton of `files`, as `kind`.
 fn read_all(files: &[PathBuf], kind: Kind) -> Result<Vec<Automaton>, Error> {
-    let mut out = Vec::new();
-    for f in files {
-        out.extend(read_path(f)?.into_iter().map(|mut a| {
-            a.kind = kind;
-            a
-        }));
-    }
-    Ok(out)
+    let mut automata = read_paths(files)?;
+    automata.iter_mut().for_each(|a| a.kind = kind);
+    Ok(automata)
 }
 
 /// One row of the report, with the size before reduction when reduced.

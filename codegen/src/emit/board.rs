@@ -1,93 +1,15 @@
-//! The manifest's `[board]` section: which GPIO makes which uncontrollable event and which controllable
-//! event drives which GPIO, checked against the set's events and written as `firmware::board` tables.
-//!
-//! ```toml
-//! [board]
-//! name = "pico"
-//! sampling = "interrupt"          # or "timer", with sample_period_us
-//! [[board.inputs]]
-//! event = "s_c1"
-//! pin = 2
-//! edge = "rising"                 # rising | falling | both
-//! pull = "up"                     # floating | up | down
-//! [[board.outputs]]
-//! event = "e1_lig"
-//! pin = 16
-//! action = "set"                  # set | clear | pulse (with pulse_ms)
-//! ```
+//! Writing the manifest's `[board]` section ([`BoardSpec`]) as `firmware::board` tables, checked
+//! against the set's events: inputs are uncontrollable events, outputs controllable ones, pins distinct
+//! per direction and within the sampled word.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use serde::Deserialize;
-
+use crate::config::{BoardSpec, SamplingSpec};
 use crate::pack::ranked::Packed;
 
 /// Highest GPIO number a board table may name (one bit per pin in a `u32` sample).
 pub const MAX_PIN: u8 = 31;
-
-/// The `[board]` section.
-#[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct BoardSpec {
-    /// Board name, for logs.
-    pub name: String,
-    /// How inputs are read.
-    #[serde(default)]
-    pub sampling: SamplingSpec,
-    /// Sampling period in microseconds (timer sampling only).
-    pub sample_period_us: Option<u32>,
-    /// Input pins, in the order the firmware checks them.
-    #[serde(default)]
-    pub inputs: Vec<InputSpec>,
-    /// Output actions.
-    #[serde(default)]
-    pub outputs: Vec<OutputSpec>,
-}
-
-/// How inputs are read.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum SamplingSpec {
-    /// GPIO edge interrupts.
-    #[default]
-    Interrupt,
-    /// Timer sampling.
-    Timer,
-}
-
-/// One input pin.
-#[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct InputSpec {
-    /// The uncontrollable event an edge makes.
-    pub event: String,
-    /// GPIO number.
-    pub pin: u8,
-    /// `rising`, `falling` or `both`.
-    pub edge: String,
-    /// `floating` (default), `up` or `down`.
-    #[serde(default = "floating")]
-    pub pull: String,
-}
-
-fn floating() -> String {
-    String::from("floating")
-}
-
-/// One output action.
-#[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct OutputSpec {
-    /// The controllable event that runs it.
-    pub event: String,
-    /// GPIO number.
-    pub pin: u8,
-    /// `set`, `clear` or `pulse`.
-    pub action: String,
-    /// Pulse length in milliseconds (`pulse` only).
-    pub pulse_ms: Option<u16>,
-}
 
 /// A `[board]` section that does not fit the set.
 #[derive(Debug, thiserror::Error, PartialEq, Eq)]
@@ -114,115 +36,108 @@ pub enum BoardError {
     Value(String),
 }
 
-impl BoardSpec {
-    /// Rust source for `BOARD`, `INPUT_PINS`, `INPUT_PULLS` and `OUTPUT_PINS` over `packed`'s events.
-    pub fn rust(&self, packed: &Packed) -> Result<String, BoardError> {
-        let id = |name: &str| -> Result<usize, BoardError> {
-            packed
-                .event_names
-                .iter()
-                .position(|n| n == name)
-                .ok_or_else(|| BoardError::UnknownEvent(name.into()))
-        };
-        let controllable =
-            |e: usize| packed.controllable.get(e / 32).is_some_and(|w| w & (1 << (e % 32)) != 0);
-        let pin = |p: u8| if p > MAX_PIN { Err(BoardError::Pin(p)) } else { Ok(p) };
-        let mut pulls: BTreeMap<u8, &'static str> = BTreeMap::new();
-        let mut inputs = Vec::new();
-        for i in &self.inputs {
-            let e = id(&i.event)?;
-            if controllable(e) {
-                return Err(BoardError::WrongKind {
-                    event: i.event.clone(),
-                    what: "controllable: it cannot be an input",
-                });
-            }
-            let edge = match i.edge.as_str() {
-                "rising" => "Rising",
-                "falling" => "Falling",
-                "both" => "Both",
-                other => return Err(BoardError::Value(format!("edge '{other}' (rising, falling or both)"))),
-            };
-            let pull = match i.pull.as_str() {
-                "floating" => "Floating",
-                "up" => "Up",
-                "down" => "Down",
-                other => return Err(BoardError::Value(format!("pull '{other}' (floating, up or down)"))),
-            };
-            let p = pin(i.pin)?;
-            if *pulls.entry(p).or_insert(pull) != pull {
-                return Err(BoardError::PinConflict(p));
-            }
-            inputs.push(format!(
-                "firmware::board::Input {{ pin: {p}, edge: firmware::board::Edge::{edge}, pull: firmware::board::Pull::{pull}, event: {e} }}"
-            ));
+/// Rust source for `BOARD`, `INPUT_PINS`, `INPUT_PULLS` and `OUTPUT_PINS`: `spec` over `packed`'s events.
+pub fn rust(spec: &BoardSpec, packed: &Packed) -> Result<String, BoardError> {
+    let id = |name: &str| -> Result<usize, BoardError> {
+        packed.event_names.iter().position(|n| n == name).ok_or_else(|| BoardError::UnknownEvent(name.into()))
+    };
+    let controllable = |e: usize| packed.controllable.get(e / 32).is_some_and(|w| w & (1 << (e % 32)) != 0);
+    let pin = |p: u8| if p > MAX_PIN { Err(BoardError::Pin(p)) } else { Ok(p) };
+    let mut pulls: BTreeMap<u8, &'static str> = BTreeMap::new();
+    let mut inputs = Vec::new();
+    for i in &spec.inputs {
+        let e = id(&i.event)?;
+        if controllable(e) {
+            return Err(BoardError::WrongKind {
+                event: i.event.clone(),
+                what: "controllable: it cannot be an input",
+            });
         }
-        let mut out_pins = BTreeMap::new();
-        let mut outputs = Vec::new();
-        for o in &self.outputs {
-            let e = id(&o.event)?;
-            if !controllable(e) {
-                return Err(BoardError::WrongKind {
-                    event: o.event.clone(),
-                    what: "uncontrollable: it cannot drive an output",
-                });
-            }
-            let action = match (o.action.as_str(), o.pulse_ms) {
-                ("set", None) => "Set".to_string(),
-                ("clear", None) => "Clear".to_string(),
-                ("pulse", Some(ms)) => format!("Pulse {{ ms: {ms} }}"),
-                (other, _) => {
-                    return Err(BoardError::Value(format!(
-                        "action '{other}' with pulse_ms {:?} (set, clear, or pulse with pulse_ms)",
-                        o.pulse_ms
-                    )))
-                }
-            };
-            let p = pin(o.pin)?;
-            if pulls.contains_key(&p) {
-                return Err(BoardError::PinConflict(p));
-            }
-            out_pins.insert(p, ());
-            outputs.push(format!(
-                "firmware::board::Output {{ pin: {p}, action: firmware::board::Action::{action}, event: {e} }}"
-            ));
-        }
-        let sampling = match (self.sampling, self.sample_period_us) {
-            (SamplingSpec::Interrupt, None) => "firmware::board::Sampling::Interrupt".to_string(),
-            (SamplingSpec::Timer, Some(us)) if us > 0 => {
-                format!("firmware::board::Sampling::Timer {{ period_us: {us} }}")
-            }
-            _ => {
-                return Err(BoardError::Value(
-                    "sample_period_us (> 0) goes with sampling = \"timer\" only".into(),
-                ))
-            }
+        let edge = match i.edge.as_str() {
+            "rising" => "Rising",
+            "falling" => "Falling",
+            "both" => "Both",
+            other => return Err(BoardError::Value(format!("edge '{other}' (rising, falling or both)"))),
         };
-        let mut s = String::new();
-        let list = |items: &[String]| items.iter().map(|i| format!("        {i},\n")).collect::<String>();
-        let _ = writeln!(s, "/// The board's pin map (`[board]`).");
-        let _ = writeln!(s, "pub static BOARD: firmware::board::Board<'static> = firmware::board::Board {{");
-        let _ = writeln!(s, "    name: {:?},", self.name);
-        let _ = writeln!(s, "    sampling: {sampling},");
-        let _ = writeln!(s, "    inputs: &[\n{}    ],", list(&inputs));
-        let _ = writeln!(s, "    outputs: &[\n{}    ],", list(&outputs));
-        let _ = writeln!(s, "}};");
-        let ins: Vec<String> = pulls.keys().map(u8::to_string).collect();
-        let in_pulls: Vec<String> = pulls.values().map(|p| format!("firmware::board::Pull::{p}")).collect();
-        let outs: Vec<String> = out_pins.keys().map(u8::to_string).collect();
-        let _ = writeln!(s, "/// Distinct input GPIOs, ascending.");
-        let _ = writeln!(s, "pub const INPUT_PINS: [u8; {}] = [{}];", ins.len(), ins.join(", "));
-        let _ = writeln!(s, "/// Bias of each input GPIO.");
-        let _ = writeln!(
-            s,
-            "pub const INPUT_PULLS: [firmware::board::Pull; {}] = [{}];",
-            ins.len(),
-            in_pulls.join(", ")
-        );
-        let _ = writeln!(s, "/// Distinct output GPIOs, ascending.");
-        let _ = writeln!(s, "pub const OUTPUT_PINS: [u8; {}] = [{}];", outs.len(), outs.join(", "));
-        Ok(s)
+        let pull = match i.pull.as_str() {
+            "floating" => "Floating",
+            "up" => "Up",
+            "down" => "Down",
+            other => return Err(BoardError::Value(format!("pull '{other}' (floating, up or down)"))),
+        };
+        let p = pin(i.pin)?;
+        if *pulls.entry(p).or_insert(pull) != pull {
+            return Err(BoardError::PinConflict(p));
+        }
+        inputs.push(format!(
+            "firmware::board::Input {{ pin: {p}, edge: firmware::board::Edge::{edge}, pull: firmware::board::Pull::{pull}, event: {e} }}"
+        ));
     }
+    let mut out_pins = BTreeMap::new();
+    let mut outputs = Vec::new();
+    for o in &spec.outputs {
+        let e = id(&o.event)?;
+        if !controllable(e) {
+            return Err(BoardError::WrongKind {
+                event: o.event.clone(),
+                what: "uncontrollable: it cannot drive an output",
+            });
+        }
+        let action = match (o.action.as_str(), o.pulse_ms) {
+            ("set", None) => "Set".to_string(),
+            ("clear", None) => "Clear".to_string(),
+            ("pulse", Some(ms)) => format!("Pulse {{ ms: {ms} }}"),
+            (other, _) => {
+                return Err(BoardError::Value(format!(
+                    "action '{other}' with pulse_ms {:?} (set, clear, or pulse with pulse_ms)",
+                    o.pulse_ms
+                )))
+            }
+        };
+        let p = pin(o.pin)?;
+        if pulls.contains_key(&p) {
+            return Err(BoardError::PinConflict(p));
+        }
+        out_pins.insert(p, ());
+        outputs.push(format!(
+            "firmware::board::Output {{ pin: {p}, action: firmware::board::Action::{action}, event: {e} }}"
+        ));
+    }
+    let sampling = match (spec.sampling, spec.sample_period_us) {
+        (SamplingSpec::Interrupt, None) => "firmware::board::Sampling::Interrupt".to_string(),
+        (SamplingSpec::Timer, Some(us)) if us > 0 => {
+            format!("firmware::board::Sampling::Timer {{ period_us: {us} }}")
+        }
+        _ => {
+            return Err(BoardError::Value(
+                "sample_period_us (> 0) goes with sampling = \"timer\" only".into(),
+            ))
+        }
+    };
+    let mut s = String::new();
+    let list = |items: &[String]| items.iter().map(|i| format!("        {i},\n")).collect::<String>();
+    let _ = writeln!(s, "/// The board's pin map (`[board]`).");
+    let _ = writeln!(s, "pub static BOARD: firmware::board::Board<'static> = firmware::board::Board {{");
+    let _ = writeln!(s, "    name: {:?},", spec.name);
+    let _ = writeln!(s, "    sampling: {sampling},");
+    let _ = writeln!(s, "    inputs: &[\n{}    ],", list(&inputs));
+    let _ = writeln!(s, "    outputs: &[\n{}    ],", list(&outputs));
+    let _ = writeln!(s, "}};");
+    let ins: Vec<String> = pulls.keys().map(u8::to_string).collect();
+    let in_pulls: Vec<String> = pulls.values().map(|p| format!("firmware::board::Pull::{p}")).collect();
+    let outs: Vec<String> = out_pins.keys().map(u8::to_string).collect();
+    let _ = writeln!(s, "/// Distinct input GPIOs, ascending.");
+    let _ = writeln!(s, "pub const INPUT_PINS: [u8; {}] = [{}];", ins.len(), ins.join(", "));
+    let _ = writeln!(s, "/// Bias of each input GPIO.");
+    let _ = writeln!(
+        s,
+        "pub const INPUT_PULLS: [firmware::board::Pull; {}] = [{}];",
+        ins.len(),
+        in_pulls.join(", ")
+    );
+    let _ = writeln!(s, "/// Distinct output GPIOs, ascending.");
+    let _ = writeln!(s, "pub const OUTPUT_PINS: [u8; {}] = [{}];", outs.len(), outs.join(", "));
+    Ok(s)
 }
 
 #[cfg(test)]
@@ -233,6 +148,7 @@ mod tests {
         Packed {
             event_names: vec!["go".into(), "done".into()],
             controllable: vec![0b01],
+            plants: 0,
             masks: vec![],
             wide: false,
             automata: vec![],
@@ -240,7 +156,7 @@ mod tests {
     }
 
     fn spec(text: &str) -> BoardSpec {
-        #[derive(Deserialize)]
+        #[derive(serde::Deserialize)]
         struct File {
             board: BoardSpec,
         }
@@ -264,7 +180,7 @@ mod tests {
 
     #[test]
     fn writes_the_pin_map() {
-        let rust = spec(OK).rust(&packed()).unwrap();
+        let rust = rust(&spec(OK), &packed()).unwrap();
         assert!(rust.contains("Input { pin: 3, edge: firmware::board::Edge::Falling, pull: firmware::board::Pull::Up, event: 1 }"));
         assert!(
             rust.contains("Output { pin: 5, action: firmware::board::Action::Pulse { ms: 20 }, event: 0 }")
@@ -285,13 +201,16 @@ mod tests {
             (OK.replace("pin = 3", "pin = 5"), BoardError::PinConflict(5)),
         ];
         for (text, err) in cases {
-            assert_eq!(spec(&text).rust(&packed()), Err(err));
+            assert_eq!(rust(&spec(&text), &packed()), Err(err));
         }
-        assert!(matches!(spec(&OK.replace("falling", "up")).rust(&packed()), Err(BoardError::Value(_))));
-        assert!(matches!(spec(&OK.replace("pulse_ms = 20", "")).rust(&packed()), Err(BoardError::Value(_))));
+        assert!(matches!(rust(&spec(&OK.replace("falling", "up")), &packed()), Err(BoardError::Value(_))));
+        assert!(matches!(
+            rust(&spec(&OK.replace("pulse_ms = 20", "")), &packed()),
+            Err(BoardError::Value(_))
+        ));
         let timer = OK.replace("name = \"t\"", "name = \"t\"\nsampling = \"timer\"");
-        assert!(matches!(spec(&timer).rust(&packed()), Err(BoardError::Value(_))));
+        assert!(matches!(rust(&spec(&timer), &packed()), Err(BoardError::Value(_))));
         let timer = timer.replace("sampling = \"timer\"", "sampling = \"timer\"\nsample_period_us = 500");
-        assert!(spec(&timer).rust(&packed()).unwrap().contains("Timer { period_us: 500 }"));
+        assert!(rust(&spec(&timer), &packed()).unwrap().contains("Timer { period_us: 500 }"));
     }
 }

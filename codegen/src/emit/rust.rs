@@ -3,13 +3,13 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use crate::pack::ranked::{Packed, NAME as LAYOUT};
-use crate::pack::Role;
+use firmware::build::{bitset, unowned, SideTables};
 
-use super::board::{BoardSpec, SamplingSpec};
-use super::options::{Options, Policy};
+use super::policy::{fault_value, ram_bytes, rust_type};
 use super::provenance::Provenance;
-use super::side::{EmitError, SideTables};
+use super::EmitError;
+use crate::config::{BoardSpec, ChoicePolicy, RuntimeConfig, SamplingSpec};
+use crate::pack::ranked::{Packed, NAME as LAYOUT};
 
 /// Rust source for `firmware`'s applications (`include!`d inside a module): constants `NAME`,
 /// `EVENT_WORDS`, `AUTOMATA`, `SITES`, `INPUT_SLOTS`, `SEED`, `WIDE`, `MASK_BYTES`, `CONFIG`, the types
@@ -20,15 +20,22 @@ use super::side::{EmitError, SideTables};
 /// `pub static SET: firmware::table::SupervisorSet<'static, EVENT_WORDS>`, the same set checked at compile
 /// time as `pub static CHECKED: firmware::table::CheckedSet`, and the board tables `BOARD`,
 /// `INPUT_PINS`, `INPUT_PULLS`, `OUTPUT_PINS` (empty without a `[board]`).
-/// Deterministic: the same arguments give the same bytes.
-pub fn emit(packed: &Packed, options: &Options, provenance: &Provenance) -> Result<String, EmitError> {
-    let side = SideTables::of(packed)?;
-    if options.input_buffer == 0 || options.input_buffer > usize::from(u16::MAX) {
-        return Err(EmitError::InputBuffer { capacity: options.input_buffer });
+/// `name` names the set, `runtime` is the run-time configuration the tables carry, `board` the pin map
+/// (without one the board tables are empty). Deterministic: the same arguments give the same bytes.
+pub fn emit(
+    packed: &Packed,
+    name: &str,
+    runtime: &RuntimeConfig,
+    board: Option<&BoardSpec>,
+    provenance: &Provenance,
+) -> Result<String, EmitError> {
+    let side = side_tables(packed)?;
+    if runtime.input_buffer == 0 || runtime.input_buffer > usize::from(u16::MAX) {
+        return Err(EmitError::InputBuffer { capacity: runtime.input_buffer });
     }
     let mut out = String::new();
-    header(&mut out, packed, &side, options, provenance);
-    body(&mut out, packed, &side, options);
+    header(&mut out, packed, &side, name, runtime, provenance);
+    body(&mut out, packed, &side, name, runtime);
     let none = BoardSpec {
         name: String::from("none"),
         sampling: SamplingSpec::Interrupt,
@@ -37,12 +44,27 @@ pub fn emit(packed: &Packed, options: &Options, provenance: &Provenance) -> Resu
         outputs: Vec::new(),
     };
     out.push('\n');
-    out.push_str(&options.board.as_ref().unwrap_or(&none).rust(packed)?);
+    out.push_str(&super::board::rust(board.unwrap_or(&none), packed)?);
     Ok(out)
 }
 
-fn header(out: &mut String, packed: &Packed, side: &SideTables, options: &Options, provenance: &Provenance) {
-    let plants = packed.automata.iter().filter(|b| b.role == Role::Plant).count();
+/// The side tables of `packed`, refusing a controllable event no plant generates.
+fn side_tables(packed: &Packed) -> Result<SideTables, EmitError> {
+    if let Some(e) = unowned(packed) {
+        return Err(EmitError::Unowned { event: packed.event_names[e].clone() });
+    }
+    Ok(SideTables::of(packed)?)
+}
+
+fn header(
+    out: &mut String,
+    packed: &Packed,
+    side: &SideTables,
+    name: &str,
+    runtime: &RuntimeConfig,
+    provenance: &Provenance,
+) {
+    let plants = packed.plants;
     let blocks: usize = packed.automata.iter().map(|b| b.block.len()).sum();
     let words = packed.words();
     let _ = writeln!(
@@ -54,7 +76,7 @@ fn header(out: &mut String, packed: &Packed, side: &SideTables, options: &Option
     let _ = writeln!(
         out,
         "// Set '{}': {} plants, {} supervisors, {} events; layout {}, {} bytes of blocks + {} bytes of masks ({} masks).",
-        options.name,
+        name,
         plants,
         packed.automata.len() - plants,
         packed.event_names.len(),
@@ -69,17 +91,15 @@ fn header(out: &mut String, packed: &Packed, side: &SideTables, options: &Option
     let _ = writeln!(
         out,
         "// Options: policy={} seed={} guard={} on_fault={} input_buffer={} reseed_every={}",
-        options.policy,
-        options.seed,
-        options.guard,
-        options.on_fault.name(),
-        options.input_buffer,
-        options.reseed_every
+        runtime.policy,
+        runtime.seed,
+        runtime.guard,
+        runtime.on_fault,
+        runtime.input_buffer,
+        runtime.reseed_every
     );
-    let ram: Vec<String> = Policy::ALL
-        .iter()
-        .map(|p| format!("{} {}", p.name(), p.ram_bytes(words, side.sites.len())))
-        .collect();
+    let ram: Vec<String> =
+        ChoicePolicy::ALL.iter().map(|&p| format!("{p} {}", ram_bytes(p, words, side.sites.len()))).collect();
     let _ = writeln!(
         out,
         "// Choice-policy RAM in bytes ({} choice sites): {}",
@@ -89,15 +109,15 @@ fn header(out: &mut String, packed: &Packed, side: &SideTables, options: &Option
     let _ = writeln!(out);
 }
 
-fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options) {
+fn body(out: &mut String, packed: &Packed, side: &SideTables, name: &str, runtime: &RuntimeConfig) {
     let words = packed.words();
     let _ = writeln!(out, "/// Name of the supervisor set.");
-    let _ = writeln!(out, "pub const NAME: &str = {:?};", options.name);
+    let _ = writeln!(out, "pub const NAME: &str = {name:?};");
     let _ = writeln!(out);
     let _ = writeln!(out, "/// Global event ids.");
     let _ = writeln!(out, "pub mod event {{");
     for (e, ident) in event_idents(&packed.event_names).iter().enumerate() {
-        let kind = if has(&packed.controllable, e) { "controllable" } else { "uncontrollable" };
+        let kind = if bitset::contains(&packed.controllable, e) { "controllable" } else { "uncontrollable" };
         let _ = writeln!(out, "    /// `{}` ({kind}).", packed.event_names[e]);
         let _ = writeln!(out, "    pub const {ident}: u8 = {e};");
     }
@@ -107,8 +127,8 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options)
         ("Words of an event bitset.", "EVENT_WORDS", words.to_string()),
         ("Automata in the set (plants first).", "AUTOMATA", packed.automata.len().to_string()),
         ("Choice sites with two or more controllable out-events.", "SITES", side.sites.len().to_string()),
-        ("Slots of the input queue (capacity + 1).", "INPUT_SLOTS", (options.input_buffer + 1).to_string()),
-        ("Entropy seed of the random policies (QEMU; a board reseeds).", "SEED", options.seed.to_string()),
+        ("Slots of the input queue (capacity + 1).", "INPUT_SLOTS", (runtime.input_buffer + 1).to_string()),
+        ("Entropy seed of the random policies (QEMU; a board reseeds).", "SEED", runtime.seed.to_string()),
     ];
     for (doc, name, value) in consts {
         let ty = if name == "SEED" { "u64" } else { "usize" };
@@ -124,13 +144,13 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options)
         out,
         "pub type Runtime<P, E> = firmware::runtime::Runtime<'static, P, E, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES>;"
     );
-    let _ = writeln!(out, "/// The choice policy ({}).", options.policy);
-    let _ = writeln!(out, "pub type Policy = {};", options.policy.rust_type());
+    let _ = writeln!(out, "/// The choice policy ({}).", runtime.policy);
+    let _ = writeln!(out, "pub type Policy = {};", rust_type(runtime.policy));
     let _ = writeln!(out, "/// Run-time configuration.");
     let _ = writeln!(out, "pub const CONFIG: firmware::runtime::Config = firmware::runtime::Config {{");
-    let _ = writeln!(out, "    guard: {},", options.guard);
-    let _ = writeln!(out, "    on_fault: {},", options.on_fault.rust_value());
-    let _ = writeln!(out, "    reseed_every: {},", options.reseed_every);
+    let _ = writeln!(out, "    guard: {},", runtime.guard);
+    let _ = writeln!(out, "    on_fault: {},", fault_value(runtime.on_fault));
+    let _ = writeln!(out, "    reseed_every: {},", runtime.reseed_every);
     let _ = writeln!(out, "}};");
     let _ = writeln!(out);
     let quoted =
@@ -236,10 +256,6 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, options: &Options)
     let _ = writeln!(out, "}};");
 }
 
-fn has(words: &[u32], e: usize) -> bool {
-    words.get(e / 32).is_some_and(|w| w & (1 << (e % 32)) != 0)
-}
-
 fn hex_words(words: &[u32]) -> String {
     words.iter().map(|w| format!("0x{w:08x}")).collect::<Vec<_>>().join(", ")
 }
@@ -273,6 +289,62 @@ fn event_idents(names: &[String]) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::testing::toggle;
+    use crate::pack::{ranked, PackSet};
+    use firmware::build::HostTables;
+
+    #[test]
+    fn host_tables_pass_the_runtime_check_and_refuse_another_width() {
+        let set = PackSet::new(vec![toggle("G")], vec![toggle("S")]).unwrap();
+        let host = HostTables::<1>::new(ranked::encode(&set).unwrap()).unwrap();
+        let rt = host.set();
+        assert_eq!(rt.check(2), Ok(()));
+        assert_eq!(rt.plants, 1);
+        assert_eq!((rt.automata[1].start, rt.block.len()), (4, 8));
+        let after_a = rt.step(1, 0, 0).unwrap();
+        assert_eq!(rt.step(1, after_a, 1), Some(0));
+        let err = HostTables::<2>::new(ranked::encode(&set).unwrap()).unwrap_err();
+        assert_eq!(err.to_string(), "the set's event bitsets take 1 words, the runtime was built for 2");
+    }
+
+    #[test]
+    fn a_site_is_a_plant_state_with_two_owned_controllable_events() {
+        use crate::model::{Automaton, Kind};
+        let mut g = Automaton::new("G", Kind::Plant);
+        let s0 = g.add_state("0", true).unwrap();
+        let s1 = g.add_state("1", false).unwrap();
+        let a = g.add_event("a", true).unwrap();
+        let b = g.add_event("b", true).unwrap();
+        let u = g.add_event("u", false).unwrap();
+        g.initial = Some(s0);
+        g.add_transition(s0, a, s1);
+        g.add_transition(s0, b, s1);
+        g.add_transition(s1, u, s0);
+        g.add_transition(s1, a, s1);
+        let packed = ranked::encode(&PackSet::new(vec![g.clone()], vec![]).unwrap()).unwrap();
+        let side = side_tables(&packed).unwrap();
+        assert_eq!(side.sites, [0]);
+        assert_eq!(side.plant_events, [vec![0b011]]);
+        assert_eq!(side.holders, [1, 1, 1]);
+        // Sites are offsets in the blocks back to back (after H's record of 2 bytes); holder masks take a
+        // byte per 8 automata.
+        let mut h = Automaton::new("H", Kind::Plant);
+        let q = h.add_state("0", true).unwrap();
+        let x = h.add_event("x", false).unwrap();
+        h.initial = Some(q);
+        h.add_transition(q, x, q);
+        let sups = (0..8)
+            .map(|i| {
+                let mut s = h.clone();
+                s.name = format!("S{i}");
+                s
+            })
+            .collect();
+        let set = PackSet::new(vec![h, g], sups);
+        let side = side_tables(&ranked::encode(&set.unwrap()).unwrap()).unwrap();
+        assert_eq!(side.sites, [2]);
+        assert_eq!(side.holders.len(), 2 * 4);
+    }
 
     #[test]
     fn idents_are_valid_and_unique() {

@@ -29,7 +29,7 @@ pub mod wmod;
 pub mod xmd;
 mod xml;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 pub use contract::check_reader;
 use decode::decode;
@@ -89,6 +89,15 @@ impl Format {
 /// (see [`ads`]); use [`read_path_with_events`] to name another map.
 pub fn read_path(path: &Path) -> Result<Vec<Automaton>, ParseError> {
     read_path_with_events(path, None)
+}
+
+/// Every automaton of every file in `paths`, in order ([`read_path`] on each).
+pub fn read_paths(paths: &[PathBuf]) -> Result<Vec<Automaton>, ParseError> {
+    let mut out = Vec::new();
+    for p in paths {
+        out.extend(read_path(p)?);
+    }
+    Ok(out)
 }
 
 /// [`read_path`] with an explicit TCT event map for an `.ADS` file (refused for other formats).

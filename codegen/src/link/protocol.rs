@@ -5,13 +5,10 @@
 //! firmware → host a command the firmware fired. Control bytes: [`RESET`], [`STATUS`], [`EXIT`],
 //! [`READY`], [`SAFE`], [`HOLD`], [`GO`] (see each). The firmware's side is in `firmware/src/link.rs`.
 
-use crate::monitor::FirmwareCounters;
-
-// The byte values are the firmware's own (`firmware::link`), so the two ends cannot drift apart.
-pub use firmware::link::{EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS};
-
-/// Bytes of a STATUS answer after its leading byte.
-const STATUS_LEN: usize = 24;
+// The byte values and the STATUS answer's format are the firmware's own (`firmware::link`), so the two
+// ends cannot drift apart.
+pub use firmware::link::{EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, STATUS_BYTES};
+pub use firmware::runtime::Counters;
 
 /// One message from the firmware.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -22,8 +19,8 @@ pub enum Frame {
     Ready,
     /// [`SAFE`].
     Safe,
-    /// A complete [`STATUS`] answer.
-    Status(FirmwareCounters),
+    /// A complete [`STATUS`] answer: the firmware's counters since its last reset.
+    Status(Counters),
     /// A byte the protocol does not define in this direction.
     Unknown(u8),
 }
@@ -50,20 +47,8 @@ impl Decoder {
     pub fn push(&mut self, byte: u8) -> Option<Frame> {
         if let Some(buf) = &mut self.status {
             buf.push(byte);
-            if buf.len() < STATUS_LEN {
-                return None;
-            }
-            let word = |i: usize| {
-                u64::from(u32::from_le_bytes([buf[4 * i], buf[4 * i + 1], buf[4 * i + 2], buf[4 * i + 3]]))
-            };
-            let counters = FirmwareCounters {
-                events_in: word(0),
-                commands_out: word(1),
-                unexpected: word(2),
-                overflows: word(3),
-                guard_redecisions: word(4),
-                unknown_bytes: word(5),
-            };
+            let answer: &[u8; STATUS_BYTES] = buf.as_slice().try_into().ok()?;
+            let counters = Counters::from_status(answer);
             self.status = None;
             return Some(Frame::Status(counters));
         }
@@ -72,7 +57,7 @@ impl Decoder {
             READY => Frame::Ready,
             SAFE => Frame::Safe,
             STATUS => {
-                self.status = Some(Vec::with_capacity(STATUS_LEN));
+                self.status = Some(Vec::with_capacity(STATUS_BYTES));
                 return None;
             }
             other => Frame::Unknown(other),
@@ -93,7 +78,7 @@ mod tests {
         bytes.push(SAFE);
         let mut d = Decoder::default();
         let frames: Vec<_> = bytes.iter().filter_map(|&b| d.push(b)).collect();
-        let expected = FirmwareCounters {
+        let expected = Counters {
             events_in: 1,
             commands_out: 2,
             unexpected: 3,

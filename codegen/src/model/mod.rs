@@ -6,15 +6,27 @@
 //! which gives every event of a set one dense id in one deterministic order and refuses an event whose
 //! controllability differs between two files.
 //!
+//! A [`Dfa`] is an automaton re-indexed by the global ids of an event table, in compressed rows: what
+//! synthesis computes on and the layouts pack. A [`Composition`] runs several automata side by side over one event table, one event at a time: the
+//! synchronous product tracked rather than built, as the virtual plant runs the plants and the monitor
+//! the closed loop.
+//!
 //! Everything here is ordered deterministically: the same input gives the same ids and so byte-identical
 //! output downstream.
 
 mod automaton;
+mod composition;
+mod dfa;
 mod error;
 mod event_table;
 mod ids;
+#[cfg(test)]
+pub(crate) mod testing;
 
 pub use automaton::{Automaton, Event, Kind, State, Transition};
+pub use composition::Composition;
+pub use dfa::Dfa;
+pub(crate) use dfa::{DfaBuilder, NONE};
 pub use error::ModelError;
 pub use event_table::EventTable;
 pub use ids::{EventId, IdError, StateId};

@@ -1,10 +1,10 @@
 //! Which controllable transitions of each supervisor the closed loop can take, which it took, and how
 //! far the closed loop is from one it has not taken yet.
 
-use std::collections::{BTreeSet, HashMap, VecDeque};
+use std::collections::{BTreeSet, VecDeque};
 
-use crate::model::EventId;
-use crate::plant::Composition;
+use crate::model::{Composition, EventId};
+use crate::synth::Reachable;
 
 /// A supervisor transition, as (local source state, global event id).
 pub type Edge = (u32, u32);
@@ -18,68 +18,53 @@ pub struct TooLarge {
 }
 
 /// The reachable part of a composition, explicit: states numbered in breadth-first order from the
-/// initial state (number 0), with their outgoing transitions.
+/// initial state (number 0), with their outgoing transitions — synthesis's product walk
+/// ([`Reachable`]) over the composition's members.
 #[derive(Clone, Debug)]
 pub struct Graph {
-    index: HashMap<Vec<u32>, u32>,
-    states: Vec<Vec<u32>>,
-    /// Per state: `(global event, target state number)`.
-    out: Vec<Vec<(u32, u32)>>,
+    reach: Reachable,
 }
 
 impl Graph {
     /// Explores `closed` breadth first from its initial state; stops with [`TooLarge`] past `limit`
     /// states.
     pub fn explore(closed: &Composition, limit: usize) -> Result<Graph, TooLarge> {
-        let initial = closed.initial();
-        let mut g =
-            Graph { index: HashMap::from([(initial.clone(), 0)]), states: vec![initial], out: Vec::new() };
-        let mut next = 0;
-        while next < g.states.len() {
-            let state = g.states[next].clone();
-            let mut out = Vec::new();
-            for e in closed.enabled(&state) {
-                let mut target = state.clone();
-                closed.step(&mut target, e);
-                let id = match g.index.get(&target) {
-                    Some(&id) => id,
-                    None => {
-                        if g.states.len() >= limit {
-                            return Err(TooLarge { limit });
-                        }
-                        let id = g.states.len() as u32;
-                        g.index.insert(target.clone(), id);
-                        g.states.push(target);
-                        id
-                    }
-                };
-                out.push((e.as_u32(), id));
-            }
-            g.out.push(out);
-            next += 1;
-        }
-        Ok(g)
+        let reach = Reachable::explore(&closed.dfas(), limit).map_err(|_| TooLarge { limit })?;
+        Ok(Graph { reach })
     }
 
     /// Number of reachable states.
     pub fn len(&self) -> usize {
-        self.states.len()
+        self.reach.dfa().state_count()
     }
 
     /// Whether the graph is empty (never: the initial state is always there).
     pub fn is_empty(&self) -> bool {
-        self.states.is_empty()
+        self.len() == 0
     }
 
     /// The number of `state`, when it is reachable.
     pub fn id(&self, state: &[u32]) -> Option<u32> {
-        self.index.get(state).copied()
+        self.reach.id(state)
+    }
+
+    /// The local states of state number `s`.
+    pub fn tuple(&self, s: u32) -> Vec<u32> {
+        self.reach.tuple(s)
+    }
+
+    /// The transitions out of state number `s`: `(global event, target state number)`, in one fixed
+    /// order.
+    pub fn edges(&self, s: u32) -> impl Iterator<Item = (u32, u32)> + '_ {
+        self.reach.dfa().edges(s)
     }
 
     /// The state reached from state number `from` by `event`, if any.
     pub fn next(&self, from: u32, event: EventId) -> Option<u32> {
-        let out = self.out.get(from as usize)?;
-        out.iter().find(|&&(e, _)| e == event.as_u32()).map(|&(_, t)| t)
+        if from as usize >= self.len() {
+            return None;
+        }
+        self.reach.dfa().step(from, event.as_u32())
     }
 
     /// For every member in `supervisors` (indices into `closed`, which the graph explored), the
@@ -92,11 +77,12 @@ impl Graph {
         controllable: &[bool],
     ) -> Vec<BTreeSet<Edge>> {
         let mut out = vec![BTreeSet::new(); supervisors.len()];
-        for (state, edges) in self.states.iter().zip(&self.out) {
-            for &(e, _) in edges.iter().filter(|&&(e, _)| controllable[e as usize]) {
+        let dfa = self.reach.dfa();
+        for s in 0..self.len() as u32 {
+            for (e, _) in dfa.edges(s).filter(|&(e, _)| controllable[e as usize]) {
                 for (k, i) in supervisors.clone().enumerate() {
                     if closed.has_event(i, EventId::from_u32(e)) {
-                        out[k].insert((state[i], e));
+                        out[k].insert((self.reach.component_state(s, i), e));
                     }
                 }
             }
@@ -104,21 +90,30 @@ impl Graph {
         out
     }
 
-    /// Per state number: the fewest events to a state where `wanted` holds for one of its transitions
-    /// (`u32::MAX` when none can be reached). Breadth first over the reversed transitions.
-    pub fn distances(&self, wanted: impl Fn(&[u32], u32) -> bool) -> Vec<u32> {
-        let mut into: Vec<Vec<u32>> = vec![Vec::new(); self.states.len()];
-        for (s, edges) in self.out.iter().enumerate() {
-            for &(_, t) in edges {
-                into[t as usize].push(s as u32);
+    /// Per state number: the fewest events to a state where `wanted(state, k)` holds for its `k`-th
+    /// outgoing transition (in the order of [`Graph::edges`]; `u32::MAX` when none can be reached),
+    /// along transitions for which `usable(state, k)` holds. Breadth first over the reversed transitions.
+    pub fn distances(
+        &self,
+        wanted: impl Fn(u32, usize) -> bool,
+        usable: impl Fn(u32, usize) -> bool,
+    ) -> Vec<u32> {
+        let dfa = self.reach.dfa();
+        let n = self.len();
+        let mut into: Vec<Vec<u32>> = vec![Vec::new(); n];
+        for s in 0..n as u32 {
+            for (k, (_, t)) in dfa.edges(s).enumerate() {
+                if usable(s, k) {
+                    into[t as usize].push(s);
+                }
             }
         }
-        let mut dist = vec![u32::MAX; self.states.len()];
+        let mut dist = vec![u32::MAX; n];
         let mut queue = VecDeque::new();
-        for (s, (state, edges)) in self.states.iter().zip(&self.out).enumerate() {
-            if edges.iter().any(|&(e, _)| wanted(state, e)) {
-                dist[s] = 0;
-                queue.push_back(s as u32);
+        for s in 0..n as u32 {
+            if (0..dfa.edges(s).count()).any(|k| wanted(s, k)) {
+                dist[s as usize] = 0;
+                queue.push_back(s);
             }
         }
         while let Some(s) = queue.pop_front() {
@@ -173,8 +168,8 @@ impl Taken {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::testing::{automaton, machine};
     use crate::model::{EventTable, Kind};
-    use crate::plant::composition::tests::{automaton, machine};
 
     #[test]
     fn only_transitions_the_closed_loop_reaches_count_and_distances_lead_to_them() {
@@ -189,7 +184,7 @@ mod tests {
         let a = table.id("a").unwrap();
         assert_eq!(g.controllable_edges(&closed, 1..2, &controllable), [BTreeSet::from([(0, a.as_u32())])]);
         assert_eq!(Graph::explore(&closed, 1).unwrap_err(), TooLarge { limit: 1 });
-        let d = g.distances(|_, e| e == a.as_u32());
+        let d = g.distances(|s, k| g.edges(s).nth(k).is_some_and(|(e, _)| e == a.as_u32()), |_, _| true);
         assert_eq!(d, [0, 1]);
         assert_eq!(g.next(0, a), Some(1));
         assert_eq!(g.id(&[1, 1]), Some(1));

@@ -2,13 +2,14 @@
 
 use std::collections::{BTreeSet, VecDeque};
 
+use super::choice_model::{ChoiceModel, Choices};
 use super::coverage::{Edge, Graph, Taken};
 use super::report::{CoverageLine, FirmwareCounters, Report};
-use crate::model::{Automaton, EventId, EventTable, ModelError};
-use crate::plant::Composition;
+use super::steering::{Command, Move, Steering};
+use crate::model::{Automaton, Composition, EventId, EventTable, ModelError};
 
 /// Most firmware views kept at once; the ones that have seen the most events win.
-const MAX_VIEWS: usize = 64;
+const MAX_VIEWS: usize = 4096;
 /// Most violation messages kept for the report.
 const MAX_FINDINGS: usize = 10;
 /// Largest closed loop explored for the coverage denominator.
@@ -67,8 +68,10 @@ pub struct Monitor {
     graph: Option<Graph>,
     reachable: Option<Vec<BTreeSet<Edge>>>,
     taken: Taken,
-    /// Per closed-loop state number: events to the nearest transition not taken yet (empty: stale).
-    distance: Vec<u32>,
+    /// Where the plant should lead the closed loop next.
+    steering: Steering,
+    /// The controller's choices as far as the monitor can tell.
+    choices: Choices,
     report: Report,
     gap: u64,
 }
@@ -88,6 +91,7 @@ impl Monitor {
         let graph = Graph::explore(&closed, EXPLORATION_LIMIT).ok();
         let reachable = graph.as_ref().map(|g| g.controllable_edges(&closed, sups.clone(), &controllable));
         let physical = closed.initial();
+        let choices = Choices::new(ChoiceModel::Uniform, &closed, plants.len(), &controllable);
         let mut report = Report {
             coverage: supervisors
                 .iter()
@@ -114,7 +118,8 @@ impl Monitor {
             graph,
             reachable,
             taken: Taken::new(supervisors.len()),
-            distance: Vec::new(),
+            steering: Steering::new(),
+            choices,
             report,
             gap: 0,
             closed,
@@ -166,8 +171,18 @@ impl Monitor {
             return self.violation(format!("command '{name}' disabled by {refusers}"));
         }
         let verdict = if self.closed.allows(&self.physical, event) {
+            let enabled: Vec<u32> = self
+                .closed
+                .enabled(&self.physical)
+                .into_iter()
+                .map(EventId::as_u32)
+                .filter(|&e| self.controllable[e as usize])
+                .collect();
+            if let Some(site) = self.choices.fired(&self.closed, &self.physical, &enabled, event.as_u32()) {
+                self.steering.round_moved(site, &self.choices.round(&self.closed, site));
+            }
             if self.taken.record(&self.closed, self.plants, &self.physical, event) {
-                self.distance.clear();
+                self.steering.invalidate();
             }
             self.closed.step(&mut self.physical, event);
             self.views = views;
@@ -178,10 +193,16 @@ impl Monitor {
             // the views it decided in is unknown, so all of them stay candidates.
             let reordered = views.iter().rev().find_map(|v| {
                 let mut s = v.state.clone();
-                self.unread_from(v.seen).all(|u| self.closed.step(&mut s, u)).then_some(s)
+                self.unread_from(v.seen).all(|u| self.closed.step(&mut s, u)).then_some((v, s))
             });
             match reordered {
-                Some(state) => {
+                Some((view, state)) => {
+                    // The command's transition was taken too, in the state the controller decided in.
+                    if let Some(before) = self.state_before(view, event) {
+                        if self.taken.record(&self.closed, self.plants, &before, event) {
+                            self.steering.invalidate();
+                        }
+                    }
                     self.physical = state;
                     self.views = views;
                     Verdict::Desync { resolved: true }
@@ -194,29 +215,67 @@ impl Monitor {
         verdict
     }
 
-    /// How many events the closed loop would be, after the plant's `event` in the current state, from
-    /// the nearest reachable controllable supervisor transition not taken yet; `None` when no such
-    /// transition is left (or the closed loop was too large to explore). The plant uses it to steer
-    /// towards what the run has not covered.
-    pub fn distance_after(&mut self, event: EventId) -> Option<u32> {
+    /// How good the plant's `event` is now for reaching a controllable supervisor transition the run has
+    /// not taken yet: the expected events from the state it leads to (in sixteenths; lower is better,
+    /// see [`Steering`]); `None` when no such transition is left (or the closed loop was too large to
+    /// explore). The plant uses it to steer towards what the run has not covered.
+    pub fn rank_after(&mut self, event: EventId) -> Option<u32> {
+        self.refresh_steering();
         let graph = self.graph.as_ref()?;
-        if self.distance.is_empty() {
-            let (closed, taken, plants, controllable) =
-                (&self.closed, &self.taken, self.plants, &self.controllable);
-            self.distance = graph.distances(|state, e| {
-                controllable[e as usize]
-                    && (plants..closed.len()).any(|i| {
-                        closed.has_event(i, EventId::from_u32(e))
-                            && !taken.of(i - plants).contains(&(state[i], e))
-                    })
-            });
-        }
         let next = graph.next(graph.id(&self.physical)?, event)?;
-        self.distance.get(next as usize).copied().filter(|&d| d != u32::MAX)
+        self.steering.rank_after(next)
+    }
+
+    /// Whether the monitor is steering: it could explore the closed loop and some reachable transition
+    /// is not taken yet.
+    pub fn is_steering(&self) -> bool {
+        self.graph.is_some() && !self.report.full_coverage()
+    }
+
+    /// Who should move next from the current state to reach a transition not taken yet: the controller
+    /// (the plant holds its next event back), or the plant (see [`Move`]).
+    pub fn next_move(&mut self) -> Move {
+        self.refresh_steering();
+        let Some(graph) = self.graph.as_ref() else { return Move::Plant };
+        graph.id(&self.physical).map_or(Move::Plant, |s| self.steering.next_move(graph, s))
+    }
+
+    fn refresh_steering(&mut self) {
+        let Some(graph) = self.graph.as_ref() else { return };
+        let (closed, taken, plants, choices) = (&self.closed, &self.taken, self.plants, &self.choices);
+        self.steering.refresh(
+            graph,
+            &self.controllable,
+            |s, commands| {
+                let state = graph.tuple(s);
+                let chances = choices.chances(closed, &state, commands);
+                commands
+                    .iter()
+                    .zip(chances)
+                    .map(|(&e, chance)| Command {
+                        target: (plants..closed.len()).any(|i| {
+                            closed.has_event(i, EventId::from_u32(e))
+                                && !taken.of(i - plants).contains(&(state[i], e))
+                        }),
+                        chance,
+                        site: choices.site(closed, &state, e),
+                    })
+                    .collect()
+            },
+            |site| choices.round(closed, site),
+        );
+    }
+
+    /// Models the controller's choice policy for the steering (uniform until told).
+    pub fn model_choices(&mut self, model: ChoiceModel) {
+        self.choices = Choices::new(model, &self.closed, self.plants, &self.controllable);
+        self.steering.invalidate();
     }
 
     /// The link was reset: plant, controller and monitor are back in the initial state.
     pub fn reset(&mut self) {
+        self.choices.reset();
+        self.steering.invalidate();
         self.physical = self.closed.initial();
         self.views = BTreeSet::from([View { seen: self.sent, state: self.physical.clone() }]);
         self.unread.clear();
@@ -264,6 +323,18 @@ impl Monitor {
             out.pop_first();
         }
         out
+    }
+
+    /// A closed-loop state the controller can have been in when it fired `event` and reached `after`:
+    /// one of the views before the command, with the events it had read by then.
+    fn state_before(&self, after: &View, event: EventId) -> Option<Vec<u32>> {
+        self.views.iter().filter(|w| w.seen <= after.seen).find_map(|w| {
+            let mut state = w.state.clone();
+            let read = usize::try_from(after.seen - w.seen).ok()?;
+            let replayed = self.unread_from(w.seen).take(read).all(|u| self.closed.step(&mut state, u));
+            let mut next = state.clone();
+            (replayed && self.closed.step(&mut next, event) && next == after.state).then_some(state)
+        })
     }
 
     /// The uncontrollable events sent from number `seen` on.
@@ -334,8 +405,8 @@ impl Monitor {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::testing::{automaton, machine};
     use crate::model::Kind;
-    use crate::plant::composition::tests::{automaton, machine};
 
     /// Two machines and a one-slot buffer between them (the textbook small factory, no breakdowns):
     /// the supervisor lets M1 start only when the buffer is empty and M2 only when it is full.
@@ -447,6 +518,9 @@ mod tests {
         assert_eq!(mon.plant_state(), [1, 0]);
         assert_eq!(mon.physical[2], 1, "s moved the supervisor after a");
         assert_eq!(mon.report().violations, 0);
+        // The supervisor's `a` transition from mode 0 was taken, though the command came as a desync.
+        assert_eq!((mon.report().coverage[0].taken, mon.report().coverage[0].reachable), (1, Some(1)));
+        assert!(mon.report().full_coverage_at.is_some());
     }
 
     #[test]

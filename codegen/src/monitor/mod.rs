@@ -7,17 +7,23 @@
 //!   accepted by the supervisors (a refused one means a supervisor is not controllable);
 //! - **liveness**: the marked states of the closed loop keep being reached (visits, longest gap);
 //! - **coverage**: which controllable transitions of each supervisor were taken, out of those reachable in
-//!   plants ‖ supervisors (computed by exploring the closed loop);
+//!   plants ‖ supervisors (the closed loop explored by synthesis's product walk,
+//!   [`crate::synth::Reachable`]);
 //! - **link**: desynchronisations (commands decided before the controller read the plant's latest events),
 //!   resets, and the firmware's own counters (overflows, guard re-decisions, unexpected events), from
 //!   which events lost silently are derived.
 //!
-//! The figures end up in a [`Report`], printed as a table or as JSON.
+//! The figures end up in a [`Report`], printed as a table or as JSON; a run on a board's pins adds what
+//! only pins show ([`BoardFigures`](crate::target::rp2040::BoardFigures)).
 
+mod choice_model;
 mod coverage;
 mod judge;
 mod report;
+mod steering;
 
+pub use choice_model::ChoiceModel;
 pub use coverage::{Edge, Graph, Taken, TooLarge};
 pub use judge::{Monitor, Verdict};
 pub use report::{CoverageLine, FirmwareCounters, Report, SCHEMA};
+pub use steering::Move;

@@ -2,12 +2,17 @@
 
 use std::fmt;
 
+use firmware::runtime::Counters;
 use serde::Serialize;
 
-/// Version of the JSON form of [`Report`]; bumped when a field changes meaning or goes away.
-pub const SCHEMA: u32 = 1;
+use crate::target::rp2040::BoardFigures;
 
-/// The firmware's own counters (link STATUS answer), summed over every reset of a run.
+/// Version of the JSON form of [`Report`]; bumped when a field changes meaning or goes away (2: `target`
+/// and `board`).
+pub const SCHEMA: u32 = 2;
+
+/// The firmware's own counters ([`Counters`], the link's STATUS answer) summed over every reset of a run,
+/// as the report prints them.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct FirmwareCounters {
     /// Uncontrollable events it took into its input buffer.
@@ -22,6 +27,19 @@ pub struct FirmwareCounters {
     pub guard_redecisions: u64,
     /// Bytes that were neither an event id nor a known control byte.
     pub unknown_bytes: u64,
+}
+
+impl From<Counters> for FirmwareCounters {
+    fn from(c: Counters) -> Self {
+        FirmwareCounters {
+            events_in: c.events_in.into(),
+            commands_out: c.commands_out.into(),
+            unexpected: c.unexpected.into(),
+            overflows: c.overflows.into(),
+            guard_redecisions: c.guard_redecisions.into(),
+            unknown_bytes: c.unknown_bytes.into(),
+        }
+    }
 }
 
 impl FirmwareCounters {
@@ -53,6 +71,9 @@ pub struct CoverageLine {
 pub struct Report {
     /// JSON schema version.
     pub schema: u32,
+    /// What ran the firmware: `qemu`, `rp2040` (emulated Pico, through its pins), or `link` (a firmware
+    /// started elsewhere, `codegen plant`).
+    pub target: String,
     /// Name of the supervisor set.
     pub name: String,
     /// Seed of the virtual plant.
@@ -72,8 +93,12 @@ pub struct Report {
     pub desyncs: u64,
     /// Times the link was reset to bring plant and controller back together.
     pub resyncs: u64,
+    /// Times the plant's steering restarted the closed loop after long without a new transition.
+    pub steering_resets: u64,
     /// Times the closed loop blocked: nothing for the plant to do and no command (then reset).
     pub stalls: u64,
+    /// READYs the firmware sent unasked: it restarted in mid-run (then resynchronised).
+    pub reboots: u64,
     /// Bytes from the firmware the protocol does not define in that direction.
     pub garbled: u64,
     /// Times the closed loop entered a marked state.
@@ -103,6 +128,8 @@ pub struct Report {
     pub seconds: f64,
     /// Events per second over the run.
     pub events_per_second: f64,
+    /// What the board's pins showed (`rp2040`; `None` over a byte link).
+    pub board: Option<BoardFigures>,
 }
 
 impl Report {
@@ -140,8 +167,9 @@ impl fmt::Display for Report {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(
             f,
-            "closed loop '{}': {} events ({} commands, {} plant events) in {:.2} s, {:.0} events/s, seed {}",
+            "closed loop '{}' on {}: {} events ({} commands, {} plant events) in {:.2} s, {:.0} events/s, seed {}",
             self.name,
+            self.target,
             self.events,
             self.commands,
             self.uncontrollable,
@@ -161,11 +189,13 @@ impl fmt::Display for Report {
         let fw = &self.firmware;
         writeln!(
             f,
-            "  link      {} desyncs, {} resyncs, {} stalls, {} overflows, {} lost, {} guard re-decisions, \
-             {} unexpected, {} unknown bytes in, {} garbled bytes out",
+            "  link      {} desyncs, {} resyncs, {} steering resets, {} stalls, {} reboots, {} overflows, \
+             {} lost, {} guard re-decisions, {} unexpected, {} unknown bytes in, {} garbled bytes out",
             self.desyncs,
             self.resyncs,
+            self.steering_resets,
             self.stalls,
+            self.reboots,
             self.overflows,
             self.lost,
             self.guard_redecisions,
@@ -186,6 +216,9 @@ impl fmt::Display for Report {
         }
         for u in &self.uncovered {
             writeln!(f, "            not taken: {u}")?;
+        }
+        if let Some(board) = &self.board {
+            write!(f, "{board}")?;
         }
         Ok(())
     }

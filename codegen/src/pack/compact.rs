@@ -18,7 +18,9 @@
 //! Limits: 65 535 states per automaton; no limit on events or transitions per state.
 
 use super::bits::{width, Reader, Writer};
-use super::{decoded::Recovered, DecodeError, PackError, PackSet, Role, Size};
+use firmware::build::bitset;
+
+use super::{decoded::Recovered, DecodeError, Measure, Names, PackError, PackSet, Size};
 use crate::model::Automaton;
 
 /// Layout name, as given to `--layout`.
@@ -35,17 +37,13 @@ pub struct Packed {
     pub controllable: Vec<u8>,
     /// Plants first, then supervisors.
     pub automata: Vec<Block>,
-    /// Event names by global id.
-    pub event_names: Vec<String>,
+    /// Names of the events and automata (not counted).
+    pub names: Names,
 }
 
 /// One automaton in the `compact` layout.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Block {
-    /// Automaton name.
-    pub name: String,
-    /// Plant or supervisor.
-    pub role: Role,
     /// Number of states.
     pub states: u16,
     /// Initial state index.
@@ -65,13 +63,13 @@ impl Block {
     }
 }
 
-impl Packed {
+impl Measure for Packed {
     /// Bytes per automaton and of each side table.
-    pub fn size(&self) -> Size {
+    fn size(&self) -> Size {
         let n = self.automata.len();
         Size {
             layout: NAME,
-            per_automaton: self.automata.iter().map(|b| (b.name.clone(), b.block.len())).collect(),
+            per_automaton: self.names.with_bytes(self.automata.iter().map(|b| b.block.len())),
             side_tables: vec![
                 ("controllability", self.controllable.len()),
                 ("automaton offsets", 4 * n),
@@ -113,12 +111,12 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
         let w = width(s);
         let mut stream = Writer::default();
         let mut starts = Vec::with_capacity(s / STRIDE);
-        for (state, edges) in m.out.iter().enumerate() {
+        for state in 0..s {
             if state > 0 && state % STRIDE == 0 {
                 starts.push(stream.bit_len());
             }
             // `out` is sorted by global id, the order that numbers local events: one pass merges them.
-            let mut next = edges.iter().peekable();
+            let mut next = m.out(state).peekable();
             for &e in &alphabet {
                 let here = next.peek().is_some_and(|(ev, _)| *ev == e);
                 stream.put(usize::from(here), 1);
@@ -126,7 +124,7 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
                     next.next();
                 }
             }
-            for &(_, t) in edges {
+            for (_, t) in m.out(state) {
                 stream.put(t.index(), w);
             }
         }
@@ -137,8 +135,6 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
             directory.put(start, d);
         }
         automata.push(Block {
-            name: m.name().to_owned(),
-            role: m.role,
             // Checked against MAX_STATES above.
             states: s as u16,
             initial: m.initial().index() as u16,
@@ -153,18 +149,24 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
             events.len(),
         ),
         automata,
-        event_names: events.ids().map(|e| events.name(e).to_owned()).collect(),
+        names: Names::of(set),
     })
 }
 
 /// Reads `packed` back into automata (plants first), checking every field and the directory.
 pub fn decode(packed: &Packed) -> Result<Vec<Automaton>, DecodeError> {
-    let controllable = super::bitset::from_ids(byte_set_ids(&packed.controllable), packed.event_names.len());
-    packed.automata.iter().map(|b| decode_block(b, packed, &controllable)).collect()
+    let controllable = bitset::from_ids(byte_set_ids(&packed.controllable), packed.names.events.len());
+    packed.automata.iter().enumerate().map(|(a, b)| decode_block(a, b, packed, &controllable)).collect()
 }
 
-fn decode_block(b: &Block, packed: &Packed, controllable: &[u32]) -> Result<Automaton, DecodeError> {
-    let what = || b.name.clone();
+fn decode_block(
+    a: usize,
+    b: &Block,
+    packed: &Packed,
+    controllable: &[u32],
+) -> Result<Automaton, DecodeError> {
+    let (name, role) = packed.names.automaton(a)?;
+    let what = || name.to_owned();
     let s = usize::from(b.states);
     let alphabet = byte_set_ids(&b.alphabet);
     let w = width(s);
@@ -210,14 +212,15 @@ fn decode_block(b: &Block, packed: &Packed, controllable: &[u32]) -> Result<Auto
     if usize::from(b.initial) >= s {
         return Err(DecodeError::BadState { what: what(), at: 0, target: usize::from(b.initial) });
     }
-    Recovered { name: &b.name, role: b.role, alphabet, states: s, initial: usize::from(b.initial), edges }
-        .build(&packed.event_names, controllable)
+    Recovered { name, role, alphabet, states: s, initial: usize::from(b.initial), edges }
+        .build(&packed.names.events, controllable)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pack::testing::{arb_set, assert_round_trip, toggle};
+    use crate::model::testing::toggle;
+    use crate::pack::testing::{arb_set, assert_round_trip};
 
     #[test]
     fn toggle_is_one_byte() {
@@ -250,7 +253,7 @@ mod tests {
             let packed = encode(&set).unwrap();
             assert_round_trip(&set, &decode(&packed).unwrap());
             for (m, b) in set.members().iter().zip(&packed.automata) {
-                let bits = m.state_count() * m.global.len() + m.transition_count() * width(m.state_count()) as usize;
+                let bits = m.state_count() * m.dfa.alphabet().len() + m.transition_count() * width(m.state_count()) as usize;
                 proptest::prop_assert_eq!(b.block.len(), bits.div_ceil(8));
                 let entries = (m.state_count() - 1) / STRIDE;
                 proptest::prop_assert_eq!(b.directory.len(), (entries * b.directory_width() as usize).div_ceil(8));

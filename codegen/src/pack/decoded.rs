@@ -2,7 +2,9 @@
 
 use crate::model::{Automaton, Event, EventId, State, StateId, Transition};
 
-use super::{bitset, DecodeError, Role};
+use firmware::build::bitset;
+
+use super::{DecodeError, Role};
 
 /// What a decoder recovered of one automaton; turned into an [`Automaton`] by [`Recovered::build`].
 pub(crate) struct Recovered<'a> {

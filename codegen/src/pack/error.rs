@@ -1,5 +1,7 @@
 //! What can stop a supervisor set from being packed, or a packed table from being read back.
 
+use firmware::build::{BuildError, ReadError};
+
 use crate::model::ModelError;
 
 /// A set that cannot be packed in the requested layout.
@@ -55,44 +57,10 @@ pub enum PackError {
         /// Largest number the layout supports.
         limit: usize,
     },
-    /// More distinct out-masks in the whole set than the layout's mask ids number.
-    #[error("layout {layout}: the set has {masks} distinct out-masks, more than the limit of {limit}")]
-    TooManyMasks {
-        /// Layout name.
-        layout: &'static str,
-        /// Distinct out-masks in the set.
-        masks: usize,
-        /// Largest number the layout supports.
-        limit: usize,
-    },
-    /// An automaton's records do not fit 16-bit handles at any scale the layout allows.
-    #[error(
-        "layout {layout}: the {bytes} bytes of records of '{automaton}' fit 16-bit handles at no scale up to 255"
-    )]
-    NoScale {
-        /// Layout name.
-        layout: &'static str,
-        /// Automaton name.
-        automaton: String,
-        /// Bytes of its records with 2-byte handles, without padding.
-        bytes: usize,
-    },
-    /// The blocks of a set put back to back, up to and including an automaton's, are longer than the
-    /// layout's offsets can address.
-    #[error(
-        "layout {layout}: the blocks up to '{automaton}' take {bytes} bytes back to back, more than the \
-         limit of {limit}"
-    )]
-    BlocksTooLarge {
-        /// Layout name.
-        layout: &'static str,
-        /// The automaton whose records start beyond the limit.
-        automaton: String,
-        /// Bytes of the blocks up to and including its own.
-        bytes: usize,
-        /// Bytes in which records may start.
-        limit: usize,
-    },
+    /// The set breaks a limit of the `ranked` layout (its encoder's error, which names the number and
+    /// the limit).
+    #[error("layout ranked: {0}")]
+    Ranked(#[from] BuildError),
     /// An automaton's block is longer than the layout's offsets can address.
     #[error(
         "layout {layout}: the block of '{automaton}' takes {bytes} bytes, more than the limit of {limit}"
@@ -171,4 +139,14 @@ pub enum DecodeError {
         /// What does not match.
         detail: String,
     },
+}
+
+impl From<ReadError> for DecodeError {
+    fn from(e: ReadError) -> Self {
+        match e {
+            ReadError::Truncated { what, at } => DecodeError::Truncated { what, at },
+            ReadError::BadMask { what, at, id } => DecodeError::BadMask { what, at, id },
+            ReadError::Inconsistent { what, detail } => DecodeError::Inconsistent { what, detail },
+        }
+    }
 }

@@ -9,7 +9,7 @@ use super::Member;
 
 /// The floor of one automaton in bits.
 pub fn bits(m: &Member) -> f64 {
-    let (s, a, t) = (m.state_count() as f64, m.global.len() as f64, m.transition_count() as f64);
+    let (s, a, t) = (m.state_count() as f64, m.dfa.alphabet().len() as f64, m.transition_count() as f64);
     let per_transition = if t > 0.0 { t * (a.log2() + s.log2()) } else { 0.0 };
     per_transition + s * (a + 1.0).log2()
 }
@@ -22,7 +22,8 @@ pub fn bytes(m: &Member) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pack::{testing::toggle, PackSet};
+    use crate::model::testing::toggle;
+    use crate::pack::PackSet;
 
     #[test]
     fn toggle_floor() {

@@ -1,6 +1,6 @@
 //! The layouts by name, for the CLI and the report.
 
-use super::{compact, memory_safe, offset, ranked, PackError, PackSet, Size};
+use super::{compact, memory_safe, offset, ranked, Measure, PackError, PackSet, Size};
 
 /// One of the byte layouts of this module.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]

@@ -16,7 +16,7 @@
 //!
 //! Limits: at most 256 events, 255 transitions out of one state, 65 535 states per automaton.
 
-use super::{decoded::Recovered, DecodeError, PackError, PackSet, Role, Size};
+use super::{decoded::Recovered, DecodeError, Measure, Names, PackError, PackSet, Size};
 use crate::model::Automaton;
 
 /// Layout name, as given to `--layout`.
@@ -37,17 +37,13 @@ pub struct Packed {
     pub controllable: Vec<u8>,
     /// Per automaton, its place in [`Packed::vector`] and its side data.
     pub automata: Vec<Entry>,
-    /// Event names by global id.
-    pub event_names: Vec<String>,
+    /// Names of the events and automata (not counted).
+    pub names: Names,
 }
 
 /// Where one automaton sits in the vector, with the data the vector does not hold.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Entry {
-    /// Automaton name.
-    pub name: String,
-    /// Plant or supervisor.
-    pub role: Role,
     /// First byte of the automaton in the vector.
     pub offset: u32,
     /// Initial state index.
@@ -61,19 +57,18 @@ impl Packed {
     pub fn to_bytes(&self) -> Vec<u8> {
         [self.vector.as_slice(), self.controllable.as_slice()].concat()
     }
+}
 
+impl Measure for Packed {
     /// Bytes per automaton and of each side table.
-    pub fn size(&self) -> Size {
+    fn size(&self) -> Size {
         let ends = self.automata.iter().skip(1).map(|e| e.offset as usize).chain([self.vector.len()]);
         let n = self.automata.len();
         Size {
             layout: NAME,
             per_automaton: self
-                .automata
-                .iter()
-                .zip(ends)
-                .map(|(e, end)| (e.name.clone(), end - e.offset as usize))
-                .collect(),
+                .names
+                .with_bytes(self.automata.iter().zip(ends).map(|(e, end)| end - e.offset as usize)),
             side_tables: vec![
                 ("controllability", self.controllable.len()),
                 ("automaton offsets", 4 * n),
@@ -107,19 +102,20 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
             bytes: vector.len(),
             limit: u32::MAX as usize,
         })?;
-        for (s, edges) in m.out.iter().enumerate() {
-            if edges.len() > MAX_TRANSITIONS_PER_STATE {
+        for s in 0..m.state_count() {
+            let degree = m.degree(s);
+            if degree > MAX_TRANSITIONS_PER_STATE {
                 return Err(PackError::TooManyTransitions {
                     layout: NAME,
                     automaton: m.name().to_owned(),
                     state: m.automaton.states[s].name.clone(),
-                    transitions: edges.len(),
+                    transitions: degree,
                     limit: MAX_TRANSITIONS_PER_STATE,
                 });
             }
             // Counts ≤ 255, event ids < 256 and state indices < 65 536 were checked above.
-            vector.push(edges.len() as u8);
-            for &(e, t) in edges {
+            vector.push(degree as u8);
+            for (e, t) in m.out(s) {
                 vector.push(e.index() as u8);
                 vector.extend_from_slice(&(t.index() as u16).to_be_bytes());
             }
@@ -128,42 +124,34 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
         for e in m.alphabet() {
             alphabet[e.index() / 8] |= 1 << (e.index() % 8);
         }
-        automata.push(Entry {
-            name: m.name().to_owned(),
-            role: m.role,
-            offset,
-            initial: m.initial().index() as u16,
-            alphabet,
-        });
+        automata.push(Entry { offset, initial: m.initial().index() as u16, alphabet });
     }
     Ok(Packed {
         vector,
         controllable: events.ids().map(|e| u8::from(events.is_controllable(e))).collect(),
         automata,
-        event_names: events.ids().map(|e| events.name(e).to_owned()).collect(),
+        names: Names::of(set),
     })
 }
 
 /// Reads `packed` back into automata (plants first), checking every index and event id.
 pub fn decode(packed: &Packed) -> Result<Vec<Automaton>, DecodeError> {
-    if packed.controllable.len() != packed.event_names.len() {
+    let events = packed.names.events.len();
+    if packed.controllable.len() != events {
         return Err(DecodeError::Inconsistent {
             what: NAME.to_owned(),
-            detail: format!(
-                "{} controllability bytes for {} events",
-                packed.controllable.len(),
-                packed.event_names.len()
-            ),
+            detail: format!("{} controllability bytes for {events} events", packed.controllable.len()),
         });
     }
-    let controllable = super::bitset::from_ids(
+    let controllable = firmware::build::bitset::from_ids(
         packed.controllable.iter().enumerate().filter(|(_, &c)| c == 1).map(|(e, _)| e),
-        packed.event_names.len(),
+        events,
     );
     let ends = packed.automata.iter().skip(1).map(|e| e.offset as usize).chain([packed.vector.len()]);
     let mut out = Vec::with_capacity(packed.automata.len());
-    for (entry, end) in packed.automata.iter().zip(ends) {
-        let what = || entry.name.clone();
+    for (a, (entry, end)) in packed.automata.iter().zip(ends).enumerate() {
+        let (name, role) = packed.names.automaton(a)?;
+        let what = || name.to_owned();
         let start = entry.offset as usize;
         let block = packed
             .vector
@@ -199,17 +187,10 @@ pub fn decode(packed: &Packed) -> Result<Vec<Automaton>, DecodeError> {
         if usize::from(entry.initial) >= states {
             return Err(DecodeError::BadState { what: what(), at: 0, target: usize::from(entry.initial) });
         }
-        let alphabet = (0..packed.event_names.len()).filter(|&e| in_alphabet(e)).collect();
+        let alphabet = (0..events).filter(|&e| in_alphabet(e)).collect();
         out.push(
-            Recovered {
-                name: &entry.name,
-                role: entry.role,
-                alphabet,
-                states,
-                initial: usize::from(entry.initial),
-                edges,
-            }
-            .build(&packed.event_names, &controllable)?,
+            Recovered { name, role, alphabet, states, initial: usize::from(entry.initial), edges }
+                .build(&packed.names.events, &controllable)?,
         );
     }
     Ok(out)
@@ -218,7 +199,8 @@ pub fn decode(packed: &Packed) -> Result<Vec<Automaton>, DecodeError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pack::testing::{arb_set, assert_round_trip, toggle};
+    use crate::model::testing::toggle;
+    use crate::pack::testing::{arb_set, assert_round_trip};
 
     #[test]
     fn toggle_pair_bytes() {

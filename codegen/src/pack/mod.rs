@@ -4,7 +4,7 @@
 //!
 //! Every layout takes a [`PackSet`] (plants then supervisors over one [`EventTable`](crate::model::EventTable))
 //! and writes each automaton as one block of bytes; each has a decoder back to automata, which the tests
-//! use as the oracle. In the costs below, per automaton `s` states, `t` transitions, `k` transitions out
+//! use as the oracle, measures itself ([`Measure`]) and keeps the set's [`Names`] apart from its bytes. In the costs below, per automaton `s` states, `t` transitions, `k` transitions out
 //! of the current state, and for the set `e` events.
 //!
 //! | layout | per state | per transition | side tables | a step costs | limits |
@@ -17,12 +17,14 @@
 //! * `memory-safe` is the reference tool's vector, byte for byte: Σs + 3Σt + e. For the six published
 //!   supervisors of the manufacturing cell, 233 + 3·697 + 23 = 2347 bytes (committed as
 //!   `tests/gen/cell.memory-safe.bin`).
-//! * `offset` is the runtime's former table: the same records with targets stored as byte offsets, so
-//!   the O(s) walk is gone at no cost in size.
-//! * `ranked` is what the firmware runs (`firmware/src/table/`): each state names its out-mask in a
-//!   pool shared by all automata and lists only its targets, as handles (record start / scale) of 1 byte
-//!   where every automaton allows. For the cell with its plants: 1028 bytes of blocks and 97 masks of 3
-//!   bytes, 1404 bytes with every side table, against 2510 for `offset`.
+//! * `offset` is the offset-addressed variant of `memory-safe` the design notes ask for: the same
+//!   records with targets stored as byte offsets, so the O(s) walk is gone at no cost in size (the
+//!   runtime's table before `ranked`).
+//! * `ranked` is what the firmware runs, laid out as `firmware::table` describes and encoded by
+//!   `firmware::build`: each state names its out-mask in a pool shared by all automata and lists only
+//!   its targets, as handles (record start / scale) of 1 byte where every automaton allows. For the cell
+//!   with its plants: 1028 bytes of blocks and 97 masks of 3 bytes, 1404 bytes with every side table,
+//!   against 2510 for `offset`.
 //! * `compact` numbers events within each automaton's alphabet and writes a mask of the events leaving
 //!   each state, then only the targets, in as many bits as the state count needs. For the cell's
 //!   supervisors: 1121 bytes with every side table, 1.13× the floor, under half of 2347.
@@ -37,14 +39,13 @@
 //! local modular supervisors.
 
 mod bits;
-mod bitset;
 pub mod compact;
-pub mod comparison;
 mod decoded;
 mod error;
 pub mod floor;
 mod layout;
 pub mod memory_safe;
+mod names;
 pub mod offset;
 pub mod paper;
 pub mod ranked;
@@ -56,5 +57,6 @@ pub(crate) mod testing;
 
 pub use error::{DecodeError, PackError};
 pub use layout::Layout;
+pub use names::Names;
 pub use set::{Member, PackSet, Role};
-pub use size::Size;
+pub use size::{Measure, Size};

@@ -1,5 +1,6 @@
-//! This module is the home of the `offset` layout: the runtime's table before the
-//! [`ranked`](super::ranked) layout replaced it, kept for the size report.
+//! This module is the home of the `offset` layout: the memory-safe records with targets stored as
+//! record offsets, the offset-addressed variant the design notes ask the size report to show (and the
+//! runtime's table before [`ranked`](super::ranked) replaced it).
 //!
 //! Each automaton is one byte block. For every state in index order: one count byte `n`, then `n` records
 //! `[global event id][target offset, u16 big-endian]`, where the target is the byte offset of the target
@@ -11,7 +12,9 @@
 //!
 //! Limits: at most 256 events, 255 transitions out of one state, 65 536 bytes per block.
 
-use super::{bitset, decoded::Recovered, DecodeError, PackError, PackSet, Role, Size};
+use firmware::build::bitset;
+
+use super::{decoded::Recovered, DecodeError, Measure, Names, PackError, PackSet, Size};
 use crate::model::Automaton;
 
 /// Layout name, as given to `--layout`.
@@ -26,8 +29,8 @@ pub const MAX_BLOCK_BYTES: usize = 65_536;
 /// A set in the `offset` layout.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Packed {
-    /// Event names by global id.
-    pub event_names: Vec<String>,
+    /// Names of the events and automata (not counted).
+    pub names: Names,
     /// Bitset over global event ids: the controllable ones.
     pub controllable: Vec<u32>,
     /// Plants first, then supervisors.
@@ -37,10 +40,6 @@ pub struct Packed {
 /// One automaton in the `offset` layout.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Block {
-    /// Automaton name.
-    pub name: String,
-    /// Plant or supervisor.
-    pub role: Role,
     /// Offset of the initial state's count byte in [`Block::block`].
     pub initial: u16,
     /// The states and transitions (see the module documentation).
@@ -49,13 +48,13 @@ pub struct Block {
     pub alphabet: Vec<u32>,
 }
 
-impl Packed {
+impl Measure for Packed {
     /// Bytes per automaton and of each side table (bitsets in whole u32 words, as the runtime holds them).
-    pub fn size(&self) -> Size {
+    fn size(&self) -> Size {
         let n = self.automata.len();
         Size {
             layout: NAME,
-            per_automaton: self.automata.iter().map(|b| (b.name.clone(), b.block.len())).collect(),
+            per_automaton: self.names.with_bytes(self.automata.iter().map(|b| b.block.len())),
             side_tables: vec![
                 ("controllability", 4 * self.controllable.len()),
                 ("automaton offsets", 4 * n),
@@ -76,18 +75,19 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
     for m in set.members() {
         let mut offsets = Vec::with_capacity(m.state_count());
         let mut at = 0usize;
-        for (s, edges) in m.out.iter().enumerate() {
-            if edges.len() > MAX_TRANSITIONS_PER_STATE {
+        for s in 0..m.state_count() {
+            let degree = m.degree(s);
+            if degree > MAX_TRANSITIONS_PER_STATE {
                 return Err(PackError::TooManyTransitions {
                     layout: NAME,
                     automaton: m.name().to_owned(),
                     state: m.automaton.states[s].name.clone(),
-                    transitions: edges.len(),
+                    transitions: degree,
                     limit: MAX_TRANSITIONS_PER_STATE,
                 });
             }
             offsets.push(at);
-            at += 1 + 3 * edges.len();
+            at += 1 + 3 * degree;
         }
         if at > MAX_BLOCK_BYTES {
             return Err(PackError::BlockTooLarge {
@@ -100,23 +100,21 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
         // Every offset is below `at` ≤ 65 536, every count ≤ 255 and every event id < 256: the casts
         // below cannot truncate.
         let mut block = Vec::with_capacity(at);
-        for edges in &m.out {
-            block.push(edges.len() as u8);
-            for &(e, t) in edges {
+        for s in 0..m.state_count() {
+            block.push(m.degree(s) as u8);
+            for (e, t) in m.out(s) {
                 block.push(e.index() as u8);
                 block.extend_from_slice(&(offsets[t.index()] as u16).to_be_bytes());
             }
         }
         automata.push(Block {
-            name: m.name().to_owned(),
-            role: m.role,
             initial: offsets[m.initial().index()] as u16,
             block,
             alphabet: bitset::from_ids(m.alphabet().iter().map(|e| e.index()), events.len()),
         });
     }
     Ok(Packed {
-        event_names: events.ids().map(|e| events.name(e).to_owned()).collect(),
+        names: Names::of(set),
         controllable: bitset::from_ids(
             events.ids().filter(|&e| events.is_controllable(e)).map(|e| e.index()),
             events.len(),
@@ -129,11 +127,12 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
 ///
 /// States are named by index and unmarked: layouts keep no marking, the runtime needs none.
 pub fn decode(packed: &Packed) -> Result<Vec<Automaton>, DecodeError> {
-    packed.automata.iter().map(|b| decode_block(b, packed)).collect()
+    packed.automata.iter().enumerate().map(|(a, b)| decode_block(a, b, packed)).collect()
 }
 
-fn decode_block(b: &Block, packed: &Packed) -> Result<Automaton, DecodeError> {
-    let what = || b.name.clone();
+fn decode_block(a: usize, b: &Block, packed: &Packed) -> Result<Automaton, DecodeError> {
+    let (name, role) = packed.names.automaton(a)?;
+    let what = || name.to_owned();
     let bytes = &b.block;
     // First pass: where each state starts.
     let mut starts = Vec::new();
@@ -168,20 +167,21 @@ fn decode_block(b: &Block, packed: &Packed) -> Result<Automaton, DecodeError> {
     }
     let initial = state_at(usize::from(b.initial), 0)?;
     Recovered {
-        name: &b.name,
-        role: b.role,
+        name,
+        role,
         alphabet: bitset::ids(&b.alphabet).collect(),
         states: starts.len(),
         initial,
         edges,
     }
-    .build(&packed.event_names, &packed.controllable)
+    .build(&packed.names.events, &packed.controllable)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pack::testing::{assert_round_trip, toggle};
+    use crate::model::testing::toggle;
+    use crate::pack::testing::assert_round_trip;
 
     #[test]
     fn toggle_is_two_records() {
@@ -192,7 +192,7 @@ mod tests {
         assert_eq!(packed.automata[0].alphabet, [0b11]);
         assert_eq!(packed.automata[0].initial, 0);
         assert_eq!(packed.controllable, [0b01]);
-        assert_eq!(packed.event_names, ["a", "b"]);
+        assert_eq!(packed.names.events, ["a", "b"]);
     }
 
     #[test]

@@ -146,7 +146,7 @@ impl Report {
                     "role": m.role.as_str(),
                     "states": m.state_count(),
                     "transitions": m.transition_count(),
-                    "alphabet": m.global.len(),
+                    "alphabet": m.dfa.alphabet().len(),
                     "floor_bytes": floor::bytes(m),
                 })
             })
@@ -195,7 +195,7 @@ impl fmt::Display for Report {
                 member.role.as_str(),
                 member.state_count(),
                 member.transition_count(),
-                member.global.len(),
+                member.dfa.alphabet().len(),
                 floor::bytes(member)
             );
             for m in &self.measured {
@@ -275,7 +275,7 @@ impl fmt::Display for Report {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pack::testing::toggle;
+    use crate::model::testing::toggle;
 
     #[test]
     fn memory_safe_supervisors_match_the_paper_formula() {

@@ -1,6 +1,6 @@
 //! This module is the home of [`PackSet`]: the automata one firmware image runs, over one event numbering.
 
-use crate::model::{Automaton, EventId, EventTable, Kind, StateId};
+use crate::model::{Automaton, Dfa, EventId, EventTable, Kind, StateId};
 
 use super::PackError;
 
@@ -31,18 +31,16 @@ impl Role {
     }
 }
 
-/// One automaton of a [`PackSet`], with its transitions renumbered over the set's global event ids.
+/// One automaton of a [`PackSet`], with its transitions re-indexed by the set's global event ids.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Member {
     /// The automaton as given.
     pub automaton: Automaton,
     /// Plant or supervisor.
     pub role: Role,
-    /// Global id of each event of the automaton's alphabet, indexed by its local id.
-    pub global: Vec<EventId>,
-    /// Per state (by index): outgoing `(global event, target)` pairs sorted by event id. This is the order
-    /// every layout writes records in, so the same set always gives the same bytes.
-    pub out: Vec<Vec<(EventId, StateId)>>,
+    /// Its transitions over the set's global event ids, each state's sorted by event id: the order every
+    /// layout writes records in, so the same set always gives the same bytes.
+    pub dfa: Dfa,
 }
 
 impl Member {
@@ -58,7 +56,17 @@ impl Member {
 
     /// Number of transitions.
     pub fn transition_count(&self) -> usize {
-        self.out.iter().map(Vec::len).sum()
+        self.dfa.transition_count()
+    }
+
+    /// Outgoing `(global event, target)` pairs of state `s`, by increasing event id.
+    pub fn out(&self, s: usize) -> impl Iterator<Item = (EventId, StateId)> + '_ {
+        self.dfa.edges(s as u32).map(|(e, t)| (EventId::from_u32(e), StateId::from_u32(t)))
+    }
+
+    /// Number of transitions leaving state `s`.
+    pub fn degree(&self, s: usize) -> usize {
+        self.dfa.degree(s as u32)
     }
 
     /// The initial state (every member has one: [`PackSet::new`] refuses automata without states).
@@ -68,9 +76,7 @@ impl Member {
 
     /// The alphabet as global ids in increasing order.
     pub fn alphabet(&self) -> Vec<EventId> {
-        let mut ids = self.global.clone();
-        ids.sort_unstable();
-        ids
+        self.dfa.alphabet().iter().map(|&e| EventId::from_u32(e)).collect()
     }
 }
 
@@ -103,7 +109,12 @@ impl PackSet {
             }
         }
         let events = EventTable::build(tagged.iter().map(|(a, _)| a))?;
-        let members = tagged.into_iter().map(|(automaton, role)| member(automaton, role, &events)).collect();
+        let members = tagged
+            .into_iter()
+            .map(|(automaton, role)| {
+                Ok(Member { dfa: Dfa::from_automaton(&automaton, &events)?, automaton, role })
+            })
+            .collect::<Result<_, PackError>>()?;
         Ok(PackSet { members, events })
     }
 
@@ -135,19 +146,4 @@ impl PackSet {
     pub fn transition_count(&self) -> usize {
         self.members.iter().map(Member::transition_count).sum()
     }
-}
-
-fn member(automaton: Automaton, role: Role, events: &EventTable) -> Member {
-    // The table was built from this very automaton, so every name is known.
-    let global: Vec<EventId> =
-        automaton.events.iter().map(|e| events.id(&e.name).unwrap_or_default()).collect();
-    let mut out = vec![Vec::new(); automaton.states.len()];
-    for t in &automaton.transitions {
-        out[t.source.index()].push((global[t.event.index()], t.target));
-    }
-    for edges in &mut out {
-        edges.sort_unstable();
-        edges.dedup();
-    }
-    Member { automaton, role, global, out }
 }

@@ -1,4 +1,5 @@
-//! What a packed set costs in bytes: the blocks per automaton and every side table, named.
+//! What a packed set costs in bytes: the blocks per automaton and every side table, named; and
+//! [`Measure`], which every layout's tables implement.
 
 /// The bytes one layout takes for one set, measured on the bytes actually produced.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -27,4 +28,10 @@ impl Size {
     pub fn total(&self) -> usize {
         self.blocks() + self.side()
     }
+}
+
+/// A packed set measures itself: every layout's tables implement this, so the report treats them alike.
+pub trait Measure {
+    /// Bytes per automaton and of each side table, measured on the bytes produced.
+    fn size(&self) -> Size;
 }

@@ -1,24 +1,12 @@
-//! Test helpers shared by the layouts: small automata, random sets, and the round-trip oracle.
+//! Test helpers shared by the layouts: random sets, the round-trip oracle and corruption.
 
 use std::collections::BTreeSet;
 
 use proptest::prelude::*;
 
 use super::PackSet;
-use crate::model::{Automaton, EventId, Kind, StateId};
-
-/// Two states: 0 –a→ 1 –b→ 0, `a` controllable, `b` not.
-pub fn toggle(name: &str) -> Automaton {
-    let mut t = Automaton::new(name, Kind::Plant);
-    let s0 = t.add_state("0", true).unwrap();
-    let s1 = t.add_state("1", false).unwrap();
-    let a = t.add_event("a", true).unwrap();
-    let b = t.add_event("b", false).unwrap();
-    t.initial = Some(s0);
-    t.add_transition(s0, a, s1);
-    t.add_transition(s1, b, s0);
-    t
-}
+use crate::model::testing::arb_automaton;
+use crate::model::Automaton;
 
 /// Transitions as `(source, event name, target)`, the part of an automaton every layout keeps.
 fn edges(a: &Automaton) -> BTreeSet<(usize, String, usize)> {
@@ -44,38 +32,6 @@ pub fn assert_round_trip(set: &PackSet, decoded: &[Automaton]) {
         assert_eq!(got, want, "{}", a.name);
         assert_eq!(edges(d), edges(a), "{}", a.name);
     }
-}
-
-/// A random deterministic automaton over events `e0..e{pool}` (even ids controllable).
-pub fn arb_automaton(name: String, pool: usize, max_states: usize) -> impl Strategy<Value = Automaton> {
-    (1..=max_states, proptest::collection::vec(any::<bool>(), pool)).prop_flat_map(move |(n, used)| {
-        let alphabet: Vec<usize> = (0..pool).filter(|&i| used[i]).collect();
-        let slots = n * alphabet.len();
-        let name = name.clone();
-        (0..n, proptest::collection::vec(proptest::option::of(0..n), slots)).prop_map(
-            move |(init, targets)| {
-                let mut a = Automaton::new(name.clone(), Kind::Unknown);
-                for s in 0..n {
-                    a.add_state(format!("q{s}"), s % 3 == 0).unwrap();
-                }
-                for &e in &alphabet {
-                    a.add_event(format!("e{e}"), e % 2 == 0).unwrap();
-                }
-                a.initial = Some(StateId::from_u32(init as u32));
-                for (slot, t) in targets.iter().enumerate() {
-                    if let Some(t) = t {
-                        let (s, e) = (slot / alphabet.len(), slot % alphabet.len());
-                        a.add_transition(
-                            StateId::from_u32(s as u32),
-                            EventId::from_u32(e as u32),
-                            StateId::from_u32(*t as u32),
-                        );
-                    }
-                }
-                a
-            },
-        )
-    })
 }
 
 /// A random set: 1–3 plants and 0–3 supervisors over up to 12 events, up to `max_states` states each.

@@ -1,7 +1,7 @@
 //! The virtual plant proper: the product system G1..Gn as the physical world the controller drives.
 
-use super::{Composition, Rng};
-use crate::model::{Automaton, EventId, EventTable, ModelError};
+use super::Rng;
+use crate::model::{Automaton, Composition, EventId, EventTable, ModelError};
 
 /// How the virtual plant produces its uncontrollable events. Every draw comes from one [`Rng`] seeded
 /// with [`PlantConfig::seed`], so the same seed and the same commands give the same events.
@@ -20,7 +20,8 @@ pub struct PlantConfig {
     /// races the controller's next decision (inexact synchronisation).
     pub race_per_mille: u32,
     /// Chance (per mille) that the plant picks its next event by the rank the caller gives (the monitor's
-    /// distance to a transition not covered yet) rather than by its activities' durations.
+    /// expected events to a transition not covered yet) rather than by its activities' durations; once
+    /// the caller ranks nothing (coverage complete), the durations decide anyway.
     pub guide_per_mille: u32,
 }
 
@@ -32,7 +33,7 @@ impl Default for PlantConfig {
             burst_per_mille: 100,
             burst_max: 4,
             race_per_mille: 100,
-            guide_per_mille: 600,
+            guide_per_mille: 1000,
         }
     }
 }
@@ -86,6 +87,8 @@ pub struct VirtualPlant {
     config: PlantConfig,
     /// Plant time, in emitted events.
     clock: u64,
+    /// Chance (per mille) that a guided pick ignores the guide after all (see [`VirtualPlant::explore`]).
+    explore_per_mille: u32,
     /// Per global event: when the uncontrollable event, enabled since some time, is due.
     due: Vec<Option<u64>>,
 }
@@ -105,6 +108,7 @@ impl VirtualPlant {
             names: table.ids().map(|e| table.name(e).to_owned()).collect(),
             rng: Rng::new(config.seed),
             clock: 0,
+            explore_per_mille: 0,
             due: vec![None; table.len()],
             config,
         })
@@ -167,6 +171,18 @@ impl VirtualPlant {
         out
     }
 
+    /// Makes a guided pick fall back to the activities' timing with chance `per_mille`. The caller raises
+    /// it while its guide makes no progress: a guide that models the controller imperfectly can lead the
+    /// closed loop around the same cycle for ever, and a little of the plant's own timing breaks it.
+    pub fn explore(&mut self, per_mille: u32) {
+        self.explore_per_mille = per_mille;
+    }
+
+    /// Whether the plant follows the caller's steering at all (`--guide` above 0).
+    pub fn steers(&self) -> bool {
+        self.config.guide_per_mille > 0
+    }
+
     /// How many events the next emission holds: 1, or with the configured chance a burst of 2 or more.
     pub fn burst_len(&mut self) -> usize {
         if self.config.burst_max >= 2 && self.rng.chance(self.config.burst_per_mille) {
@@ -199,7 +215,7 @@ impl VirtualPlant {
                 *d = None;
             }
         }
-        let guided = self.rng.chance(self.config.guide_per_mille);
+        let guided = self.rng.chance(self.config.guide_per_mille) && !self.rng.chance(self.explore_per_mille);
         let e = enabled
             .into_iter()
             .map(|e| (if guided { rank(e).unwrap_or(u32::MAX) } else { 0 }, self.due[e.index()], e))
@@ -226,7 +242,7 @@ impl VirtualPlant {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plant::composition::tests::machine;
+    use crate::model::testing::machine;
     use proptest::prelude::*;
 
     fn two_machines(config: PlantConfig) -> (VirtualPlant, EventTable) {

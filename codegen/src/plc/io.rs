@@ -7,8 +7,8 @@ use std::collections::BTreeMap;
 use crate::model::{EventId, EventTable};
 
 use super::names::{is_identifier, Names};
-use super::spec::{Action, Edge, PlcSpec};
 use super::PlcError;
+use crate::config::{Action, Edge, PlcSpec};
 
 /// Where an uncontrollable event comes from.
 #[derive(Clone, Debug, PartialEq, Eq)]

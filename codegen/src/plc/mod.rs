@@ -28,19 +28,19 @@ pub mod io;
 pub mod names;
 pub mod program;
 pub mod report;
-pub mod spec;
 pub mod st;
 pub mod xml;
 
 use std::fmt::Write as _;
 
-use crate::emit::{OnFault, Provenance};
+use crate::config::{ChoicePolicy, OnFault, RuntimeConfig};
+use crate::emit::Provenance;
 use crate::pack::PackSet;
 
+pub use crate::config::{PlcSpec, ScanPolicy};
 pub use avalanche::{Avalanche, Method};
 pub use program::Program;
 pub use report::Report;
-pub use spec::{PlcSpec, ScanPolicy};
 
 /// The state encoding (`--encoding`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
@@ -102,21 +102,27 @@ impl Default for PlcOptions {
 }
 
 impl PlcOptions {
-    /// The options a manifest gives: its name, `[runtime]` guard, seed and fault reaction, and its
-    /// `[plc]` section; the policy is `[plc] policy`, else `[runtime] policy` when it has a scan-cycle
-    /// form. The encoding and avalanche option stay at their defaults.
-    pub fn from_manifest(m: &crate::manifest::Manifest) -> Result<PlcOptions, PlcError> {
-        let spec = m.plc.clone().unwrap_or_default();
-        let policy = match (spec.policy, ScanPolicy::of_runtime(m.runtime.policy)) {
+    /// The options of a set named `name` with the run-time configuration `runtime` (guard, seed, fault
+    /// reaction) and the `[plc]` section `spec`; the policy is `policy` when given, else `[plc] policy`,
+    /// else `runtime`'s when it has a scan-cycle form. The encoding and avalanche option stay at their
+    /// defaults.
+    pub fn new(
+        name: &str,
+        runtime: &RuntimeConfig,
+        spec: Option<&PlcSpec>,
+        policy: Option<ScanPolicy>,
+    ) -> Result<PlcOptions, PlcError> {
+        let spec = spec.cloned().unwrap_or_default();
+        let policy = match (policy.or(spec.policy), ScanPolicy::of_runtime(runtime.policy)) {
             (Some(p), _) | (None, Some(p)) => p,
-            (None, None) => return Err(PlcError::Policy(m.runtime.policy.name())),
+            (None, None) => return Err(PlcError::Policy(runtime.policy)),
         };
         Ok(PlcOptions {
-            name: m.name.clone(),
+            name: name.to_owned(),
             policy,
-            guard: m.runtime.guard,
-            seed: m.runtime.seed,
-            on_fault: m.runtime.on_fault,
+            guard: runtime.guard,
+            seed: runtime.seed,
+            on_fault: runtime.on_fault,
             cycle_ms: spec.cycle_ms.unwrap_or(10),
             spec,
             ..PlcOptions::default()
@@ -165,7 +171,7 @@ pub enum PlcError {
     },
     /// The manifest's policy has no scan-cycle form and `[plc]` names none.
     #[error("[runtime] policy {0} has no scan-cycle form; set [plc] policy (first, global-queue, local-queue or random)")]
-    Policy(&'static str),
+    Policy(ChoicePolicy),
     /// The closed loop for the simultaneity check could not be built.
     #[error("simultaneity check: {0}")]
     Synth(#[from] crate::synth::SynthError),
@@ -225,7 +231,7 @@ fn header(set: &PackSet, opts: &PlcOptions, provenance: &Provenance) -> Vec<Stri
         opts.avalanche.name(),
         opts.policy.name(),
         opts.guard,
-        opts.on_fault.name(),
+        opts.on_fault,
         opts.seed,
         opts.cycle_ms
     ));

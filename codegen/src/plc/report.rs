@@ -7,8 +7,8 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
-use crate::check::{run as check, Problem};
 use crate::pack::PackSet;
+use crate::problems::{run as check, Problem};
 use crate::synth::{product, Config};
 
 use super::io::Source;

@@ -15,11 +15,11 @@ use std::collections::HashMap;
 
 use crate::model::{Automaton, Kind};
 
-use super::check::first_blocking;
-use super::dfa::Dfa;
 use super::product::tuple_name;
 use super::supc::{supc_dfa, Synthesised};
+use super::verify::first_blocking;
 use super::{Config, Inputs, SynthError};
+use crate::model::Dfa;
 
 /// Conflict checks tried on subsets before giving up and merging every specification.
 const SUBSET_CHECK_BUDGET: usize = 1000;

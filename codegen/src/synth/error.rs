@@ -16,9 +16,6 @@ pub enum SynthError {
     /// The input automata disagree (for example on an event's controllability).
     #[error(transparent)]
     Events(#[from] ModelError),
-    /// An automaton uses an event the run's event table does not hold.
-    #[error("automaton '{0}' has an event outside the event table")]
-    EventNotInTable(String),
     /// A product or supervisor grew past [`Config::state_limit`](super::Config::state_limit).
     #[error("{what} exceeded the state limit of {limit}")]
     StateLimit {

@@ -246,10 +246,23 @@ fn philosophers(n: usize) -> (Vec<Automaton>, Vec<Automaton>) {
     (plants, specs)
 }
 
-/// A seeded random system: `n` plants of 3–5 states over private events plus a few shared ones, and `n`
-/// specifications of 2–4 states over events of two neighbouring plants.
+/// The `random` instance of size `n` drawn from `seed` instead of the family's fixed seed: the
+/// differential tests draw fresh instances each run and print the seed that reproduces one.
+pub fn random_seeded(n: usize, seed: u64) -> Instance {
+    let (plants, specs) = random_from(n, seed);
+    Instance { name: format!("random-{n}-s{seed}"), plants, specs }
+}
+
+/// The family's own `random` instance of size `n`.
 fn random(n: usize) -> (Vec<Automaton>, Vec<Automaton>) {
-    let mut rng = XorShift(0x9E37_79B9 ^ n as u64);
+    random_from(n, 0x9E37_79B9 ^ n as u64)
+}
+
+/// A random system: `n` plants of 3–5 states over private events plus a few shared ones, and `n`
+/// specifications of 2–4 states over events of two neighbouring plants, all drawn from `seed`.
+fn random_from(n: usize, seed: u64) -> (Vec<Automaton>, Vec<Automaton>) {
+    // xorshift never leaves 0.
+    let mut rng = XorShift(seed.max(1));
     let plant_events = |i: usize| -> Vec<(String, bool)> {
         vec![
             (format!("a{i}"), true),

@@ -7,8 +7,8 @@ use std::collections::HashMap;
 
 use crate::model::{Automaton, EventId};
 
-use super::dfa::{Dfa, NONE};
 use super::{Inputs, SynthError};
+use crate::model::{Dfa, NONE};
 
 /// How two languages differ on [`Difference::trace`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

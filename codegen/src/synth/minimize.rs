@@ -11,9 +11,9 @@ use std::collections::HashMap;
 
 use crate::model::Automaton;
 
-use super::dfa::{Dfa, DfaBuilder, NONE};
 use super::trim::restrict;
 use super::{Inputs, SynthError};
+use crate::model::{Dfa, DfaBuilder, NONE};
 
 /// The minimal automaton of `d` (accessible part, classes numbered breadth-first) and, for each of its
 /// states, one state of `d` it stands for.

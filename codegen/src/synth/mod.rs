@@ -3,15 +3,15 @@
 //!
 //! # Overview
 //!
-//! Every algorithm runs on [`Dfa`], a compact automaton over the global event ids of one
-//! [`EventTable`]: dense `u32` state ids and transitions in flat arrays sorted by source then event
+//! Every algorithm runs on [`Dfa`] (the model layer's automaton over the global event ids of one
+//! [`EventTable`]): dense `u32` state ids and transitions in flat arrays sorted by source then event
 //! (about `9 s + 8 t` bytes for `s` states and `t` transitions). The public functions take and return
 //! [`Automaton`]s and convert at the edges.
 //!
 //! - [`product`]: reachable synchronous product of n automata, built on the fly.
 //! - [`trim`]: accessible, coaccessible and trim parts.
 //! - [`supc()`]: the supremal controllable nonblocking sublanguage of `K = G ‖ E` with respect to `G`;
-//!   [`check`] holds the controllability and nonblocking checks with counterexample traces.
+//!   [`verify`] holds the controllability and nonblocking checks with counterexample traces.
 //! - [`minimize()`]: the smallest automaton with the same generated and marked languages.
 //! - [`language`]: equality and inclusion of generated and marked languages, with a counterexample.
 //! - [`local_modular()`], [`modular()`] and [`monolithic()`]: the three architectures of the paper,
@@ -22,28 +22,27 @@
 //! bounds it and the walk stops with [`SynthError::StateLimit`] naming the limit.
 
 mod architecture;
-pub mod check;
 mod config;
-mod dfa;
 mod error;
 pub mod families;
 pub mod language;
 mod minimize;
 mod product;
 mod reduce;
+mod reverse;
 mod supc;
 pub mod trim;
+pub mod verify;
 
 pub use architecture::{local_modular, modular, monolithic, LocalModularResult, Supervisor};
 pub use config::{Config, Observer};
-pub use dfa::Dfa;
 pub use error::SynthError;
 pub use minimize::minimize;
-pub use product::product;
+pub use product::{product, Reachable};
 pub use reduce::reduce;
 pub use supc::supc;
 
-use crate::model::{Automaton, EventTable};
+use crate::model::{Automaton, Dfa, EventTable};
 
 /// A set of automata converted to [`Dfa`]s over one event table.
 pub(crate) struct Inputs {
@@ -60,7 +59,12 @@ impl Inputs {
     pub(crate) fn new<'a>(automata: impl Iterator<Item = &'a Automaton> + Clone) -> Result<Self, SynthError> {
         let table = EventTable::build(automata.clone())?;
         let controllable = table.ids().map(|e| table.is_controllable(e)).collect();
-        let dfas = automata.map(|a| Dfa::from_automaton(a, &table)).collect::<Result<_, _>>()?;
+        let dfas = automata
+            .map(|a| {
+                Dfa::from_automaton(a, &table)
+                    .map_err(|source| SynthError::Model { automaton: a.name.clone(), source })
+            })
+            .collect::<Result<_, _>>()?;
         Ok(Inputs { table, controllable, dfas })
     }
 }

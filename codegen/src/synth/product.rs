@@ -12,8 +12,8 @@
 
 use crate::model::{Automaton, Kind};
 
-use super::dfa::{Dfa, NONE};
 use super::{Config, Inputs, SynthError};
+use crate::model::{Dfa, NONE};
 
 /// Dense next-state table of one component over its own alphabet.
 struct Lookup {
@@ -36,7 +36,7 @@ impl Lookup {
 }
 
 /// Where one component's state lives in a packed key.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug)]
 struct Field {
     word: usize,
     shift: u32,
@@ -54,6 +54,7 @@ const EMPTY: Slot = Slot { first: 0, id: NONE };
 
 /// Packed product tuples with a hash index from tuple to state id (open addressing, linear probing, load
 /// at most one half).
+#[derive(Clone)]
 struct KeyStore {
     width: usize,
     words: Vec<u64>,
@@ -92,25 +93,35 @@ impl KeyStore {
         (h >> (64 - cap.trailing_zeros())) as usize
     }
 
-    /// The id of `key`, inserting it with the next id when new; the flag says whether it was new.
-    fn insert(&mut self, key: &[u64]) -> (u32, bool) {
+    /// The id of `key` when it is stored, else the empty slot where it belongs.
+    fn probe(&self, key: &[u64]) -> Result<u32, usize> {
         let mask = self.slots.len() - 1;
         let mut i = Self::slot(Self::hash(key), self.slots.len());
         loop {
             let slot = self.slots[i];
             if slot.id == NONE {
+                return Err(i);
+            }
+            if slot.first == key[0] && (self.width == 1 || self.key(slot.id)[1..] == key[1..]) {
+                return Ok(slot.id);
+            }
+            i = (i + 1) & mask;
+        }
+    }
+
+    /// The id of `key`, inserting it with the next id when new; the flag says whether it was new.
+    fn insert(&mut self, key: &[u64]) -> (u32, bool) {
+        match self.probe(key) {
+            Ok(id) => (id, false),
+            Err(i) => {
                 let id = self.len() as u32;
                 self.slots[i] = Slot { first: key[0], id };
                 self.words.extend_from_slice(key);
                 if self.len() * 2 > self.slots.len() {
                     self.grow();
                 }
-                return (id, true);
+                (id, true)
             }
-            if slot.first == key[0] && (self.width == 1 || self.key(slot.id)[1..] == key[1..]) {
-                return (slot.id, false);
-            }
-            i = (i + 1) & mask;
         }
     }
 
@@ -146,6 +157,7 @@ pub(crate) struct Options {
 }
 
 /// The reachable product of n components, with the tuples behind its states.
+#[derive(Clone)]
 pub(crate) struct Exploration {
     /// The product automaton.
     pub dfa: Dfa,
@@ -166,6 +178,21 @@ impl Exploration {
         ((self.keys.key(s)[f.word] >> f.shift) & f.mask) as u32
     }
 
+    /// The number of the state whose components are in the states `tuple`, if it was reached.
+    pub(crate) fn id(&self, tuple: &[u32]) -> Option<u32> {
+        if tuple.len() != self.fields.len() {
+            return None;
+        }
+        let mut key = vec![0u64; self.keys.width];
+        for (&f, &v) in self.fields.iter().zip(tuple) {
+            if u64::from(v) > f.mask {
+                return None;
+            }
+            set(&mut key, f, v);
+        }
+        self.keys.probe(&key).ok()
+    }
+
     /// The events of the breadth-first (shortest) trace from the initial state to `s`.
     pub(crate) fn trace(&self, mut s: u32) -> Vec<u32> {
         let mut events = Vec::new();
@@ -180,10 +207,11 @@ impl Exploration {
         events
     }
 
-    /// Walks the reachable product of `components` (all over the global events of `inputs`).
+    /// Walks the reachable product of `components` (all over the global events of one table, whose
+    /// controllable ones `controllable` marks).
     pub(crate) fn run(
         components: &[&Dfa],
-        inputs: &Inputs,
+        controllable: &[bool],
         options: Options,
         cfg: &Config,
         what: &str,
@@ -211,7 +239,7 @@ impl Exploration {
             .filter(|&i| {
                 let p = &participants[i];
                 check_bad
-                    && !inputs.controllable[union[i] as usize]
+                    && !controllable[union[i] as usize]
                     && p.first().is_some_and(|&(c, _)| c < options.plants)
                     && p.last().is_some_and(|&(c, _)| c >= options.plants)
             })
@@ -367,8 +395,58 @@ pub fn product(automata: &[Automaton], cfg: &Config) -> Result<Automaton, SynthE
     let inputs = Inputs::new(automata.iter())?;
     let dfas: Vec<&Dfa> = inputs.dfas.iter().collect();
     let name = automata.iter().map(|a| a.name.as_str()).collect::<Vec<_>>().join("||");
-    let x = Exploration::run(&dfas, &inputs, Options { plants: dfas.len(), parents: false }, cfg, &name)?;
+    let x = Exploration::run(
+        &dfas,
+        &inputs.controllable,
+        Options { plants: dfas.len(), parents: false },
+        cfg,
+        &name,
+    )?;
     let kind = if automata.iter().all(|a| a.kind == Kind::Plant) { Kind::Plant } else { Kind::Unknown };
     let sources: Vec<&Automaton> = automata.iter().collect();
     Ok(x.dfa.to_automaton(&name, kind, &inputs.table, |s| tuple_name(&x, &sources, s)))
+}
+
+/// The reachable part of the synchronous product of automata over one event table, explored breadth
+/// first from the initial state: states numbered in the order they are found, events tried in
+/// increasing id, each state with the tuple of its components' states. What the monitor's coverage
+/// walks.
+#[derive(Clone)]
+pub struct Reachable(Exploration);
+
+impl std::fmt::Debug for Reachable {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Reachable").field("states", &self.0.dfa.state_count()).finish()
+    }
+}
+
+impl Reachable {
+    /// Explores the product of `components`; stops with [`SynthError::StateLimit`] past `limit` states.
+    pub fn explore(components: &[&Dfa], limit: usize) -> Result<Reachable, SynthError> {
+        // Every component counts as plant: no state is bad, so controllability is never consulted.
+        let events = components.iter().flat_map(|d| d.alphabet()).max().map_or(0, |&e| e as usize + 1);
+        let cfg = Config { state_limit: limit, ..Config::default() };
+        let options = Options { plants: components.len(), parents: false };
+        Exploration::run(components, &vec![false; events], options, &cfg, "reachable product").map(Reachable)
+    }
+
+    /// The product: state `s`'s transitions over the global events.
+    pub fn dfa(&self) -> &Dfa {
+        &self.0.dfa
+    }
+
+    /// The state of component `c` in product state `s`.
+    pub fn component_state(&self, s: u32, c: usize) -> u32 {
+        self.0.component_state(s, c)
+    }
+
+    /// The states of every component in product state `s`.
+    pub fn tuple(&self, s: u32) -> Vec<u32> {
+        (0..self.0.fields.len()).map(|c| self.0.component_state(s, c)).collect()
+    }
+
+    /// The number of the product state whose components are in the states `tuple`, if it is reachable.
+    pub fn id(&self, tuple: &[u32]) -> Option<u32> {
+        self.0.id(tuple)
+    }
 }

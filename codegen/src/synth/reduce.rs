@@ -14,9 +14,9 @@
 
 use crate::model::Automaton;
 
-use super::dfa::{Dfa, DfaBuilder, NONE};
 use super::product::{Exploration, Options};
 use super::{Config, Inputs, SynthError};
+use crate::model::{Dfa, DfaBuilder, NONE};
 
 /// The control data of every supervisor state, as event bitsets.
 struct ControlData {
@@ -42,7 +42,7 @@ impl ControlData {
         components.push(sup);
         let walk = Exploration::run(
             &components,
-            inputs,
+            &inputs.controllable,
             Options { plants: components.len(), parents: false },
             cfg,
             "plant || supervisor",

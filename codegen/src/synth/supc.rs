@@ -10,10 +10,11 @@
 
 use crate::model::{Automaton, Kind};
 
-use super::dfa::{Dfa, Reverse};
 use super::product::{tuple_name, Exploration, Options};
+use super::reverse::Reverse;
 use super::trim::{coaccessible_mask, restrict};
 use super::{Config, Inputs, SynthError};
+use crate::model::Dfa;
 
 /// A supervisor as product states: the walk, the trim controllable part and each state's product id.
 pub(crate) struct Synthesised {
@@ -31,8 +32,13 @@ pub(crate) fn supc_dfa(
     what: &str,
 ) -> Result<Synthesised, SynthError> {
     let components: Vec<&Dfa> = plants.iter().chain(specs).copied().collect();
-    let walk =
-        Exploration::run(&components, inputs, Options { plants: plants.len(), parents: false }, cfg, what)?;
+    let walk = Exploration::run(
+        &components,
+        &inputs.controllable,
+        Options { plants: plants.len(), parents: false },
+        cfg,
+        what,
+    )?;
     let alive = controllable_nonblocking(&walk.dfa, walk.bad.iter().map(|&(s, _)| s), &inputs.controllable);
     let (dfa, product_ids) = restrict(&walk.dfa, &alive);
     Ok(Synthesised { walk, dfa, product_ids })

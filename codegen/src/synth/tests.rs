@@ -252,8 +252,8 @@ proptest! {
             }
             prop_assert!(can_mark(&[&s], &sigma, w));
         }
-        prop_assert!(check::controllability(&plants, &s, &cfg()).unwrap().is_none());
-        prop_assert!(check::nonblocking(std::slice::from_ref(&s), &cfg()).unwrap().is_none());
+        prop_assert!(verify::controllability(&plants, &s, &cfg()).unwrap().is_none());
+        prop_assert!(verify::nonblocking(std::slice::from_ref(&s), &cfg()).unwrap().is_none());
         // Maximal: equal to a naive fixpoint on the explicit product.
         let naive = naive_supc(&plants, &e);
         prop_assert_eq!(ls, lang_of(&naive, &sigma, 5));
@@ -274,7 +274,7 @@ proptest! {
                 g.event_id(u).is_some() && run(&g, &x).is_some() && run_all(&[&g, &s], &x).is_none()
             })
         });
-        let found = check::controllability(std::slice::from_ref(&g), &s, &cfg()).unwrap();
+        let found = verify::controllability(std::slice::from_ref(&g), &s, &cfg()).unwrap();
         prop_assert_eq!(found.is_some(), violation);
         if let Some(v) = found {
             prop_assert!(run_all(&[&g, &s], &v.trace).is_some());
@@ -283,7 +283,7 @@ proptest! {
             prop_assert!(run(&g, &x).is_some() && run(&s, &x).is_none());
         }
         let blocking = closed.keys().any(|w| !can_mark(&[&g, &s], &sigma, w));
-        let found = check::nonblocking(&[g.clone(), s.clone()], &cfg()).unwrap();
+        let found = verify::nonblocking(&[g.clone(), s.clone()], &cfg()).unwrap();
         prop_assert_eq!(found.is_some(), blocking);
     }
 
@@ -337,7 +337,7 @@ proptest! {
         let no_merge = Config { merge_conflicting: false, ..cfg() };
         let raw = local_modular(&plants, &specs, &no_merge).unwrap();
         let sups: Vec<Automaton> = raw.supervisors.iter().map(|s| s.automaton.clone()).collect();
-        prop_assert_eq!(raw.nonconflicting, check::nonblocking(&sups, &cfg()).unwrap().is_none());
+        prop_assert_eq!(raw.nonconflicting, verify::nonblocking(&sups, &cfg()).unwrap().is_none());
     }
 }
 

@@ -6,8 +6,9 @@
 
 use crate::model::Automaton;
 
-use super::dfa::{Dfa, Reverse, NONE};
+use super::reverse::Reverse;
 use super::{Inputs, SynthError};
+use crate::model::{Dfa, NONE};
 
 /// Which states of `d` are reachable from the initial state through states with `keep` set.
 pub(crate) fn accessible_mask(d: &Dfa, keep: &[bool]) -> Vec<bool> {
@@ -74,7 +75,7 @@ pub(crate) fn restrict(d: &Dfa, keep: &[bool]) -> (Dfa, Vec<u32>) {
 
 /// The states of `d` listed in `order` (with `new_id` their inverse), transitions between them only.
 fn renumber(d: &Dfa, order: &[u32], new_id: &[u32]) -> Dfa {
-    let mut b = super::dfa::DfaBuilder::new(d.alphabet.clone());
+    let mut b = crate::model::DfaBuilder::new(d.alphabet.clone());
     for &s in order {
         b.start_state(d.marked[s as usize]);
         for (e, t) in d.edges(s) {

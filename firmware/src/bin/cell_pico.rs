@@ -18,8 +18,10 @@ mod tables {
 }
 
 use firmware::board::Outputs;
-use firmware::link::{Hold, Note, Port, SAFE};
+use firmware::event_loop::{Note, Port};
+use firmware::link::{Hold, SAFE};
 use firmware::rng::Entropy;
+use firmware::status::Published;
 use rp2040_hal::gpio::{new_pin, DynBankId, DynPinId, DynPullType, FunctionSioInput, FunctionSioOutput, Pin};
 use rp2040_hal::pac;
 
@@ -33,6 +35,11 @@ const XOSC_HZ: u32 = 12_000_000;
 
 /// Never set: the board has no host link to send HOLD.
 static HOLD: Hold = Hold::new();
+
+/// The runtime's counters after every turn of the loop, for an emulator harness or a debugger
+/// (`firmware::status`; `harness/rp2040/` reads it by this name).
+#[no_mangle]
+static SCT_STATUS: Published = Published::new();
 
 type InPin = Pin<DynPinId, FunctionSioInput, DynPullType>;
 type OutPin = Pin<DynPinId, FunctionSioOutput, DynPullType>;
@@ -72,7 +79,7 @@ fn pin<F: rp2040_hal::gpio::Function>(num: u8) -> Pin<DynPinId, F, DynPullType> 
     p.into_pull_type::<DynPullType>().try_into_function::<F>().unwrap_or_else(|_| halt("pin function"))
 }
 
-/// The outputs as the link's port: a fired event runs its actions; SAFE turns everything off.
+/// The outputs as the event loop's port: a fired event runs its actions; SAFE turns everything off.
 struct Driver<'a, L>(&'a mut L);
 
 impl<L: rtic::Mutex<T = Outs>> Port for Driver<'_, L> {
@@ -97,11 +104,11 @@ impl<L: rtic::Mutex<T = Outs>> Port for Driver<'_, L> {
 
 #[rtic::app(device = rp2040_hal::pac)]
 mod app {
-    use super::{halt, pin, tables, Driver, InPin, Outs, Rosc, Rt, HOLD, XOSC_HZ};
+    use super::{halt, pin, tables, Driver, InPin, Outs, Rosc, Rt, HOLD, SCT_STATUS, XOSC_HZ};
     use embedded_hal::digital::InputPin;
     use firmware::board::{Edge, Outputs, Pull, Sampling};
+    use firmware::event_loop::{EventLoop, Poll};
     use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
-    use firmware::link::{Link, Poll};
     use rp2040_hal::clocks::init_clocks_and_plls;
     use rp2040_hal::fugit::MicrosDurationU32;
     use rp2040_hal::gpio::{DynPullType, FunctionSioInput, FunctionSioOutput, Interrupt};
@@ -122,7 +129,7 @@ mod app {
     struct Local {
         consumer: InputConsumer<'static>,
         runtime: Rt,
-        link: Link,
+        event_loop: EventLoop,
         alarm: Alarm0,
         levels: u32,
         ticks: u32,
@@ -192,7 +199,7 @@ mod app {
         );
         (
             Shared { producer, outputs, inputs },
-            Local { consumer, runtime, link: Link::new(), alarm, levels, ticks: 0 },
+            Local { consumer, runtime, event_loop: EventLoop::new(), alarm, levels, ticks: 0 },
         )
     }
 
@@ -252,11 +259,13 @@ mod app {
     }
 
     /// The decision loop; sleeps in `wfi` while there is nothing to do.
-    #[idle(shared = [outputs], local = [consumer, runtime, link])]
+    #[idle(shared = [outputs], local = [consumer, runtime, event_loop])]
     fn idle(mut cx: idle::Context) -> ! {
-        let (rx, rt, link) = (cx.local.consumer, cx.local.runtime, cx.local.link);
+        let (rx, rt, event_loop) = (cx.local.consumer, cx.local.runtime, cx.local.event_loop);
         loop {
-            match link.service(rt, rx, &HOLD, &mut Driver(&mut cx.shared.outputs)) {
+            let poll = event_loop.turn(rt, rx, &HOLD, &mut Driver(&mut cx.shared.outputs));
+            SCT_STATUS.store(&rt.counters().to_array(), rt.is_safe());
+            match poll {
                 Poll::Busy => {}
                 Poll::Idle | Poll::Exit(_) => cortex_m::interrupt::free(|_| {
                     if rx.is_empty() {

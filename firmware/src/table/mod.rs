@@ -22,10 +22,9 @@
 //! handles take 1 byte each, or 2 (little-endian) in a *wide* set ([`SupervisorSet::wide`]). So a
 //! step is a mask test, a rank and one load, whatever the state count; the out-mask also gives at once
 //! which controllable events the automaton allows (those of its mask and those outside its alphabet),
-//! so the enabled set costs one mask per automaton, not a scan. `codegen` makes a set narrow when every
-//! mask id fits a byte and, for every automaton, some scale makes its handles fit one (taking the
-//! smallest such scale). The runtime knows the field and mask widths at compile time
-//! ([`CheckedSet`]'s `WIDE` and `MASK`), so its steps read the tables without testing them.
+//! so the enabled set costs one mask per automaton, not a scan. The encoder (`firmware::build`, feature
+//! `build`) chooses the field width and the scales. The runtime knows the field and mask widths at
+//! compile time ([`CheckedSet`]'s `WIDE` and `MASK`), so its steps read the tables without testing them.
 //!
 //! Limits: at most 256 events and [`MAX_AUTOMATA`] automata, 65 536 handles per automaton, 65 536 masks,
 //! and every record starting in the first 64 KiB of the block ([`MAX_BLOCK`]): the runtime holds a
@@ -49,10 +48,10 @@
 
 use crate::event_set::ones;
 
-mod check;
+mod checked;
 pub mod read;
 
-pub use check::{holder_bytes, CheckedSet};
+pub use checked::{holder_bytes, CheckedSet};
 
 /// Most automata in one set: one bit each in a `u32` of [`SupervisorSet::holders`].
 pub const MAX_AUTOMATA: usize = 32;

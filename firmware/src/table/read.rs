@@ -1,7 +1,7 @@
 //! Reading the tables: checked readers for host tools and tests, and the runtime's hot path, which
 //! reads without bounds checks what [`SupervisorSet::check`] proved in bounds.
 
-use super::check::field;
+use super::checked::field;
 use super::{rank, Automaton, Event, SupervisorSet};
 
 /// Field `i` of the record at byte `at` (the mask id, then the targets), of 2 bytes when `WIDE`, read

@@ -1,9 +1,9 @@
-//! Hand-built tables for the runtime's host tests: an encoder of the `ranked` layout for small automata
-//! given as transition lists (independent of codegen, which depends on this crate) and the livelock
-//! example of the design notes.
+//! Tables for the runtime's host tests, built with the crate's own encoder (`firmware::build`) from
+//! small automata given as transition lists, and the livelock example of the design notes.
 #![allow(dead_code)]
 
-use firmware::table::{Automaton, SupervisorSet};
+use firmware::build::{encode as build, HostTables, Source, SourceAutomaton};
+use firmware::table::SupervisorSet;
 
 /// What an automaton does in the loop (plants come first in a set).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -11,8 +11,6 @@ pub enum Role {
     Plant,
     Supervisor,
 }
-
-const NO_OWNER: u8 = 0xFF;
 
 /// An automaton given by its states, global-id transitions and alphabet.
 #[derive(Clone, Debug)]
@@ -24,102 +22,59 @@ pub struct Spec {
     pub alphabet: Vec<u8>,
 }
 
-/// A spec's states in the order of their records: the initial state first, then the others by index.
-fn order(spec: &Spec) -> Vec<usize> {
-    std::iter::once(spec.initial).chain((0..spec.states).filter(|&q| q != spec.initial)).collect()
+/// `specs` (plants first) over events named `names`, `controllable` flags per event, as the encoder
+/// takes them.
+fn source(names: Vec<String>, controllable: &[bool], specs: &[Spec]) -> Source {
+    let automata = specs
+        .iter()
+        .enumerate()
+        .map(|(i, s)| SourceAutomaton {
+            name: format!("A{i}"),
+            initial: s.initial,
+            alphabet: s.alphabet.iter().map(|&e| usize::from(e)).collect(),
+            out: (0..s.states)
+                .map(|q| {
+                    let mut out: Vec<_> =
+                        s.transitions.iter().filter(|t| t.0 == q).map(|t| (usize::from(t.1), t.2)).collect();
+                    out.sort_unstable();
+                    out
+                })
+                .collect(),
+        })
+        .collect();
+    Source {
+        event_names: names,
+        controllable: controllable.to_vec(),
+        plants: specs.iter().take_while(|s| s.role == Role::Plant).count(),
+        automata,
+    }
 }
 
-/// Handles of a spec's states, by state index, in the records `encode` writes (scale 1, 1-byte fields:
-/// a record is the mask id and one byte per transition).
+/// Handles of a spec's states, by state index, in the records the encoder writes for it.
 pub fn handles(spec: &Spec) -> Vec<u16> {
+    let events =
+        spec.alphabet.iter().chain(spec.transitions.iter().map(|t| &t.1)).max().map_or(0, |&e| e + 1);
+    let names = (0..events).map(|e| format!("e{e}")).collect();
+    let packed =
+        build(&source(names, &vec![false; usize::from(events)], std::slice::from_ref(spec))).unwrap();
     let mut hs = vec![0u16; spec.states];
-    let mut at = 0u16;
-    for q in order(spec) {
-        hs[q] = at;
-        at += 1 + spec.transitions.iter().filter(|t| t.0 == q).count() as u16;
+    for r in packed.records(0).unwrap() {
+        hs[r.state] = r.handle;
     }
     hs
 }
 
-fn bits(events: impl IntoIterator<Item = u8>) -> u32 {
-    events.into_iter().fold(0, |w, e| w | 1 << e)
-}
-
-fn leak<T>(v: Vec<T>) -> &'static [T] {
-    Box::leak(v.into_boxed_slice())
-}
-
-/// Encodes `specs` (plants first) over `names.len()` events, `controllable` flags per event; at most 32
-/// events and small automata (1-byte handles). Leaks the tables (tests only).
+/// Encodes `specs` (plants first) over `names.len()` events, `controllable` flags per event, in one-word
+/// bitsets. Leaks the tables (tests only).
 pub fn encode(
     names: &[&'static str],
     controllable: &[bool],
     specs: &[Spec],
 ) -> &'static SupervisorSet<'static, 1> {
-    assert!(names.len() <= 8);
-    let events = names.len() as u8;
-    let mut masks: Vec<[u32; 1]> = Vec::new();
-    let mut automata = Vec::new();
-    let mut block = Vec::new();
-    let mut starts = Vec::new();
-    for s in specs {
-        let hs = handles(s);
-        let start = u16::try_from(block.len()).unwrap();
-        starts.push(start);
-        for q in order(s) {
-            let mut out: Vec<_> = s.transitions.iter().filter(|t| t.0 == q).collect();
-            out.sort_by_key(|t| t.1);
-            let mask = [bits(out.iter().map(|t| t.1))];
-            let id = masks.iter().position(|m| *m == mask).unwrap_or_else(|| {
-                masks.push(mask);
-                masks.len() - 1
-            });
-            block.push(u8::try_from(id).unwrap());
-            block.extend(out.iter().map(|t| u8::try_from(hs[t.2]).unwrap()));
-        }
-        let alphabet = [bits(s.alphabet.iter().copied())];
-        automata.push(Automaton { alphabet, start, scale: 1 });
-    }
-    // At most 8 automata: one byte per holder mask.
-    assert!(specs.len() <= 8);
-    let holders: Vec<u8> = (0..events)
-        .map(|e| specs.iter().enumerate().filter(|(_, s)| s.alphabet.contains(&e)).map(|(i, _)| 1 << i).sum())
-        .collect();
-    let owner: Vec<u8> = (0..events)
-        .map(|e| {
-            let plant = specs.iter().position(|s| s.role == Role::Plant && s.alphabet.contains(&e));
-            match plant {
-                Some(p) if controllable[usize::from(e)] => p as u8,
-                _ => NO_OWNER,
-            }
-        })
-        .collect();
-    let plants = specs.iter().take_while(|s| s.role == Role::Plant).count();
-    let plant_events: Vec<[u32; 1]> =
-        (0..plants).map(|i| [bits((0..events).filter(|&e| owner[usize::from(e)] == i as u8))]).collect();
-    let mut sites = Vec::new();
-    for (i, s) in specs.iter().enumerate().take(plants) {
-        for (st, &h) in handles(s).iter().enumerate() {
-            let n = s.transitions.iter().filter(|t| t.0 == st && owner[usize::from(t.1)] == i as u8).count();
-            if n >= 2 {
-                sites.push(starts[i] + h);
-            }
-        }
-    }
-    sites.sort_unstable();
-    Box::leak(Box::new(SupervisorSet {
-        controllable: [bits((0..events).filter(|&e| controllable[usize::from(e)]))],
-        plants: plants as u8,
-        automata: leak(automata),
-        block: leak(block),
-        wide: false,
-        // At most 8 events: a byte per mask, then the padding of a whole word.
-        masks: leak(masks.iter().map(|m| m[0] as u8).chain([0; 3]).collect()),
-        mask_bytes: 1,
-        holders: leak(holders),
-        plant_events: leak(plant_events),
-        sites: leak(sites),
-    }))
+    let names = names.iter().map(|n| n.to_string()).collect();
+    let tables = HostTables::<1>::new(build(&source(names, controllable, specs)).unwrap()).unwrap();
+    let tables: &'static HostTables<1> = Box::leak(Box::new(tables));
+    Box::leak(Box::new(tables.set()))
 }
 
 /// Event ids of the livelock example.

@@ -18,7 +18,8 @@ mod tables {
     include!(env!("SCT_TABLES_FILE"));
 }
 
-use firmware::link::{Hold, Note, Port};
+use firmware::event_loop::{Note, Port};
+use firmware::link::Hold;
 
 /// The decision gate; HOLD and GO set it from the receive interrupt.
 static HOLD: Hold = Hold::new();
@@ -26,7 +27,7 @@ static HOLD: Hold = Hold::new();
 /// The runtime over the emitted tables.
 type Rt = tables::Runtime<tables::Policy, firmware::rng::SeedEntropy>;
 
-/// UART0 as the link's port; notes become defmt warnings.
+/// UART0 as the event loop's port; notes become defmt warnings.
 struct UartPort;
 
 impl Port for UartPort {
@@ -65,8 +66,9 @@ fn exit(status: u8) -> ! {
 #[rtic::app(device = lm3s6965)]
 mod app {
     use super::{exit, stack, tables, uart, Rt, UartPort, HOLD};
+    use firmware::event_loop::{EventLoop, Poll};
     use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
-    use firmware::link::{Link, Poll, READY};
+    use firmware::link::READY;
     use firmware::rng::SeedEntropy;
 
     #[shared]
@@ -77,7 +79,7 @@ mod app {
         producer: InputProducer<'static>,
         consumer: InputConsumer<'static>,
         runtime: Rt,
-        link: Link,
+        event_loop: EventLoop,
     }
 
     #[init(local = [queue: InputQueue<{ tables::INPUT_SLOTS }> = InputQueue::new()])]
@@ -96,7 +98,7 @@ mod app {
         );
         uart::init();
         uart::send(READY);
-        (Shared {}, Local { producer, consumer, runtime, link: Link::new() })
+        (Shared {}, Local { producer, consumer, runtime, event_loop: EventLoop::new() })
     }
 
     /// Moves received bytes into the input buffer (HOLD and GO act here). Bounded by the buffer's room:
@@ -120,12 +122,12 @@ mod app {
     }
 
     /// The decision loop; sleeps in `wfi` while there is nothing to do.
-    #[idle(local = [consumer, runtime, link])]
+    #[idle(local = [consumer, runtime, event_loop])]
     fn idle(cx: idle::Context) -> ! {
-        let (rx, rt, link) = (cx.local.consumer, cx.local.runtime, cx.local.link);
+        let (rx, rt, event_loop) = (cx.local.consumer, cx.local.runtime, cx.local.event_loop);
         let mut port = UartPort;
         loop {
-            let poll = link.service(rt, rx, &HOLD, &mut port);
+            let poll = event_loop.turn(rt, rx, &HOLD, &mut port);
             uart::unmask_rx();
             match poll {
                 Poll::Busy => {}

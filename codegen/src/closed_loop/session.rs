@@ -1,0 +1,390 @@
+//! A closed-loop session: the virtual plant and the monitor driving a firmware over a byte link.
+//!
+//! The session owns the link protocol's control side. [`Session::sync`] brings the firmware to a known
+//! point (HOLD, STATUS to collect its counters, RESET, wait for READY, GO); [`Session::run`] then
+//! exchanges events until the monitor has seen the requested number: the plant's events go out after
+//! their drawn delays (bursts as one write), every command coming back is judged, taken by the plant
+//! and may be answered at once (a race). A violation, an unresolved desynchronisation, a firmware fault
+//! or a stall resets both sides and the run goes on; all of it is counted.
+
+use std::time::{Duration, Instant};
+
+use crate::link::protocol::{Decoder, Frame, GO, HOLD, RESET, STATUS};
+use crate::link::ByteLink;
+use crate::model::EventId;
+use crate::monitor::{FirmwareCounters, Monitor, Move, Report, Verdict};
+use crate::plant::VirtualPlant;
+
+/// Longest single wait on the link, so the plant's timers stay accurate.
+const POLL: Duration = Duration::from_millis(2);
+/// How often the progress callback runs.
+const PROGRESS_EVERY: Duration = Duration::from_millis(200);
+/// How long the plant holds its next event when the steering prefers the controller to choose first;
+/// a command ends the wait at once, and without one the plant goes on after this.
+const PATIENCE: Duration = Duration::from_millis(3);
+/// Most events the steering adds to an emission to get ahead of the controller's decision.
+const MAX_STEERED_BURST: usize = 8;
+/// Events without a new transition after which the plant starts to mix its own timing into the
+/// steering, and per how many more events the mix grows by a tenth (up to a half).
+const STAGNATION: u64 = 250;
+/// Events without a new transition after which the steering restarts the closed loop: the monitor's
+/// mirror of the controller's choice rounds may have lost step (a choice the guard dropped still counts
+/// in the firmware's round), and a reset puts both back in step.
+const STEERING_RESET: u64 = 2_000;
+
+/// Timing of a session.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SessionConfig {
+    /// How long to wait for a READY or STATUS answer.
+    pub answer_timeout: Duration,
+    /// With nothing for the plant to do and no command for this long, the loop is blocked: reset.
+    pub stall_timeout: Duration,
+}
+
+impl Default for SessionConfig {
+    fn default() -> Self {
+        SessionConfig { answer_timeout: Duration::from_secs(10), stall_timeout: Duration::from_secs(2) }
+    }
+}
+
+/// A session failed to talk to the firmware.
+#[derive(Debug, thiserror::Error)]
+pub enum SessionError {
+    /// The link failed or closed.
+    #[error("link: {0}")]
+    Io(#[from] std::io::Error),
+    /// The firmware did not answer in time.
+    #[error("no {what} answer from the firmware within {} ms", timeout.as_millis())]
+    NoAnswer {
+        /// What was awaited.
+        what: &'static str,
+        /// How long.
+        timeout: Duration,
+    },
+}
+
+/// The virtual plant and the monitor attached to one firmware link; see the module documentation.
+pub struct Session<'a, L: ByteLink + ?Sized> {
+    link: &'a mut L,
+    plant: &'a mut VirtualPlant,
+    monitor: &'a mut Monitor,
+    config: SessionConfig,
+    decoder: Decoder,
+    inbox: std::collections::VecDeque<Frame>,
+    start: Instant,
+    /// Times the plant's next emission is due; `None` while it has nothing to produce.
+    next_emit: Option<Instant>,
+    last_activity: Instant,
+    /// Whether the plant already held back once since the controller's last command.
+    waited: bool,
+    /// Transitions taken so far, and the event count at which the last new one was taken.
+    progress: (usize, u64),
+    /// Bytes from the firmware that the protocol does not define in its direction.
+    garbled: u64,
+    /// Whether the monitor is in step with the firmware: false from a violation, an unresolved
+    /// desynchronisation, SAFE or a restart until the next reset; the firmware's commands in between
+    /// are not judged.
+    in_step: bool,
+}
+
+impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
+    /// A session over `link`; nothing is sent until [`Session::sync`].
+    pub fn new(
+        link: &'a mut L,
+        plant: &'a mut VirtualPlant,
+        monitor: &'a mut Monitor,
+        config: SessionConfig,
+    ) -> Self {
+        let now = Instant::now();
+        Session {
+            link,
+            plant,
+            monitor,
+            config,
+            decoder: Decoder::default(),
+            inbox: Default::default(),
+            start: now,
+            next_emit: Some(now),
+            last_activity: now,
+            waited: false,
+            progress: (0, 0),
+            garbled: 0,
+            in_step: true,
+        }
+    }
+
+    /// The monitor's figures so far.
+    pub fn report(&self) -> &Report {
+        self.monitor.report()
+    }
+
+    /// Brings the firmware to its initial state, in step with plant and monitor, and lets it decide.
+    /// With `count`, the counters the firmware had (since its last reset) go into the report; the first
+    /// sync of a run passes `false`, since what the firmware did before was not monitored.
+    pub fn sync(&mut self, count: bool) -> Result<(), SessionError> {
+        self.restart(count)?;
+        if count {
+            self.monitor.report_mut().resyncs += 1;
+        }
+        Ok(())
+    }
+
+    /// Resets firmware, plant and monitor to the initial state (the firmware's counters collected when
+    /// `count`) and lets the firmware decide again.
+    fn restart(&mut self, count: bool) -> Result<(), SessionError> {
+        self.hold_and_collect(count)?;
+        self.link.send(&[RESET])?;
+        self.await_frame("READY", count, |f| f == Frame::Ready)?;
+        self.plant.reset();
+        self.monitor.reset();
+        self.in_step = true;
+        self.link.send(&[GO])?;
+        self.next_emit = Some(Instant::now());
+        self.last_activity = Instant::now();
+        Ok(())
+    }
+
+    /// Stops the firmware deciding and adds its counters to the report (with `count`). Commands it fired
+    /// before the HOLD reached it are judged as they arrive, with `count`; after the STATUS answer it
+    /// fires none. Call at the end of a run, or before a reset.
+    pub fn hold_and_collect(&mut self, count: bool) -> Result<FirmwareCounters, SessionError> {
+        self.link.send(&[HOLD, STATUS])?;
+        let mut counters = FirmwareCounters::default();
+        self.await_frame("STATUS", count, |f| match f {
+            Frame::Status(c) => {
+                counters = c.into();
+                true
+            }
+            _ => false,
+        })?;
+        if count {
+            self.monitor.firmware_counters(counters);
+        }
+        Ok(counters)
+    }
+
+    /// Runs the closed loop until the monitor has seen `events` events in all, calling `progress` now
+    /// and then.
+    pub fn run(&mut self, events: u64, progress: &mut dyn FnMut(&Report)) -> Result<(), SessionError> {
+        let mut last_progress = Instant::now();
+        let mut buf = [0u8; 256];
+        while self.monitor.report().events < events {
+            self.explore_when_stuck()?;
+            let now = Instant::now();
+            if self.next_emit.is_some_and(|t| t <= now) {
+                self.emit()?;
+            }
+            let wait = self.next_emit.map_or(POLL, |t| t.saturating_duration_since(Instant::now()).min(POLL));
+            let n = self.link.recv(&mut buf, wait)?;
+            for &b in &buf[..n] {
+                if let Some(frame) = self.decoder.push(b) {
+                    self.inbox.push_back(frame);
+                }
+            }
+            while let Some(frame) = self.inbox.pop_front() {
+                self.handle(frame)?;
+            }
+            if self.next_emit.is_none() && self.last_activity.elapsed() > self.config.stall_timeout {
+                self.monitor.report_mut().stalls += 1;
+                self.sync(true)?;
+            }
+            if last_progress.elapsed() >= PROGRESS_EVERY {
+                last_progress = Instant::now();
+                progress(self.monitor.report());
+            }
+        }
+        Ok(())
+    }
+
+    /// Ends the run: holds the firmware, collects its counters and completes the report.
+    pub fn finish(mut self) -> Result<Report, SessionError> {
+        self.hold_and_collect(true)?;
+        let seconds = self.start.elapsed().as_secs_f64();
+        let garbled = self.garbled;
+        self.monitor.list_uncovered();
+        let report = self.monitor.report_mut();
+        report.garbled = garbled;
+        report.finish(seconds);
+        Ok(report.clone())
+    }
+
+    /// Holds the firmware, sends `n` uncontrollable events the plant produces one after another as one
+    /// write, and lets the firmware go: a burst of `n` inputs between two of its decisions. Returns
+    /// the number sent (fewer when the plant ran out of events).
+    pub fn burst(&mut self, n: usize) -> Result<usize, SessionError> {
+        self.link.send(&[HOLD])?;
+        let mut bytes = Vec::with_capacity(n + 1);
+        let t = self.micros();
+        while bytes.len() < n {
+            let Some(e) = self.plant.emit_one(|_| None) else { break };
+            self.monitor.uncontrollable(e, t);
+            bytes.push(e.as_u32() as u8);
+        }
+        let sent = bytes.len();
+        bytes.push(GO);
+        self.link.send(&bytes)?;
+        self.last_activity = Instant::now();
+        Ok(sent)
+    }
+
+    fn micros(&self) -> u64 {
+        u64::try_from(self.start.elapsed().as_micros()).unwrap_or(u64::MAX)
+    }
+
+    /// The plant's next emission: one event or a burst, sent as one write. When the plant steers (see
+    /// [`Move`]), it first lets the controller choose if that is better, and goes on past the drawn
+    /// length, holding the controller, while its own next event beats the controller's choice.
+    fn emit(&mut self) -> Result<(), SessionError> {
+        let steers = self.plant.steers();
+        if steers && !self.waited && self.monitor.next_move() == Move::Controller {
+            self.waited = true;
+            self.next_emit = Some(Instant::now() + PATIENCE);
+            return Ok(());
+        }
+        let len = self.plant.burst_len();
+        let t = self.micros();
+        let mut bytes = Vec::with_capacity(len);
+        let mut held = false;
+        let mut violated = false;
+        while !violated {
+            if bytes.len() >= len {
+                let ahead = steers && bytes.len() < len + MAX_STEERED_BURST;
+                if !(ahead && self.monitor.next_move() == Move::PlantFirst) {
+                    break;
+                }
+                held = true;
+            }
+            let monitor = &mut *self.monitor;
+            let Some(e) = self.plant.emit_one(|e| monitor.rank_after(e)) else { break };
+            bytes.push(e.as_u32() as u8);
+            violated = self.monitor.uncontrollable(e, t) == Verdict::Violation;
+        }
+        if bytes.is_empty() {
+            self.next_emit = None;
+            return Ok(());
+        }
+        if held {
+            bytes.insert(0, HOLD);
+            bytes.push(GO);
+        }
+        self.link.send(&bytes)?;
+        if violated {
+            return self.out_of_step();
+        }
+        self.last_activity = Instant::now();
+        self.next_emit = Some(Instant::now() + Duration::from_micros(self.plant.next_delay_us(false)));
+        Ok(())
+    }
+
+    /// Lets the plant mix its own timing into the steering while no new transition is taken, and
+    /// restarts the closed loop when that goes on for long.
+    fn explore_when_stuck(&mut self) -> Result<(), SessionError> {
+        let report = self.monitor.report();
+        let taken = report.coverage.iter().map(|c| c.taken).sum();
+        if taken != self.progress.0 {
+            self.progress = (taken, report.events);
+        }
+        let stuck = report.events - self.progress.1;
+        if stuck >= STEERING_RESET && self.monitor.is_steering() && self.plant.steers() {
+            self.progress.1 = report.events;
+            self.monitor.report_mut().steering_resets += 1;
+            return self.restart(true);
+        }
+        let tenths = (stuck / STAGNATION).min(5) as u32;
+        self.plant.explore(tenths * 100);
+        Ok(())
+    }
+
+    fn handle(&mut self, frame: Frame) -> Result<(), SessionError> {
+        match frame {
+            Frame::Command(c) => {
+                self.last_activity = Instant::now();
+                self.waited = false;
+                let event = EventId::from_u32(u32::from(c));
+                match self.monitor.command(event, self.micros()) {
+                    Verdict::Ok | Verdict::Desync { resolved: true } => {
+                        self.plant.set_state(self.monitor.plant_state());
+                        let delay = Duration::from_micros(self.plant.next_delay_us(true));
+                        let due = Instant::now() + delay;
+                        self.next_emit = Some(self.next_emit.map_or(due, |t| t.min(due)));
+                    }
+                    Verdict::Desync { resolved: false } | Verdict::Violation => self.out_of_step()?,
+                }
+            }
+            Frame::Safe => {
+                self.monitor.firmware_safe();
+                self.out_of_step()?;
+            }
+            Frame::Ready => {
+                // Unasked: the firmware restarted, and its state is no longer the monitor's.
+                self.monitor.report_mut().reboots += 1;
+                self.out_of_step()?;
+            }
+            Frame::Status(_) => {}
+            Frame::Unknown(_) => self.garbled += 1,
+        }
+        Ok(())
+    }
+
+    /// The monitor lost step with the firmware (a violation, an unresolved desynchronisation, SAFE, a
+    /// restart): both sides are reset, and what the firmware fires until then is not judged.
+    fn out_of_step(&mut self) -> Result<(), SessionError> {
+        self.in_step = false;
+        self.sync(true)
+    }
+
+    /// A frame that arrived while [`Session::await_frame`] waited for another: with `judged`, what the
+    /// firmware did up to the sync point is judged and counted (a command, SAFE, a restart, a garbled
+    /// byte); without, it predates the monitored run and is dropped. Nothing here resynchronises: the
+    /// caller is on its way to a reset or to the end.
+    fn late(&mut self, frame: Frame, judged: bool) {
+        if !judged {
+            return;
+        }
+        match frame {
+            Frame::Command(_) | Frame::Safe if !self.in_step => {}
+            Frame::Command(c) => {
+                let event = EventId::from_u32(u32::from(c));
+                match self.monitor.command(event, self.micros()) {
+                    Verdict::Ok | Verdict::Desync { resolved: true } => {
+                        self.plant.set_state(self.monitor.plant_state())
+                    }
+                    Verdict::Desync { resolved: false } | Verdict::Violation => self.in_step = false,
+                }
+            }
+            Frame::Safe => self.monitor.firmware_safe(),
+            Frame::Ready => self.monitor.report_mut().reboots += 1,
+            Frame::Status(_) => {}
+            Frame::Unknown(_) => self.garbled += 1,
+        }
+    }
+
+    /// Reads until `want` accepts a frame; the frames before it go to [`Session::late`].
+    fn await_frame(
+        &mut self,
+        what: &'static str,
+        judged: bool,
+        mut want: impl FnMut(Frame) -> bool,
+    ) -> Result<(), SessionError> {
+        let deadline = Instant::now() + self.config.answer_timeout;
+        let mut buf = [0u8; 256];
+        loop {
+            while let Some(frame) = self.inbox.pop_front() {
+                if want(frame) {
+                    return Ok(());
+                }
+                self.late(frame, judged);
+            }
+            let left = deadline.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                return Err(SessionError::NoAnswer { what, timeout: self.config.answer_timeout });
+            }
+            let n = self.link.recv(&mut buf, left.min(Duration::from_millis(50)))?;
+            for &b in &buf[..n] {
+                if let Some(frame) = self.decoder.push(b) {
+                    self.inbox.push_back(frame);
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,131 @@
+//! This module is the home of [`RuntimeConfig`]: what the firmware runs its tables with besides the
+//! tables — the choice policy, the fault reaction, the seed, the guard, the input buffer and the reseed
+//! period.
+
+use std::fmt;
+
+use clap::ValueEnum;
+use serde::Deserialize;
+
+/// A choice policy of the runtime (`firmware::choice`, design notes §4.1). The manifest, the command
+/// line and the emitted header name it in kebab case (`random-local-queue`), as derived from the
+/// variant: [`fmt::Display`] writes that name.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ChoicePolicy {
+    /// Lowest enabled event id.
+    First,
+    /// Uniform among the enabled.
+    Random,
+    /// One cursor over all controllable events.
+    GlobalQueue,
+    /// A random order of all controllable events per round.
+    RandomGlobalQueue,
+    /// A cursor per choice site.
+    LocalQueue,
+    /// A random order per choice site and round.
+    #[default]
+    RandomLocalQueue,
+}
+
+impl ChoicePolicy {
+    /// Every policy, in the order of the design notes.
+    pub const ALL: [ChoicePolicy; 6] = [
+        ChoicePolicy::First,
+        ChoicePolicy::Random,
+        ChoicePolicy::GlobalQueue,
+        ChoicePolicy::RandomGlobalQueue,
+        ChoicePolicy::LocalQueue,
+        ChoicePolicy::RandomLocalQueue,
+    ];
+}
+
+/// The reaction to a fault (`firmware::fault::FaultPolicy`), named in kebab case like [`ChoicePolicy`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum OnFault {
+    /// Count, report, keep deciding.
+    #[default]
+    Continue,
+    /// Count, report, outputs off, stop deciding until a reset.
+    SafeState,
+}
+
+/// Writes the name clap and serde derive from the variant (`random-local-queue`).
+fn kebab(value: &impl ValueEnum, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+    value.to_possible_value().map_or(Ok(()), |v| f.write_str(v.get_name()))
+}
+
+impl fmt::Display for ChoicePolicy {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        kebab(self, f)
+    }
+}
+
+impl fmt::Display for OnFault {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        kebab(self, f)
+    }
+}
+
+/// The run-time configuration of a firmware: the manifest's `[runtime]` section, which `codegen emit`'s
+/// options override and the emitted tables carry (`CONFIG`, `SEED`, `INPUT_SLOTS`, the `Policy` type).
+/// Every key is optional; unknown keys are refused.
+#[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RuntimeConfig {
+    /// Choice policy.
+    pub policy: ChoicePolicy,
+    /// Seed of the random policies under QEMU (a board reseeds from its own entropy).
+    pub seed: u64,
+    /// Whether the inexact-synchronisation guard is on.
+    pub guard: bool,
+    /// Reaction to faults.
+    pub on_fault: OnFault,
+    /// Capacity of the input event buffer.
+    pub input_buffer: usize,
+    /// Random draws between two reseeds (0: never).
+    pub reseed_every: u16,
+}
+
+impl Default for RuntimeConfig {
+    fn default() -> Self {
+        RuntimeConfig {
+            policy: ChoicePolicy::default(),
+            seed: 0,
+            guard: true,
+            on_fault: OnFault::default(),
+            input_buffer: 32,
+            reseed_every: 1024,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The name written for a value is the one the manifest and the command line read back.
+    fn reads_back<T: ValueEnum + fmt::Display + PartialEq + fmt::Debug + for<'de> Deserialize<'de>>(
+        all: &[T],
+    ) {
+        #[derive(Deserialize)]
+        struct Key<T> {
+            key: T,
+        }
+        for v in all {
+            let name = v.to_string();
+            assert_eq!(&T::from_str(&name, false).unwrap(), v, "command line: {name}");
+            let parsed: Key<T> = toml::from_str(&format!("key = \"{name}\"")).unwrap();
+            assert_eq!(&parsed.key, v, "manifest: {name}");
+        }
+    }
+
+    #[test]
+    fn names_are_kebab_case_and_read_back() {
+        reads_back(&ChoicePolicy::ALL);
+        reads_back(OnFault::value_variants());
+        assert_eq!(ChoicePolicy::RandomGlobalQueue.to_string(), "random-global-queue");
+        assert_eq!(OnFault::SafeState.to_string(), "safe-state");
+    }
+}

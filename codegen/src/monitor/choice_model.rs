@@ -1,0 +1,223 @@
+//! What the monitor expects the controller to choose: the chance of each enabled command, for the
+//! steering.
+//!
+//! A controller's choice is not uniform. The default policy, `random-local-queue`, draws a plant
+//! uniformly among those with an enabled command, then takes the plant's current state's events once
+//! per *round* in random order (firmware `choice.rs`): a command already taken in the current round is
+//! not taken again until the round is over. A plant that always leads the closed loop along the same
+//! cycle can meet that round in the same phase every time and never see a command it is waiting for. So
+//! the monitor mirrors every site's round from the commands it sees (the same rule as the firmware's,
+//! with the physical state standing for the controller's) and gives the steering the chances that
+//! follow. Other policies are modelled as uniform; a wrong model costs only steering efficiency.
+
+use std::collections::HashMap;
+
+use super::steering::{Round, Site};
+use crate::config::ChoicePolicy;
+use crate::model::{Composition, EventId};
+
+/// The controller's choice policy as far as the monitor models it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ChoiceModel {
+    /// Every enabled command equally likely.
+    #[default]
+    Uniform,
+    /// A uniform plant, then the plant's state's round (the firmware's `random-local-queue`).
+    RandomLocalQueue,
+}
+
+impl ChoiceModel {
+    /// The model of a controller running `policy`.
+    pub fn of(policy: ChoicePolicy) -> Self {
+        match policy {
+            ChoicePolicy::RandomLocalQueue => ChoiceModel::RandomLocalQueue,
+            _ => ChoiceModel::Uniform,
+        }
+    }
+}
+
+/// The rounds of every choice site, mirrored; see the module documentation.
+#[derive(Clone, Debug)]
+pub struct Choices {
+    model: ChoiceModel,
+    /// Per global event: the plant that generates it (the first plant with it in its alphabet).
+    owner: Vec<Option<usize>>,
+    /// Per (plant, local state) that is a site: the events of the current round not taken yet.
+    rounds: HashMap<(usize, u32), Vec<u32>>,
+}
+
+impl Choices {
+    /// A model of `policy` for the closed loop `closed`, whose first `plants` members are the plants.
+    pub fn new(model: ChoiceModel, closed: &Composition, plants: usize, controllable: &[bool]) -> Self {
+        let owner = (0..controllable.len())
+            .map(|e| {
+                let id = EventId::from_u32(e as u32);
+                controllable[e].then(|| (0..plants).find(|&p| closed.has_event(p, id))).flatten()
+            })
+            .collect();
+        Choices { model, owner, rounds: HashMap::new() }
+    }
+
+    /// Back to the controller's initial state (a reset also resets its policy).
+    pub fn reset(&mut self) {
+        self.rounds.clear();
+    }
+
+    /// The controllable events plant `p` generates out of its local state `local`: the site's events.
+    fn offered(&self, closed: &Composition, p: usize, local: u32) -> Vec<u32> {
+        (0..self.owner.len() as u32)
+            .filter(|&e| {
+                self.owner[e as usize] == Some(p)
+                    && closed.local_step(p, local, EventId::from_u32(e)).is_some()
+            })
+            .collect()
+    }
+
+    /// The choice site `command` is chosen at in `state`, under a policy with rounds: its plant in its
+    /// current state, when that state offers two or more commands.
+    pub fn site(&self, closed: &Composition, state: &[u32], command: u32) -> Option<Site> {
+        if self.model != ChoiceModel::RandomLocalQueue {
+            return None;
+        }
+        let p = (*self.owner.get(command as usize)?)?;
+        (self.offered(closed, p, state[p]).len() >= 2).then_some((p, state[p]))
+    }
+
+    /// Where the round of `site` stands.
+    pub fn round(&self, closed: &Composition, (p, local): Site) -> Round {
+        Round {
+            offered: self.offered(closed, p, local),
+            left: self.rounds.get(&(p, local)).cloned().unwrap_or_default(),
+        }
+    }
+
+    /// The controller fired `command` in `state`, where `enabled` were the enabled commands; returns the
+    /// site whose round changed, if any.
+    pub fn fired(
+        &mut self,
+        closed: &Composition,
+        state: &[u32],
+        enabled: &[u32],
+        command: u32,
+    ) -> Option<(usize, u32)> {
+        if self.model != ChoiceModel::RandomLocalQueue {
+            return None;
+        }
+        let p = (*self.owner.get(command as usize)?)?;
+        let site = (p, state[p]);
+        let offered = self.offered(closed, p, state[p]);
+        if offered.len() < 2 {
+            return None;
+        }
+        let round = self.rounds.entry(site).or_default();
+        let mut candidates = enabled.iter().filter(|&&e| self.owner.get(e as usize) == Some(&Some(p)));
+        // A new round starts when no candidate is left in it — and, where the mirror lost step (a
+        // choice the controller dropped for its guard, or made in a state the monitor did not see), when
+        // the command fired is not in it.
+        if !round.contains(&command) || !candidates.any(|e| round.contains(e)) {
+            *round = offered;
+        }
+        round.retain(|&e| e != command);
+        Some(site)
+    }
+
+    /// The chance that the controller fires each of `enabled` (the enabled commands) in `state`, in the
+    /// same order.
+    pub fn chances(&self, closed: &Composition, state: &[u32], enabled: &[u32]) -> Vec<f32> {
+        let uniform = || vec![1.0 / enabled.len() as f32; enabled.len()];
+        if self.model != ChoiceModel::RandomLocalQueue || enabled.is_empty() {
+            return uniform();
+        }
+        let owners: Vec<Option<usize>> =
+            enabled.iter().map(|&e| self.owner.get(e as usize).copied().flatten()).collect();
+        let mut plants: Vec<usize> = owners.iter().flatten().copied().collect();
+        plants.sort_unstable();
+        plants.dedup();
+        if plants.is_empty() {
+            return uniform();
+        }
+        let mut out = vec![0.0; enabled.len()];
+        for &p in &plants {
+            let mine: Vec<usize> = (0..enabled.len()).filter(|&k| owners[k] == Some(p)).collect();
+            let round = self.rounds.get(&(p, state[p]));
+            let in_round: Vec<usize> =
+                mine.iter().copied().filter(|&k| round.is_none_or(|r| r.contains(&enabled[k]))).collect();
+            let pool = if in_round.is_empty() || self.offered(closed, p, state[p]).len() < 2 {
+                mine
+            } else {
+                in_round
+            };
+            for &k in &pool {
+                out[k] = 1.0 / (plants.len() * pool.len()) as f32;
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::testing::automaton;
+    use crate::model::{EventTable, Kind};
+
+    /// One machine whose rest state offers three commands (a site), and a second plant with one.
+    fn site() -> (Composition, Vec<bool>, EventTable) {
+        let m = automaton(
+            "M",
+            Kind::Plant,
+            2,
+            &[0],
+            &["a", "b", "c"],
+            &[(0, "a", 1), (0, "b", 1), (0, "c", 1), (1, "done", 0)],
+        );
+        let n = automaton("N", Kind::Plant, 2, &[0], &["x"], &[(0, "x", 1), (1, "y", 0)]);
+        let table = EventTable::build([&m, &n]).unwrap();
+        let closed = Composition::new(&[&m, &n], &table).unwrap();
+        let controllable = table.ids().map(|e| table.is_controllable(e)).collect();
+        (closed, controllable, table)
+    }
+
+    #[test]
+    fn a_round_takes_each_offered_command_once_as_the_firmware_does() {
+        let (closed, controllable, t) = site();
+        let id = |e: &str| t.id(e).unwrap().as_u32();
+        let mut choices = Choices::new(ChoiceModel::RandomLocalQueue, &closed, 2, &controllable);
+        let rest = [0, 1];
+        let (a, b, c) = (id("a"), id("b"), id("c"));
+        assert_eq!(choices.chances(&closed, &rest, &[a, b]), [0.5, 0.5], "a fresh round holds both");
+        choices.fired(&closed, &rest, &[a, b], a);
+        assert_eq!(choices.chances(&closed, &rest, &[a, b]), [0.0, 1.0], "a was taken this round");
+        choices.fired(&closed, &rest, &[a, b], b);
+        assert_eq!(choices.chances(&closed, &rest, &[a, b]), [0.5, 0.5], "only c is left: a new round");
+        assert_eq!(choices.chances(&closed, &rest, &[a, b, c]), [0.0, 0.0, 1.0]);
+        // A plant is drawn first: with N's x enabled too, M's pool shares half the chance.
+        let both = [0, 0];
+        let x = id("x");
+        assert_eq!(choices.chances(&closed, &both, &[c, x]), [0.5, 0.5]);
+        choices.reset();
+        assert_eq!(choices.chances(&closed, &rest, &[a, b, c]), [1.0 / 3.0; 3]);
+    }
+
+    #[test]
+    fn a_command_the_mirror_did_not_expect_starts_a_new_round() {
+        let (closed, controllable, t) = site();
+        let id = |e: &str| t.id(e).unwrap().as_u32();
+        let mut choices = Choices::new(ChoiceModel::RandomLocalQueue, &closed, 2, &controllable);
+        let rest = [0, 1];
+        choices.fired(&closed, &rest, &[id("a"), id("b")], id("a"));
+        // The controller fired a again (say it decided where the monitor did not look): the firmware's
+        // round must have been new, so only a is gone from it.
+        choices.fired(&closed, &rest, &[id("a"), id("b")], id("a"));
+        assert_eq!(choices.chances(&closed, &rest, &[id("a"), id("b"), id("c")]), [0.0, 0.5, 0.5]);
+    }
+
+    #[test]
+    fn other_policies_are_uniform() {
+        let (closed, controllable, t) = site();
+        let id = |e: &str| t.id(e).unwrap().as_u32();
+        let mut choices = Choices::new(ChoiceModel::of(ChoicePolicy::LocalQueue), &closed, 2, &controllable);
+        assert_eq!(choices.fired(&closed, &[0, 1], &[id("a"), id("b")], id("a")), None);
+        assert_eq!(choices.chances(&closed, &[0, 1], &[id("a"), id("b")]), [0.5, 0.5]);
+    }
+}

@@ -1,0 +1,355 @@
+//! The pipeline, owned in one place: a manifest (or model files named one by one) → models →
+//! supervisors → tables → emitted source → firmware image. Every command that runs more than one stage
+//! goes through here, so two commands cannot build the same project two ways.
+//!
+//! | stage | type | function |
+//! |---|---|---|
+//! | manifest | [`Manifest`] | [`Manifest::load`] |
+//! | models | [`ModelSet`] | [`Manifest::read_automata`], [`ModelSet::from_files`] |
+//! | supervisors | [`ModelSet`] with every supervisor | [`supervisors`] |
+//! | supervisor set | [`PackSet`] | [`supervisor_set`] |
+//! | tables | [`Packed`] (`ranked`) | [`Project::tables`] |
+//! | emitted source | `String` | [`Project::emit`] |
+//! | firmware image | an ELF | [`Project::image`] (QEMU), [`Project::pico_image`] |
+//!
+//! A [`Project`] carries a supervisor set with what the later stages need besides it: its name, the
+//! run-time configuration, the board's pin map and where it came from (the emitted header's inputs and
+//! command). [`comparison`] runs the other two architectures of the same problem for the size report.
+
+pub mod comparison;
+
+use std::path::{Path, PathBuf};
+
+use crate::config::{BoardSpec, PlcSpec, RuntimeConfig, ScanPolicy};
+use crate::emit::{self, EmitError, Input, Provenance};
+use crate::formats::ParseError;
+use crate::manifest::{read_board, Manifest, ManifestError, ModelSet};
+use crate::model::Automaton;
+use crate::pack::ranked::{self, Packed};
+use crate::pack::{PackError, PackSet};
+use crate::plc::{self, Avalanche, Encoding, PlcError, PlcOptions};
+use crate::synth::{local_modular, Config, SynthError};
+use crate::target::image::{build_pico_image, build_qemu_image, ImageError};
+
+/// A supervisor set with everything the tables, the firmware build and the closed loop need.
+#[derive(Clone, Debug)]
+pub struct Project {
+    /// Name of the set (the manifest's `name`).
+    pub name: String,
+    /// Plants first, then supervisors, over the event numbering the firmware uses.
+    pub set: PackSet,
+    /// The run-time configuration the tables carry; tests change it before [`Project::emit`].
+    pub runtime: RuntimeConfig,
+    /// Pin map of a real board, if any.
+    pub board: Option<BoardSpec>,
+    /// I/O map, policy and cycle of the PLC program (`[plc]`), if any.
+    pub plc: Option<PlcSpec>,
+    origin: Origin,
+    /// Every input file with its SHA-256, in the order read.
+    inputs: Vec<Input>,
+}
+
+/// Where a project came from, for the command its emitted header records.
+#[derive(Clone, Debug)]
+enum Origin {
+    /// A manifest, with the run-time configuration it gave.
+    Manifest { path: PathBuf, runtime: RuntimeConfig },
+    /// Model files named one by one (`codegen emit --plant … --sup …`).
+    Files { plants: Vec<PathBuf>, supervisors: Vec<PathBuf>, board: Option<PathBuf> },
+    /// Automata built in code.
+    Code,
+}
+
+/// A project could not be put together or carried through a stage.
+#[derive(Debug, thiserror::Error)]
+pub enum ProjectError {
+    /// The manifest or a model file it names is bad.
+    #[error(transparent)]
+    Manifest(#[from] ManifestError),
+    /// A model file named on the command line is bad.
+    #[error(transparent)]
+    Model(#[from] ParseError),
+    /// An input file could not be read to hash it, or the emitted tables could not be written.
+    #[error("{}: {source}", path.display())]
+    File {
+        /// The file.
+        path: PathBuf,
+        /// What the system said.
+        source: std::io::Error,
+    },
+    /// The manifest names neither supervisors nor specifications to synthesise them from.
+    #[error("{}: no supervisors and no specifications to synthesise them from", file.display())]
+    Nothing {
+        /// The manifest file.
+        file: PathBuf,
+    },
+    /// Synthesis failed.
+    #[error("synthesis: {0}")]
+    Synth(#[from] SynthError),
+    /// The set cannot be packed.
+    #[error(transparent)]
+    Pack(#[from] PackError),
+    /// The tables cannot be emitted.
+    #[error(transparent)]
+    Emit(#[from] EmitError),
+    /// The firmware did not build.
+    #[error(transparent)]
+    Image(#[from] ImageError),
+}
+
+/// The supervisors stage: `models` with every supervisor its set runs — the ready supervisors first,
+/// then the local modular supervisors synthesised from its specifications (none without
+/// specifications).
+pub fn supervisors(mut models: ModelSet) -> Result<ModelSet, SynthError> {
+    if !models.specs.is_empty() {
+        let result = local_modular(&models.plants, &models.specs, &Config::default())?;
+        models.supervisors.extend(result.supervisors.into_iter().map(|s| s.automaton));
+    }
+    Ok(models)
+}
+
+/// Manifest → supervisor set: the manifest's models with their supervisors, plants first, over one
+/// event numbering.
+pub fn supervisor_set(manifest: &Manifest) -> Result<PackSet, ProjectError> {
+    let models = supervisors(manifest.read_automata()?)?;
+    if models.supervisors.is_empty() && models.plants.is_empty() {
+        return Err(ProjectError::Nothing { file: manifest.file.clone() });
+    }
+    Ok(PackSet::new(models.plants, models.supervisors)?)
+}
+
+/// Reads and hashes `path`.
+fn hash(path: &Path) -> Result<Input, ProjectError> {
+    Input::read(path).map_err(|source| ProjectError::File { path: path.to_owned(), source })
+}
+
+impl Project {
+    /// The project of the manifest at `path`: its supervisor set ([`supervisor_set`]), `[runtime]` and
+    /// `[board]`, and the hashes of the manifest and every model file it names.
+    pub fn load(path: &Path) -> Result<Project, ProjectError> {
+        let m = Manifest::load(path)?;
+        let set = supervisor_set(&m)?;
+        let files = std::iter::once(m.file.clone())
+            .chain(m.plants.iter().chain(&m.specs).chain(&m.supervisors).map(|p| m.resolve(p)));
+        let inputs = files.map(|f| hash(&f)).collect::<Result<_, _>>()?;
+        Ok(Project {
+            set,
+            origin: Origin::Manifest { path: path.to_owned(), runtime: m.runtime.clone() },
+            name: m.name,
+            runtime: m.runtime,
+            board: m.board,
+            plc: m.plc,
+            inputs,
+        })
+    }
+
+    /// The project of plant and supervisor files given one by one (plants first in the tables, each
+    /// group in this order), with `runtime` and the `[board]` of the TOML file `board`.
+    pub fn from_files(
+        name: &str,
+        plants: &[PathBuf],
+        supervisors: &[PathBuf],
+        board: Option<&Path>,
+        runtime: RuntimeConfig,
+    ) -> Result<Project, ProjectError> {
+        let mut inputs = Vec::new();
+        let mut read = |paths: &[PathBuf]| -> Result<Vec<Automaton>, ProjectError> {
+            let mut out = Vec::new();
+            for p in paths {
+                out.extend(crate::formats::read_path(p)?);
+                inputs.push(hash(p)?);
+            }
+            Ok(out)
+        };
+        let plant_automata = read(plants)?;
+        let supervisor_automata = read(supervisors)?;
+        let board_spec = match board {
+            Some(path) => {
+                inputs.push(hash(path)?);
+                Some(read_board(path)?)
+            }
+            None => None,
+        };
+        Ok(Project {
+            name: name.to_owned(),
+            set: PackSet::new(plant_automata, supervisor_automata)?,
+            runtime,
+            board: board_spec,
+            plc: None,
+            origin: Origin::Files {
+                plants: plants.to_vec(),
+                supervisors: supervisors.to_vec(),
+                board: board.map(Path::to_path_buf),
+            },
+            inputs,
+        })
+    }
+
+    /// A project from automata built in code, with `runtime`.
+    pub fn new(
+        name: &str,
+        plants: Vec<Automaton>,
+        supervisors: Vec<Automaton>,
+        runtime: RuntimeConfig,
+    ) -> Result<Project, PackError> {
+        Ok(Project {
+            name: name.to_owned(),
+            set: PackSet::new(plants, supervisors)?,
+            runtime,
+            board: None,
+            plc: None,
+            origin: Origin::Code,
+            inputs: Vec::new(),
+        })
+    }
+
+    /// The command that reproduces the emitted tables, paths as given, every option spelt out.
+    pub fn command(&self) -> String {
+        let r = &self.runtime;
+        let words = match &self.origin {
+            Origin::Manifest { path, runtime } => {
+                let mut line = format!("codegen emit {} --reseed-every {}", path.display(), r.reseed_every);
+                if *runtime != (RuntimeConfig { reseed_every: runtime.reseed_every, ..r.clone() }) {
+                    line.push_str(" (then its [runtime] changed in code)");
+                }
+                line
+            }
+            Origin::Files { plants, supervisors, board } => {
+                let mut words = vec![String::from("codegen emit"), format!("--name {}", self.name)];
+                words.extend(plants.iter().map(|p| format!("--plant {}", p.display())));
+                words.extend(supervisors.iter().map(|p| format!("--sup {}", p.display())));
+                words.push(format!("--policy {}", r.policy));
+                words.push(format!("--seed {}", r.seed));
+                words.push(format!("--guard {}", r.guard));
+                words.push(format!("--on-fault {}", r.on_fault));
+                words.push(format!("--input-buffer {}", r.input_buffer));
+                words.push(format!("--reseed-every {}", r.reseed_every));
+                if let Some(board) = board {
+                    words.push(format!("--board {}", board.display()));
+                }
+                words.join(" ")
+            }
+            Origin::Code => format!("closed loop of '{}' (automata built in code)", self.name),
+        };
+        words.replace('\\', "/")
+    }
+
+    /// The tables stage: the set in the firmware's `ranked` layout.
+    pub fn tables(&self) -> Result<Packed, PackError> {
+        ranked::encode(&self.set)
+    }
+
+    /// The emitted-source stage: the Rust tables the firmware includes (`SCT_TABLES`), under a header
+    /// naming every input with its hash and the command that reproduces them.
+    pub fn emit(&self) -> Result<String, EmitError> {
+        let provenance = Provenance { inputs: self.inputs.clone(), command: self.command() };
+        emit::emit(&self.tables()?, &self.name, &self.runtime, self.board.as_ref(), &provenance)
+    }
+
+    /// The PLC stage: the Structured Text and PLCopen XML program of the set with its report, under the
+    /// same provenance header as the tables. The policy is `policy` when given, else the manifest's
+    /// (`[plc]`, else `[runtime]` when it has a scan-cycle form), else local-queue for model files.
+    pub fn plc(
+        &self,
+        encoding: Encoding,
+        avalanche: Avalanche,
+        policy: Option<ScanPolicy>,
+    ) -> Result<plc::Output, PlcError> {
+        let fallback = match self.origin {
+            Origin::Manifest { .. } => None,
+            Origin::Files { .. } | Origin::Code => Some(ScanPolicy::LocalQueue),
+        };
+        let opts = PlcOptions {
+            encoding,
+            avalanche,
+            ..PlcOptions::new(&self.name, &self.runtime, self.plc.as_ref(), policy.or(fallback))?
+        };
+        let provenance = Provenance { inputs: self.inputs.clone(), command: self.plc_command(&opts) };
+        plc::generate(&self.set, &opts, &provenance)
+    }
+
+    /// The command that reproduces a PLC program, paths as given, every option spelt out.
+    fn plc_command(&self, opts: &PlcOptions) -> String {
+        let mut words = vec![String::from("codegen plc")];
+        match &self.origin {
+            Origin::Manifest { path, .. } => words.push(path.display().to_string()),
+            Origin::Files { plants, supervisors, .. } => {
+                words.push(format!("--name {}", self.name));
+                words.extend(plants.iter().map(|p| format!("--plant {}", p.display())));
+                words.extend(supervisors.iter().map(|p| format!("--sup {}", p.display())));
+            }
+            Origin::Code => words.push(format!("(automata of '{}' built in code)", self.name)),
+        }
+        words.push(format!("--encoding {}", opts.encoding.name()));
+        words.push(format!("--avalanche {}", opts.avalanche.name()));
+        words.push(format!("--policy {}", opts.policy.name()));
+        words.join(" ").replace('\\', "/")
+    }
+
+    /// The firmware-image stage: emits the tables into `dir/tables.rs` and builds the QEMU firmware on
+    /// them; returns the ELF, `dir/firmware.elf`.
+    pub fn image(&self, dir: &Path) -> Result<PathBuf, ProjectError> {
+        Ok(build_qemu_image(&self.tables_file(dir)?, &dir.join("firmware.elf"))?)
+    }
+
+    /// The same stage for the Raspberry Pi Pico: the tables, with the board's pin map, built into the
+    /// Pico firmware (`cell-pico`); returns the ELF, `dir/firmware.elf`.
+    pub fn pico_image(&self, dir: &Path) -> Result<PathBuf, ProjectError> {
+        Ok(build_pico_image(&self.tables_file(dir)?, &dir.join("firmware.elf"))?)
+    }
+
+    /// Emits the tables into `dir/tables.rs`.
+    fn tables_file(&self, dir: &Path) -> Result<PathBuf, ProjectError> {
+        let tables = dir.join("tables.rs");
+        std::fs::write(&tables, self.emit()?)
+            .map_err(|source| ProjectError::File { path: tables.clone(), source })?;
+        Ok(tables)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn livelock_plant() -> PathBuf {
+        [env!("CARGO_MANIFEST_DIR"), "..", "examples", "livelock", "livelock.xmd"].iter().collect()
+    }
+
+    /// A manifest in a scratch directory over the livelock plant, with `runtime` as its `[runtime]`.
+    fn manifest(tag: &str, runtime: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("project-{tag}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("m.toml");
+        let text = format!("name = \"m\"\nplants = [{:?}]\n[runtime]\n{runtime}\n", livelock_plant());
+        std::fs::write(&path, text).unwrap();
+        path
+    }
+
+    #[test]
+    fn the_manifests_runtime_reaches_the_tables_and_the_command_reproduces_them() {
+        let path = manifest("reseed", "reseed_every = 7\npolicy = \"first\"");
+        let mut project = Project::load(&path).unwrap();
+        assert_eq!((project.runtime.reseed_every, project.runtime.policy.to_string()), (7, "first".into()));
+        let text = project.emit().unwrap();
+        assert!(text.contains("    reseed_every: 7,\n"), "{text}");
+        assert!(text.contains("pub type Policy = firmware::choice::First;"), "{text}");
+        assert_eq!(project.command(), format!("codegen emit {} --reseed-every 7", path.display()));
+        // `codegen emit MANIFEST --reseed-every N` overrides the manifest's period, and says so.
+        project.runtime.reseed_every = 9;
+        assert!(project.emit().unwrap().contains("    reseed_every: 9,\n"));
+        assert!(project.command().ends_with("--reseed-every 9"));
+        // Any other change made in code is flagged: the command alone no longer reproduces the tables.
+        project.runtime.guard = false;
+        assert!(project.command().ends_with("(then its [runtime] changed in code)"));
+        std::fs::remove_dir_all(path.parent().unwrap()).ok();
+    }
+
+    #[test]
+    fn an_input_that_cannot_be_read_is_an_error_not_an_empty_hash() {
+        let missing = livelock_plant().with_file_name("missing.xmd");
+        let err = hash(&missing).unwrap_err().to_string();
+        assert!(err.starts_with(&missing.display().to_string()), "{err}");
+        let err = Project::from_files("x", &[missing], &[], None, RuntimeConfig::default()).unwrap_err();
+        assert!(matches!(err, ProjectError::Model(_)), "{err}");
+    }
+}

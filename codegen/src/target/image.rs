@@ -1,0 +1,138 @@
+//! Builds the firmware images QEMU boots and the RP2040 harness loads, for a given tables file.
+//!
+//! The applications (`firmware`, binaries `cell-qemu` and `cell-pico`) include the tables named by the
+//! `SCT_TABLES` environment variable. Building it is one `cargo build` in the workspace root (where
+//! `.cargo/config.toml` holds the Cortex-M link flags). Cargo writes the ELF to one fixed path, so two
+//! builds with different tables would overwrite each other: builds are serialised with a lock file
+//! and each ELF is copied to a path of its own before the lock is released.
+
+use std::fs::File;
+use std::os::fd::AsRawFd;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+/// The Cortex-M target of the QEMU board.
+pub const TARGET: &str = "thumbv7m-none-eabi";
+/// The firmware binary that runs on QEMU.
+pub const BINARY: &str = "cell-qemu";
+/// The Cortex-M target of the Raspberry Pi Pico.
+pub const PICO_TARGET: &str = "thumbv6m-none-eabi";
+/// The Pico's firmware binary (what `cargo pico-build` makes).
+pub const PICO_BINARY: &str = "cell-pico";
+
+/// Building the firmware failed.
+#[derive(Debug, thiserror::Error)]
+pub enum ImageError {
+    /// Cargo or a file operation failed to run.
+    #[error("{what}: {source}")]
+    Io {
+        /// What was being done.
+        what: String,
+        /// Why it failed.
+        source: std::io::Error,
+    },
+    /// Cargo ran and reported failure.
+    #[error("building the firmware failed ({status}):\n{stderr}")]
+    Build {
+        /// Cargo's exit status.
+        status: std::process::ExitStatus,
+        /// What it printed.
+        stderr: String,
+    },
+    /// Cargo succeeded but named no executable.
+    #[error("cargo built no {0} executable")]
+    NoExecutable(&'static str),
+}
+
+/// The workspace root this crate was built in (where `.cargo/config.toml` and `firmware/` are).
+pub fn workspace_root() -> PathBuf {
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
+    manifest.parent().unwrap_or(manifest).to_path_buf()
+}
+
+/// Builds the QEMU firmware with the tables in `tables` (a Rust source file as `codegen emit` writes it)
+/// and copies the ELF to `out`.
+pub fn build_qemu_image(tables: &Path, out: &Path) -> Result<PathBuf, ImageError> {
+    build_image(tables, out, "qemu", TARGET, BINARY)
+}
+
+/// Builds the Pico firmware with the tables in `tables` (they must carry a `[board]` pin map) and copies
+/// the ELF to `out`.
+pub fn build_pico_image(tables: &Path, out: &Path) -> Result<PathBuf, ImageError> {
+    build_image(tables, out, "pico", PICO_TARGET, PICO_BINARY)
+}
+
+/// `cargo build -p firmware --release --features FEATURE --target TARGET --bin BINARY` on `tables`.
+fn build_image(
+    tables: &Path,
+    out: &Path,
+    feature: &str,
+    target: &str,
+    binary: &'static str,
+) -> Result<PathBuf, ImageError> {
+    let root = workspace_root();
+    let io = |what: String| move |source| ImageError::Io { what, source };
+    let tables = std::fs::canonicalize(tables).map_err(io(format!("tables {}", tables.display())))?;
+    let target_dir = std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), PathBuf::from);
+    std::fs::create_dir_all(&target_dir).map_err(io(format!("creating {}", target_dir.display())))?;
+    let lock_path = target_dir.join("codegen-firmware-build.lock");
+    let lock = File::create(&lock_path).map_err(io(format!("creating {}", lock_path.display())))?;
+    let _guard = Flock::exclusive(&lock).map_err(io(format!("locking {}", lock_path.display())))?;
+
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let output = Command::new(cargo)
+        .current_dir(&root)
+        .args([
+            "build",
+            "-p",
+            "firmware",
+            "--release",
+            "--features",
+            feature,
+            "--target",
+            target,
+            "--bin",
+            binary,
+        ])
+        .arg("--message-format=json-render-diagnostics")
+        .env("SCT_TABLES", &tables)
+        .stdin(Stdio::null())
+        .output()
+        .map_err(io("running cargo".to_owned()))?;
+    if !output.status.success() {
+        return Err(ImageError::Build {
+            status: output.status,
+            stderr: String::from_utf8_lossy(&output.stderr).into_owned(),
+        });
+    }
+    let elf = String::from_utf8_lossy(&output.stdout)
+        .lines()
+        .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
+        .filter(|m| m["reason"] == "compiler-artifact" && m["target"]["name"] == binary)
+        .find_map(|m| m["executable"].as_str().map(PathBuf::from))
+        .ok_or(ImageError::NoExecutable(binary))?;
+    std::fs::copy(&elf, out).map_err(io(format!("copying {} to {}", elf.display(), out.display())))?;
+    Ok(out.to_path_buf())
+}
+
+/// An exclusive `flock` held until dropped.
+struct Flock<'a>(&'a File);
+
+impl<'a> Flock<'a> {
+    fn exclusive(file: &'a File) -> std::io::Result<Self> {
+        // SAFETY: `flock` only reads the descriptor, which `file` keeps open for the guard's lifetime.
+        if unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX) } != 0 {
+            return Err(std::io::Error::last_os_error());
+        }
+        Ok(Flock(file))
+    }
+}
+
+impl Drop for Flock<'_> {
+    fn drop(&mut self) {
+        // SAFETY: as in `exclusive`; unlocking a descriptor we locked.
+        unsafe {
+            libc::flock(self.0.as_raw_fd(), libc::LOCK_UN);
+        }
+    }
+}

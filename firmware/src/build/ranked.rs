@@ -1,0 +1,437 @@
+//! The encoder of the `ranked` layout ([`crate::table`] describes the layout): how a set is cut into
+//! records, which masks the pool holds, and which field width and scales are chosen.
+//!
+//! * The pool holds each distinct out-mask once, in first-appearance order: automata in set order, each
+//!   automaton's states in index order.
+//! * An automaton's records come in its block with the initial state's first (handle 0), then the
+//!   others in state-index order.
+//! * The field width is one for the whole set, so that the runtime is compiled for it: the encoder picks
+//!   the smaller blocks of two candidates (1-byte fields on a tie) — 1-byte fields, when every mask id is
+//!   below [`NARROW_IDS`] and every automaton has a scale in 1..=255 that puts every record start at a
+//!   handle ≤ [`NARROW_HANDLE`] (each automaton with its smallest such scale); 2-byte fields, each
+//!   automaton with the smallest scale that puts every record start at a handle ≤ [`WIDE_HANDLE`].
+//!
+//! Side tables of the layout itself: the mask pool (⌈e/8⌉ bytes per mask, then padding to read a whole
+//! last word), per automaton a descriptor of [`DESCRIPTOR_BYTES`] and its alphabet (⌈e/32⌉ words), and
+//! the controllability bitset (⌈e/32⌉ words). The side tables of the runtime's hot path are
+//! [`super::SideTables`].
+
+use alloc::collections::BTreeMap;
+use alloc::format;
+use alloc::string::String;
+use alloc::vec;
+use alloc::vec::Vec;
+
+use super::bitset;
+use super::{BuildError, ReadError};
+use crate::table::{MAX_BLOCK, MAX_EVENTS, MAX_MASKS};
+
+/// Mask ids a 1-byte field numbers.
+pub const NARROW_IDS: usize = 256;
+/// Most states of one automaton: a handle is at most 2 bytes.
+pub const MAX_STATES: usize = 65_536;
+/// Largest scale (a byte).
+pub const MAX_SCALE: u8 = 255;
+/// Bytes of an automaton's descriptor besides its alphabet: the start of its records (u16), scale (u8)
+/// and a byte of padding, as [`crate::table::Automaton`] lays them out.
+pub const DESCRIPTOR_BYTES: usize = 4;
+/// Largest handle of 1-byte targets.
+pub const NARROW_HANDLE: usize = 255;
+/// Largest handle of 2-byte targets.
+pub const WIDE_HANDLE: usize = 65_535;
+/// Most handle units a block may span (the runtime's check: `⌈len / scale⌉ ≤ 65 536`).
+const MAX_UNITS: usize = 65_536;
+
+/// A set to build tables for: plants then supervisors over one global event numbering.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Source {
+    /// Event names by global id (kept for logs; the tables hold none).
+    pub event_names: Vec<String>,
+    /// Whether each global event is controllable.
+    pub controllable: Vec<bool>,
+    /// How many of the automata, the first ones, are plants.
+    pub plants: usize,
+    /// Plants first, then supervisors.
+    pub automata: Vec<SourceAutomaton>,
+}
+
+/// One automaton of a [`Source`]: states `0..out.len()`, transitions over global event ids.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SourceAutomaton {
+    /// Automaton name.
+    pub name: String,
+    /// Index of the initial state.
+    pub initial: usize,
+    /// Global ids of the events of its alphabet.
+    pub alphabet: Vec<usize>,
+    /// Per state (by index): outgoing `(global event, target state)` pairs in increasing event order, one
+    /// per event.
+    pub out: Vec<Vec<(usize, usize)>>,
+}
+
+/// A set in the `ranked` layout: what [`crate::table::SupervisorSet`] holds, with names.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Packed {
+    /// Event names by global id.
+    pub event_names: Vec<String>,
+    /// Bitset over global event ids (⌈e/32⌉ words): the controllable ones.
+    pub controllable: Vec<u32>,
+    /// How many of the automata, the first ones, are plants.
+    pub plants: usize,
+    /// The pool of distinct out-masks, each ⌈e/32⌉ words, in first-appearance order.
+    pub masks: Vec<Vec<u32>>,
+    /// Mask ids and target handles take 2 bytes (little-endian) instead of 1, in every block.
+    pub wide: bool,
+    /// Plants first, then supervisors.
+    pub automata: Vec<Block>,
+}
+
+/// One automaton in the `ranked` layout: the runtime's [`crate::table::Automaton`] and its block.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Block {
+    /// Automaton name.
+    pub name: String,
+    /// Index of the initial state, whose record comes first (handle 0).
+    pub initial: usize,
+    /// Bytes per handle unit: a record starts at byte `handle · scale` of the block (≥ 1).
+    pub scale: u8,
+    /// The records (see [`crate::table`]).
+    pub block: Vec<u8>,
+    /// Bitset over global event ids (⌈e/32⌉ words): the automaton's alphabet.
+    pub alphabet: Vec<u32>,
+}
+
+/// One state's record, read back from a block.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Record {
+    /// The state's index in its automaton.
+    pub state: usize,
+    /// The state's handle.
+    pub handle: u16,
+    /// Byte offset of the record in its block.
+    pub at: usize,
+    /// Id of the state's out-mask in [`Packed::masks`].
+    pub mask: usize,
+    /// Target handles, one per event of the mask in increasing id order.
+    pub targets: Vec<u16>,
+}
+
+impl Packed {
+    /// Words of an event bitset.
+    pub fn words(&self) -> usize {
+        self.controllable.len()
+    }
+
+    /// Bytes of a mask id or a target handle.
+    pub fn field_bytes(&self) -> usize {
+        if self.wide {
+            2
+        } else {
+            1
+        }
+    }
+
+    /// Bytes of one mask in the runtime's pool: enough for the events (at least one).
+    pub fn mask_width(&self) -> usize {
+        self.event_names.len().div_ceil(8).max(1)
+    }
+
+    /// The runtime's mask pool: every mask in [`Packed::mask_width`] bytes, little-endian, then the
+    /// padding that lets the runtime read whole words from the last
+    /// ([`crate::table::SupervisorSet::masks`]).
+    pub fn mask_pool(&self) -> Vec<u8> {
+        let width = self.mask_width();
+        // A mask of a set without events has no words: its byte is 0.
+        let mut pool: Vec<u8> = self
+            .masks
+            .iter()
+            .flat_map(|m| m.iter().flat_map(|w| w.to_le_bytes()).chain(core::iter::repeat(0)).take(width))
+            .collect();
+        // A set without events still has one word per bitset in the runtime.
+        pool.resize(pool.len() + 4 * self.words().max(1) - width, 0);
+        pool
+    }
+
+    /// Bytes of the mask pool.
+    pub fn mask_bytes(&self) -> usize {
+        self.mask_pool().len()
+    }
+
+    /// Where each automaton's block starts when the blocks are put back to back in set order.
+    pub fn starts(&self) -> Vec<usize> {
+        self.automata
+            .iter()
+            .scan(0, |at, b| {
+                let start = *at;
+                *at += b.block.len();
+                Some(start)
+            })
+            .collect()
+    }
+
+    /// The records of automaton `a`, in block order (the initial state's first), every length, mask id
+    /// and padding byte checked (targets are not: they are handles, which only the whole block
+    /// resolves).
+    pub fn records(&self, a: usize) -> Result<Vec<Record>, ReadError> {
+        let b = self.automata.get(a).ok_or_else(|| ReadError::Inconsistent {
+            what: String::from("set"),
+            detail: format!("no automaton {a} of {}", self.automata.len()),
+        })?;
+        self.walk(b)
+    }
+
+    /// Padding bytes of automaton `a`'s block (between records).
+    pub fn padding(&self, a: usize) -> Result<usize, ReadError> {
+        let records = self.records(a)?;
+        let t_bytes = self.field_bytes();
+        let used: usize = records.iter().map(|r| (1 + r.targets.len()) * t_bytes).sum();
+        Ok(self.automata.get(a).map_or(0, |b| b.block.len()).saturating_sub(used))
+    }
+
+    /// The records of block `b`; see [`Packed::records`].
+    pub fn walk(&self, b: &Block) -> Result<Vec<Record>, ReadError> {
+        let what = || b.name.clone();
+        if b.scale == 0 {
+            return Err(ReadError::Inconsistent { what: what(), detail: String::from("scale 0") });
+        }
+        let scale = usize::from(b.scale);
+        let t_bytes = self.field_bytes();
+        let id_bytes = t_bytes;
+        let bytes = &b.block;
+        let truncated = || ReadError::Truncated { what: what(), at: bytes.len() };
+        let mut out = Vec::new();
+        let mut at = 0usize;
+        while at < bytes.len() {
+            let handle = u16::try_from(at / scale).map_err(|_| ReadError::Inconsistent {
+                what: what(),
+                detail: format!("the record at byte {at} has no 16-bit handle at scale {scale}"),
+            })?;
+            let id = read(bytes, at, id_bytes).ok_or_else(truncated)?;
+            let mask = self.masks.get(id).ok_or(ReadError::BadMask { what: what(), at, id })?;
+            let n: usize = mask.iter().map(|w| w.count_ones() as usize).sum();
+            let first = at + id_bytes;
+            let end = first + n * t_bytes;
+            if end > bytes.len() {
+                return Err(truncated());
+            }
+            let targets = (0..n)
+                // Every read lies below `end` ≤ the block's length, and is at most 2 bytes.
+                .map(|r| read(bytes, first + r * t_bytes, t_bytes).map_or(0, |t| t as u16))
+                .collect();
+            let r = out.len();
+            // The initial state's record first, then the others by index.
+            let state = match r {
+                0 => b.initial,
+                r if r <= b.initial => r - 1,
+                r => r,
+            };
+            out.push(Record { state, handle, at, mask: id, targets });
+            let next = end.div_ceil(scale) * scale;
+            if end < bytes.len() && next >= bytes.len() {
+                return Err(ReadError::Inconsistent {
+                    what: what(),
+                    detail: format!("{} bytes after the last record", bytes.len() - end),
+                });
+            }
+            if let Some(p) =
+                bytes.get(end..next.min(bytes.len())).and_then(|pad| pad.iter().position(|&x| x != 0))
+            {
+                return Err(ReadError::Inconsistent {
+                    what: what(),
+                    detail: format!("padding byte {} is not 0", end + p),
+                });
+            }
+            at = next;
+        }
+        Ok(out)
+    }
+}
+
+/// The little-endian number of `n` (1 or 2) bytes at `at`, if they are in `bytes`.
+fn read(bytes: &[u8], at: usize, n: usize) -> Option<usize> {
+    match n {
+        1 => bytes.get(at).map(|&b| usize::from(b)),
+        _ => Some(usize::from(u16::from_le_bytes([*bytes.get(at)?, *bytes.get(at + 1)?]))),
+    }
+}
+
+/// Handle of the last record and block length for records of `lens` bytes at `scale`.
+pub fn extent(lens: &[usize], scale: usize) -> (usize, usize) {
+    let Some((&last, rest)) = lens.split_last() else { return (0, 0) };
+    let units: usize = rest.iter().map(|l| l.div_ceil(scale)).sum();
+    (units, units * scale + last)
+}
+
+/// The smallest scale whose handles stay ≤ `max_handle` for records of `lens` bytes, with the block's
+/// length; `None` when no scale up to [`MAX_SCALE`] does. The last handle never grows with the scale,
+/// so a binary search finds it.
+pub fn smallest_scale(lens: &[usize], max_handle: usize) -> Option<(u8, usize)> {
+    let fits = |s: usize| {
+        let (h, len) = extent(lens, s);
+        h <= max_handle && len.div_ceil(s) <= MAX_UNITS
+    };
+    let (mut lo, mut hi) = (1usize, usize::from(MAX_SCALE));
+    if !fits(hi) {
+        return None;
+    }
+    while lo < hi {
+        let mid = (lo + hi) / 2;
+        if fits(mid) {
+            hi = mid;
+        } else {
+            lo = mid + 1;
+        }
+    }
+    // `lo` ≤ MAX_SCALE: it fits a byte.
+    Some((lo as u8, extent(lens, lo).1))
+}
+
+/// An automaton's smallest scale, with the block length it gives, for each field width.
+struct Scales {
+    /// With 1-byte fields, when its mask ids fit a byte.
+    narrow: Option<(u8, usize)>,
+    /// With 2-byte fields.
+    wide: Option<(u8, usize)>,
+}
+
+impl Scales {
+    /// The scales of automaton `a` whose states have the mask ids `ids`, its records in `order`.
+    fn of(a: &SourceAutomaton, ids: &[usize], order: &[usize]) -> Scales {
+        let lens = |t: usize| order.iter().map(|&s| t * (1 + a.out[s].len())).collect::<Vec<_>>();
+        let narrow_ids = ids.iter().all(|&id| id < NARROW_IDS);
+        Scales {
+            narrow: smallest_scale(&lens(1), NARROW_HANDLE).filter(|_| narrow_ids),
+            wide: smallest_scale(&lens(2), WIDE_HANDLE),
+        }
+    }
+}
+
+/// The states of `a` in the order of their records: the initial state first, then the others by index.
+fn record_order(a: &SourceAutomaton) -> Vec<usize> {
+    core::iter::once(a.initial).chain((0..a.out.len()).filter(|&s| s != a.initial)).collect()
+}
+
+/// Encodes `source` in the `ranked` layout, or says which limit it breaks.
+pub fn encode(source: &Source) -> Result<Packed, BuildError> {
+    let events = source.event_names.len();
+    if events > MAX_EVENTS {
+        return Err(BuildError::TooManyEvents { events, limit: MAX_EVENTS });
+    }
+    for a in &source.automata {
+        if a.out.len() > MAX_STATES {
+            return Err(BuildError::TooManyStates {
+                automaton: a.name.clone(),
+                states: a.out.len(),
+                limit: MAX_STATES,
+            });
+        }
+    }
+    // The pool, in first-appearance order, and every state's mask id.
+    let mut masks: Vec<Vec<u32>> = Vec::new();
+    let mut index: BTreeMap<Vec<u32>, usize> = BTreeMap::new();
+    let mut ids: Vec<Vec<usize>> = Vec::with_capacity(source.automata.len());
+    for a in &source.automata {
+        let mut of_automaton = Vec::with_capacity(a.out.len());
+        for edges in &a.out {
+            let mask = bitset::from_ids(edges.iter().map(|&(e, _)| e), events);
+            let id = *index.entry(mask.clone()).or_insert_with(|| {
+                masks.push(mask);
+                masks.len() - 1
+            });
+            of_automaton.push(id);
+        }
+        ids.push(of_automaton);
+    }
+    if masks.len() > MAX_MASKS {
+        return Err(BuildError::TooManyMasks { masks: masks.len(), limit: MAX_MASKS });
+    }
+    let orders: Vec<Vec<usize>> = source.automata.iter().map(record_order).collect();
+    let options: Vec<Scales> = source
+        .automata
+        .iter()
+        .zip(&ids)
+        .zip(&orders)
+        .map(|((a, ids), order)| Scales::of(a, ids, order))
+        .collect();
+    let total = |of: fn(&Scales) -> Option<(u8, usize)>| {
+        options.iter().map(|o| of(o).map(|(_, len)| len)).sum::<Option<usize>>()
+    };
+    let wide = match (total(|o| o.narrow), total(|o| o.wide)) {
+        (Some(narrow), Some(wide)) => narrow > wide,
+        (Some(_), None) => false,
+        (None, _) => true,
+    };
+    let width = if wide { 2 } else { 1 };
+    let mut automata = Vec::with_capacity(source.automata.len());
+    // Where the block starts when the blocks are put back to back.
+    let mut start = 0usize;
+    for (((a, ids), option), order) in source.automata.iter().zip(&ids).zip(&options).zip(&orders) {
+        let lens: Vec<usize> = order.iter().map(|&s| width * (1 + a.out[s].len())).collect();
+        let Some((scale, _)) = (if wide { option.wide } else { option.narrow }) else {
+            return Err(BuildError::NoScale { automaton: a.name.clone(), bytes: lens.iter().sum() });
+        };
+        let unit = usize::from(scale);
+        let mut handles = vec![0; lens.len()];
+        let mut units = 0usize;
+        for (&s, l) in order.iter().zip(&lens) {
+            handles[s] = units;
+            units += l.div_ceil(unit);
+        }
+        let len = extent(&lens, unit).1;
+        let mut block = Vec::with_capacity(len);
+        for &s in order {
+            block.resize(handles[s] * unit, 0);
+            // Checked above: ids and handles within the chosen width.
+            block.extend_from_slice(&(ids[s] as u16).to_le_bytes()[..width]);
+            for &(_, t) in &a.out[s] {
+                let h = handles[t] as u16;
+                block.extend_from_slice(&h.to_le_bytes()[..width]);
+            }
+        }
+        let last = handles.iter().max().map_or(0, |h| h * unit);
+        if start + last >= MAX_BLOCK {
+            return Err(BuildError::BlocksTooLarge {
+                automaton: a.name.clone(),
+                bytes: start + block.len(),
+                limit: MAX_BLOCK,
+            });
+        }
+        start += block.len();
+        automata.push(Block {
+            name: a.name.clone(),
+            initial: a.initial,
+            scale,
+            block,
+            alphabet: bitset::from_ids(a.alphabet.iter().copied(), events),
+        });
+    }
+    Ok(Packed {
+        event_names: source.event_names.clone(),
+        controllable: bitset::from_ids(
+            (0..events).filter(|&e| source.controllable.get(e).copied().unwrap_or(false)),
+            events,
+        ),
+        plants: source.plants,
+        masks,
+        wide,
+        automata,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scale_search_is_the_smallest_and_gives_up_beyond_16_bit_handles() {
+        let lens = vec![3usize; 200];
+        // 199 records before the last: ⌈3/s⌉ units each; ≤ 255 needs s = 3.
+        assert_eq!(smallest_scale(&lens, NARROW_HANDLE), Some((3, 600)));
+        assert_eq!(smallest_scale(&lens, WIDE_HANDLE), Some((1, 600)));
+        // 1-byte handles name 256 records at most, whatever the scale.
+        assert_eq!(smallest_scale(&[1; 257], NARROW_HANDLE), None);
+        let huge = vec![300usize; 60_000];
+        assert_eq!(smallest_scale(&huge, WIDE_HANDLE), None);
+        assert_eq!(smallest_scale(&[], NARROW_HANDLE), Some((1, 0)));
+    }
+}

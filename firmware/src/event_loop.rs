@@ -1,0 +1,131 @@
+//! The firmware's event loop, one turn at a time: the input buffer's bytes (events from the UART or from
+//! the pins' interrupts, and the protocol's control bytes) into the [`Runtime`], then at most one
+//! decision, its command out through a [`Port`]. The same loop runs every application — QEMU's over its
+//! UART, the Pico's on its pins — and the host-compiled runtime in the tests.
+
+use crate::choice::Choose;
+use crate::input_queue::InputConsumer;
+use crate::link::{Hold, EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS};
+use crate::rng::Entropy;
+use crate::runtime::{Applied, Decision, Runtime};
+
+/// Where the loop's outgoing bytes and notes go (a UART and a log on the target, a vector in tests).
+pub trait Port {
+    /// Sends one byte to the host.
+    fn send(&mut self, byte: u8);
+
+    /// Something worth a log line happened (nothing by default).
+    fn note(&mut self, _note: Note) {}
+}
+
+/// A log-worthy event of [`EventLoop::turn`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Note {
+    /// An uncontrollable input some automaton holding it could not take.
+    Unexpected {
+        /// The event.
+        event: u8,
+        /// The first automaton that could not take it.
+        automaton: u8,
+    },
+    /// A byte that means nothing here.
+    Unknown(u8),
+    /// The runtime entered the safe state.
+    Safe,
+    /// A choice was dropped by the inexact-synchronisation guard.
+    Redecided,
+}
+
+/// What the caller does after a [`EventLoop::turn`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Poll {
+    /// Work may remain: call again.
+    Busy,
+    /// Nothing to do until the next input: sleep (`wfi`).
+    Idle,
+    /// The host asked to end: exit with this status.
+    Exit(u8),
+}
+
+/// The loop's state beyond the runtime's: whether SAFE was announced.
+#[derive(Debug, Default)]
+pub struct EventLoop {
+    safe_announced: bool,
+}
+
+impl EventLoop {
+    /// A loop that has not announced anything yet (the caller sends READY at boot).
+    pub const fn new() -> Self {
+        Self { safe_announced: false }
+    }
+
+    /// One turn of the loop: drains the input buffer into the runtime, then takes at most one decision
+    /// (unless held) and sends what it fired.
+    pub fn turn<
+        P: Choose<W>,
+        E: Entropy,
+        const W: usize,
+        const N: usize,
+        const WIDE: bool,
+        const MASK: usize,
+    >(
+        &mut self,
+        rt: &mut Runtime<'_, P, E, W, N, WIDE, MASK>,
+        rx: &mut InputConsumer<'_>,
+        hold: &Hold,
+        port: &mut impl Port,
+    ) -> Poll {
+        while let Some(byte) = rx.pop() {
+            match byte {
+                0..=MAX_EVENT => match rt.apply(byte) {
+                    Applied::Taken => {}
+                    Applied::Unexpected { automaton } => {
+                        port.note(Note::Unexpected { event: byte, automaton })
+                    }
+                    Applied::Unknown => port.note(Note::Unknown(byte)),
+                },
+                RESET => {
+                    rt.reset();
+                    self.safe_announced = false;
+                    port.send(READY);
+                }
+                STATUS => {
+                    port.send(STATUS);
+                    for word in rt.counters().to_array() {
+                        for b in word.to_le_bytes() {
+                            port.send(b);
+                        }
+                    }
+                }
+                EXIT => return Poll::Exit(u8::from(rt.is_safe())),
+                HOLD | GO => {
+                    hold.filter(byte);
+                }
+                other => {
+                    rt.note_unknown_byte();
+                    port.note(Note::Unknown(other));
+                }
+            }
+        }
+        rt.note_overflows(rx.overflows());
+        if rt.is_safe() && !self.safe_announced {
+            self.safe_announced = true;
+            port.send(SAFE);
+            port.note(Note::Safe);
+        }
+        if hold.is_held() {
+            return Poll::Idle;
+        }
+        match rt.decide(|| !rx.is_empty()) {
+            Decision::Fired(c) => {
+                port.send(c);
+                Poll::Busy
+            }
+            Decision::Redecide => {
+                port.note(Note::Redecided);
+                Poll::Busy
+            }
+            Decision::Idle | Decision::Halted => Poll::Idle,
+        }
+    }
+}

@@ -1,0 +1,424 @@
+//! This module is the home of [`CheckedSet`] and of the check behind it that makes the runtime's
+//! unchecked reads sound, a `const fn`: the emitted tables run it at compile time, host tools at run
+//! time.
+
+use super::{SupervisorSet, TableError, MAX_AUTOMATA, MAX_BLOCK, MAX_EVENTS, MAX_MASKS};
+
+/// A set that passed [`SupervisorSet::check`] for `N` automata, with 2-byte fields exactly when `WIDE`
+/// ([`SupervisorSet::wide`]) and masks of `MASK` bytes ([`SupervisorSet::mask_bytes`]): the only form
+/// the runtime takes. The emitted tables build theirs in a `static`, so the check runs in the compiler
+/// and a set that fails it does not build; host tools build theirs at run time. The widths are type
+/// parameters so that the runtime's steps are compiled for them.
+#[derive(Clone, Copy, Debug)]
+pub struct CheckedSet<'t, const W: usize, const N: usize, const WIDE: bool, const MASK: usize>(
+    &'t SupervisorSet<'t, W>,
+);
+
+impl<'t, const W: usize, const N: usize, const WIDE: bool, const MASK: usize>
+    CheckedSet<'t, W, N, WIDE, MASK>
+{
+    /// `set`, if it passes the check for `N` automata and has the widths `WIDE` and `MASK`.
+    pub const fn new(set: &'t SupervisorSet<'t, W>) -> Result<Self, TableError> {
+        if set.wide != WIDE || set.mask_bytes as usize != MASK {
+            return Err(TableError::Shape);
+        }
+        match set.check(N) {
+            Ok(()) => Ok(Self(set)),
+            Err(e) => Err(e),
+        }
+    }
+
+    /// The set.
+    pub const fn set(&self) -> &'t SupervisorSet<'t, W> {
+        self.0
+    }
+}
+
+/// Field `i` of the record at byte `at` of `block` (the mask id, then the targets), 1 or 2 bytes
+/// little-endian, if it lies in `block`.
+pub(super) const fn field(block: &[u8], wide: bool, at: usize, i: usize) -> Option<u16> {
+    if wide {
+        let p = at + 2 * i;
+        if p + 1 < block.len() {
+            return Some(u16::from_le_bytes([block[p], block[p + 1]]));
+        }
+    } else if at + i < block.len() {
+        return Some(block[at + i] as u16);
+    }
+    None
+}
+
+/// Whether handle `h` is below `handles` and, when in the 256 handles from `base`, marked in `starts`.
+const fn marked(starts: &[u32; 8], base: usize, handles: usize, h: usize) -> bool {
+    let i = h.wrapping_sub(base);
+    h < handles && (i >= 256 || starts[i / 32] & (1 << (i % 32)) != 0)
+}
+
+/// The bits of word `w` of an event bitset that stand for no event of a set of `events` events.
+const fn beyond(events: usize, w: usize) -> u32 {
+    if 32 * w >= events {
+        u32::MAX
+    } else if events - 32 * w >= 32 {
+        0
+    } else {
+        u32::MAX << (events - 32 * w)
+    }
+}
+
+/// Bytes of one event's holder mask in a set of `automata` automata: one bit per automaton, at least one
+/// byte.
+pub const fn holder_bytes(automata: usize) -> usize {
+    if automata <= 8 {
+        1
+    } else {
+        automata.div_ceil(8)
+    }
+}
+
+/// The little-endian holder mask of `width` bytes at `at` of `holders`, if it lies there: the check's
+/// reader (a `const fn`); the runtime reads through [`SupervisorSet::holders_of`], which its constant
+/// width turns into one load.
+pub(super) const fn holder_mask(holders: &[u8], at: usize, width: usize) -> Option<u32> {
+    if at + width > holders.len() || width > 4 {
+        return None;
+    }
+    let mut mask = 0;
+    let mut i = 0;
+    while i < width {
+        mask |= (holders[at + i] as u32) << (8 * i);
+        i += 1;
+    }
+    Some(mask)
+}
+
+impl<'t, const W: usize> SupervisorSet<'t, W> {
+    /// Bytes of one event's holder mask: [`holder_bytes`] of the automaton count.
+    pub const fn holder_bytes(&self) -> usize {
+        holder_bytes(self.automata.len())
+    }
+
+    /// Number of events (ids `0..events`).
+    pub const fn events(&self) -> usize {
+        self.holders.len() / self.holder_bytes()
+    }
+
+    /// Number of masks in the pool, if its length is a whole number of masks of
+    /// [`SupervisorSet::mask_bytes`] and the padding that lets the runtime read `W` words of the last.
+    pub const fn mask_count(&self) -> Option<usize> {
+        let stride = self.mask_bytes as usize;
+        if stride == 0 || stride > 4 * W {
+            return None;
+        }
+        let pad = 4 * W - stride;
+        if self.masks.len() < pad || (self.masks.len() - pad) % stride != 0 {
+            return None;
+        }
+        Some((self.masks.len() - pad) / stride)
+    }
+
+    /// Mask `id` of the pool (its own bytes only), if the pool has it.
+    pub const fn mask_of(&self, id: usize) -> Option<[u32; W]> {
+        match self.mask_count() {
+            Some(count) if id < count => {}
+            _ => return None,
+        }
+        let stride = self.mask_bytes as usize;
+        let mut mask = [0u32; W];
+        let mut i = 0;
+        while i < stride {
+            mask[i / 4] |= (self.masks[id * stride + i] as u32) << (8 * (i % 4));
+            i += 1;
+        }
+        Some(mask)
+    }
+
+    /// The bytes of automaton `a`'s records: from its start to the next automaton's (the block's end for
+    /// the last). Empty when the starts are out of order or beyond the block.
+    pub(super) const fn part(&self, a: usize) -> (usize, usize) {
+        let start = self.automata[a].start as usize;
+        let end =
+            if a + 1 < self.automata.len() { self.automata[a + 1].start as usize } else { self.block.len() };
+        if start < end && end <= self.block.len() {
+            (start, end)
+        } else {
+            (0, 0)
+        }
+    }
+
+    /// Checks everything the runtime's unchecked reads rely on, for a runtime of `automata` automata:
+    /// sizes, every holder holding the event in its alphabet, every automaton's records (see the module
+    /// documentation) and every choice site a plant's state.
+    /// Linear in the size of the tables (times the handle count / 256 for automata of more than 256
+    /// handle units).
+    pub const fn check(&self, automata: usize) -> Result<(), TableError> {
+        let plants = self.plants as usize;
+        if self.automata.len() != automata || automata > MAX_AUTOMATA || plants > automata {
+            return Err(TableError::Automata);
+        }
+        let width = holder_bytes(automata);
+        let events = self.holders.len() / width;
+        if self.holders.len() % width != 0
+            || events > MAX_EVENTS
+            || events > 32 * W
+            || self.plant_events.len() != plants
+        {
+            return Err(TableError::Events);
+        }
+        match self.mask_count() {
+            // The bits the runtime reads beyond a mask's own bytes are no events.
+            Some(count) if count <= MAX_MASKS && events <= 8 * self.mask_bytes as usize => {}
+            _ => return Err(TableError::Size),
+        }
+        // Controllable events are events of the set: the runtime fires them through their holders.
+        let mut w = 0;
+        while w < W {
+            if self.controllable[w] & beyond(events, w) != 0 {
+                return Err(TableError::Events);
+            }
+            w += 1;
+        }
+        let all = if automata == MAX_AUTOMATA { u32::MAX } else { (1u32 << automata) - 1 };
+        let mut e = 0;
+        while e < events {
+            let Some(holders) = holder_mask(self.holders, e * width, width) else {
+                return Err(TableError::Events);
+            };
+            if holders & !all != 0 {
+                return Err(TableError::Events);
+            }
+            // A holder has the event in its alphabet: the runtime steps it only on such events.
+            let mut a = 0;
+            while a < automata {
+                if holders & (1 << a) != 0 && self.automata[a].alphabet[e / 32] & (1 << (e % 32)) == 0 {
+                    return Err(TableError::Events);
+                }
+                a += 1;
+            }
+            e += 1;
+        }
+        let mut a = 0;
+        while a < automata {
+            if !self.part_sound(a) {
+                // At most MAX_AUTOMATA automata: the index fits a byte.
+                return Err(TableError::Block(a as u8));
+            }
+            a += 1;
+        }
+        let mut i = 0;
+        while i < self.sites.len() {
+            if !self.is_plant_record(self.sites[i] as usize) {
+                return Err(TableError::Sites);
+            }
+            i += 1;
+        }
+        Ok(())
+    }
+
+    /// The record at byte `at`, if it ends by `end` and names a mask: mask id, target count and the byte
+    /// after it.
+    pub(super) const fn record_at(&self, at: usize, end: usize) -> Option<(usize, usize, usize)> {
+        let id = match field(self.block, self.wide, at, 0) {
+            Some(id) => id as usize,
+            None => return None,
+        };
+        let mask = match self.mask_of(id) {
+            Some(mask) => mask,
+            None => return None,
+        };
+        let mut n = 0;
+        let mut w = 0;
+        while w < W {
+            n += mask[w].count_ones() as usize;
+            w += 1;
+        }
+        let next = at + (n + 1) * if self.wide { 2 } else { 1 };
+        if next <= end {
+            Some((id, n, next))
+        } else {
+            None
+        }
+    }
+
+    /// One automaton: the records tile its part of the block, name masks within the alphabet, start in
+    /// the first 64 KiB, and every target handle starts one — checked 256 handles at a time with a
+    /// bitmap: a first pass marks the record starts, a second checks the targets.
+    const fn part_sound(&self, a: usize) -> bool {
+        let aut = &self.automata[a];
+        let (start, end) = self.part(a);
+        let scale = aut.scale as usize;
+        // Handles are 16-bit; an empty part has no initial state.
+        if scale == 0 || start == end || (end - start).div_ceil(scale) > 1 << 16 {
+            return false;
+        }
+        // The alphabet holds events only: the runtime's mask reads are exact on them.
+        let events = self.events();
+        let mut w = 0;
+        while w < W {
+            if aut.alphabet[w] & beyond(events, w) != 0 {
+                return false;
+            }
+            w += 1;
+        }
+        let mut base = 0;
+        loop {
+            let mut starts = [0u32; 8];
+            let mut handles = 0;
+            let mut pass = 0;
+            while pass < 2 {
+                let mut at = start;
+                while at < end {
+                    let Some((id, n, next)) = self.record_at(at, end) else { return false };
+                    if pass == 0 {
+                        if at >= MAX_BLOCK {
+                            return false;
+                        }
+                        let h = (at - start) / scale;
+                        let i = h.wrapping_sub(base);
+                        if i < 256 {
+                            starts[i / 32] |= 1 << (i % 32);
+                        }
+                        handles = h + 1;
+                        let Some(mask) = self.mask_of(id) else { return false };
+                        let mut w = 0;
+                        while w < W {
+                            if mask[w] & !aut.alphabet[w] != 0 {
+                                return false;
+                            }
+                            w += 1;
+                        }
+                    } else {
+                        let mut r = 0;
+                        while r < n {
+                            // In the part: `record_at` bounded the record by its end.
+                            let Some(t) = field(self.block, self.wide, at, r + 1) else { return false };
+                            if !marked(&starts, base, handles, t as usize) {
+                                return false;
+                            }
+                            r += 1;
+                        }
+                    }
+                    at = start + (next - start).div_ceil(scale) * scale;
+                }
+                pass += 1;
+            }
+            base += 256;
+            if base >= handles {
+                return true;
+            }
+        }
+    }
+
+    /// Whether byte `at` of the block starts a record of a plant.
+    const fn is_plant_record(&self, at: usize) -> bool {
+        let mut p = 0;
+        while p < self.plants as usize {
+            let (start, end) = self.part(p);
+            if start <= at && at < end {
+                let scale = self.automata[p].scale as usize;
+                return scale != 0
+                    && (at - start) % scale == 0
+                    && self.is_state(p, ((at - start) / scale) as u16);
+            }
+            p += 1;
+        }
+        false
+    }
+
+    /// Whether `handle` starts a record of automaton `a` (a state of it).
+    pub const fn is_state(&self, a: usize, handle: u16) -> bool {
+        if a >= self.automata.len() {
+            return false;
+        }
+        let aut = &self.automata[a];
+        let (start, end) = self.part(a);
+        let scale = if aut.scale == 0 { 1 } else { aut.scale as usize };
+        let wanted = start + handle as usize * scale;
+        let mut at = start;
+        while at < wanted {
+            let Some((_, _, next)) = self.record_at(at, end) else { return false };
+            at = start + (next - start).div_ceil(scale) * scale;
+        }
+        at == wanted && self.record_at(at, end).is_some()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::tests::toggle;
+    use super::super::Automaton;
+    use super::*;
+
+    /// The cell-sized check runs in the compiler: this `static` is the proof.
+    static CHECKED: CheckedSet<'static, 1, 1, false, 1> = match CheckedSet::new(&super::super::tests::TOGGLE)
+    {
+        Ok(set) => set,
+        Err(_) => panic!("the toggle fails the check"),
+    };
+
+    #[test]
+    fn check_runs_at_compile_time() {
+        assert_eq!(CHECKED.set().events(), 2);
+    }
+
+    #[test]
+    fn check_refuses_broken_blocks() {
+        for bad in [&[0u8, 3, 1, 0][..], &[2, 1, 1, 0], &[0, 1, 1]] {
+            let t = SupervisorSet { block: bad, ..toggle() };
+            assert_eq!(t.check(1), Err(TableError::Block(0)), "{bad:?}");
+        }
+        // A start beyond the block, and starts out of order.
+        let automata = [Automaton { start: 4, ..toggle().automata[0] }];
+        assert_eq!(SupervisorSet { automata: &automata, ..toggle() }.check(1), Err(TableError::Block(0)));
+        let g = toggle().automata[0];
+        let automata = [Automaton { start: 2, ..g }, Automaton { start: 0, ..g }];
+        let t = SupervisorSet {
+            automata: &automata,
+            block: &[0, 1, 1, 0, 0, 1, 1, 0],
+            holders: &[3, 3],
+            ..toggle()
+        };
+        assert_eq!(t.check(2), Err(TableError::Block(0)));
+        let mut t = toggle();
+        t.holders = &[1, 2];
+        assert_eq!(t.check(1), Err(TableError::Events));
+        // Event 1 held by an automaton whose alphabet lacks it.
+        let automata = [Automaton { alphabet: [0b01], ..toggle().automata[0] }];
+        let t = SupervisorSet { automata: &automata, masks: &[0b01, 0b01, 0, 0, 0], ..toggle() };
+        assert_eq!(t.check(1), Err(TableError::Events));
+        // A controllable event beyond the event count.
+        assert_eq!(SupervisorSet { controllable: [0b101], ..toggle() }.check(1), Err(TableError::Events));
+        // Sites are record starts of plants.
+        assert_eq!(SupervisorSet { sites: &[2], ..toggle() }.check(1), Ok(()));
+        assert_eq!(SupervisorSet { sites: &[1], ..toggle() }.check(1), Err(TableError::Sites));
+        assert_eq!(
+            SupervisorSet { sites: &[2], plants: 0, plant_events: &[], ..toggle() }.check(1),
+            Err(TableError::Sites)
+        );
+        assert_eq!(toggle().check(2), Err(TableError::Automata));
+        assert!(CheckedSet::<1, 2, false, 1>::new(&super::super::tests::TOGGLE).is_err());
+        assert_eq!(
+            CheckedSet::<1, 1, true, 1>::new(&super::super::tests::TOGGLE).err(),
+            Some(TableError::Shape)
+        );
+        assert_eq!(
+            CheckedSet::<1, 1, false, 4>::new(&super::super::tests::TOGGLE).err(),
+            Some(TableError::Shape)
+        );
+    }
+
+    #[test]
+    fn holder_masks_take_a_byte_per_eight_automata() {
+        assert_eq!((holder_bytes(0), holder_bytes(8), holder_bytes(9), holder_bytes(32)), (1, 1, 2, 4));
+        assert_eq!(holder_mask(&[0x34, 0x12, 0x56], 0, 2), Some(0x1234));
+        assert_eq!(holder_mask(&[0x34, 0x12, 0x56], 2, 2), None);
+    }
+
+    #[test]
+    fn states_are_record_starts() {
+        let t = toggle();
+        assert!(t.is_state(0, 0));
+        assert!(t.is_state(0, 1));
+        assert!(!t.is_state(0, 2));
+        assert!(!t.is_state(1, 0));
+    }
+}
