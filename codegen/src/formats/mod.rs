@@ -35,6 +35,7 @@ pub use contract::check_reader;
 use decode::decode;
 use error::ErrorKind;
 pub use error::{ParseError, WriteError};
+pub(crate) use xml::escape as xml_escape;
 
 use crate::model::Automaton;
 

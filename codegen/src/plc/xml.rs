@@ -10,6 +10,7 @@ use std::fmt::Write as _;
 
 use super::st::{Pou, Var, VarClass};
 use super::Program;
+use crate::formats::xml_escape;
 
 /// Schema namespace.
 pub const NAMESPACE: &str = "http://www.plcopen.org/xml/tc6_0201";
@@ -21,22 +22,6 @@ pub fn configuration_text(base: &str, cycle_ms: u32) -> String {
     )
 }
 
-/// `text` escaped for an attribute or element.
-fn esc(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c => out.push(c),
-        }
-    }
-    out
-}
-
 /// The schema's form of a type as the ST declarations write it.
 fn data_type(ty: &str) -> String {
     match ty {
@@ -46,27 +31,31 @@ fn data_type(ty: &str) -> String {
                 "<array><dimension lower=\"0\" upper=\"{upper}\"/><baseType>{}</baseType></array>",
                 data_type(base)
             ),
-            None => format!("<derived name=\"{}\"/>", esc(ty)),
+            None => format!("<derived name=\"{}\"/>", xml_escape(ty)),
         },
     }
 }
 
 fn variable(out: &mut String, v: &Var, indent: &str) {
-    let address = v.address.as_ref().map(|a| format!(" address=\"{}\"", esc(a))).unwrap_or_default();
-    let _ =
-        write!(out, "{indent}<variable name=\"{}\"{address}><type>{}</type>", esc(&v.name), data_type(&v.ty));
+    let address = v.address.as_ref().map(|a| format!(" address=\"{}\"", xml_escape(a))).unwrap_or_default();
+    let _ = write!(
+        out,
+        "{indent}<variable name=\"{}\"{address}><type>{}</type>",
+        xml_escape(&v.name),
+        data_type(&v.ty)
+    );
     if let Some(init) = &v.init {
-        let _ = write!(out, "<initialValue><simpleValue value=\"{}\"/></initialValue>", esc(init));
+        let _ = write!(out, "<initialValue><simpleValue value=\"{}\"/></initialValue>", xml_escape(init));
     }
     if !v.comment.is_empty() {
-        let _ = write!(out, "<documentation><xhtml:p>{}</xhtml:p></documentation>", esc(&v.comment));
+        let _ = write!(out, "<documentation><xhtml:p>{}</xhtml:p></documentation>", xml_escape(&v.comment));
     }
     out.push_str("</variable>\n");
 }
 
 fn pou(out: &mut String, p: &Pou) {
     let kind = if p.program { "program" } else { "functionBlock" };
-    let _ = writeln!(out, "      <pou name=\"{}\" pouType=\"{kind}\">", esc(&p.name));
+    let _ = writeln!(out, "      <pou name=\"{}\" pouType=\"{kind}\">", xml_escape(&p.name));
     out.push_str("        <interface>\n");
     for (class, vars) in p.vars.iter().filter(|(_, v)| !v.is_empty()) {
         let tag = match class {
@@ -98,12 +87,12 @@ pub fn project(program: &Program, base: &str, cycle_ms: u32, header: &[String]) 
         "  <fileHeader companyName=\"sct-codegen\" productName=\"codegen\" productVersion=\"{}\" creationDateTime=\"1970-01-01T00:00:00\"/>",
         env!("CARGO_PKG_VERSION")
     );
-    let _ = writeln!(out, "  <contentHeader name=\"{}\">", esc(base));
-    let _ = writeln!(out, "    <Comment>{}</Comment>", esc(&header.join("\n")));
+    let _ = writeln!(out, "  <contentHeader name=\"{}\">", xml_escape(base));
+    let _ = writeln!(out, "    <Comment>{}</Comment>", xml_escape(&header.join("\n")));
     out.push_str("    <coordinateInfo><fbd><scaling x=\"1\" y=\"1\"/></fbd><ld><scaling x=\"1\" y=\"1\"/></ld><sfc><scaling x=\"1\" y=\"1\"/></sfc></coordinateInfo>\n");
     out.push_str("  </contentHeader>\n  <types>\n    <dataTypes>\n");
     if let Some((name, members)) = &program.events_type {
-        let _ = writeln!(out, "      <dataType name=\"{}\"><baseType><struct>", esc(name));
+        let _ = writeln!(out, "      <dataType name=\"{}\"><baseType><struct>", xml_escape(name));
         for m in members {
             variable(&mut out, m, "        ");
         }
@@ -133,6 +122,6 @@ mod tests {
             "<array><dimension lower=\"0\" upper=\"22\"/><baseType><BOOL/></baseType></array>"
         );
         assert_eq!(data_type("cell_sct"), "<derived name=\"cell_sct\"/>");
-        assert_eq!(esc("a<b & 'c'"), "a&lt;b &amp; &apos;c&apos;");
+        assert_eq!(xml_escape("a<b & 'c'"), "a&lt;b &amp; &apos;c&apos;");
     }
 }
