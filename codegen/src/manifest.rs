@@ -35,7 +35,7 @@ use serde::Deserialize;
 
 use crate::config::{BoardSpec, PlcSpec, RuntimeConfig};
 use crate::formats::{read_path, read_paths, ParseError};
-use crate::model::{Automaton, EventTable, Kind, ModelError};
+use crate::model::{resolve_controllability, Automaton, EventTable, Kind, ModelError};
 
 /// Why a manifest could not be loaded or its automata read.
 #[derive(Debug, thiserror::Error)]
@@ -158,6 +158,12 @@ impl ModelSet {
         set.supervisors.extend(read_paths(supervisors)?);
         Ok(set)
     }
+
+    /// Gives the automata whose files left controllability unsaid what the rest of the set says
+    /// ([`resolve_controllability`]).
+    pub fn resolve_controllability(&mut self) -> Result<(), ModelError> {
+        resolve_controllability(self.plants.iter_mut().chain(&mut self.specs).chain(&mut self.supervisors))
+    }
 }
 
 /// Whether `path` names a manifest (a `.toml` file) rather than a model.
@@ -231,6 +237,8 @@ impl Manifest {
             specs: read("specs", &self.specs, Kind::Spec)?,
             supervisors: read("supervisors", &self.supervisors, Kind::Supervisor)?,
         };
+        set.resolve_controllability()
+            .map_err(|source| ManifestError::Inconsistent { file: self.file.clone(), source })?;
         for (event, o) in &self.events {
             let mut found = false;
             for a in set.plants.iter_mut().chain(&mut set.specs).chain(&mut set.supervisors) {

@@ -57,3 +57,32 @@ fn unmerged_conflict_exits_1_and_bad_input_exits_2() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8(out.stderr).unwrap().contains("exceeded the state limit of 1000"));
 }
+
+/// libFAUDES keeps controllability with the plant: its specifications are plain generators without
+/// `+C+`, and their events take the plant's. libFAUDES `SupCon` on these pairs (copies of its tutorial
+/// files in `tests/data/libfaudes/`) gives 7 states and 10 transitions, and 6 and 10.
+#[test]
+fn libfaudes_specifications_take_controllability_from_the_plant() {
+    for (n, want) in [(1, (7, 10)), (3, (6, 10))] {
+        let plant = repo(&format!("codegen/tests/data/libfaudes/wplant{n}.gen"));
+        let spec = repo(&format!("codegen/tests/data/libfaudes/wspec{n}.gen"));
+        let out = codegen(&["synth", "--monolithic", "--json", "--plant", &plant, "--spec", &spec]);
+        assert!(out.status.success(), "wplant{n}: {}", String::from_utf8_lossy(&out.stderr));
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let got = (json["total_states"].as_u64().unwrap(), json["total_transitions"].as_u64().unwrap());
+        assert_eq!(got, want, "wplant{n} + wspec{n}");
+    }
+}
+
+/// A set in which no file says whether an event is controllable is refused, naming the event and the
+/// automata that leave it unsaid.
+#[test]
+fn an_event_no_file_says_is_refused_with_exit_2() {
+    let spec1 = repo("codegen/tests/data/libfaudes/wspec1.gen");
+    let spec3 = repo("codegen/tests/data/libfaudes/wspec3.gen");
+    let out = codegen(&["synth", "--plant", &spec1, "--spec", &spec3]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("no file of the set says whether event"), "{err}");
+    assert!(err.contains("wspec1, wspec3"), "{err}");
+}

@@ -99,11 +99,16 @@ fn tct_number(a: &Automaton) -> impl Fn(usize) -> usize {
 
 /// Writes `a` in every format and reads it back, checking each result.
 fn round_trip_all(a: &Automaton) {
+    // Whether a file said its controllability is not part of the automaton: every writer says it.
+    let a = &Automaton { controllability_unsaid: false, ..a.clone() };
     let stem = |ext: &str| PathBuf::from(format!("{}.{ext}", a.name));
-    // .xmd and .gen keep everything but the role (the automaton is named after the file).
+    // .xmd and .gen keep everything but the role (the automaton is named after the file); a .gen without
+    // a controllable event reads as saying nothing of controllability — all uncontrollable, as written.
     let unknown = Automaton { kind: Kind::Unknown, ..a.clone() };
     assert_eq!(xmd::read(&stem("xmd"), &xmd::write(a)).unwrap(), unknown);
-    assert_eq!(gen::read(&stem("gen"), &gen::write(a)).unwrap(), unknown);
+    let gen_back = gen::read(&stem("gen"), &gen::write(a)).unwrap();
+    assert_eq!(gen_back.controllability_unsaid, !a.events.iter().any(|e| e.controllable));
+    assert_eq!(Automaton { controllability_unsaid: false, ..gen_back }, unknown);
     // .wmod keeps the role; an unknown role is written as a plant.
     let kind = if a.kind == Kind::Unknown { Kind::Plant } else { a.kind };
     let back = wmod::read(&stem("wmod"), &wmod::write("m", std::slice::from_ref(a)).unwrap()).unwrap();

@@ -60,7 +60,11 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     let problems = if args.checks.is_empty() { Problem::ALL.to_vec() } else { args.checks.clone() };
     let closed = match args.files.as_slice() {
         [one] if is_manifest(one) => supervisors(Manifest::load(one)?.read_automata()?)?,
-        files => ModelSet::from_files(files, &[], &args.supervisors)?,
+        files => {
+            let mut set = ModelSet::from_files(files, &[], &args.supervisors)?;
+            set.resolve_controllability()?;
+            set
+        }
     };
     let (plants, supervisors) = (closed.plants, closed.supervisors);
     let cfg = Config::default();

@@ -54,7 +54,11 @@ fn parse_layout(name: &str) -> Result<Layout, String> {
 pub fn run(args: Args) -> Result<ExitCode, Error> {
     let closed = match &args.manifest {
         Some(path) => supervisors(Manifest::load(path)?.read_automata()?)?,
-        None => ModelSet::from_files(&args.plants, &args.specs, &args.supervisors)?,
+        None => {
+            let mut set = ModelSet::from_files(&args.plants, &args.specs, &args.supervisors)?;
+            set.resolve_controllability()?;
+            set
+        }
     };
     let set = PackSet::new(closed.plants.clone(), closed.supervisors)?;
     let comparisons = if closed.specs.is_empty() {

@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use codegen::formats::{read_paths, write_path};
 use codegen::manifest::Manifest;
-use codegen::model::{Automaton, Kind};
+use codegen::model::{resolve_controllability, Automaton, Kind};
 use codegen::synth::{self, Config, LocalModularResult, Observer, Supervisor};
 use serde_json::json;
 
@@ -90,7 +90,10 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
             (m.name, set.plants, set.specs)
         }
         None => {
-            ("synth".to_owned(), read_all(&args.plants, Kind::Plant)?, read_all(&args.specs, Kind::Spec)?)
+            let (mut plants, mut specs) =
+                (read_all(&args.plants, Kind::Plant)?, read_all(&args.specs, Kind::Spec)?);
+            resolve_controllability(plants.iter_mut().chain(&mut specs))?;
+            ("synth".to_owned(), plants, specs)
         }
     };
     if specs.is_empty() {

@@ -36,7 +36,11 @@ pub fn read(file: &Path, text: &str) -> Result<Automaton, ParseError> {
         index: StateIndex::default(),
     };
     r.generator()?;
-    r.b.finish()
+    let mut a = r.b.finish()?;
+    // libFAUDES keeps controllability with the plant (a System); a plain generator without `+C+`
+    // anywhere says nothing of it.
+    a.controllability_unsaid = !a.events.iter().any(|e| e.controllable);
+    Ok(a)
 }
 
 struct Reader<'t> {

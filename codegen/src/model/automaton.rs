@@ -78,6 +78,10 @@ pub struct Automaton {
     pub initial: Option<StateId>,
     /// Transitions, sorted by (source, event, target) after [`Automaton::canonicalize`].
     pub transitions: Vec<Transition>,
+    /// Whether its file said nothing of controllability (a libFAUDES generator without `+C+`, where
+    /// controllability belongs to the plant): every event's `controllable` is then a placeholder until
+    /// [`super::resolve_controllability`] takes it from the files of the set that say it.
+    pub controllability_unsaid: bool,
 }
 
 impl Automaton {

@@ -49,6 +49,21 @@ pub enum ModelError {
         /// Automaton (or file) that disagrees.
         second: String,
     },
+    /// No automaton of the set says whether an event is controllable: the files holding it leave it
+    /// unsaid (libFAUDES generators without `+C+`).
+    #[error(
+        "no file of the set says whether event '{event}' is controllable: {} {} it unsaid (a libFAUDES \
+         generator without +C+ takes controllability from the plant; add the plant that has the event, \
+         or mark it +C+)",
+        automata.join(", "),
+        if automata.len() == 1 { "leaves" } else { "all leave" }
+    )]
+    UnsaidControllability {
+        /// Event name.
+        event: String,
+        /// The automata that hold it, none saying.
+        automata: Vec<String>,
+    },
     /// A count exceeds what the model can index.
     #[error(transparent)]
     Limit(#[from] super::IdError),

@@ -16,6 +16,7 @@
 
 mod automaton;
 mod composition;
+mod controllability;
 mod dfa;
 mod error;
 mod event_table;
@@ -25,6 +26,7 @@ pub(crate) mod testing;
 
 pub use automaton::{Automaton, Event, Kind, State, Transition};
 pub use composition::Composition;
+pub use controllability::resolve_controllability;
 pub use dfa::Dfa;
 pub(crate) use dfa::{DfaBuilder, NONE};
 pub use error::ModelError;

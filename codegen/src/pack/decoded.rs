@@ -56,6 +56,7 @@ impl Recovered<'_> {
             states: (0..self.states).map(|i| State { name: i.to_string(), marked: false }).collect(),
             initial: Some(StateId::from_u32(self.initial as u32)),
             transitions,
+            controllability_unsaid: false,
         };
         a.canonicalize();
         Ok(a)

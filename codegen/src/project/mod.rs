@@ -24,7 +24,7 @@ use crate::config::{BoardSpec, PlcSpec, RuntimeConfig, ScanPolicy};
 use crate::emit::{self, EmitError, Input, Provenance};
 use crate::formats::ParseError;
 use crate::manifest::{read_board, Manifest, ManifestError, ModelSet};
-use crate::model::Automaton;
+use crate::model::{resolve_controllability, Automaton, ModelError};
 use crate::pack::ranked::{self, Packed};
 use crate::pack::{PackError, PackSet};
 use crate::plc::{self, Avalanche, Encoding, PlcError, PlcOptions};
@@ -69,6 +69,9 @@ pub enum ProjectError {
     /// A model file named on the command line is bad.
     #[error(transparent)]
     Model(#[from] ParseError),
+    /// The files named on the command line do not agree on, or do not say, an event's controllability.
+    #[error(transparent)]
+    Controllability(#[from] ModelError),
     /// An input file could not be read to hash it, or the emitted tables could not be written.
     #[error("{}: {source}", path.display())]
     File {
@@ -161,8 +164,9 @@ impl Project {
             }
             Ok(out)
         };
-        let plant_automata = read(plants)?;
-        let supervisor_automata = read(supervisors)?;
+        let mut plant_automata = read(plants)?;
+        let mut supervisor_automata = read(supervisors)?;
+        resolve_controllability(plant_automata.iter_mut().chain(&mut supervisor_automata))?;
         let board_spec = match board {
             Some(path) => {
                 inputs.push(hash(path)?);
