@@ -34,7 +34,7 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 
 use crate::config::{BoardSpec, PlcSpec, RuntimeConfig};
-use crate::formats::{read_path, read_paths, ParseError};
+use crate::formats::{read_path, ParseError};
 use crate::model::{resolve_controllability, Automaton, EventTable, Kind, ModelError};
 
 /// Why a manifest could not be loaded or its automata read.
@@ -76,6 +76,16 @@ pub enum ManifestError {
         /// The event named by the override.
         event: String,
     },
+    /// A project was expected and the file is neither a manifest nor a module.
+    #[error(
+        "{}: not a project: expected a manifest (.toml) or a Supremica module (.wmod); give model files \
+         with --plant, --spec or --sup",
+        file.display()
+    )]
+    NotAProject {
+        /// The file given.
+        file: PathBuf,
+    },
     /// The automata disagree on an event's controllability (and no override settles it).
     #[error("{}: {source}", file.display())]
     Inconsistent {
@@ -109,6 +119,10 @@ pub struct Manifest {
     /// Ready supervisor files.
     #[serde(default)]
     pub supervisors: Vec<PathBuf>,
+    /// Supremica modules (`.wmod`), each component in the role its kind gives: PLANT a plant, SPEC a
+    /// specification, SUPERVISOR a supervisor.
+    #[serde(default)]
+    pub modules: Vec<PathBuf>,
     /// Per-event overrides, by event name.
     #[serde(default)]
     pub events: BTreeMap<String, EventOverride>,
@@ -138,25 +152,50 @@ pub struct ModelSet {
     pub supervisors: Vec<Automaton>,
 }
 
+/// The automata of `files`, given on the command line in the role `kind`: every automaton of a model
+/// file, and of a Supremica module only the components of that kind (a plant role takes PLANT
+/// components); returns them with the components left out, as `module: name (KIND)`.
+pub fn read_role(files: &[PathBuf], kind: Kind) -> Result<(Vec<Automaton>, Vec<String>), ParseError> {
+    let (mut kept, mut skipped) = (Vec::new(), Vec::new());
+    for f in files {
+        for a in read_path(f)? {
+            let wanted = a.kind == kind || (kind == Kind::Plant && a.kind == Kind::Unknown);
+            if has_extension(f, "wmod") && !wanted {
+                skipped.push(format!("{}: {} ({:?})", f.display(), a.name, a.kind));
+            } else {
+                kept.push(a);
+            }
+        }
+    }
+    Ok((kept, skipped))
+}
+
 impl ModelSet {
     /// Reads model files named one by one, as the command line names them instead of a manifest:
     /// automata from `supervisors`, or from `plants` but marked as supervisors by their file, are
-    /// supervisors; those from `specs` specifications; all others plants. Kinds stay as the files say.
+    /// supervisors; those from `specs` specifications; all others plants. Kinds stay as the files say;
+    /// a Supremica module contributes only the components of the role it is given in ([`read_role`]).
+    /// Returns the set and the components left out.
     pub fn from_files(
         plants: &[PathBuf],
         specs: &[PathBuf],
         supervisors: &[PathBuf],
-    ) -> Result<ModelSet, ParseError> {
-        let mut set = ModelSet { plants: Vec::new(), specs: read_paths(specs)?, supervisors: Vec::new() };
-        for a in read_paths(plants)? {
+    ) -> Result<(ModelSet, Vec<String>), ParseError> {
+        let (specs, mut skipped) = read_role(specs, Kind::Spec)?;
+        let mut set = ModelSet { plants: Vec::new(), specs, supervisors: Vec::new() };
+        let (plants, more) = read_role(plants, Kind::Plant)?;
+        skipped.extend(more);
+        for a in plants {
             if a.kind == Kind::Supervisor {
                 set.supervisors.push(a);
             } else {
                 set.plants.push(a);
             }
         }
-        set.supervisors.extend(read_paths(supervisors)?);
-        Ok(set)
+        let (supervisors, more) = read_role(supervisors, Kind::Supervisor)?;
+        skipped.extend(more);
+        set.supervisors.extend(supervisors);
+        Ok((set, skipped))
     }
 
     /// Gives the automata whose files left controllability unsaid what the rest of the set says
@@ -166,9 +205,14 @@ impl ModelSet {
     }
 }
 
-/// Whether `path` names a manifest (a `.toml` file) rather than a model.
+/// Whether `path` names a project rather than a model: a manifest (`.toml`), or a Supremica module
+/// (`.wmod`), which holds a whole project — its components say what each is.
 pub fn is_manifest(path: &Path) -> bool {
-    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml"))
+    has_extension(path, "toml") || has_extension(path, "wmod")
+}
+
+fn has_extension(path: &Path, ext: &str) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case(ext))
 }
 
 /// The `[board]` table of the TOML file at `path` (a pin map given apart from a manifest).
@@ -197,6 +241,12 @@ fn parse_toml<T: serde::de::DeserializeOwned>(path: &Path, text: &str) -> Result
 impl Manifest {
     /// Reads and parses the manifest at `path`.
     pub fn load(path: &Path) -> Result<Manifest, ManifestError> {
+        if has_extension(path, "wmod") {
+            return Ok(Manifest::of_module(path));
+        }
+        if !has_extension(path, "toml") {
+            return Err(ManifestError::NotAProject { file: path.to_owned() });
+        }
         let text = std::fs::read_to_string(path)
             .map_err(|source| ManifestError::Read { file: path.to_owned(), source })?;
         Manifest::parse(path, &text)
@@ -207,6 +257,25 @@ impl Manifest {
         let mut m: Manifest = parse_toml(path, text)?;
         m.file = path.to_owned();
         Ok(m)
+    }
+
+    /// The project a Supremica module is by itself: named after the file, its components in their
+    /// roles, default `[runtime]`.
+    pub fn of_module(path: &Path) -> Manifest {
+        let name = path.file_stem().map_or_else(|| "module".into(), |s| s.to_string_lossy().into_owned());
+        let file_name = path.file_name().map_or_else(|| path.to_owned(), PathBuf::from);
+        Manifest {
+            name,
+            plants: Vec::new(),
+            specs: Vec::new(),
+            supervisors: Vec::new(),
+            modules: vec![file_name],
+            events: BTreeMap::new(),
+            runtime: RuntimeConfig::default(),
+            board: None,
+            plc: None,
+            file: path.to_owned(),
+        }
     }
 
     /// `p` relative to the manifest's folder (absolute paths stay as they are).
@@ -237,6 +306,20 @@ impl Manifest {
             specs: read("specs", &self.specs, Kind::Spec)?,
             supervisors: read("supervisors", &self.supervisors, Kind::Supervisor)?,
         };
+        for (i, f) in self.modules.iter().enumerate() {
+            let automata = read_path(&self.resolve(f)).map_err(|source| ManifestError::Model {
+                file: self.file.clone(),
+                key: format!("modules[{i}]"),
+                source,
+            })?;
+            for a in automata {
+                match a.kind {
+                    Kind::Spec => set.specs.push(a),
+                    Kind::Supervisor => set.supervisors.push(a),
+                    Kind::Plant | Kind::Unknown => set.plants.push(a),
+                }
+            }
+        }
         set.resolve_controllability()
             .map_err(|source| ManifestError::Inconsistent { file: self.file.clone(), source })?;
         for (event, o) in &self.events {

@@ -61,7 +61,8 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     let closed = match args.files.as_slice() {
         [one] if is_manifest(one) => supervisors(Manifest::load(one)?.read_automata()?)?,
         files => {
-            let mut set = ModelSet::from_files(files, &[], &args.supervisors)?;
+            let (mut set, skipped) = ModelSet::from_files(files, &[], &args.supervisors)?;
+            super::say_skipped(&skipped);
             set.resolve_controllability()?;
             set
         }

@@ -61,6 +61,14 @@ pub fn run(cli: Cli) -> Result<ExitCode, Error> {
     }
 }
 
+/// Says on stderr which components of Supremica modules given with `--plant`, `--spec` or `--sup` were
+/// left out for being of another kind.
+pub fn say_skipped(skipped: &[String]) {
+    for s in skipped {
+        eprintln!("note: {s} left out: not of the role its module was given in");
+    }
+}
+
 /// Whether `e` (or one of its causes) is a write to a closed pipe.
 pub fn is_broken_pipe(e: &(dyn StdError + 'static)) -> bool {
     let mut cur = Some(e);

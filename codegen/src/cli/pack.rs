@@ -55,7 +55,8 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     let closed = match &args.manifest {
         Some(path) => supervisors(Manifest::load(path)?.read_automata()?)?,
         None => {
-            let mut set = ModelSet::from_files(&args.plants, &args.specs, &args.supervisors)?;
+            let (mut set, skipped) = ModelSet::from_files(&args.plants, &args.specs, &args.supervisors)?;
+            super::say_skipped(&skipped);
             set.resolve_controllability()?;
             set
         }

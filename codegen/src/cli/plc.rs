@@ -1,9 +1,10 @@
 //! `codegen plc`: Structured Text and PLCopen XML for a scan-cycle controller.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use codegen::config::{RuntimeConfig, ScanPolicy};
+use codegen::manifest::is_manifest;
 use codegen::plc::{Avalanche, Encoding};
 use codegen::project::Project;
 
@@ -18,8 +19,8 @@ use super::Error;
 /// I/O and policy come from the manifest's `[plc]` section; events it does not map are internal.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// A project manifest (TOML; supervisors as listed, else synthesised local modular), or plant model
-    /// files.
+    /// A project: a manifest (TOML; supervisors as listed, else synthesised local modular) or a Supremica
+    /// module; or plant model files.
     #[arg(required_unless_present = "plants")]
     files: Vec<PathBuf>,
     /// A plant model file (repeat).
@@ -46,11 +47,6 @@ pub struct Args {
     /// The directory to write to (created if missing).
     #[arg(short, long, value_name = "DIR")]
     output: PathBuf,
-}
-
-/// Whether `path` names a manifest (a TOML file) rather than a model file.
-fn is_manifest(path: &Path) -> bool {
-    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml"))
 }
 
 /// Runs `plc`.

@@ -5,8 +5,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 
-use codegen::formats::{read_paths, write_path};
-use codegen::manifest::Manifest;
+use codegen::formats::write_path;
+use codegen::manifest::{read_role, Manifest};
 use codegen::model::{resolve_controllability, Automaton, Kind};
 use codegen::synth::{self, Config, LocalModularResult, Observer, Supervisor};
 use serde_json::json;
@@ -70,7 +70,8 @@ impl Observer for Progress {
 
 /// Every automaton of `files`, as `kind`.
 fn read_all(files: &[PathBuf], kind: Kind) -> Result<Vec<Automaton>, Error> {
-    let mut automata = read_paths(files)?;
+    let (mut automata, skipped) = read_role(files, kind)?;
+    super::say_skipped(&skipped);
     automata.iter_mut().for_each(|a| a.kind = kind);
     Ok(automata)
 }

@@ -132,8 +132,10 @@ impl Project {
     pub fn load(path: &Path) -> Result<Project, ProjectError> {
         let m = Manifest::load(path)?;
         let set = supervisor_set(&m)?;
-        let files = std::iter::once(m.file.clone())
-            .chain(m.plants.iter().chain(&m.specs).chain(&m.supervisors).map(|p| m.resolve(p)));
+        // A module loaded as a project is its own manifest: hashed once.
+        let named = m.plants.iter().chain(&m.specs).chain(&m.supervisors).chain(&m.modules);
+        let files =
+            std::iter::once(m.file.clone()).chain(named.map(|p| m.resolve(p)).filter(|p| *p != m.file));
         let inputs = files.map(|f| hash(&f)).collect::<Result<_, _>>()?;
         Ok(Project {
             set,
