@@ -86,3 +86,35 @@ fn an_event_no_file_says_is_refused_with_exit_2() {
     assert!(err.contains("no file of the set says whether event"), "{err}");
     assert!(err.contains("wspec1, wspec3"), "{err}");
 }
+
+/// A product that outgrows `--memory-limit` stops the run with exit 2 and a message naming the product,
+/// its states so far and the limit — never the kernel's out-of-memory killer.
+#[test]
+fn a_small_memory_limit_stops_a_growing_product_cleanly() {
+    use codegen::formats::write_path;
+    use codegen::synth::families::generate;
+
+    let dir: PathBuf = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_synth_memory");
+    std::fs::create_dir_all(&dir).unwrap();
+    // Six machines and five buffers: a monolithic closed loop of 50 421 states.
+    let inst = generate("factory", 6).unwrap();
+    let mut args =
+        vec!["synth".to_owned(), "--monolithic".to_owned(), "--memory-limit".to_owned(), "1M".to_owned()];
+    for (flag, automata) in [("--plant", &inst.plants), ("--spec", &inst.specs)] {
+        args.push(flag.to_owned());
+        for a in automata {
+            let path = dir.join(format!("{}.xmd", a.name));
+            write_path(&path, std::slice::from_ref(a)).unwrap();
+            args.push(path.display().to_string());
+        }
+    }
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let out = codegen(&args);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("S_monolithic: 16384 states so far"), "names the product and its size: {err}");
+    assert!(err.contains("past the memory limit of 1.0 MiB"), "{err}");
+    // Without the limit the same run completes.
+    let args: Vec<&str> = args.iter().copied().filter(|a| *a != "--memory-limit" && *a != "1M").collect();
+    assert!(codegen(&args).status.success());
+}

@@ -12,7 +12,7 @@ use codegen::problems::{run as check, scopes, Finding, Problem, Shape};
 use codegen::project::supervisors;
 use codegen::synth::{product, Config};
 
-use super::Error;
+use super::{limits, Error};
 
 /// Check a closed loop for avalanche, choice, inexact synchronisation and simultaneity problems.
 ///
@@ -39,6 +39,10 @@ pub struct Args {
     /// shape, detail), failed.
     #[arg(long)]
     json: bool,
+    /// Stop when a closed loop grows the process past this resident size: bytes with K, M or G (512M,
+    /// 2G), or none [default: three quarters of the machine's RAM].
+    #[arg(long, value_name = "SIZE", value_parser = limits::parse_size)]
+    memory_limit: Option<limits::MemoryLimit>,
 }
 
 fn parse_problem(name: &str) -> Result<Problem, String> {
@@ -68,7 +72,12 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
         }
     };
     let (plants, supervisors) = (closed.plants, closed.supervisors);
-    let cfg = Config::default();
+    let (observer, bar) = limits::progress();
+    let cfg = Config {
+        memory_limit: limits::memory_limit(args.memory_limit),
+        observer: Some(observer),
+        ..Config::default()
+    };
     let mut checked = Vec::new();
     for scope in scopes(&plants, &supervisors) {
         let automaton = match scope.members.as_slice() {
@@ -77,6 +86,9 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
         };
         let findings = check(&automaton, &problems);
         checked.push(Checked { name: scope.name, automaton, findings });
+    }
+    if let Some(b) = bar {
+        b.finish_and_clear();
     }
     let failed = checked.iter().any(|c| !c.findings.is_empty());
     let mut out = std::io::stdout().lock();

@@ -6,6 +6,7 @@ mod convert;
 mod dot;
 mod emit;
 mod inspect;
+mod limits;
 mod pack;
 mod plant;
 mod plc;

@@ -1,17 +1,16 @@
 //! `codegen synth`: synthesise local modular (or monolithic) supervisors and report their sizes.
 
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::Arc;
 
 use codegen::formats::write_path;
 use codegen::manifest::{read_role, Manifest};
 use codegen::model::{resolve_controllability, Automaton, Kind};
-use codegen::synth::{self, Config, LocalModularResult, Observer, Supervisor};
+use codegen::synth::{self, Config, LocalModularResult, Supervisor};
 use serde_json::json;
 
-use super::Error;
+use super::{limits, Error};
 
 /// Version of the `--json` output; raised when a field changes meaning or disappears.
 const JSON_SCHEMA: u32 = 1;
@@ -46,6 +45,10 @@ pub struct Args {
     /// Stop when a product or supervisor exceeds this many states.
     #[arg(long, default_value_t = Config::default().state_limit)]
     state_limit: usize,
+    /// Stop when a product grows the process past this resident size: bytes with K, M or G (512M, 2G),
+    /// or none [default: three quarters of the machine's RAM].
+    #[arg(long, value_name = "SIZE", value_parser = limits::parse_size)]
+    memory_limit: Option<limits::MemoryLimit>,
     /// Print JSON: schema, supervisors (name, specs, plants, states, transitions), nonconflicting, merged,
     /// total_states, total_transitions.
     #[arg(long)]
@@ -53,19 +56,6 @@ pub struct Args {
     /// Write every supervisor to DIR/<name>.xmd.
     #[arg(short = 'o', long = "out", value_name = "DIR")]
     out: Option<PathBuf>,
-}
-
-/// Spinner on stderr naming the stage and the states built so far.
-struct Progress(indicatif::ProgressBar);
-
-impl Observer for Progress {
-    fn states(&self, what: &str, states: usize) {
-        self.0.set_message(format!("{what}: {states} states"));
-    }
-
-    fn stage(&self, what: &str) {
-        self.0.set_message(what.to_owned());
-    }
 }
 
 /// Every automaton of `files`, as `kind`.
@@ -100,15 +90,12 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     if specs.is_empty() {
         return Err("no specification to synthesise a supervisor for".into());
     }
-    let bar = std::io::stderr().is_terminal().then(|| {
-        let b = indicatif::ProgressBar::new_spinner();
-        b.enable_steady_tick(std::time::Duration::from_millis(120));
-        b
-    });
+    let (observer, bar) = limits::progress();
     let cfg = Config {
         state_limit: args.state_limit,
+        memory_limit: limits::memory_limit(args.memory_limit),
         merge_conflicting: !args.no_merge,
-        observer: bar.clone().map(|b| Arc::new(Progress(b)) as Arc<dyn Observer>),
+        observer: Some(observer),
     };
     let result = if args.monolithic {
         let s = synth::monolithic(&plants, &specs, &cfg)?;

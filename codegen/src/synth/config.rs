@@ -17,6 +17,10 @@ pub struct Config {
     /// Largest number of states any product or supervisor may reach before the run stops with
     /// [`SynthError::StateLimit`](super::SynthError::StateLimit).
     pub state_limit: usize,
+    /// Largest resident size of the process, in bytes, a product may grow it to before the run stops
+    /// with [`SynthError::MemoryLimit`](super::SynthError::MemoryLimit); checked as products grow.
+    /// `None`: no limit.
+    pub memory_limit: Option<u64>,
     /// Whether modular and local modular synthesis merge conflicting specifications until the set is
     /// nonconflicting (`true`, the default) or only report the conflict.
     pub merge_conflicting: bool,
@@ -26,7 +30,7 @@ pub struct Config {
 
 impl Default for Config {
     fn default() -> Self {
-        Config { state_limit: 100_000_000, merge_conflicting: true, observer: None }
+        Config { state_limit: 100_000_000, memory_limit: None, merge_conflicting: true, observer: None }
     }
 }
 
@@ -42,6 +46,7 @@ impl fmt::Debug for Config {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("Config")
             .field("state_limit", &self.state_limit)
+            .field("memory_limit", &self.memory_limit)
             .field("merge_conflicting", &self.merge_conflicting)
             .field("observer", &self.observer.is_some())
             .finish()

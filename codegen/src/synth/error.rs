@@ -24,4 +24,21 @@ pub enum SynthError {
         /// The limit in force.
         limit: usize,
     },
+    /// A product grew the process past [`Config::memory_limit`](super::Config::memory_limit).
+    #[error(
+        "{what}: {states} states so far took the process to {} resident, past the memory limit of {} \
+         (--memory-limit)",
+        super::memory::human(*resident),
+        super::memory::human(*limit)
+    )]
+    MemoryLimit {
+        /// The automaton being built.
+        what: String,
+        /// Its states so far.
+        states: usize,
+        /// The process's resident size, bytes.
+        resident: u64,
+        /// The limit in force, bytes.
+        limit: u64,
+    },
 }

@@ -26,6 +26,7 @@ mod config;
 mod error;
 pub mod families;
 pub mod language;
+pub mod memory;
 mod minimize;
 mod product;
 mod reduce;

@@ -52,6 +52,21 @@ struct Slot {
 
 const EMPTY: Slot = Slot { first: 0, id: NONE };
 
+/// New states between two looks at the process's resident size.
+const MEMORY_CHECK_EVERY: usize = 1 << 14;
+
+/// Stops the walk building `what` (`states` states so far) when the process has grown past the run's
+/// memory limit.
+fn check_memory(cfg: &Config, what: &str, states: usize) -> Result<(), SynthError> {
+    let Some(limit) = cfg.memory_limit else { return Ok(()) };
+    match super::memory::resident_bytes() {
+        Some(resident) if resident > limit => {
+            Err(SynthError::MemoryLimit { what: what.to_owned(), states, resident, limit })
+        }
+        _ => Ok(()),
+    }
+}
+
 /// Packed product tuples with a hash index from tuple to state id (open addressing, linear probing, load
 /// at most one half).
 #[derive(Clone)]
@@ -319,6 +334,9 @@ impl Exploration {
                 if new {
                     if keys.len() > cfg.state_limit {
                         return Err(SynthError::StateLimit { what: what.to_owned(), limit: cfg.state_limit });
+                    }
+                    if keys.len() % MEMORY_CHECK_EVERY == 0 {
+                        check_memory(cfg, what, keys.len())?;
                     }
                     marked.push(components.iter().enumerate().all(|(c, d)| {
                         d.marked[((next[fields[c].word] >> fields[c].shift) & fields[c].mask) as usize]
