@@ -1,0 +1,48 @@
+//! `codegen run` as a binary: a clean run's exit status and JSON, and exit 2 with a message for a file
+//! that is no project and for an emulator that cannot start. (Exit 1 on a violation: `tests/mutants.rs`
+//! kills wrong firmware through the same `run_under_qemu` the command calls.)
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn codegen(args: &[&str], path: Option<&str>) -> Output {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_codegen"));
+    cmd.args(args);
+    if let Some(p) = path {
+        cmd.env("PATH", p);
+    }
+    cmd.output().expect("run codegen")
+}
+
+fn repo(rel: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(rel).display().to_string()
+}
+
+#[test]
+fn a_clean_run_exits_0_with_the_json_report() {
+    let out = codegen(&["run", &repo("examples/factory/factory.toml"), "--events", "600", "--json"], None);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!((json["schema"].as_u64(), json["target"].as_str()), (Some(2), Some("qemu")));
+    assert_eq!((json["name"].as_str(), json["violations"].as_u64()), (Some("factory"), Some(0)));
+    assert!(json["events"].as_u64().unwrap() >= 600);
+    assert_eq!(json["firmware"]["events_in"], json["uncontrollable"]);
+}
+
+#[test]
+fn a_model_file_is_no_project_to_run() {
+    let out = codegen(&["run", &repo("examples/cell/plants/G1.xmd")], None);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("not a project"));
+}
+
+#[test]
+fn an_emulator_that_cannot_start_is_exit_2_naming_it() {
+    // cargo (to build the firmware) stays reachable; qemu-system-arm does not.
+    let cargo = std::env::var("CARGO").unwrap();
+    let cargo_dir = Path::new(&cargo).parent().unwrap().display().to_string();
+    let out = codegen(&["run", &repo("examples/factory/factory.toml"), "--events", "10"], Some(&cargo_dir));
+    assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("cannot start qemu-system-arm"), "{err}");
+}
