@@ -16,7 +16,8 @@ larger than TCT's supreduce. Besides the fixed instances, two random ones are dr
 run (the seed is in the label; `SCT_DIFFERENTIAL_SEEDS=S3,S4` replays them, and `families random N DIR
 SEED` writes one). The readers: libFAUDES
 reads the `.gen` files codegen writes, codegen the ones libFAUDES writes, each the same automaton as the
-IDES3 model. `codegen check`'s findings on the closed loop of the shipped set are counted against a
+IDES3 model. A Supremica module as a project (the factory) gives libFAUDES's SupCon on its PLANT and
+SPEC components, read here. `codegen check`'s findings on the closed loop of the shipped set are counted against a
 brute-force count on a product built here. Prints one line per check and `N passed, M failed`.
 """
 import os
@@ -263,6 +264,22 @@ def libfaudes_pairs(codegen, work):
               f"{r['total_transitions']} = SupCon {ref.Size()}/{ref.TransRelSize()}")
 
 
+def module_case(codegen, work):
+    """A Supremica module as a project: our monolithic supervisor of `examples/factory/factory.wmod`
+    against libFAUDES SupCon on its PLANT and SPEC components, read by the script itself."""
+    module = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "examples", "factory",
+                          "factory.wmod")
+    parts = tools.read_wmod(module)
+    out = os.path.join(work, "module")
+    r = tools.codegen_json(codegen, ["--monolithic", "-o", out, module])
+    ours = tools.to_faudes(tools.read_xmd(os.path.join(out, "S_monolithic.xmd")))
+    ref = tools.faudes_supc(parts["PLANT"], parts["SPEC"])
+    check(faudes.LanguageEquality(ours, ref) and faudes.LanguageEquality(prefix(ours), prefix(ref)),
+          f"factory.wmod as a project: monolithic {r['total_states']}/{r['total_transitions']} = libFAUDES "
+          f"SupCon on its {len(parts['PLANT'])} PLANT and {len(parts['SPEC'])} SPEC components "
+          f"{ref.Size()}/{ref.TransRelSize()}")
+
+
 def main():
     codegen, families, work = sys.argv[1:4]
     cases = []
@@ -283,6 +300,7 @@ def main():
     for label, manifest, d in cases:
         run_case(codegen, label, manifest, d)
     libfaudes_pairs(codegen, work)
+    module_case(codegen, work)
     for label, manifest, d in cases:
         if label in ("cell", "factory-3") or label.startswith("random-3 "):
             readers(codegen, label, manifest, os.path.join(d, "readers"))

@@ -42,6 +42,34 @@ def read_xmd(path):
     return Fsa(name, states, initial, events, trans)
 
 
+def read_wmod(path):
+    """{kind: [Fsa]} of a Supremica module as the script reads it itself: simple components only, edges
+    with one label each or several, `:accepting` marking (a component without it marks every state)."""
+    ns = {"m": "http://waters.sourceforge.net/xsd/module"}
+    root = ET.parse(path).getroot()
+    kinds = {d.get("Name"): d.get("Kind") for d in root.find("m:EventDeclList", ns)}
+    out = {}
+    for c in root.find("m:ComponentList", ns).findall("m:SimpleComponent", ns):
+        graph = c.find("m:Graph", ns)
+        nodes = graph.find("m:NodeList", ns).findall("m:SimpleNode", ns)
+        accepting = any(i.get("Name") == ":accepting" for n in nodes for i in n.iter(f"{{{ns['m']}}}SimpleIdentifier"))
+        ids, states, initial = {}, [], None
+        for n in nodes:
+            ids[n.get("Name")] = len(states)
+            if n.get("Initial") == "true":
+                initial = len(states)
+            marked = any(i.get("Name") == ":accepting" for i in n.iter(f"{{{ns['m']}}}SimpleIdentifier"))
+            states.append((n.get("Name"), marked or not accepting))
+        trans, events = [], {}
+        for e in graph.find("m:EdgeList", ns).findall("m:Edge", ns):
+            for label in e.find("m:LabelBlock", ns).findall("m:SimpleIdentifier", ns):
+                name = label.get("Name")
+                events[name] = kinds[name] == "CONTROLLABLE"
+                trans.append((ids[e.get("Source")], name, ids[e.get("Target")]))
+        out.setdefault(c.get("Kind"), []).append(Fsa(c.get("Name"), states, initial, events, trans))
+    return out
+
+
 def read_manifest(path):
     """(plants, specs) of a manifest written by the `families` example (plain lists of relative paths)."""
     import tomllib
