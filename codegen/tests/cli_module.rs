@@ -73,6 +73,11 @@ fn a_module_in_a_role_contributes_only_the_components_of_that_kind() {
     // Under --plant the 7 specifications are left out, under --spec the 4 plants; each is said.
     assert_eq!(err.matches("left out").count(), 11, "{err}");
     assert!(err.contains("E1 (Spec) left out") && err.contains("G1 (Plant) left out"), "{err}");
+    // emit takes plants and supervisors one by one the same way.
+    let tables = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_module").join("roles").join("tables.rs");
+    let emit = codegen(&["emit", "--plant", &module, "-o", &tables.display().to_string()]);
+    assert!(emit.status.success(), "{}", String::from_utf8_lossy(&emit.stderr));
+    assert_eq!(String::from_utf8_lossy(&emit.stderr).matches("(Spec) left out").count(), 7);
 }
 
 #[test]

@@ -71,6 +71,7 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
             Project::from_files(&args.name, &args.plants, &args.supervisors, args.board.as_deref(), runtime)?
         }
     };
+    super::say_skipped(&project.left_out);
     if let Some(n) = args.reseed_every {
         project.runtime.reseed_every = n;
     }

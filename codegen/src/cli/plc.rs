@@ -60,6 +60,7 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
             Project::from_files(&args.name, &plants, &args.supervisors, None, RuntimeConfig::default())?
         }
     };
+    super::say_skipped(&project.left_out);
     let out = project.plc(args.encoding, args.avalanche, args.policy)?;
     std::fs::create_dir_all(&args.output).map_err(|e| format!("{}: {e}", args.output.display()))?;
     for (name, text) in &out.files {

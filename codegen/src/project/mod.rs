@@ -23,8 +23,8 @@ use std::path::{Path, PathBuf};
 use crate::config::{BoardSpec, PlcSpec, RuntimeConfig, ScanPolicy};
 use crate::emit::{self, EmitError, Input, Provenance};
 use crate::formats::ParseError;
-use crate::manifest::{read_board, Manifest, ManifestError, ModelSet};
-use crate::model::{resolve_controllability, Automaton, ModelError};
+use crate::manifest::{read_board, read_role, Manifest, ManifestError, ModelSet};
+use crate::model::{resolve_controllability, Automaton, Kind, ModelError};
 use crate::pack::ranked::{self, Packed};
 use crate::pack::{PackError, PackSet};
 use crate::plc::{self, Avalanche, Encoding, PlcError, PlcOptions};
@@ -44,6 +44,8 @@ pub struct Project {
     pub board: Option<BoardSpec>,
     /// I/O map, policy and cycle of the PLC program (`[plc]`), if any.
     pub plc: Option<PlcSpec>,
+    /// Components of Supremica modules given in a role of another kind, left out (`module: name (kind)`).
+    pub left_out: Vec<String>,
     origin: Origin,
     /// Every input file with its SHA-256, in the order read.
     inputs: Vec<Input>,
@@ -144,12 +146,15 @@ impl Project {
             runtime: m.runtime,
             board: m.board,
             plc: m.plc,
+            left_out: Vec::new(),
             inputs,
         })
     }
 
     /// The project of plant and supervisor files given one by one (plants first in the tables, each
-    /// group in this order), with `runtime` and the `[board]` of the TOML file `board`.
+    /// group in this order), with `runtime` and the `[board]` of the TOML file `board`. A Supremica
+    /// module contributes only the components of the role it is given in ([`read_role`]); those it left
+    /// out are in [`Project::left_out`].
     pub fn from_files(
         name: &str,
         plants: &[PathBuf],
@@ -157,17 +162,17 @@ impl Project {
         board: Option<&Path>,
         runtime: RuntimeConfig,
     ) -> Result<Project, ProjectError> {
-        let mut inputs = Vec::new();
-        let mut read = |paths: &[PathBuf]| -> Result<Vec<Automaton>, ProjectError> {
-            let mut out = Vec::new();
+        let (mut inputs, mut left_out) = (Vec::new(), Vec::new());
+        let mut read = |paths: &[PathBuf], kind: Kind| -> Result<Vec<Automaton>, ProjectError> {
+            let (out, skipped) = read_role(paths, kind)?;
+            left_out.extend(skipped);
             for p in paths {
-                out.extend(crate::formats::read_path(p)?);
                 inputs.push(hash(p)?);
             }
             Ok(out)
         };
-        let mut plant_automata = read(plants)?;
-        let mut supervisor_automata = read(supervisors)?;
+        let mut plant_automata = read(plants, Kind::Plant)?;
+        let mut supervisor_automata = read(supervisors, Kind::Supervisor)?;
         resolve_controllability(plant_automata.iter_mut().chain(&mut supervisor_automata))?;
         let board_spec = match board {
             Some(path) => {
@@ -182,6 +187,7 @@ impl Project {
             runtime,
             board: board_spec,
             plc: None,
+            left_out,
             origin: Origin::Files {
                 plants: plants.to_vec(),
                 supervisors: supervisors.to_vec(),
@@ -204,6 +210,7 @@ impl Project {
             runtime,
             board: None,
             plc: None,
+            left_out: Vec::new(),
             origin: Origin::Code,
             inputs: Vec::new(),
         })
