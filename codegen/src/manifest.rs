@@ -286,38 +286,31 @@ impl Manifest {
     /// Reads every plant, specification and supervisor file, sets each automaton's kind, applies the
     /// event overrides and checks that every event has one controllability across the set.
     pub fn read_automata(&self) -> Result<ModelSet, ManifestError> {
-        let read = |key: &str, files: &[PathBuf], kind: Kind| -> Result<Vec<Automaton>, ManifestError> {
+        // The automata of the files under `key`, each with the manifest key naming it in errors.
+        let read = |key: &str, files: &[PathBuf]| -> Result<Vec<Automaton>, ManifestError> {
             let mut out = Vec::new();
             for (i, f) in files.iter().enumerate() {
-                let automata = read_path(&self.resolve(f)).map_err(|source| ManifestError::Model {
+                out.extend(read_path(&self.resolve(f)).map_err(|source| ManifestError::Model {
                     file: self.file.clone(),
                     key: format!("{key}[{i}]"),
                     source,
-                })?;
-                out.extend(automata.into_iter().map(|mut a| {
-                    a.kind = kind;
-                    a
-                }));
+                })?);
             }
             Ok(out)
         };
-        let mut set = ModelSet {
-            plants: read("plants", &self.plants, Kind::Plant)?,
-            specs: read("specs", &self.specs, Kind::Spec)?,
-            supervisors: read("supervisors", &self.supervisors, Kind::Supervisor)?,
+        let as_kind = |kind: Kind, automata: Vec<Automaton>| -> Vec<Automaton> {
+            automata.into_iter().map(|a| Automaton { kind, ..a }).collect()
         };
-        for (i, f) in self.modules.iter().enumerate() {
-            let automata = read_path(&self.resolve(f)).map_err(|source| ManifestError::Model {
-                file: self.file.clone(),
-                key: format!("modules[{i}]"),
-                source,
-            })?;
-            for a in automata {
-                match a.kind {
-                    Kind::Spec => set.specs.push(a),
-                    Kind::Supervisor => set.supervisors.push(a),
-                    Kind::Plant | Kind::Unknown => set.plants.push(a),
-                }
+        let mut set = ModelSet {
+            plants: as_kind(Kind::Plant, read("plants", &self.plants)?),
+            specs: as_kind(Kind::Spec, read("specs", &self.specs)?),
+            supervisors: as_kind(Kind::Supervisor, read("supervisors", &self.supervisors)?),
+        };
+        for a in read("modules", &self.modules)? {
+            match a.kind {
+                Kind::Spec => set.specs.push(a),
+                Kind::Supervisor => set.supervisors.push(a),
+                Kind::Plant | Kind::Unknown => set.plants.push(a),
             }
         }
         set.resolve_controllability()

@@ -300,10 +300,8 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             Frame::Command(c) => {
                 self.last_activity = Instant::now();
                 self.waited = false;
-                let event = EventId::from_u32(u32::from(c));
-                match self.monitor.command(event, self.micros()) {
+                match self.judge(c) {
                     Verdict::Ok | Verdict::Desync { resolved: true } => {
-                        self.plant.set_state(self.monitor.plant_state());
                         let delay = Duration::from_micros(self.plant.next_delay_us(true));
                         let due = Instant::now() + delay;
                         self.next_emit = Some(self.next_emit.map_or(due, |t| t.min(due)));
@@ -326,6 +324,15 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         Ok(())
     }
 
+    /// The monitor's verdict on command byte `c`; where it takes the command, the plant takes it too.
+    fn judge(&mut self, c: u8) -> Verdict {
+        let verdict = self.monitor.command(EventId::from_u32(u32::from(c)), self.micros());
+        if matches!(verdict, Verdict::Ok | Verdict::Desync { resolved: true }) {
+            self.plant.set_state(self.monitor.plant_state());
+        }
+        verdict
+    }
+
     /// The monitor lost step with the firmware (a violation, an unresolved desynchronisation, SAFE, a
     /// restart): both sides are reset, and what the firmware fires until then is not judged.
     fn out_of_step(&mut self) -> Result<(), SessionError> {
@@ -344,12 +351,8 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         match frame {
             Frame::Command(_) | Frame::Safe if !self.in_step => {}
             Frame::Command(c) => {
-                let event = EventId::from_u32(u32::from(c));
-                match self.monitor.command(event, self.micros()) {
-                    Verdict::Ok | Verdict::Desync { resolved: true } => {
-                        self.plant.set_state(self.monitor.plant_state())
-                    }
-                    Verdict::Desync { resolved: false } | Verdict::Violation => self.in_step = false,
+                if matches!(self.judge(c), Verdict::Desync { resolved: false } | Verdict::Violation) {
+                    self.in_step = false;
                 }
             }
             Frame::Safe => self.monitor.firmware_safe(),
