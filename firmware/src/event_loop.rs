@@ -43,8 +43,26 @@ pub enum Poll {
     Busy,
     /// Nothing to do until the next input: sleep (`wfi`).
     Idle,
+    /// Deciding is on hold: sleep until the next input or GO.
+    Held,
     /// The host asked to end: exit with this status.
     Exit(u8),
+}
+
+impl Poll {
+    /// Whether, after a turn that returned this, the loop may sleep until the next interrupt: nothing
+    /// waits in `rx` and, if the turn stopped at a hold, the hold is still on. A GO puts nothing in
+    /// `rx`, so one that lands between the turn and this check would otherwise be slept through, with
+    /// the host waiting for a decision. Call it with interrupts masked, `wfi` in the same critical
+    /// section: what lands after the check leaves its interrupt pending, which wakes the `wfi`. A loop
+    /// that cannot exit sleeps on `Exit` as on `Idle`.
+    pub fn may_sleep(self, rx: &InputConsumer<'_>, hold: &Hold) -> bool {
+        match self {
+            Poll::Busy => false,
+            Poll::Idle | Poll::Exit(_) => rx.is_empty(),
+            Poll::Held => rx.is_empty() && hold.is_held(),
+        }
+    }
 }
 
 /// The loop's state beyond the runtime's: whether SAFE was announced.
@@ -114,7 +132,7 @@ impl EventLoop {
             port.note(Note::Safe);
         }
         if hold.is_held() {
-            return Poll::Idle;
+            return Poll::Held;
         }
         match rt.decide(|| !rx.is_empty()) {
             Decision::Fired(c) => {

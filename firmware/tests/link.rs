@@ -124,7 +124,7 @@ fn hold_queues_a_burst_and_go_releases_it() {
     let (mut tx, mut rx) = q.split();
     let (hold, mut event_loop, mut wire) = (Hold::new(), EventLoop::new(), Wire::default());
     send(&mut tx, &hold, &[link::HOLD]);
-    assert_eq!(settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire), Poll::Idle);
+    assert_eq!(settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire), Poll::Held);
     assert!(wire.sent.is_empty(), "held: no decision");
     send(&mut tx, &hold, &[link::GO]);
     settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
@@ -135,6 +135,34 @@ fn hold_queues_a_burst_and_go_releases_it() {
     send(&mut tx, &hold, &[link::GO]);
     settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
     assert_eq!(wire.sent[2..], [B]);
+}
+
+#[test]
+fn a_go_after_a_held_turn_keeps_the_loop_awake() {
+    let (set, _) = livelock();
+    let mut rt = runtime(set, FaultPolicy::Continue);
+    let mut q = InputQueue::<8>::new();
+    let (mut tx, mut rx) = q.split();
+    let (hold, mut event_loop, mut wire) = (Hold::new(), EventLoop::new(), Wire::default());
+    assert_eq!(settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire), Poll::Idle);
+    assert_eq!(wire.sent, [A, A], "in the marked state, nothing enabled");
+    // A burst between HOLD and GO whose GO reaches the receive interrupt only after the turn that took
+    // the burst saw the hold: nothing is in the buffer, yet the loop must not sleep.
+    send(&mut tx, &hold, &[link::HOLD, TO1]);
+    let poll = settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
+    assert_eq!(poll, Poll::Held);
+    assert!(poll.may_sleep(&rx, &hold), "held, nothing waiting: sleep until GO");
+    send(&mut tx, &hold, &[link::GO]);
+    assert!(rx.is_empty(), "GO is taken by the receive interrupt, not buffered");
+    assert!(!poll.may_sleep(&rx, &hold), "released since the turn: decide, do not sleep");
+    assert_eq!(event_loop.turn(&mut rt, &mut rx, &hold, &mut wire), Poll::Busy);
+    assert_eq!(wire.sent, [A, A, B]);
+    // Idle with nothing waiting sleeps; an input that landed since wakes it.
+    let idle = Poll::Idle;
+    assert!(idle.may_sleep(&rx, &hold));
+    send(&mut tx, &hold, &[TO1]);
+    assert!(!idle.may_sleep(&rx, &hold));
+    assert!(!Poll::Busy.may_sleep(&rx, &hold));
 }
 
 #[test]

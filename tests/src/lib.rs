@@ -118,7 +118,7 @@ where
             }
             match poll {
                 Poll::Busy => idle = false,
-                Poll::Idle => idle = n == 0,
+                Poll::Idle | Poll::Held => idle = n == 0,
                 Poll::Exit(status) => return Some(status),
             }
         }

@@ -131,8 +131,8 @@ mod app {
             uart::unmask_rx();
             match poll {
                 Poll::Busy => {}
-                Poll::Idle => cortex_m::interrupt::free(|_| {
-                    if rx.is_empty() {
+                Poll::Idle | Poll::Held => cortex_m::interrupt::free(|_| {
+                    if poll.may_sleep(rx, &HOLD) {
                         cortex_m::asm::wfi();
                     }
                 }),
