@@ -2,16 +2,21 @@
 //! Up to the input buffer's capacity nothing is lost; beyond it nothing is lost silently either — under
 //! QEMU the firmware masks its receive interrupt while the buffer is full, so the emulated UART holds the
 //! rest back (backpressure), and every event arrives. (The overflow path itself, for a line that cannot
-//! be held back, is exercised against the host-compiled runtime in `loopback.rs`.)
+//! be held back, is exercised against the host-compiled runtime in `loopback.rs`.) A burst that fills the
+//! buffer exactly leaves GO alone in the UART until the loop drains the buffer; the firmware must still
+//! decide after it.
 
 use codegen::closed_loop::{parts, Options, Session, SessionConfig};
 use codegen::config::RuntimeConfig;
+use codegen::link::ByteLink;
 use codegen::project::Project;
 use codegen::target::qemu::Qemu;
 use end_to_end::{firmware_image, ticker, Scratch};
+use std::time::{Duration, Instant};
 
-/// Input buffer capacity of the test firmware.
-const CAPACITY: usize = 8;
+/// Input buffer capacity of the test firmware; odd, so that a burst of that many ticks leaves the
+/// counter where only the firmware's `ack` can follow.
+const CAPACITY: usize = 7;
 
 #[test]
 fn bursts_between_two_decisions_lose_nothing() {
@@ -35,5 +40,34 @@ fn bursts_between_two_decisions_lose_nothing() {
         assert_eq!((taken, overflowed), (n as u64, 0), "burst of {n}: taken, overflowed");
     }
     drop(session);
-    assert!(qemu.wait(std::time::Duration::from_millis(10)).is_none(), "still running until killed");
+    assert!(qemu.wait(Duration::from_millis(10)).is_none(), "still running until killed");
+}
+
+#[test]
+fn a_burst_that_fills_the_buffer_is_decided_on_when_go_comes_last() {
+    let runtime = RuntimeConfig { input_buffer: CAPACITY, ..RuntimeConfig::default() };
+    let project = Project::new("ticker", vec![ticker()], vec![], runtime).unwrap();
+    let ack = project.set.events().id("ack").unwrap().as_u32() as u8;
+    let scratch = Scratch::new("burst-go");
+    let elf = firmware_image(&project, &scratch);
+    let options = Options::default();
+    let (mut qemu, mut link) = Qemu::start(&elf, &options.qemu).unwrap();
+    let (mut plant, mut monitor) = parts(&project.set, &options).unwrap();
+    let mut session = Session::new(&mut link, &mut plant, &mut monitor, SessionConfig::default());
+    session.sync(false).unwrap();
+    // HOLD, 7 ticks, GO in one write: the receive interrupt fills the buffer with the ticks and masks
+    // itself, GO still in the UART; the loop takes the ticks on hold, and GO arrives once it unmasks.
+    assert_eq!(session.burst(CAPACITY).unwrap(), CAPACITY);
+    drop(session);
+    // The counter is odd: the firmware acks with nothing more from the host (a loop that slept through
+    // GO would wait for the next byte, which the host, waiting for the ack, never sends).
+    let deadline = Instant::now() + SessionConfig::default().answer_timeout;
+    let mut got = Vec::new();
+    while got.is_empty() && Instant::now() < deadline {
+        let mut buf = [0u8; 16];
+        let n = link.recv(&mut buf, Duration::from_millis(50)).unwrap();
+        got.extend_from_slice(&buf[..n]);
+    }
+    assert_eq!(got, [ack], "the firmware's answer to the released burst");
+    assert!(qemu.wait(Duration::from_millis(10)).is_none(), "still running until killed");
 }
