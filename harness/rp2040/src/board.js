@@ -7,6 +7,7 @@
 
 import { GPIOPinState, RP2040 } from 'rp2040js';
 
+import { correctCore } from './core.js';
 import { loadImage } from './image.js';
 import { installRom, ROM_TRAP } from './rom.js';
 import { installRosc } from './rosc.js';
@@ -82,6 +83,7 @@ export class Board {
         throw new BoardFault(`emulator: ${component}: ${message}`);
       },
     };
+    correctCore(mcu);
     installRom(mcu);
     installRosc(mcu, bits);
     loadImage(mcu, image.elf);
