@@ -8,7 +8,9 @@
 
 use codegen::closed_loop::{parts, Options, Session, SessionConfig};
 use codegen::config::RuntimeConfig;
-use codegen::link::ByteLink;
+use codegen::link::{ByteLink, StreamLink};
+use codegen::monitor::Monitor;
+use codegen::plant::VirtualPlant;
 use codegen::project::Project;
 use codegen::target::qemu::Qemu;
 use end_to_end::{firmware_image, ticker, Scratch};
@@ -18,17 +20,43 @@ use std::time::{Duration, Instant};
 /// counter where only the firmware's `ack` can follow.
 const CAPACITY: usize = 7;
 
+/// The ticker's firmware with an input buffer of [`CAPACITY`], booted under QEMU, with the plant and the
+/// monitor a session drives it with.
+struct Ticker {
+    project: Project,
+    qemu: Qemu,
+    link: StreamLink,
+    plant: VirtualPlant,
+    monitor: Monitor,
+    /// Holds the image until the test ends.
+    _scratch: Scratch,
+}
+
+impl Ticker {
+    fn boot(tag: &str) -> Ticker {
+        let runtime = RuntimeConfig { input_buffer: CAPACITY, ..RuntimeConfig::default() };
+        let project = Project::new("ticker", vec![ticker()], vec![], runtime).unwrap();
+        let scratch = Scratch::new(tag);
+        let elf = firmware_image(&project, &scratch);
+        let options = Options::default();
+        let (qemu, link) = Qemu::start(&elf, &options.qemu).unwrap();
+        let (plant, monitor) = parts(&project.set, &options).unwrap();
+        Ticker { project, qemu, link, plant, monitor, _scratch: scratch }
+    }
+
+    /// A session on the firmware, synchronised.
+    fn session(&mut self) -> Session<'_, StreamLink> {
+        let mut session =
+            Session::new(&mut self.link, &mut self.plant, &mut self.monitor, SessionConfig::default());
+        session.sync(false).unwrap();
+        session
+    }
+}
+
 #[test]
 fn bursts_between_two_decisions_lose_nothing() {
-    let runtime = RuntimeConfig { input_buffer: CAPACITY, ..RuntimeConfig::default() };
-    let project = Project::new("ticker", vec![ticker()], vec![], runtime).unwrap();
-    let scratch = Scratch::new("burst");
-    let elf = firmware_image(&project, &scratch);
-    let options = Options::default();
-    let (mut qemu, mut link) = Qemu::start(&elf, &options.qemu).unwrap();
-    let (mut plant, mut monitor) = parts(&project.set, &options).unwrap();
-    let mut session = Session::new(&mut link, &mut plant, &mut monitor, SessionConfig::default());
-    session.sync(false).unwrap();
+    let mut ticker = Ticker::boot("burst");
+    let mut session = ticker.session();
     for n in [1, CAPACITY, 3 * CAPACITY, 200] {
         let before = session.hold_and_collect(false).unwrap();
         assert_eq!(session.burst(n).unwrap(), n);
@@ -40,21 +68,14 @@ fn bursts_between_two_decisions_lose_nothing() {
         assert_eq!((taken, overflowed), (n as u64, 0), "burst of {n}: taken, overflowed");
     }
     drop(session);
-    assert!(qemu.wait(Duration::from_millis(10)).is_none(), "still running until killed");
+    assert!(ticker.qemu.wait(Duration::from_millis(10)).is_none(), "still running until killed");
 }
 
 #[test]
 fn a_burst_that_fills_the_buffer_is_decided_on_when_go_comes_last() {
-    let runtime = RuntimeConfig { input_buffer: CAPACITY, ..RuntimeConfig::default() };
-    let project = Project::new("ticker", vec![ticker()], vec![], runtime).unwrap();
-    let ack = project.set.events().id("ack").unwrap().as_u32() as u8;
-    let scratch = Scratch::new("burst-go");
-    let elf = firmware_image(&project, &scratch);
-    let options = Options::default();
-    let (mut qemu, mut link) = Qemu::start(&elf, &options.qemu).unwrap();
-    let (mut plant, mut monitor) = parts(&project.set, &options).unwrap();
-    let mut session = Session::new(&mut link, &mut plant, &mut monitor, SessionConfig::default());
-    session.sync(false).unwrap();
+    let mut ticker = Ticker::boot("burst-go");
+    let ack = ticker.project.set.events().id("ack").unwrap().as_u32() as u8;
+    let mut session = ticker.session();
     // HOLD, 7 ticks, GO in one write: the receive interrupt fills the buffer with the ticks and masks
     // itself, GO still in the UART; the loop takes the ticks on hold, and GO arrives once it unmasks.
     assert_eq!(session.burst(CAPACITY).unwrap(), CAPACITY);
@@ -65,9 +86,9 @@ fn a_burst_that_fills_the_buffer_is_decided_on_when_go_comes_last() {
     let mut got = Vec::new();
     while got.is_empty() && Instant::now() < deadline {
         let mut buf = [0u8; 16];
-        let n = link.recv(&mut buf, Duration::from_millis(50)).unwrap();
+        let n = ticker.link.recv(&mut buf, Duration::from_millis(50)).unwrap();
         got.extend_from_slice(&buf[..n]);
     }
     assert_eq!(got, [ack], "the firmware's answer to the released burst");
-    assert!(qemu.wait(Duration::from_millis(10)).is_none(), "still running until killed");
+    assert!(ticker.qemu.wait(Duration::from_millis(10)).is_none(), "still running until killed");
 }

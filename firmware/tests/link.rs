@@ -36,27 +36,48 @@ fn runtime(set: &'static SupervisorSet<'static, 1>, on_fault: FaultPolicy) -> Rt
     Rt::new(CheckedSet::new(set).unwrap(), config, LocalQueue::default(), SeedEntropy::new(1))
 }
 
-/// Services until idle or exit; returns the last poll.
-fn settle(
-    event_loop: &mut EventLoop,
-    rt: &mut Rt,
-    rx: &mut InputConsumer<'_>,
-    hold: &Hold,
-    wire: &mut Wire,
-) -> Poll {
-    for _ in 0..100 {
-        match event_loop.turn(rt, rx, hold, wire) {
-            Poll::Busy => {}
-            other => return other,
-        }
-    }
-    panic!("link never settled");
+/// One loop on the livelock example as the QEMU application wires it: the runtime (fault policy given),
+/// an input queue of `Q` slots — leaked, so that its two ends live as long as the test — the hold gate
+/// the receive interrupt sets, the loop, and the wire it sends on.
+struct Bench {
+    rt: Rt,
+    tx: InputProducer<'static>,
+    rx: InputConsumer<'static>,
+    hold: Hold,
+    event_loop: EventLoop,
+    wire: Wire,
 }
 
-fn send(tx: &mut InputProducer<'_>, hold: &Hold, bytes: &[u8]) {
-    for &b in bytes {
-        if let Some(b) = hold.filter(b) {
-            tx.push(b).unwrap();
+impl Bench {
+    fn new<const Q: usize>(on_fault: FaultPolicy) -> Bench {
+        let (set, _) = livelock();
+        let (tx, rx) = Box::leak(Box::new(InputQueue::<Q>::new())).split();
+        let (hold, event_loop, wire) = (Hold::new(), EventLoop::new(), Wire::default());
+        Bench { rt: runtime(set, on_fault), tx, rx, hold, event_loop, wire }
+    }
+
+    /// One turn of the loop.
+    fn turn(&mut self) -> Poll {
+        self.event_loop.turn(&mut self.rt, &mut self.rx, &self.hold, &mut self.wire)
+    }
+
+    /// Turns until idle or exit; returns the last poll.
+    fn settle(&mut self) -> Poll {
+        for _ in 0..100 {
+            match self.turn() {
+                Poll::Busy => {}
+                other => return other,
+            }
+        }
+        panic!("link never settled");
+    }
+
+    /// `bytes` from the host, through the receive interrupt's filter (HOLD and GO act on the gate).
+    fn send(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            if let Some(b) = self.hold.filter(b) {
+                self.tx.push(b).unwrap();
+            }
         }
     }
 }
@@ -72,97 +93,81 @@ fn status(sent: &[u8]) -> [u32; 6] {
 
 #[test]
 fn commands_status_reset_and_exit() {
-    let (set, _) = livelock();
-    let mut rt = runtime(set, FaultPolicy::Continue);
-    let mut q = InputQueue::<8>::new();
-    let (mut tx, mut rx) = q.split();
-    let (hold, mut event_loop, mut wire) = (Hold::new(), EventLoop::new(), Wire::default());
-    assert_eq!(settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire), Poll::Idle);
-    assert_eq!(wire.sent, [A, A], "1 -a-> 3 -a-> 4");
-    send(&mut tx, &hold, &[TO1]);
-    settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
-    assert_eq!(wire.sent[2..], [B], "local queue at 1 now takes b");
-    wire.sent.clear();
-    send(&mut tx, &hold, &[link::STATUS]);
-    settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
-    assert_eq!(status(&wire.sent), [1, 3, 0, 0, 0, 0]);
-    wire.sent.clear();
-    send(&mut tx, &hold, &[link::RESET, link::STATUS]);
-    settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
-    assert_eq!(wire.sent[0], link::READY);
-    assert_eq!(status(&wire.sent[1..]), [0, 0, 0, 0, 0, 0]);
-    assert_eq!(wire.sent[26..], [A, A], "back in state 1 with fresh cursors");
-    send(&mut tx, &hold, &[link::EXIT]);
-    assert_eq!(settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire), Poll::Exit(0));
+    let mut b = Bench::new::<8>(FaultPolicy::Continue);
+    assert_eq!(b.settle(), Poll::Idle);
+    assert_eq!(b.wire.sent, [A, A], "1 -a-> 3 -a-> 4");
+    b.send(&[TO1]);
+    b.settle();
+    assert_eq!(b.wire.sent[2..], [B], "local queue at 1 now takes b");
+    b.wire.sent.clear();
+    b.send(&[link::STATUS]);
+    b.settle();
+    assert_eq!(status(&b.wire.sent), [1, 3, 0, 0, 0, 0]);
+    b.wire.sent.clear();
+    b.send(&[link::RESET, link::STATUS]);
+    b.settle();
+    assert_eq!(b.wire.sent[0], link::READY);
+    assert_eq!(status(&b.wire.sent[1..]), [0, 0, 0, 0, 0, 0]);
+    assert_eq!(b.wire.sent[26..], [A, A], "back in state 1 with fresh cursors");
+    b.send(&[link::EXIT]);
+    assert_eq!(b.settle(), Poll::Exit(0));
 }
 
 #[test]
 fn a_status_answer_reads_back_as_the_runtimes_counters() {
-    let (set, _) = livelock();
-    let mut rt = runtime(set, FaultPolicy::Continue);
-    let mut q = InputQueue::<8>::new();
-    let (mut tx, mut rx) = q.split();
-    let (hold, mut event_loop, mut wire) = (Hold::new(), EventLoop::new(), Wire::default());
-    settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
+    let mut b = Bench::new::<8>(FaultPolicy::Continue);
+    b.settle();
     // An unexpected event and a byte that means nothing, so that several counters differ.
-    send(&mut tx, &hold, &[TO4, 0xFE, link::STATUS]);
-    wire.sent.clear();
-    settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
-    let at = wire.sent.iter().position(|&b| b == link::STATUS).unwrap();
+    b.send(&[TO4, 0xFE, link::STATUS]);
+    b.wire.sent.clear();
+    b.settle();
+    let at = b.wire.sent.iter().position(|&byte| byte == link::STATUS).unwrap();
     let answer: &[u8; link::STATUS_BYTES] =
-        wire.sent[at + 1..at + 1 + link::STATUS_BYTES].try_into().unwrap();
+        b.wire.sent[at + 1..at + 1 + link::STATUS_BYTES].try_into().unwrap();
     let counters = firmware::runtime::Counters::from_status(answer);
-    assert_eq!(counters, *rt.counters());
+    assert_eq!(counters, *b.rt.counters());
     assert_eq!((counters.commands_out, counters.unexpected, counters.unknown_bytes), (2, 1, 1));
 }
 
 #[test]
 fn hold_queues_a_burst_and_go_releases_it() {
-    let (set, _) = livelock();
-    let mut rt = runtime(set, FaultPolicy::Continue);
-    let mut q = InputQueue::<8>::new();
-    let (mut tx, mut rx) = q.split();
-    let (hold, mut event_loop, mut wire) = (Hold::new(), EventLoop::new(), Wire::default());
-    send(&mut tx, &hold, &[link::HOLD]);
-    assert_eq!(settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire), Poll::Held);
-    assert!(wire.sent.is_empty(), "held: no decision");
-    send(&mut tx, &hold, &[link::GO]);
-    settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
-    assert_eq!(wire.sent, [A, A]);
+    let mut b = Bench::new::<8>(FaultPolicy::Continue);
+    b.send(&[link::HOLD]);
+    assert_eq!(b.settle(), Poll::Held);
+    assert!(b.wire.sent.is_empty(), "held: no decision");
+    b.send(&[link::GO]);
+    b.settle();
+    assert_eq!(b.wire.sent, [A, A]);
     // Held again, a burst of two inputs is applied in order before the next decision.
-    send(&mut tx, &hold, &[link::HOLD, TO1]);
-    settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
-    send(&mut tx, &hold, &[link::GO]);
-    settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
-    assert_eq!(wire.sent[2..], [B]);
+    b.send(&[link::HOLD, TO1]);
+    b.settle();
+    b.send(&[link::GO]);
+    b.settle();
+    assert_eq!(b.wire.sent[2..], [B]);
 }
 
 #[test]
 fn a_go_after_a_held_turn_keeps_the_loop_awake() {
-    let (set, _) = livelock();
-    let mut rt = runtime(set, FaultPolicy::Continue);
-    let mut q = InputQueue::<8>::new();
-    let (mut tx, mut rx) = q.split();
-    let (hold, mut event_loop, mut wire) = (Hold::new(), EventLoop::new(), Wire::default());
-    assert_eq!(settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire), Poll::Idle);
-    assert_eq!(wire.sent, [A, A], "in the marked state, nothing enabled");
+    let mut b = Bench::new::<8>(FaultPolicy::Continue);
+    assert_eq!(b.settle(), Poll::Idle);
+    assert_eq!(b.wire.sent, [A, A], "in the marked state, nothing enabled");
     // A burst between HOLD and GO whose GO reaches the receive interrupt only after the turn that took
     // the burst saw the hold: nothing is in the buffer, yet the loop must not sleep.
-    send(&mut tx, &hold, &[link::HOLD, TO1]);
-    let poll = settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
+    b.send(&[link::HOLD, TO1]);
+    let poll = b.settle();
     assert_eq!(poll, Poll::Held);
-    assert!(poll.may_sleep(&rx, &hold), "held, nothing waiting: sleep until GO");
-    send(&mut tx, &hold, &[link::GO]);
-    assert!(rx.is_empty(), "GO is taken by the receive interrupt, not buffered");
-    assert!(!poll.may_sleep(&rx, &hold), "released since the turn: decide, do not sleep");
-    assert_eq!(event_loop.turn(&mut rt, &mut rx, &hold, &mut wire), Poll::Busy);
-    assert_eq!(wire.sent, [A, A, B]);
+    assert!(poll.may_sleep(&b.rx, &b.hold), "held, nothing waiting: sleep until GO");
+    b.send(&[link::GO]);
+    assert!(b.rx.is_empty(), "GO is taken by the receive interrupt, not buffered");
+    assert!(!poll.may_sleep(&b.rx, &b.hold), "released since the turn: decide, do not sleep");
+    assert_eq!(b.turn(), Poll::Busy);
+    assert_eq!(b.wire.sent, [A, A, B]);
     // Idle with nothing waiting sleeps; an input that landed since wakes it.
     let idle = Poll::Idle;
-    assert!(idle.may_sleep(&rx, &hold));
-    send(&mut tx, &hold, &[TO1]);
-    assert!(!idle.may_sleep(&rx, &hold));
-    assert!(!Poll::Busy.may_sleep(&rx, &hold));
+    assert!(idle.may_sleep(&b.rx, &b.hold));
+    b.send(&[TO1]);
+    assert!(!idle.may_sleep(&b.rx, &b.hold));
+    assert!(!Poll::Busy.may_sleep(&b.rx, &b.hold));
 }
 
 #[test]
@@ -180,39 +185,34 @@ fn guard_drops_a_choice_when_an_input_arrived() {
 
 #[test]
 fn faults_are_counted_and_continue_keeps_deciding() {
-    let (set, _) = livelock();
-    let mut rt = runtime(set, FaultPolicy::Continue);
-    let mut q = InputQueue::<4>::new();
-    let (mut tx, mut rx) = q.split();
-    let (hold, mut event_loop, mut wire) = (Hold::new(), EventLoop::new(), Wire::default());
-    settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
+    let mut b = Bench::new::<4>(FaultPolicy::Continue);
+    b.settle();
     // In state 4: to4 is unexpected; 0xF9 and event 200 are unknown; a (controllable) from the host too.
-    send(&mut tx, &hold, &[TO4, 0xF9, 200]);
-    settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
-    send(&mut tx, &hold, &[A]);
-    for b in [TO1, TO1] {
-        if tx.push(b).is_err() {
-            tx.count_overflow();
+    b.send(&[TO4, 0xF9, 200]);
+    b.settle();
+    b.send(&[A]);
+    for event in [TO1, TO1] {
+        if b.tx.push(event).is_err() {
+            b.tx.count_overflow();
         }
     }
-    tx.count_overflow();
-    settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
+    b.tx.count_overflow();
+    b.settle();
     assert_eq!(
-        wire.notes.iter().filter(|n| matches!(n, Note::Unexpected { event: TO4, automaton: 0 })).count(),
+        b.wire.notes.iter().filter(|n| matches!(n, Note::Unexpected { event: TO4, automaton: 0 })).count(),
         1
     );
-    assert_eq!(wire.notes.iter().filter(|n| matches!(n, Note::Unknown(_))).count(), 3);
-    let c = rt.counters();
+    assert_eq!(b.wire.notes.iter().filter(|n| matches!(n, Note::Unknown(_))).count(), 3);
+    let c = b.rt.counters();
     // The second to1 finds the plant back in 1, where it is unexpected too.
     assert_eq!((c.unexpected, c.unknown_bytes, c.overflows, c.events_in), (2, 3, 1, 3));
-    assert!(!rt.is_safe());
-    assert!(!wire.sent.contains(&link::SAFE));
-    assert_eq!(wire.sent.last(), Some(&B), "still deciding after the faults");
+    assert!(!b.rt.is_safe());
+    assert!(!b.wire.sent.contains(&link::SAFE));
+    assert_eq!(b.wire.sent.last(), Some(&B), "still deciding after the faults");
 }
 
 #[test]
 fn each_fault_enters_the_safe_state_which_reset_leaves() {
-    let (set, _) = livelock();
     type Inject = fn(&mut InputProducer<'_>);
     let faults: [(&str, Inject); 4] = [
         ("unexpected", |tx| tx.push(TO4).unwrap()),
@@ -221,25 +221,22 @@ fn each_fault_enters_the_safe_state_which_reset_leaves() {
         ("overflow", |tx| tx.count_overflow()),
     ];
     for (what, inject) in faults {
-        let mut rt = runtime(set, FaultPolicy::SafeState);
-        let mut q = InputQueue::<4>::new();
-        let (mut tx, mut rx) = q.split();
-        let (hold, mut event_loop, mut wire) = (Hold::new(), EventLoop::new(), Wire::default());
-        settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
-        assert_eq!(wire.sent, [A, A], "{what}");
-        inject(&mut tx);
-        tx.push(TO1).unwrap();
-        settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
-        assert_eq!(wire.sent[2..], [link::SAFE], "{what}: SAFE once, no decision after");
-        tx.push(link::STATUS).unwrap();
-        settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
-        assert_eq!(wire.sent[3], link::STATUS, "{what}: no second SAFE");
-        tx.push(link::EXIT).unwrap();
-        assert_eq!(settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire), Poll::Exit(1), "{what}");
-        wire.sent.clear();
-        tx.push(link::RESET).unwrap();
-        settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
-        assert_eq!(wire.sent, [link::READY, A, A], "{what}: reset leaves the safe state");
+        let mut b = Bench::new::<4>(FaultPolicy::SafeState);
+        b.settle();
+        assert_eq!(b.wire.sent, [A, A], "{what}");
+        inject(&mut b.tx);
+        b.tx.push(TO1).unwrap();
+        b.settle();
+        assert_eq!(b.wire.sent[2..], [link::SAFE], "{what}: SAFE once, no decision after");
+        b.tx.push(link::STATUS).unwrap();
+        b.settle();
+        assert_eq!(b.wire.sent[3], link::STATUS, "{what}: no second SAFE");
+        b.tx.push(link::EXIT).unwrap();
+        assert_eq!(b.settle(), Poll::Exit(1), "{what}");
+        b.wire.sent.clear();
+        b.tx.push(link::RESET).unwrap();
+        b.settle();
+        assert_eq!(b.wire.sent, [link::READY, A, A], "{what}: reset leaves the safe state");
     }
 }
 
@@ -274,11 +271,7 @@ proptest::proptest! {
     fn any_host_bytes_are_accounted_for(
         chunks in proptest::collection::vec(proptest::collection::vec(proptest::prelude::any::<u8>(), 0..8), 0..40),
     ) {
-        let (set, _) = livelock();
-        let mut rt = runtime(set, FaultPolicy::Continue);
-        let mut q = InputQueue::<8>::new();
-        let (mut tx, mut rx) = q.split();
-        let (hold, mut event_loop, mut wire) = (Hold::new(), EventLoop::new(), Wire::default());
+        let mut b = Bench::new::<8>(FaultPolicy::Continue);
         let (mut events, mut unknown) = (0u32, 0u32);
         for chunk in &chunks {
             let chunk: Vec<u8> = chunk.iter().copied().filter(|&b| b != link::RESET && b != link::EXIT).collect();
@@ -289,15 +282,15 @@ proptest::proptest! {
                     _ => unknown += 1,
                 }
             }
-            send(&mut tx, &hold, &chunk);
+            b.send(&chunk);
             // Released at the end of each chunk, so the loop always gets to decide.
-            send(&mut tx, &hold, &[link::GO]);
-            settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire);
+            b.send(&[link::GO]);
+            b.settle();
         }
-        let c = *rt.counters();
+        let c = *b.rt.counters();
         proptest::prop_assert_eq!((c.events_in, c.unknown_bytes, c.overflows), (events, unknown, 0));
         proptest::prop_assert!(c.unexpected <= c.events_in);
-        let (commands, answers) = read_wire(&wire.sent);
+        let (commands, answers) = read_wire(&b.wire.sent);
         proptest::prop_assert_eq!(commands, c.commands_out);
         for pair in answers.windows(2) {
             proptest::prop_assert!(pair[0].iter().zip(&pair[1]).all(|(a, b)| a <= b), "{:?}", answers);
@@ -308,15 +301,11 @@ proptest::proptest! {
     /// the loop reports the exit status the runtime's state gives.
     #[test]
     fn any_host_bytes_never_panic_the_loop(bytes in proptest::collection::vec(proptest::prelude::any::<u8>(), 0..200)) {
-        let (set, _) = livelock();
-        let mut rt = runtime(set, FaultPolicy::SafeState);
-        let mut q = InputQueue::<8>::new();
-        let (mut tx, mut rx) = q.split();
-        let (hold, mut event_loop, mut wire) = (Hold::new(), EventLoop::new(), Wire::default());
+        let mut b = Bench::new::<8>(FaultPolicy::SafeState);
         for chunk in bytes.chunks(7) {
-            send(&mut tx, &hold, chunk);
-            if let Poll::Exit(status) = settle(&mut event_loop, &mut rt, &mut rx, &hold, &mut wire) {
-                proptest::prop_assert_eq!(status, u8::from(rt.is_safe()));
+            b.send(chunk);
+            if let Poll::Exit(status) = b.settle() {
+                proptest::prop_assert_eq!(status, u8::from(b.rt.is_safe()));
                 break;
             }
         }
