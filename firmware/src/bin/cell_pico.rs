@@ -107,7 +107,7 @@ mod app {
     use super::{halt, pin, tables, Driver, InPin, Outs, Rosc, Rt, HOLD, SCT_STATUS, XOSC_HZ};
     use embedded_hal::digital::InputPin;
     use firmware::board::{Edge, Outputs, Pull, Sampling};
-    use firmware::event_loop::EventLoop;
+    use firmware::event_loop::{EventLoop, Poll};
     use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
     use rp2040_hal::clocks::init_clocks_and_plls;
     use rp2040_hal::fugit::MicrosDurationU32;
@@ -265,11 +265,13 @@ mod app {
         loop {
             let poll = event_loop.turn(rt, rx, &HOLD, &mut Driver(&mut cx.shared.outputs));
             SCT_STATUS.store(&rt.counters().to_array(), rt.is_safe());
-            cortex_m::interrupt::free(|_| {
-                if poll.may_sleep(rx, &HOLD) {
-                    cortex_m::asm::wfi();
-                }
-            });
+            if poll != Poll::Busy {
+                cortex_m::interrupt::free(|_| {
+                    if poll.may_sleep(rx, &HOLD) {
+                        cortex_m::asm::wfi();
+                    }
+                });
+            }
         }
     }
 }
