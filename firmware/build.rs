@@ -1,4 +1,5 @@
-//! Chooses the tables the Cortex-M applications include and the memory layout they link with.
+//! Chooses the tables the Cortex-M applications include and the memory layout they link with, and
+//! says which core the runtime is compiled for where that changes its code.
 //!
 //! Tables: the file named by the `SCT_TABLES` environment variable (absolute, or relative to the
 //! workspace root), else the committed `src/generated/cell.rs` (which a codegen test keeps
@@ -6,7 +7,8 @@
 //! `SCT_TABLES_FILE`. Memory layout: `boards/lm3s6965/memory.x` for thumbv7m, `boards/pico/memory.x` for
 //! the RP2040 (thumbv6m). Neither may sit at the workspace root: the linker looks for `memory.x` in its
 //! working directory (where cargo runs rustc) before the search paths, so a root file would be linked
-//! into every target's image.
+//! into every target's image. Core: `cfg(armv6m)` on thumbv6m (Cortex-M0/M0+, as the `cortex-m` crate
+//! names it), for the code that works around that core's missing instructions.
 
 use std::env;
 use std::path::PathBuf;
@@ -23,6 +25,10 @@ fn main() {
     println!("cargo:rustc-env=SCT_TABLES_FILE={}", tables.display());
 
     let target = env::var("TARGET").unwrap_or_default();
+    println!("cargo:rustc-check-cfg=cfg(armv6m)");
+    if target.starts_with("thumbv6m") {
+        println!("cargo:rustc-cfg=armv6m");
+    }
     let board = if target.starts_with("thumbv6m") { "boards/pico" } else { "boards/lm3s6965" };
     let memory_dir = crate_dir.join(board);
     if target.starts_with("thumb") {

@@ -30,7 +30,7 @@
 //! site's round.
 
 use crate::event_set::EventSet;
-use crate::rng::{Entropy, Rng};
+use crate::rng::{widening_mul, Entropy, Rng};
 use crate::table::SupervisorSet;
 
 /// What a policy may look at besides the enabled set.
@@ -258,9 +258,9 @@ impl<'r, E: Entropy> Bits<'r, E> {
             Some(bits) => bits,
             None => self.rng.next_u32(),
         };
-        let product = u64::from(x) * u64::from(n);
-        self.bits = Some(product as u32);
-        (product >> 32) as u32
+        let (high, low) = widening_mul(x, n);
+        self.bits = Some(low);
+        high
     }
 }
 

@@ -90,13 +90,56 @@ impl<E: Entropy> Rng<E> {
 
     /// A number in `0..n` (0 when `n` is 0), from the high bits.
     pub fn below(&mut self, n: u32) -> u32 {
-        ((u64::from(self.next_u32()) * u64::from(n)) >> 32) as u32
+        widening_mul(self.next_u32(), n).0
     }
+}
+
+/// `x · n` as its high and low words: a draw in `0..n` is the high word, and the low word is what is
+/// left of the draw's randomness for a next one.
+#[inline(always)]
+pub(crate) fn widening_mul(x: u32, n: u32) -> (u32, u32) {
+    // The Cortex-M0/M0+ has no 32 × 32 → 64-bit multiply: the product would be a call to the
+    // compiler's 64 × 64 routine. The ranges drawn from (events, plants) all fit 16 bits.
+    #[cfg(armv6m)]
+    if let Ok(n) = u16::try_from(n) {
+        return by_halves(x, n);
+    }
+    let product = u64::from(x) * u64::from(n);
+    ((product >> 32) as u32, product as u32)
+}
+
+/// `x · n` as its high and low words, from 32-bit products only: `x`'s high half times `n`, plus the
+/// carry of its low half times `n`. Exact for every `x` and `n`; no sum overflows, as
+/// `(2¹⁶ − 1)² + 2¹⁶ − 2 < 2³²`.
+#[cfg(any(armv6m, test))]
+#[inline(always)]
+fn by_halves(x: u32, n: u16) -> (u32, u32) {
+    let n = u32::from(n);
+    let high = ((x >> 16) * n + (((x & 0xFFFF) * n) >> 16)) >> 16;
+    (high, x.wrapping_mul(n))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::{prop_assert_eq, proptest};
+
+    proptest! {
+        #[test]
+        fn the_product_by_halves_is_the_wide_product(x: u32, n: u16) {
+            let wide = u64::from(x) * u64::from(n);
+            prop_assert_eq!(by_halves(x, n), ((wide >> 32) as u32, wide as u32));
+        }
+    }
+
+    #[test]
+    fn the_product_by_halves_at_its_extremes() {
+        for (x, n) in [(u32::MAX, u16::MAX), (u32::MAX, 1), (0x0001_FFFF, u16::MAX), (0xFFFF_0000, 2), (0, 7)]
+        {
+            let wide = u64::from(x) * u64::from(n);
+            assert_eq!(by_halves(x, n), ((wide >> 32) as u32, wide as u32), "{x:#x} · {n}");
+        }
+    }
 
     struct Zero;
     impl Entropy for Zero {
