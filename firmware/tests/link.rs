@@ -260,7 +260,7 @@ fn read_wire(sent: &[u8]) -> (u32, Vec<[u32; 6]>) {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(256))]
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(common::cases(256)))]
 
     /// Any bytes from the host, in any chunks: no panic, and every byte accounted for — an uncontrollable
     /// event of the set is taken (`events_in`), anything else that is not a control byte is an unknown

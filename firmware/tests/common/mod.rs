@@ -5,6 +5,12 @@
 use firmware::build::{encode as build, HostTables, Source, SourceAutomaton};
 use firmware::table::SupervisorSet;
 
+/// `default` proptest cases, or `PROPTEST_CASES` when set: each suite picks its own count, and an
+/// interpreter as slow as Miri lowers them all.
+pub fn cases(default: u32) -> u32 {
+    std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(default)
+}
+
 /// What an automaton does in the loop (plants come first in a set).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Role {
