@@ -7,9 +7,10 @@ whose image must be linked for the RP2040. The figures are compared with `.ci/ex
 
     python3 scripts/measure/pico_cost.py
 
-The run's event mix follows the host's timing, so the averages move by a per cent or two from run to run, and
-a worst case depends on what a run meets (a reseed from the ring oscillator every 1 024 draws, some 240
-instructions, landing on a heavy decision or not): the tolerances in the expectations file say how much.
+The run's event mix follows the host's timing, so the averages move by a per cent or two from run to run; the
+worst apply and the worst decision are the tables' heaviest paths, which every run meets (a reseed of the
+random generator costs the decision that draws it about 13 instructions: the firmware gathers its
+ring-oscillator bits while idle).
 """
 
 import argparse

@@ -4,7 +4,8 @@
 //! traits), defmt over RTT. Flash and run with `cargo pico` (probe-rs); README, "Flash a board".
 //!
 //! Tables and pin map: `SCT_TABLES_FILE` (see `build.rs`), the cell's with `examples/cell/pico.toml` by
-//! default. Randomness: the RP2040's ring-oscillator random bit mixed with the microsecond timer.
+//! default. Randomness: the RP2040's ring-oscillator random bit, gathered while the loop is idle, mixed with
+//! the microsecond timer.
 #![no_std]
 #![no_main]
 
@@ -16,6 +17,8 @@ use panic_probe as _;
 mod tables {
     include!(env!("SCT_TABLES_FILE"));
 }
+
+use core::sync::atomic::{AtomicU32, Ordering};
 
 use firmware::board::Outputs;
 use firmware::event_loop::{Note, Port};
@@ -48,18 +51,39 @@ type Outs = Outputs<OutPin, { tables::OUTPUT_PINS.len() }>;
 /// The runtime over the emitted tables.
 type Rt = tables::Runtime<tables::Policy, Rosc>;
 
-/// Entropy from the ring oscillator's random bit and the timer's low microseconds (jitter).
+/// Entropy from the ring oscillator's random bit and the timer's low microseconds (jitter). The bits are
+/// gathered one per idle turn of the loop ([`Rosc::sample`]), spaced out in time: RANDOMBIT is the
+/// oscillator's level, which back-to-back reads see many times over, and a reseed then costs the decision
+/// that draws it two loads instead of 32 register reads.
 struct Rosc;
+
+/// The ring-oscillator bits gathered so far, rotated in one at a time. Only thread mode (the loop, and
+/// the runtime in it) touches it; an atomic because a `static` must be `Sync`.
+static ROSC_BITS: AtomicU32 = AtomicU32::new(0);
+
+impl Rosc {
+    /// Rotates one more random bit into the gathered ones.
+    fn sample() {
+        // SAFETY: a read-only register (ROSC RANDOMBIT); reading it has no side effect.
+        let rosc = unsafe { &*pac::ROSC::ptr() };
+        let bit = u32::from(rosc.randombit().read().randombit().bit());
+        ROSC_BITS.store(ROSC_BITS.load(Ordering::Relaxed).rotate_left(1) ^ bit, Ordering::Relaxed);
+    }
+
+    /// The source, with a word of bits gathered at once for the first seed.
+    fn new() -> Self {
+        for _ in 0..32 {
+            Self::sample();
+        }
+        Rosc
+    }
+}
 
 impl Entropy for Rosc {
     fn entropy(&mut self) -> u32 {
-        // SAFETY: read-only registers (ROSC RANDOMBIT, TIMER TIMERAWL); reading them has no side effect.
-        let (rosc, timer) = unsafe { (&*pac::ROSC::ptr(), &*pac::TIMER::ptr()) };
-        let mut bits = timer.timerawl().read().bits();
-        for _ in 0..32 {
-            bits = bits.rotate_left(1) ^ u32::from(rosc.randombit().read().randombit().bit());
-        }
-        bits
+        // SAFETY: a read-only register (TIMER TIMERAWL); reading it has no side effect.
+        let timer = unsafe { &*pac::TIMER::ptr() };
+        timer.timerawl().read().bits() ^ ROSC_BITS.load(Ordering::Relaxed)
     }
 }
 
@@ -187,7 +211,7 @@ mod app {
 
         let (producer, consumer) = cx.local.queue.split();
         // The tables were checked when they were compiled (`tables::CHECKED`).
-        let runtime = Rt::new(tables::CHECKED, tables::CONFIG, tables::Policy::default(), Rosc);
+        let runtime = Rt::new(tables::CHECKED, tables::CONFIG, tables::Policy::default(), Rosc::new());
         let levels = sample(&mut inputs);
         defmt::info!(
             "{=str} on {=str}: {=usize} automata, {=usize} inputs, {=usize} outputs",
@@ -258,7 +282,7 @@ mod app {
         }
     }
 
-    /// The decision loop; sleeps in `wfi` while there is nothing to do.
+    /// The decision loop; sleeps in `wfi` while there is nothing to do, after gathering one random bit.
     #[idle(shared = [outputs], local = [consumer, runtime, event_loop])]
     fn idle(mut cx: idle::Context) -> ! {
         let (rx, rt, event_loop) = (cx.local.consumer, cx.local.runtime, cx.local.event_loop);
@@ -266,6 +290,7 @@ mod app {
             let poll = event_loop.turn(rt, rx, &HOLD, &mut Driver(&mut cx.shared.outputs));
             SCT_STATUS.store(&rt.counters().to_array(), rt.is_safe());
             if poll != Poll::Busy {
+                Rosc::sample();
                 cortex_m::interrupt::free(|_| {
                     if poll.may_sleep(rx, &HOLD) {
                         cortex_m::asm::wfi();
