@@ -124,11 +124,16 @@ mod tests {
     use super::*;
     use proptest::prelude::{prop_assert_eq, proptest};
 
+    /// `x · n` as high and low words, from the 64-bit product.
+    fn wide(x: u32, n: u16) -> (u32, u32) {
+        let product = u64::from(x) * u64::from(n);
+        ((product >> 32) as u32, product as u32)
+    }
+
     proptest! {
         #[test]
         fn the_product_by_halves_is_the_wide_product(x: u32, n: u16) {
-            let wide = u64::from(x) * u64::from(n);
-            prop_assert_eq!(by_halves(x, n), ((wide >> 32) as u32, wide as u32));
+            prop_assert_eq!(by_halves(x, n), wide(x, n));
         }
     }
 
@@ -136,8 +141,7 @@ mod tests {
     fn the_product_by_halves_at_its_extremes() {
         for (x, n) in [(u32::MAX, u16::MAX), (u32::MAX, 1), (0x0001_FFFF, u16::MAX), (0xFFFF_0000, 2), (0, 7)]
         {
-            let wide = u64::from(x) * u64::from(n);
-            assert_eq!(by_halves(x, n), ((wide >> 32) as u32, wide as u32), "{x:#x} · {n}");
+            assert_eq!(by_halves(x, n), wide(x, n), "{x:#x} · {n}");
         }
     }
 
