@@ -30,7 +30,8 @@ const EVENTS: u64 = 8_000;
 
 /// Builds the QEMU firmware on `packed` (with the cell's `[runtime]`) in `scratch`.
 fn image(project: &Project, packed: &Packed, scratch: &Scratch) -> PathBuf {
-    let text = emit(packed, &project.name, &project.runtime, None, &Provenance::default()).unwrap();
+    let m0plus = Err("mutants run on the Cortex-M3".to_owned());
+    let text = emit(packed, m0plus, &project.name, &project.runtime, None, &Provenance::default()).unwrap();
     let tables = scratch.path().join("tables.rs");
     std::fs::write(&tables, text).unwrap();
     build_qemu_image(&tables, &scratch.path().join("firmware.elf")).unwrap_or_else(|e| panic!("{e}"))

@@ -267,7 +267,7 @@ fn the_program_and_the_firmware_runtime_agree_step_by_step() {
             .collect();
         let tables = HostTables::new(packed).unwrap();
         let sup = tables.set();
-        let checked = CheckedSet::<1, 10, false, 3>::new(&sup).unwrap();
+        let checked = CheckedSet::<1, 10, false, 3, false>::new(&sup).unwrap();
         for encoding in ENCODINGS {
             for policy in [ScanPolicy::First, ScanPolicy::GlobalQueue, ScanPolicy::LocalQueue] {
                 let opts = PlcOptions { encoding, policy, ..base.clone() };

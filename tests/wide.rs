@@ -60,10 +60,10 @@ fn wide_fields_and_word_masks_run_as_the_checked_readers_step() {
     assert_eq!(packed.mask_width(), 4);
     let host = HostTables::<1>::new(packed).unwrap();
     let tables = host.set();
-    assert_eq!(CheckedSet::<1, 2, false, 4>::new(&tables).err(), Some(TableError::Shape));
-    let checked = CheckedSet::<1, 2, true, 4>::new(&tables).unwrap();
+    assert_eq!(CheckedSet::<1, 2, false, 4, false>::new(&tables).err(), Some(TableError::Shape));
+    let checked = CheckedSet::<1, 2, true, 4, false>::new(&tables).unwrap();
     let config = Config { guard: false, on_fault: FaultPolicy::Continue, reseed_every: 0 };
-    let mut rt: Runtime<'_, First, SeedEntropy, 1, 2, true, 4> =
+    let mut rt: Runtime<'_, First, SeedEntropy, 1, 2, true, 4, false> =
         Runtime::new(checked, config, First, SeedEntropy::new(1));
     let event = |name: &str| -> u8 {
         let id = host.event_names().iter().position(|n| n == name).unwrap();

@@ -35,7 +35,7 @@ fn pack_json_carries_the_papers_columns_and_every_layout() {
     assert_eq!(paper["memory_safe"], 2347);
     let layouts = json["layouts"].as_array().unwrap();
     let names: Vec<_> = layouts.iter().map(|l| l["name"].as_str().unwrap()).collect();
-    assert_eq!(names, ["memory-safe", "offset", "ranked", "compact"]);
+    assert_eq!(names, ["memory-safe", "offset", "ranked", "indexed", "compact"]);
     // Blocks add up to the total with the side tables; ten automata listed.
     for l in layouts {
         let blocks: u64 =
@@ -45,7 +45,10 @@ fn pack_json_carries_the_papers_columns_and_every_layout() {
         assert_eq!(blocks + side, l["bytes"].as_u64().unwrap());
         assert_eq!(l["per_automaton"].as_array().unwrap().len(), 10);
     }
-    assert!(layouts[3]["supervisor_bytes"].as_u64().unwrap() <= 2347 / 2);
+    assert!(layouts[4]["supervisor_bytes"].as_u64().unwrap() <= 2347 / 2);
+    // The Cortex-M0+'s layout: a target per event of the alphabet, word masks, a place per event and
+    // automaton.
+    assert_eq!(layouts[3]["blocks"], 4225);
     // The runtime's layout: under two thirds of the offset layout's bytes, all included.
     assert_eq!(layouts[2]["blocks"], 1028);
     assert!(layouts[2]["bytes"].as_u64().unwrap() * 3 < layouts[1]["bytes"].as_u64().unwrap() * 2);

@@ -86,9 +86,10 @@ impl EventLoop {
         const N: usize,
         const WIDE: bool,
         const MASK: usize,
+        const INDEXED: bool,
     >(
         &mut self,
-        rt: &mut Runtime<'_, P, E, W, N, WIDE, MASK>,
+        rt: &mut Runtime<'_, P, E, W, N, WIDE, MASK, INDEXED>,
         rx: &mut InputConsumer<'_>,
         hold: &Hold,
         port: &mut impl Port,

@@ -35,16 +35,19 @@
 //!     automata: &[Automaton { alphabet: [0b11], start: 0, scale: 1 }],
 //!     block: &[0, 2, 1, 0],
 //!     wide: false,
-//!     masks: &[0b01, 0b10, 0, 0, 0],
+//!     // Masks {start} and {done}, a byte each, packed into words, and padding to read a word.
+//!     masks: &[0x0201, 0],
 //!     mask_bytes: 1,
+//!     indexed: false,
+//!     places: &[],
 //!     holders: &[1, 1],
 //!     plant_events: &[[0b01]],
 //!     sites: &[],
 //! };
 //! let config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 0 };
 //! // Checked at compile time: a set the runtime cannot run does not build. One event word, one
-//! // automaton, 1-byte fields, 1-byte masks.
-//! static CHECKED: CheckedSet<'static, 1, 1, false, 1> = match CheckedSet::new(&SET) {
+//! // automaton, 1-byte fields, 1-byte masks, `ranked` layout.
+//! static CHECKED: CheckedSet<'static, 1, 1, false, 1, false> = match CheckedSet::new(&SET) {
 //!     Ok(set) => set,
 //!     Err(_) => panic!("the tables fail the runtime's check"),
 //! };
@@ -132,8 +135,18 @@ pub enum Decision {
 }
 
 /// The runtime over a set of `N` automata and events in `W`-word bitsets, with the field and mask
-/// widths `WIDE` and `MASK` ([`CheckedSet`]), choosing with policy `P` and drawing entropy from `E`.
-pub struct Runtime<'t, P, E, const W: usize, const N: usize, const WIDE: bool, const MASK: usize> {
+/// widths `WIDE` and `MASK` and the layout `INDEXED` ([`CheckedSet`]), choosing with policy `P` and
+/// drawing entropy from `E`.
+pub struct Runtime<
+    't,
+    P,
+    E,
+    const W: usize,
+    const N: usize,
+    const WIDE: bool,
+    const MASK: usize,
+    const INDEXED: bool,
+> {
     set: &'t SupervisorSet<'t, W>,
     /// Where every automaton is: the byte offset of its current state's record in the block.
     records: [u16; N],
@@ -149,12 +162,25 @@ pub struct Runtime<'t, P, E, const W: usize, const N: usize, const WIDE: bool, c
     rng: Rng<E>,
 }
 
-impl<'t, P: Choose<W>, E: Entropy, const W: usize, const N: usize, const WIDE: bool, const MASK: usize>
-    Runtime<'t, P, E, W, N, WIDE, MASK>
+impl<
+        't,
+        P: Choose<W>,
+        E: Entropy,
+        const W: usize,
+        const N: usize,
+        const WIDE: bool,
+        const MASK: usize,
+        const INDEXED: bool,
+    > Runtime<'t, P, E, W, N, WIDE, MASK, INDEXED>
 {
     /// A runtime in the initial states of `set`.
     #[inline(never)]
-    pub fn new(set: CheckedSet<'t, W, N, WIDE, MASK>, config: Config, policy: P, entropy: E) -> Self {
+    pub fn new(
+        set: CheckedSet<'t, W, N, WIDE, MASK, INDEXED>,
+        config: Config,
+        policy: P,
+        entropy: E,
+    ) -> Self {
         let mut rt = Self {
             set: set.set(),
             records: [0; N],
@@ -241,7 +267,7 @@ impl<'t, P: Choose<W>, E: Entropy, const W: usize, const N: usize, const WIDE: b
             return Decision::Idle;
         };
         // `c` is enabled: every holder allows it, none gets stuck.
-        take_until_stuck::<W, N, WIDE, MASK>(
+        take_until_stuck::<W, N, WIDE, MASK, INDEXED>(
             self.set,
             &mut self.records,
             &mut self.allowed,
@@ -327,12 +353,12 @@ impl<'t, P: Choose<W>, E: Entropy, const W: usize, const N: usize, const WIDE: b
     fn take(&mut self, event: u8, holders: u32) -> Option<u8> {
         let (set, records, allowed, event) =
             (self.set, &mut self.records, &mut self.allowed, Event::new(event));
-        let first = take_until_stuck::<W, N, WIDE, MASK>(set, records, allowed, event, holders)?;
+        let first = take_until_stuck::<W, N, WIDE, MASK, INDEXED>(set, records, allowed, event, holders)?;
         // Rare: an unexpected event. The holders after the stuck one still move.
         let mut stuck = first;
         loop {
             let rest = holders & (u32::MAX << stuck << 1);
-            match take_until_stuck::<W, N, WIDE, MASK>(set, records, allowed, event, rest) {
+            match take_until_stuck::<W, N, WIDE, MASK, INDEXED>(set, records, allowed, event, rest) {
                 Some(next) => stuck = next,
                 None => return Some(first),
             }
@@ -356,13 +382,22 @@ impl<'t, P: Choose<W>, E: Entropy, const W: usize, const N: usize, const WIDE: b
 /// Out of line and over the runtime's parts, so that the compiler knows the stores to `records` and
 /// `allowed` leave the set alone and keeps its fields in registers.
 #[inline(never)]
-fn take_until_stuck<const W: usize, const N: usize, const WIDE: bool, const MASK: usize>(
+fn take_until_stuck<
+    const W: usize,
+    const N: usize,
+    const WIDE: bool,
+    const MASK: usize,
+    const INDEXED: bool,
+>(
     set: &SupervisorSet<'_, W>,
     records: &mut [u16; N],
     allowed: &mut [[u32; W]; N],
     event: Event,
     mut holders: u32,
 ) -> Option<u8> {
+    // The event's places in the automata's alphabets (`indexed` layout): `N` bytes.
+    // SAFETY: an indexed set's check proved `N` places per event, and `event` is one.
+    let places = if INDEXED { unsafe { set.places.get_unchecked(event.index() * N..) } } else { &[] };
     while holders != 0 {
         let a = holders.trailing_zeros() as usize;
         holders &= holders - 1;
@@ -376,11 +411,13 @@ fn take_until_stuck<const W: usize, const N: usize, const WIDE: bool, const MASK
                 // At most MAX_AUTOMATA (32) automata: the index fits a byte.
                 return Some(a as u8);
             }
-            set.advance::<WIDE, MASK>(
+            let place = if INDEXED { usize::from(*places.get_unchecked(a)) } else { 0 };
+            set.advance::<WIDE, MASK, INDEXED>(
                 set.automata.get_unchecked(a),
                 records.get_unchecked_mut(a),
                 allowed,
                 event,
+                place,
             );
         }
     }

@@ -18,8 +18,12 @@ fn run<P: Choose<1>>(policy: P, seed: u64, steps: usize) -> Vec<usize> {
     let (set, spec) = livelock();
     let hs = handles(&spec);
     let number = |h: u16| hs.iter().position(|&o| o == h).unwrap() + 1;
-    let mut rt =
-        Runtime::new(CheckedSet::<1, 1, false, 1>::new(set).unwrap(), CONFIG, policy, SeedEntropy::new(seed));
+    let mut rt = Runtime::new(
+        CheckedSet::<1, 1, false, 1, false>::new(set).unwrap(),
+        CONFIG,
+        policy,
+        SeedEntropy::new(seed),
+    );
     let mut visited = vec![number(rt.states()[0])];
     for _ in 0..steps {
         match rt.decide(|| false) {

@@ -1,13 +1,14 @@
 //! The runtime against a brute-force reference on random small sets: the same states after every input,
 //! every fired event enabled by the definition (every automaton holding it can take it), idle exactly when
-//! nothing is enabled, the same counters — under every choice policy.
+//! nothing is enabled, the same counters — under every choice policy, in both record layouts.
 
 mod common;
 
 use std::cell::Cell;
 
 use common::Role;
-use common::{encode, handles, Spec};
+use common::{encode_in, handles_in, Spec};
+use firmware::build::Layout;
 use firmware::choice::{Choose, First, GlobalQueue, LocalQueue, Random, RandomGlobalQueue, RandomLocalQueue};
 use firmware::fault::FaultPolicy;
 use firmware::rng::SeedEntropy;
@@ -55,21 +56,33 @@ fn delta(spec: &Spec, state: usize, event: u8) -> Option<usize> {
     spec.transitions.iter().find(|t| t.0 == state && t.1 == event).map(|t| t.2)
 }
 
-fn check<P: Choose<1> + Default>(
+/// The layout of a runtime built for records `INDEXED` or not.
+fn layout<const INDEXED: bool>() -> Layout {
+    if INDEXED {
+        Layout::Indexed
+    } else {
+        Layout::Ranked
+    }
+}
+
+/// The runtime on `specs` in the layout `INDEXED` (masks of `MASK` bytes: 1 ranked, 4 indexed) against
+/// the definition, choosing with `P`.
+fn check<P: Choose<1> + Default, const MASK: usize, const INDEXED: bool>(
     specs: &[Spec],
     controllable: &[bool],
     ops: &[Op],
 ) -> Result<(), TestCaseError> {
-    let set = encode(&NAMES, controllable, specs);
+    let layout = layout::<INDEXED>();
+    let set = encode_in(layout, &NAMES, controllable, specs);
     let config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 5 };
     // N is fixed at 4 here: pad with automata that hold nothing.
     let mut rt = Runtime::new(
-        CheckedSet::<1, 4, false, 1>::new(set).unwrap(),
+        CheckedSet::<1, 4, false, MASK, INDEXED>::new(set).unwrap(),
         config,
         P::default(),
         SeedEntropy::new(9),
     );
-    let offs: Vec<Vec<u16>> = specs.iter().map(handles).collect();
+    let offs: Vec<Vec<u16>> = specs.iter().map(|s| handles_in(layout, s)).collect();
     let mut states = vec![0usize; specs.len()];
     let (mut events_in, mut unexpected, mut unknown) = (0, 0, 0);
     let enabled_ref = |states: &[usize]| -> Vec<u8> {
@@ -142,22 +155,38 @@ proptest! {
 
     #[test]
     fn runtime_agrees_with_the_definition_under_every_policy((specs, controllable) in sets(), ops in ops()) {
-        check::<First>(&specs, &controllable, &ops)?;
-        check::<Random>(&specs, &controllable, &ops)?;
-        check::<GlobalQueue>(&specs, &controllable, &ops)?;
-        check::<RandomGlobalQueue<1>>(&specs, &controllable, &ops)?;
-        check::<LocalQueue<8>>(&specs, &controllable, &ops)?;
-        check::<RandomLocalQueue<1, 8>>(&specs, &controllable, &ops)?;
+        check::<First, 1, false>(&specs, &controllable, &ops)?;
+        check::<Random, 1, false>(&specs, &controllable, &ops)?;
+        check::<GlobalQueue, 1, false>(&specs, &controllable, &ops)?;
+        check::<RandomGlobalQueue<1>, 1, false>(&specs, &controllable, &ops)?;
+        check::<LocalQueue<8>, 1, false>(&specs, &controllable, &ops)?;
+        check::<RandomLocalQueue<1, 8>, 1, false>(&specs, &controllable, &ops)?;
+    }
+
+    #[test]
+    fn indexed_runtime_agrees_with_the_definition_under_every_policy(
+        (specs, controllable) in sets(),
+        ops in ops(),
+    ) {
+        check::<First, 4, true>(&specs, &controllable, &ops)?;
+        check::<Random, 4, true>(&specs, &controllable, &ops)?;
+        check::<GlobalQueue, 4, true>(&specs, &controllable, &ops)?;
+        check::<RandomGlobalQueue<1>, 4, true>(&specs, &controllable, &ops)?;
+        check::<LocalQueue<8>, 4, true>(&specs, &controllable, &ops)?;
+        check::<RandomLocalQueue<1, 8>, 4, true>(&specs, &controllable, &ops)?;
     }
 }
 
 /// Runs `ops` on `set` under the default policy if the check accepts it (and says whether it did); with
 /// debug assertions every unchecked read of the runtime asserts its bounds, so a set that passed the
 /// check but is read out of bounds panics.
-fn exercise(set: &'static firmware::table::SupervisorSet<'static, 1>, ops: &[Op]) -> bool {
+fn exercise<const MASK: usize, const INDEXED: bool>(
+    set: &'static firmware::table::SupervisorSet<'static, 1>,
+    ops: &[Op],
+) -> bool {
     let config = Config { guard: false, on_fault: FaultPolicy::Continue, reseed_every: 3 };
     let policy = RandomLocalQueue::<1, 8>::default();
-    let Ok(set) = CheckedSet::<1, 4, false, 1>::new(set) else { return false };
+    let Ok(set) = CheckedSet::<1, 4, false, MASK, INDEXED>::new(set) else { return false };
     let mut rt = Runtime::new(set, config, policy, SeedEntropy::new(3));
     for op in ops {
         match *op {
@@ -177,6 +206,17 @@ fn exercise(set: &'static firmware::table::SupervisorSet<'static, 1>, ops: &[Op]
 /// make the property say nothing.
 #[test]
 fn corrupted_tables_are_refused_or_read_in_bounds() {
+    corrupted::<1, false>();
+}
+
+/// As [`corrupted_tables_are_refused_or_read_in_bounds`], in the `indexed` layout.
+#[test]
+fn corrupted_indexed_tables_are_refused_or_read_in_bounds() {
+    corrupted::<4, true>();
+}
+
+/// Corrupts tables in the layout `INDEXED` (masks of `MASK` bytes) and runs them.
+fn corrupted<const MASK: usize, const INDEXED: bool>() {
     let cases = common::cases(512);
     let (accepted, refused) = (Cell::new(0u32), Cell::new(0u32));
     let corruptions = (
@@ -192,25 +232,35 @@ fn corrupted_tables_are_refused_or_read_in_bounds() {
             1..3,
         ),
         proptest::option::weighted(0.2, (0usize..6, 0u32..4)),
-        proptest::option::weighted(0.2, (any::<proptest::sample::Index>(), 0u32..8)),
+        proptest::option::weighted(0.2, (any::<proptest::sample::Index>(), 0u32..32)),
+        // A place of the indexed layout set to any value.
+        proptest::option::weighted(0.2, (any::<proptest::sample::Index>(), any::<u8>())),
         // Or instead (half of the cases): a transition retargeted to another state of its automaton,
         // tables the check must accept.
         proptest::option::of(any::<[proptest::sample::Index; 4]>()),
         ops(),
     );
     let mut runner = proptest::test_runner::TestRunner::new(ProptestConfig::with_cases(cases));
-    let result =
-        runner.run(&corruptions, |((specs, controllable), flips, holder_flip, mask_flip, retarget, ops)| {
-            let good = encode(&NAMES, &controllable, &specs);
-            let (flips, holder_flip, mask_flip) =
-                if retarget.is_some() { (vec![], None, None) } else { (flips, holder_flip, mask_flip) };
+    let result = runner.run(
+        &corruptions,
+        |((specs, controllable), flips, holder_flip, mask_flip, place_flip, retarget, ops)| {
+            let good = encode_in(layout::<INDEXED>(), &NAMES, &controllable, &specs);
+            let (flips, holder_flip, mask_flip, place_flip) = if retarget.is_some() {
+                (vec![], None, None, None)
+            } else {
+                (flips, holder_flip, mask_flip, place_flip)
+            };
             let mut block = good.block.to_vec();
             if let Some([automaton, state, slot, to]) = retarget {
                 let i = automaton.index(specs.len());
                 let (spec, at) = (&specs[i], good.automata[i]);
-                let hs = handles(spec);
+                let hs = handles_in(layout::<INDEXED>(), spec);
                 let from = state.index(spec.states);
-                let targets = spec.transitions.iter().filter(|t| t.0 == from).count();
+                let targets = if INDEXED {
+                    spec.alphabet.len()
+                } else {
+                    spec.transitions.iter().filter(|t| t.0 == from).count()
+                };
                 if targets > 0 {
                     let byte = usize::from(at.start) + usize::from(hs[from]) * usize::from(at.scale) + 1;
                     block[byte + slot.index(targets)] = hs[to.index(spec.states)] as u8;
@@ -232,20 +282,30 @@ fn corrupted_tables_are_refused_or_read_in_bounds() {
                 let i = at.index(masks.len());
                 masks[i] ^= 1 << bit;
             }
+            let mut places = good.places.to_vec();
+            if let Some((at, value)) = place_flip.filter(|_| !places.is_empty()) {
+                let i = at.index(places.len());
+                places[i] = value;
+            }
             let set = Box::leak(Box::new(firmware::table::SupervisorSet {
                 block: Box::leak(block.into_boxed_slice()),
                 holders: Box::leak(holders.into_boxed_slice()),
                 masks: Box::leak(masks.into_boxed_slice()),
+                places: Box::leak(places.into_boxed_slice()),
                 ..*good
             }));
-            let changed = set.block != good.block || set.holders != good.holders || set.masks != good.masks;
-            let ran = exercise(set, &ops);
+            let changed = set.block != good.block
+                || set.holders != good.holders
+                || set.masks != good.masks
+                || set.places != good.places;
+            let ran = exercise::<MASK, INDEXED>(set, &ops);
             if changed {
                 let outcome = if ran { &accepted } else { &refused };
                 outcome.set(outcome.get() + 1);
             }
             Ok(())
-        });
+        },
+    );
     result.unwrap_or_else(|e| panic!("{e}"));
     let (accepted, refused) = (accepted.get(), refused.get());
     eprintln!("{accepted} corrupted sets accepted, {refused} refused (of {cases}, the rest unchanged)");

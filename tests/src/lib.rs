@@ -70,13 +70,14 @@ impl Port for Outbox {
 /// behind `link`: every chunk of bytes received is pushed into an input buffer of `Q - 1` slots before
 /// the loop runs (so a burst larger than the buffer overflows, which the runtime reports), then the loop
 /// serves until it is idle. The thread ends on EXIT (returning its status) or when the host hangs up.
-/// `W`, `N`, `WIDE` and `MASK` are the tables' shape ([`CheckedSet`]), `Q` the input buffer's slots.
+/// `W`, `N`, `WIDE`, `MASK` and `INDEXED` are the tables' shape ([`CheckedSet`]), `Q` the input buffer's slots.
 pub fn spawn_host_firmware<
     P,
     const W: usize,
     const N: usize,
     const WIDE: bool,
     const MASK: usize,
+    const INDEXED: bool,
     const Q: usize,
 >(
     tables: HostTables<W>,
@@ -90,8 +91,9 @@ where
 {
     std::thread::spawn(move || {
         let set = tables.set();
-        let checked = CheckedSet::<W, N, WIDE, MASK>::new(&set)
-            .unwrap_or_else(|e| panic!("tables do not fit W={W}, N={N}, WIDE={WIDE}, MASK={MASK}: {e:?}"));
+        let checked = CheckedSet::<W, N, WIDE, MASK, INDEXED>::new(&set).unwrap_or_else(|e| {
+            panic!("tables do not fit W={W}, N={N}, WIDE={WIDE}, MASK={MASK}, INDEXED={INDEXED}: {e:?}")
+        });
         let mut rt = Runtime::new(checked, config, policy, SeedEntropy::new(seed));
         let mut queue = InputQueue::<Q>::new();
         let (mut tx, mut rx) = queue.split();

@@ -151,6 +151,7 @@ mod tests {
             plants: 0,
             masks: vec![],
             wide: false,
+            indexed: false,
             automata: vec![],
         }
     }

@@ -9,21 +9,24 @@ use super::policy::{fault_value, ram_bytes, rust_type};
 use super::provenance::Provenance;
 use super::EmitError;
 use crate::config::{BoardSpec, ChoicePolicy, RuntimeConfig, SamplingSpec};
-use crate::pack::ranked::{Packed, NAME as LAYOUT};
+use crate::pack::ranked::{Packed, INDEXED_NAME as INDEXED, NAME as LAYOUT};
 
 /// Rust source for `firmware`'s applications (`include!`d inside a module): constants `NAME`,
-/// `EVENT_WORDS`, `AUTOMATA`, `SITES`, `INPUT_SLOTS`, `SEED`, `WIDE`, `MASK_BYTES`, `CONFIG`, the types
-/// `Policy` and `Runtime<P, E>` (the runtime built for these tables), a module `event` with one `u8`
-/// constant per event, the names `EVENT_NAMES` and `AUTOMATON_NAMES` (for logs; the tables hold none),
-/// the `ranked` tables (private statics: `BLOCK` with every automaton's records, `MASKS`,
-/// `DESCRIPTORS`, `HOLDERS`, `PLANT_EVENTS`, `CHOICE_SITES`) under
+/// `EVENT_WORDS`, `AUTOMATA`, `SITES`, `INPUT_SLOTS`, `SEED`, `WIDE`, `MASK_BYTES`, `INDEXED`, `CONFIG`,
+/// the types `Policy` and `Runtime<P, E>` (the runtime built for these tables), a module `event` with
+/// one `u8` constant per event, the names `EVENT_NAMES` and `AUTOMATON_NAMES` (for logs; the tables
+/// hold none), the `ranked` tables `packed` (private statics: `BLOCK` with every automaton's records,
+/// `MASKS`, `DESCRIPTORS`, `PLACES` (empty), `HOLDERS`, `PLANT_EVENTS`, `CHOICE_SITES`) under
 /// `pub static SET: firmware::table::SupervisorSet<'static, EVENT_WORDS>`, the same set checked at compile
-/// time as `pub static CHECKED: firmware::table::CheckedSet`, and the board tables `BOARD`,
-/// `INPUT_PINS`, `INPUT_PULLS`, `OUTPUT_PINS` (empty without a `[board]`).
+/// time as `pub static CHECKED: firmware::table::CheckedSet`, a module `m0plus` with the same constants,
+/// `Runtime`, `SET` and `CHECKED` for the Cortex-M0+ (the `indexed` tables `indexed` of the same set
+/// when it is `Ok`, else the `ranked` ones, with the reason it gives), and the board tables `BOARD`, `INPUT_PINS`, `INPUT_PULLS`,
+/// `OUTPUT_PINS` (empty without a `[board]`).
 /// `name` names the set, `runtime` is the run-time configuration the tables carry, `board` the pin map
 /// (without one the board tables are empty). Deterministic: the same arguments give the same bytes.
 pub fn emit(
     packed: &Packed,
+    indexed: Result<&Packed, String>,
     name: &str,
     runtime: &RuntimeConfig,
     board: Option<&BoardSpec>,
@@ -34,8 +37,9 @@ pub fn emit(
         return Err(EmitError::InputBuffer { capacity: runtime.input_buffer });
     }
     let mut out = String::new();
-    header(&mut out, packed, &side, name, runtime, provenance);
+    header(&mut out, packed, &indexed, &side, name, runtime, provenance);
     body(&mut out, packed, &side, name, runtime);
+    m0plus(&mut out, &indexed)?;
     let none = BoardSpec {
         name: String::from("none"),
         sampling: SamplingSpec::Interrupt,
@@ -59,6 +63,7 @@ fn side_tables(packed: &Packed) -> Result<SideTables, EmitError> {
 fn header(
     out: &mut String,
     packed: &Packed,
+    indexed: &Result<&Packed, String>,
     side: &SideTables,
     name: &str,
     runtime: &RuntimeConfig,
@@ -85,6 +90,16 @@ fn header(
         packed.mask_bytes(),
         packed.masks.len()
     );
+    let _ = match indexed {
+        Ok(m0) => writeln!(
+            out,
+            "// Cortex-M0+ tables (`m0plus`): layout {INDEXED}, {} bytes of blocks + {} bytes of masks + {} bytes of places.",
+            m0.automata.iter().map(|b| b.block.len()).sum::<usize>(),
+            m0.mask_bytes(),
+            m0.places().len()
+        ),
+        Err(e) => writeln!(out, "// Cortex-M0+ tables (`m0plus`): layout {LAYOUT} ({e})."),
+    };
     for line in provenance.lines() {
         let _ = writeln!(out, "// {line}");
     }
@@ -134,16 +149,6 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, name: &str, runtim
         let ty = if name == "SEED" { "u64" } else { "usize" };
         let _ = writeln!(out, "/// {doc}\npub const {name}: {ty} = {value};");
     }
-    let _ = writeln!(out, "/// Mask ids and state handles take 2 bytes in the records.");
-    let _ = writeln!(out, "pub const WIDE: bool = {};", packed.wide);
-    let _ = writeln!(out, "/// Bytes of one mask in the pool.");
-    let _ = writeln!(out, "pub const MASK_BYTES: usize = {};", packed.mask_width());
-    let _ =
-        writeln!(out, "/// The runtime over these tables, choosing with `P` and drawing entropy from `E`.");
-    let _ = writeln!(
-        out,
-        "pub type Runtime<P, E> = firmware::runtime::Runtime<'static, P, E, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES>;"
-    );
     let _ = writeln!(out, "/// The choice policy ({}).", runtime.policy);
     let _ = writeln!(out, "pub type Policy = {};", rust_type(runtime.policy));
     let _ = writeln!(out, "/// Run-time configuration.");
@@ -163,10 +168,72 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, name: &str, runtim
     let _ =
         writeln!(out, "pub static AUTOMATON_NAMES: [&str; {}] = [{}];", automata.len(), automata.join(", "));
     let _ = writeln!(out);
+    let width = firmware::table::holder_bytes(packed.automata.len());
+    let _ = writeln!(
+        out,
+        "/// Per event, {width} byte(s) little-endian: bit `a` set when automaton `a` holds it."
+    );
+    let holders: Vec<String> = side.holders.iter().map(|x| format!("0x{x:02x}")).collect();
+    let _ = writeln!(out, "static HOLDERS: [u8; {}] = [{}];", holders.len(), holders.join(", "));
+    let plant_events: Vec<String> = side.plant_events.iter().map(|m| format!("[{}]", hex_words(m))).collect();
+    let _ = writeln!(out, "/// Per plant: the controllable events it generates.");
+    let _ = writeln!(
+        out,
+        "static PLANT_EVENTS: [[u32; EVENT_WORDS]; {}] = [{}];",
+        plant_events.len(),
+        plant_events.join(", ")
+    );
+    let _ = writeln!(out);
+    let _ = writeln!(out, "// The tables of cores with unaligned loads (the QEMU board's Cortex-M3).");
+    tables(out, packed, side);
+}
+
+/// The module `m0plus`: the tables the Cortex-M0+ runs — `m0plus`, the set in the `indexed` layout,
+/// or, when there is none, the top level's `ranked` tables with the reason.
+fn m0plus(out: &mut String, m0plus: &Result<&Packed, String>) -> Result<(), EmitError> {
+    let _ = writeln!(out);
+    let _ = writeln!(out, "/// The tables the Cortex-M0+ runs (the Pico's firmware).");
+    let _ = writeln!(out, "pub mod m0plus {{");
+    match m0plus {
+        Ok(packed) => {
+            let side = side_tables(packed)?;
+            let mut inner = String::new();
+            let _ = writeln!(inner, "use super::{{AUTOMATA, EVENT_WORDS, HOLDERS, PLANT_EVENTS}};");
+            let _ = writeln!(inner);
+            tables(&mut inner, packed, &side);
+            for line in inner.lines() {
+                let _ = if line.is_empty() { writeln!(out) } else { writeln!(out, "    {line}") };
+            }
+        }
+        Err(e) => {
+            let _ = writeln!(out, "    // The `{LAYOUT}` tables: {e}.");
+            let _ = writeln!(out, "    pub use super::{{Runtime, CHECKED, INDEXED, MASK_BYTES, SET, WIDE}};");
+        }
+    }
+    let _ = writeln!(out, "}}");
+    Ok(())
+}
+
+/// The layout's constants, `Runtime` type and tables (`BLOCK`, `MASKS`, `DESCRIPTORS`, `PLACES`,
+/// `CHOICE_SITES`, `SET`, `CHECKED`) of `packed`, over the shared `HOLDERS` and `PLANT_EVENTS`.
+fn tables(out: &mut String, packed: &Packed, side: &SideTables) {
+    let layout = if packed.indexed { INDEXED } else { LAYOUT };
+    let _ = writeln!(out, "/// Mask ids and state handles take 2 bytes in the records.");
+    let _ = writeln!(out, "pub const WIDE: bool = {};", packed.wide);
+    let _ = writeln!(out, "/// Bytes of one mask in the pool.");
+    let _ = writeln!(out, "pub const MASK_BYTES: usize = {};", packed.mask_width());
+    let _ = writeln!(out, "/// The records hold a target per event of the alphabet (`{INDEXED}` layout).");
+    let _ = writeln!(out, "pub const INDEXED: bool = {};", packed.indexed);
+    let _ =
+        writeln!(out, "/// The runtime over these tables, choosing with `P` and drawing entropy from `E`.");
+    let _ = writeln!(
+        out,
+        "pub type Runtime<P, E> =\n    firmware::runtime::Runtime<'static, P, E, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES, INDEXED>;"
+    );
     let total: usize = packed.automata.iter().map(|b| b.block.len()).sum();
     let _ = writeln!(
         out,
-        "/// The records of every automaton (`{LAYOUT}` layout), back to back in set order; {}-byte mask ids \
+        "/// The records of every automaton (`{layout}` layout), back to back in set order; {}-byte mask ids \
          and handles.",
         packed.field_bytes()
     );
@@ -183,12 +250,12 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, name: &str, runtim
     let pool = packed.mask_pool();
     let _ = writeln!(
         out,
-        "/// The pool of distinct out-masks the records name by id, {mask_width} byte(s) each, then padding."
+        "/// The pool of distinct out-masks the records name by id, {mask_width} byte(s) each, then padding, \
+         packed little-endian into words."
     );
-    let _ = writeln!(out, "static MASKS: [u8; {}] = [", pool.len());
-    for row in pool.chunks(4 * mask_width.min(4)) {
-        let bytes: Vec<String> = row.iter().map(|x| format!("0x{x:02x}")).collect();
-        let _ = writeln!(out, "    {},", bytes.join(", "));
+    let _ = writeln!(out, "static MASKS: [u32; {}] = [", pool.len());
+    for row in pool.chunks(4) {
+        let _ = writeln!(out, "    {},", hex_words(row));
     }
     let _ = writeln!(out, "];");
     let _ = writeln!(out);
@@ -207,21 +274,17 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, name: &str, runtim
         let _ = writeln!(out, "    }},");
     }
     let _ = writeln!(out, "];");
-    let width = firmware::table::holder_bytes(packed.automata.len());
+    let places = packed.places();
     let _ = writeln!(
         out,
-        "/// Per event, {width} byte(s) little-endian: bit `a` set when automaton `a` holds it."
+        "/// Per event, per automaton: the event's place in the automaton's alphabet (`{INDEXED}` layout)."
     );
-    let holders: Vec<String> = side.holders.iter().map(|x| format!("0x{x:02x}")).collect();
-    let _ = writeln!(out, "static HOLDERS: [u8; {}] = [{}];", holders.len(), holders.join(", "));
-    let plant_events: Vec<String> = side.plant_events.iter().map(|m| format!("[{}]", hex_words(m))).collect();
-    let _ = writeln!(out, "/// Per plant: the controllable events it generates.");
-    let _ = writeln!(
-        out,
-        "static PLANT_EVENTS: [[u32; EVENT_WORDS]; {}] = [{}];",
-        plant_events.len(),
-        plant_events.join(", ")
-    );
+    let _ = writeln!(out, "static PLACES: [u8; {}] = [", places.len());
+    for row in places.chunks(packed.automata.len().max(1)) {
+        let bytes: Vec<String> = row.iter().map(u8::to_string).collect();
+        let _ = writeln!(out, "    {},", bytes.join(", "));
+    }
+    let _ = writeln!(out, "];");
     let sites: Vec<String> = side.sites.iter().map(u16::to_string).collect();
     let _ = writeln!(out, "/// The choice sites, as the offsets of their records in `BLOCK`.");
     let _ = writeln!(out, "static CHOICE_SITES: [u16; {}] = [{}];", sites.len(), sites.join(", "));
@@ -238,6 +301,8 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, name: &str, runtim
     let _ = writeln!(out, "    wide: WIDE,");
     let _ = writeln!(out, "    masks: &MASKS,");
     let _ = writeln!(out, "    mask_bytes: MASK_BYTES as u8,");
+    let _ = writeln!(out, "    indexed: INDEXED,");
+    let _ = writeln!(out, "    places: &PLACES,");
     let _ = writeln!(out, "    holders: &HOLDERS,");
     let _ = writeln!(out, "    plant_events: &PLANT_EVENTS,");
     let _ = writeln!(out, "    sites: &CHOICE_SITES,");
@@ -248,12 +313,12 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, name: &str, runtim
     );
     let _ = writeln!(
         out,
-        "pub static CHECKED: firmware::table::CheckedSet<'static, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES> = \
+        "pub static CHECKED: firmware::table::CheckedSet<'static, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES, INDEXED> =\n    \
          match firmware::table::CheckedSet::new(&SET) {{"
     );
-    let _ = writeln!(out, "    Ok(set) => set,");
-    let _ = writeln!(out, "    Err(_) => panic!(\"the tables fail the runtime's check\"),");
-    let _ = writeln!(out, "}};");
+    let _ = writeln!(out, "        Ok(set) => set,");
+    let _ = writeln!(out, "        Err(_) => panic!(\"the tables fail the runtime's check\"),");
+    let _ = writeln!(out, "    }};");
 }
 
 fn hex_words(words: &[u32]) -> String {

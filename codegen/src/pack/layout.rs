@@ -11,13 +11,17 @@ pub enum Layout {
     Offset,
     /// Out-mask pool and rank-addressed targets, the runtime's table ([`ranked`]).
     Ranked,
+    /// Targets addressed by the event's place in the alphabet and masks of whole words, the runtime's
+    /// table on the Cortex-M0+ ([`ranked`]).
+    Indexed,
     /// Bit-packed over local alphabets ([`compact`]).
     Compact,
 }
 
 impl Layout {
     /// Every layout, in report order.
-    pub const ALL: [Layout; 4] = [Layout::MemorySafe, Layout::Offset, Layout::Ranked, Layout::Compact];
+    pub const ALL: [Layout; 5] =
+        [Layout::MemorySafe, Layout::Offset, Layout::Ranked, Layout::Indexed, Layout::Compact];
 
     /// The name `--layout` takes.
     pub fn name(self) -> &'static str {
@@ -25,6 +29,7 @@ impl Layout {
             Layout::MemorySafe => memory_safe::NAME,
             Layout::Offset => offset::NAME,
             Layout::Ranked => ranked::NAME,
+            Layout::Indexed => ranked::INDEXED_NAME,
             Layout::Compact => compact::NAME,
         }
     }
@@ -40,6 +45,7 @@ impl Layout {
             Layout::MemorySafe => memory_safe::encode(set)?.size(),
             Layout::Offset => offset::encode(set)?.size(),
             Layout::Ranked => ranked::encode(set)?.size(),
+            Layout::Indexed => ranked::encode_indexed(set)?.size(),
             Layout::Compact => compact::encode(set)?.size(),
         })
     }

@@ -1,12 +1,13 @@
-//! This module is the home of the `ranked` layout in the size report: the tables the firmware runs,
-//! laid out as `firmware::table` describes and encoded by `firmware::build` (one encoder, shared with
-//! the firmware's own tests). Here a [`PackSet`] goes in, and the tables are decoded back to automata
+//! This module is the home of the `ranked` layout and of its `indexed` variant in the size report: the
+//! tables the firmware runs (`ranked` on the Cortex-M3, `indexed` on the Cortex-M0+), laid out as
+//! `firmware::table` describes and encoded by `firmware::build` (one encoder, shared with the
+//! firmware's own tests). Here a [`PackSet`] goes in, and the tables are decoded back to automata
 //! (the encoder's test oracle) and measured.
 //!
 //! Its limits are the layout's (`firmware::table`); a set beyond one is refused with the number and the
 //! limit ([`PackError::Ranked`]).
 
-use firmware::build::{bitset, Source, SourceAutomaton};
+use firmware::build::{bitset, Layout, Source, SourceAutomaton};
 
 use super::{decoded::Recovered, DecodeError, Measure, PackError, PackSet, Role, Size};
 use crate::model::Automaton;
@@ -15,14 +16,16 @@ pub use firmware::build::{Block, Packed, Record, DESCRIPTOR_BYTES};
 
 /// Layout name, as given to `--layout`.
 pub const NAME: &str = "ranked";
+/// The `indexed` variant's name, as given to `--layout`.
+pub const INDEXED_NAME: &str = "indexed";
 
 impl Measure for Packed {
     /// Bytes per automaton (padding included) and of each side table, bitsets in whole u32 words as the
     /// runtime holds them.
     fn size(&self) -> Size {
         let n = self.automata.len();
-        Size {
-            layout: NAME,
+        let mut size = Size {
+            layout: if self.indexed { INDEXED_NAME } else { NAME },
             per_automaton: self.automata.iter().map(|b| (b.name.clone(), b.block.len())).collect(),
             side_tables: vec![
                 ("mask pool", self.mask_bytes()),
@@ -30,7 +33,11 @@ impl Measure for Packed {
                 ("alphabets", self.automata.iter().map(|b| 4 * b.alphabet.len()).sum()),
                 ("controllability", 4 * self.controllable.len()),
             ],
+        };
+        if self.indexed {
+            size.side_tables.push(("places", self.places().len()));
         }
+        size
     }
 }
 
@@ -59,6 +66,11 @@ fn source(set: &PackSet) -> Source {
 /// Packs `set` in the `ranked` layout, or says which limit it breaks.
 pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
     Ok(firmware::build::encode(&source(set))?)
+}
+
+/// Packs `set` in the `indexed` layout, or says which limit it breaks.
+pub fn encode_indexed(set: &PackSet) -> Result<Packed, PackError> {
+    Ok(firmware::build::encode_as(&source(set), Layout::Indexed)?)
 }
 
 /// Reads `packed` back into automata (plants first), checking every mask id, target, handle, length
@@ -150,6 +162,7 @@ mod tests {
             })
             .collect();
         let block: Vec<u8> = packed.automata.iter().flat_map(|b| b.block.iter().copied()).collect();
+        let places = packed.places();
         let plants = packed.plants;
         let width = firmware::table::holder_bytes(automata.len());
         f(&SupervisorSet {
@@ -160,6 +173,8 @@ mod tests {
             wide: packed.wide,
             masks: &masks,
             mask_bytes: packed.mask_width() as u8,
+            indexed: packed.indexed,
+            places: &places,
             holders: &vec![0; width * packed.event_names.len()],
             plant_events: &vec![[0]; plants],
             sites: &[],
@@ -217,8 +232,15 @@ mod tests {
         assert_round_trip(&set, &decode(&packed).unwrap());
         let size = packed.size();
         assert_eq!(size.blocks(), 8);
-        // Two 1-byte masks and 3 bytes of padding to read a whole word.
-        assert_eq!(size.side(), (2 + 3) + 2 * DESCRIPTOR_BYTES + 2 * 4 + 4);
+        // Two 1-byte masks and 3 bytes of padding to read a whole word, in whole words.
+        assert_eq!(size.side(), 8 + 2 * DESCRIPTOR_BYTES + 2 * 4 + 4);
+        // Indexed: a target per event of the alphabet (2 of them), word masks, a place per event and
+        // automaton.
+        let indexed = encode_indexed(&set).unwrap();
+        assert_eq!(indexed.automata[1].block, [0, 3, 0, 1, 0, 0]);
+        assert_eq!((indexed.mask_pool(), indexed.places()), (vec![0b01, 0b10], vec![0, 0, 1, 1]));
+        assert_round_trip(&set, &decode(&indexed).unwrap());
+        assert_eq!(indexed.size().layout, INDEXED_NAME);
     }
 
     /// A ring of `n` states over one event: records of 2 bytes (1-byte handles) or 3 (2-byte).
@@ -285,7 +307,7 @@ mod tests {
         lone.initial = Some(q);
         let set = PackSet::new(vec![lone], vec![]).unwrap();
         let packed = encode(&set).unwrap();
-        assert_eq!(packed.mask_pool(), [0, 0, 0, 0]);
+        assert_eq!(packed.mask_pool(), [0]);
         assert_runtime_steps(&set, &packed);
     }
 
@@ -444,6 +466,18 @@ mod tests {
                 for a in automata {
                     proptest::prop_assert_eq!(a.validate(), Ok(()));
                 }
+            }
+        }
+        #[test]
+        fn random_sets_round_trip_and_run_indexed(set in arb_set(60)) {
+            let packed = encode_indexed(&set).unwrap();
+            assert_round_trip(&set, &decode(&packed).unwrap());
+            assert_runtime_steps(&set, &packed);
+            proptest::prop_assert_eq!(packed.mask_width(), 4);
+            for (a, (m, b)) in set.members().iter().zip(&packed.automata).enumerate() {
+                // A record per state, a target per event of the alphabet, and padding.
+                let records = m.state_count() * (1 + m.alphabet().len()) * packed.field_bytes();
+                proptest::prop_assert_eq!(b.block.len(), records + packed.padding(a).unwrap());
             }
         }
         #[test]

@@ -252,11 +252,18 @@ impl Project {
         ranked::encode(&self.set)
     }
 
+    /// The set in the `indexed` layout the Cortex-M0+ runs, or why it does not fit.
+    pub fn m0plus_tables(&self) -> Result<Packed, PackError> {
+        ranked::encode_indexed(&self.set)
+    }
+
     /// The emitted-source stage: the Rust tables the firmware includes (`SCT_TABLES`), under a header
     /// naming every input with its hash and the command that reproduces them.
     pub fn emit(&self) -> Result<String, EmitError> {
         let provenance = Provenance { inputs: self.inputs.clone(), command: self.command() };
-        emit::emit(&self.tables()?, &self.name, &self.runtime, self.board.as_ref(), &provenance)
+        let indexed = self.m0plus_tables();
+        let indexed = indexed.as_ref().map_err(|e| format!("the indexed layout does not fit: {e}"));
+        emit::emit(&self.tables()?, indexed, &self.name, &self.runtime, self.board.as_ref(), &provenance)
     }
 
     /// The PLC stage: the Structured Text and PLCopen XML program of the set with its report, under the

@@ -48,8 +48,8 @@ type InPin = Pin<DynPinId, FunctionSioInput, DynPullType>;
 type OutPin = Pin<DynPinId, FunctionSioOutput, DynPullType>;
 type Outs = Outputs<OutPin, { tables::OUTPUT_PINS.len() }>;
 
-/// The runtime over the emitted tables.
-type Rt = tables::Runtime<tables::Policy, Rosc>;
+/// The runtime on the tables made for the Cortex-M0+ (`indexed` layout: no rank, aligned mask loads).
+type Rt = tables::m0plus::Runtime<tables::Policy, Rosc>;
 
 /// Entropy from the ring oscillator's random bit and the timer's low microseconds (jitter). The bits are
 /// gathered one per idle turn of the loop ([`Rosc::sample`]), spaced out in time: RANDOMBIT is the
@@ -210,14 +210,15 @@ mod app {
         alarm.enable_interrupt();
 
         let (producer, consumer) = cx.local.queue.split();
-        // The tables were checked when they were compiled (`tables::CHECKED`).
-        let runtime = Rt::new(tables::CHECKED, tables::CONFIG, tables::Policy::default(), Rosc::new());
+        // The tables were checked when they were compiled (`tables::m0plus::CHECKED`).
+        let runtime =
+            Rt::new(tables::m0plus::CHECKED, tables::CONFIG, tables::Policy::default(), Rosc::new());
         let levels = sample(&mut inputs);
         defmt::info!(
             "{=str} on {=str}: {=usize} automata, {=usize} inputs, {=usize} outputs",
             tables::NAME,
             tables::BOARD.name,
-            tables::SET.automata.len(),
+            tables::m0plus::SET.automata.len(),
             tables::BOARD.inputs.len(),
             tables::BOARD.outputs.len()
         );

@@ -1,4 +1,4 @@
-//! This module is the home of [`HostTables`]: a `ranked` set owned on the host, from which the runtime
+//! This module is the home of [`HostTables`]: a set owned on the host, from which the runtime
 //! borrows a [`SupervisorSet`] — how `codegen`'s virtual plant and the host tests run the very runtime
 //! that ships.
 
@@ -7,7 +7,7 @@ use alloc::vec::Vec;
 use super::{BuildError, Packed, SideTables};
 use crate::table::{Automaton, SupervisorSet};
 
-/// A `ranked` set with its side tables, owned in the runtime's representation for event bitsets of `W`
+/// A set (`ranked` or `indexed` layout) with its side tables, owned in the runtime's representation for event bitsets of `W`
 /// words; [`HostTables::set`] lends the runtime its view.
 ///
 /// `W` must be the set's word count (⌈events / 32⌉), as `EVENT_WORDS` of the emitted file; the
@@ -31,13 +31,14 @@ use crate::table::{Automaton, SupervisorSet};
 /// ```
 #[derive(Clone, Debug)]
 pub struct HostTables<const W: usize> {
-    /// The `ranked` tables.
+    /// The tables.
     pub packed: Packed,
     /// Their side tables.
     pub side: SideTables,
     automata: Vec<Automaton<W>>,
     block: Vec<u8>,
-    masks: Vec<u8>,
+    masks: Vec<u32>,
+    places: Vec<u8>,
     plant_events: Vec<[u32; W]>,
     controllable: [u32; W],
 }
@@ -62,7 +63,8 @@ impl<const W: usize> HostTables<W> {
             .collect::<Result<_, BuildError>>()?;
         let block = packed.automata.iter().flat_map(|b| b.block.iter().copied()).collect();
         let masks = packed.mask_pool();
-        Ok(HostTables { packed, side, automata, block, masks, plant_events, controllable })
+        let places = packed.places();
+        Ok(HostTables { packed, side, automata, block, masks, places, plant_events, controllable })
     }
 
     /// Event names by global id (not part of the runtime's tables).
@@ -81,6 +83,8 @@ impl<const W: usize> HostTables<W> {
             masks: &self.masks,
             // At most 256 events: 32 bytes.
             mask_bytes: self.packed.mask_width() as u8,
+            indexed: self.packed.indexed,
+            places: &self.places,
             holders: &self.side.holders,
             plant_events: &self.plant_events,
             sites: &self.side.sites,

@@ -27,7 +27,7 @@ mod side;
 pub use error::{BuildError, ReadError};
 pub use host::HostTables;
 pub use ranked::{
-    encode, extent, smallest_scale, Block, Packed, Record, Source, SourceAutomaton, DESCRIPTOR_BYTES,
-    MAX_SCALE, MAX_STATES, NARROW_HANDLE, NARROW_IDS, WIDE_HANDLE,
+    encode, encode_as, extent, smallest_scale, Block, Layout, Packed, Record, Source, SourceAutomaton,
+    DESCRIPTOR_BYTES, MAX_SCALE, MAX_STATES, NARROW_HANDLE, NARROW_IDS, WIDE_HANDLE,
 };
 pub use side::{unowned, SideTables};

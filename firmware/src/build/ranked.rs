@@ -1,10 +1,12 @@
-//! The encoder of the `ranked` layout ([`crate::table`] describes the layout): how a set is cut into
-//! records, which masks the pool holds, and which field width and scales are chosen.
+//! The encoder of the `ranked` layout and of its `indexed` variant ([`crate::table`] describes both):
+//! how a set is cut into records, which masks the pool holds, and which field width and scales are
+//! chosen.
 //!
 //! * The pool holds each distinct out-mask once, in first-appearance order: automata in set order, each
 //!   automaton's states in index order.
 //! * An automaton's records come in its block with the initial state's first (handle 0), then the
-//!   others in state-index order.
+//!   others in state-index order. In the `indexed` layout a record holds a target per event of the
+//!   alphabet, 0 for those that do not leave the state, and masks take whole words.
 //! * The field width is one for the whole set, so that the runtime is compiled for it: the encoder picks
 //!   the smaller blocks of two candidates (1-byte fields on a tie) — 1-byte fields, when every mask id is
 //!   below [`NARROW_IDS`] and every automaton has a scale in 1..=255 that puts every record start at a
@@ -69,7 +71,17 @@ pub struct SourceAutomaton {
     pub out: Vec<Vec<(usize, usize)>>,
 }
 
-/// A set in the `ranked` layout: what [`crate::table::SupervisorSet`] holds, with names.
+/// The two record layouts of [`crate::table`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Layout {
+    /// A target per event of the state's out-mask, masks of `⌈events / 8⌉` bytes: the smaller.
+    Ranked,
+    /// A target per event of the automaton's alphabet, masks of whole words: no rank and aligned mask
+    /// loads in a step, for cores without unaligned loads or a bit-scan instruction (Cortex-M0+).
+    Indexed,
+}
+
+/// A set in the `ranked` or `indexed` layout: what [`crate::table::SupervisorSet`] holds, with names.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Packed {
     /// Event names by global id.
@@ -82,6 +94,8 @@ pub struct Packed {
     pub masks: Vec<Vec<u32>>,
     /// Mask ids and target handles take 2 bytes (little-endian) instead of 1, in every block.
     pub wide: bool,
+    /// The records hold a target per event of the alphabet (`indexed` layout).
+    pub indexed: bool,
     /// Plants first, then supervisors.
     pub automata: Vec<Block>,
 }
@@ -131,15 +145,20 @@ impl Packed {
         }
     }
 
-    /// Bytes of one mask in the runtime's pool: enough for the events (at least one).
+    /// Bytes of one mask in the runtime's pool: enough for the events (at least one), whole words in
+    /// the `indexed` layout.
     pub fn mask_width(&self) -> usize {
-        self.event_names.len().div_ceil(8).max(1)
+        if self.indexed {
+            4 * self.words().max(1)
+        } else {
+            self.event_names.len().div_ceil(8).max(1)
+        }
     }
 
-    /// The runtime's mask pool: every mask in [`Packed::mask_width`] bytes, little-endian, then the
-    /// padding that lets the runtime read whole words from the last
-    /// ([`crate::table::SupervisorSet::masks`]).
-    pub fn mask_pool(&self) -> Vec<u8> {
+    /// The runtime's mask pool ([`crate::table::SupervisorSet::masks`]): every mask in
+    /// [`Packed::mask_width`] bytes, little-endian, then the padding that lets the runtime read whole
+    /// words from the last, packed little-endian into words.
+    pub fn mask_pool(&self) -> Vec<u32> {
         let width = self.mask_width();
         // A mask of a set without events has no words: its byte is 0.
         let mut pool: Vec<u8> = self
@@ -148,13 +167,30 @@ impl Packed {
             .flat_map(|m| m.iter().flat_map(|w| w.to_le_bytes()).chain(core::iter::repeat(0)).take(width))
             .collect();
         // A set without events still has one word per bitset in the runtime.
-        pool.resize(pool.len() + 4 * self.words().max(1) - width, 0);
-        pool
+        pool.resize((pool.len() + 4 * self.words().max(1) - width).next_multiple_of(4), 0);
+        pool.chunks_exact(4).map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]])).collect()
     }
 
     /// Bytes of the mask pool.
     pub fn mask_bytes(&self) -> usize {
-        self.mask_pool().len()
+        4 * self.mask_pool().len()
+    }
+
+    /// The runtime's place table ([`crate::table::SupervisorSet::places`]): per event, per automaton,
+    /// the event's place in the alphabet where the automaton holds it, else 0; empty in the `ranked`
+    /// layout.
+    pub fn places(&self) -> Vec<u8> {
+        if !self.indexed {
+            return Vec::new();
+        }
+        let alphabets: Vec<Vec<usize>> =
+            self.automata.iter().map(|b| bitset::ids(&b.alphabet).collect()).collect();
+        (0..self.event_names.len())
+            .flat_map(|e| {
+                // At most 256 events: a place fits a byte.
+                alphabets.iter().map(move |ids| ids.iter().position(|&x| x == e).map_or(0, |p| p as u8))
+            })
+            .collect()
     }
 
     /// Where each automaton's block starts when the blocks are put back to back in set order.
@@ -184,7 +220,9 @@ impl Packed {
     pub fn padding(&self, a: usize) -> Result<usize, ReadError> {
         let records = self.records(a)?;
         let t_bytes = self.field_bytes();
-        let used: usize = records.iter().map(|r| (1 + r.targets.len()) * t_bytes).sum();
+        let alphabet = self.automata.get(a).map_or(0, |b| bitset::ids(&b.alphabet).count());
+        let targets = |r: &Record| if self.indexed { alphabet } else { r.targets.len() };
+        let used: usize = records.iter().map(|r| (1 + targets(r)) * t_bytes).sum();
         Ok(self.automata.get(a).map_or(0, |b| b.block.len()).saturating_sub(used))
     }
 
@@ -208,16 +246,28 @@ impl Packed {
             })?;
             let id = read(bytes, at, id_bytes).ok_or_else(truncated)?;
             let mask = self.masks.get(id).ok_or(ReadError::BadMask { what: what(), at, id })?;
-            let n: usize = mask.iter().map(|w| w.count_ones() as usize).sum();
+            // The events with a target field: the mask's, or the alphabet's in the `indexed` layout.
+            let fields: Vec<usize> = bitset::ids(if self.indexed { &b.alphabet } else { mask }).collect();
             let first = at + id_bytes;
-            let end = first + n * t_bytes;
+            let end = first + fields.len() * t_bytes;
             if end > bytes.len() {
                 return Err(truncated());
             }
-            let targets = (0..n)
+            let mut targets = Vec::new();
+            for (r, &e) in fields.iter().enumerate() {
                 // Every read lies below `end` ≤ the block's length, and is at most 2 bytes.
-                .map(|r| read(bytes, first + r * t_bytes, t_bytes).map_or(0, |t| t as u16))
-                .collect();
+                let t = read(bytes, first + r * t_bytes, t_bytes).map_or(0, |t| t as u16);
+                if bitset::contains(mask, e) {
+                    targets.push(t);
+                } else if t != 0 {
+                    return Err(ReadError::Inconsistent {
+                        what: what(),
+                        detail: format!(
+                            "the target of event {e} at byte {at}, which does not leave the state, is not 0"
+                        ),
+                    });
+                }
+            }
             let r = out.len();
             // The initial state's record first, then the others by index.
             let state = match r {
@@ -295,9 +345,11 @@ struct Scales {
 }
 
 impl Scales {
-    /// The scales of automaton `a` whose states have the mask ids `ids`, its records in `order`.
-    fn of(a: &SourceAutomaton, ids: &[usize], order: &[usize]) -> Scales {
-        let lens = |t: usize| order.iter().map(|&s| t * (1 + a.out[s].len())).collect::<Vec<_>>();
+    /// The scales of automaton `a` whose states have the mask ids `ids`, its records in `order`, in
+    /// `layout`.
+    fn of(a: &SourceAutomaton, ids: &[usize], order: &[usize], alphabet: &[usize], layout: Layout) -> Scales {
+        let lens =
+            |t: usize| order.iter().map(|&s| t * (1 + targets(a, s, alphabet, layout))).collect::<Vec<_>>();
         let narrow_ids = ids.iter().all(|&id| id < NARROW_IDS);
         Scales {
             narrow: smallest_scale(&lens(1), NARROW_HANDLE).filter(|_| narrow_ids),
@@ -311,8 +363,22 @@ fn record_order(a: &SourceAutomaton) -> Vec<usize> {
     core::iter::once(a.initial).chain((0..a.out.len()).filter(|&s| s != a.initial)).collect()
 }
 
+/// Target fields of state `s`'s record in `layout`: one per out-event, or per event of `alphabet`
+/// (`a`'s, ascending).
+fn targets(a: &SourceAutomaton, s: usize, alphabet: &[usize], layout: Layout) -> usize {
+    match layout {
+        Layout::Ranked => a.out[s].len(),
+        Layout::Indexed => alphabet.len(),
+    }
+}
+
 /// Encodes `source` in the `ranked` layout, or says which limit it breaks.
 pub fn encode(source: &Source) -> Result<Packed, BuildError> {
+    encode_as(source, Layout::Ranked)
+}
+
+/// Encodes `source` in `layout`, or says which limit it breaks.
+pub fn encode_as(source: &Source, layout: Layout) -> Result<Packed, BuildError> {
     let events = source.event_names.len();
     if events > MAX_EVENTS {
         return Err(BuildError::TooManyEvents { events, limit: MAX_EVENTS });
@@ -346,12 +412,13 @@ pub fn encode(source: &Source) -> Result<Packed, BuildError> {
         return Err(BuildError::TooManyMasks { masks: masks.len(), limit: MAX_MASKS });
     }
     let orders: Vec<Vec<usize>> = source.automata.iter().map(record_order).collect();
-    let options: Vec<Scales> = source
+    let alphabets: Vec<Vec<usize>> = source
         .automata
         .iter()
-        .zip(&ids)
-        .zip(&orders)
-        .map(|((a, ids), order)| Scales::of(a, ids, order))
+        .map(|a| bitset::ids(&bitset::from_ids(a.alphabet.iter().copied(), events)).collect())
+        .collect();
+    let options: Vec<Scales> = (0..source.automata.len())
+        .map(|i| Scales::of(&source.automata[i], &ids[i], &orders[i], &alphabets[i], layout))
         .collect();
     let total = |of: fn(&Scales) -> Option<(u8, usize)>| {
         options.iter().map(|o| of(o).map(|(_, len)| len)).sum::<Option<usize>>()
@@ -365,8 +432,9 @@ pub fn encode(source: &Source) -> Result<Packed, BuildError> {
     let mut automata = Vec::with_capacity(source.automata.len());
     // Where the block starts when the blocks are put back to back.
     let mut start = 0usize;
-    for (((a, ids), option), order) in source.automata.iter().zip(&ids).zip(&options).zip(&orders) {
-        let lens: Vec<usize> = order.iter().map(|&s| width * (1 + a.out[s].len())).collect();
+    for (i, a) in source.automata.iter().enumerate() {
+        let (ids, option, order, alphabet) = (&ids[i], &options[i], &orders[i], &alphabets[i]);
+        let lens: Vec<usize> = order.iter().map(|&s| width * (1 + targets(a, s, alphabet, layout))).collect();
         let Some((scale, _)) = (if wide { option.wide } else { option.narrow }) else {
             return Err(BuildError::NoScale { automaton: a.name.clone(), bytes: lens.iter().sum() });
         };
@@ -383,8 +451,15 @@ pub fn encode(source: &Source) -> Result<Packed, BuildError> {
             block.resize(handles[s] * unit, 0);
             // Checked above: ids and handles within the chosen width.
             block.extend_from_slice(&(ids[s] as u16).to_le_bytes()[..width]);
-            for &(_, t) in &a.out[s] {
-                let h = handles[t] as u16;
+            let target = |t: usize| handles[t] as u16;
+            let fields: Vec<u16> = match layout {
+                Layout::Ranked => a.out[s].iter().map(|&(_, t)| target(t)).collect(),
+                Layout::Indexed => alphabet
+                    .iter()
+                    .map(|&e| a.out[s].iter().find(|&&(x, _)| x == e).map_or(0, |&(_, t)| target(t)))
+                    .collect(),
+            };
+            for h in fields {
                 block.extend_from_slice(&h.to_le_bytes()[..width]);
             }
         }
@@ -414,6 +489,7 @@ pub fn encode(source: &Source) -> Result<Packed, BuildError> {
         plants: source.plants,
         masks,
         wide,
+        indexed: layout == Layout::Indexed,
         automata,
     })
 }

@@ -5,21 +5,27 @@
 use super::{SupervisorSet, TableError, MAX_AUTOMATA, MAX_BLOCK, MAX_EVENTS, MAX_MASKS};
 
 /// A set that passed [`SupervisorSet::check`] for `N` automata, with 2-byte fields exactly when `WIDE`
-/// ([`SupervisorSet::wide`]) and masks of `MASK` bytes ([`SupervisorSet::mask_bytes`]): the only form
-/// the runtime takes. The emitted tables build theirs in a `static`, so the check runs in the compiler
+/// ([`SupervisorSet::wide`]), masks of `MASK` bytes ([`SupervisorSet::mask_bytes`]) and the `indexed`
+/// layout exactly when `INDEXED` ([`SupervisorSet::indexed`]): the only form the runtime takes. The emitted tables build theirs in a `static`, so the check runs in the compiler
 /// and a set that fails it does not build; host tools build theirs at run time. The widths are type
 /// parameters so that the runtime's steps are compiled for them.
 #[derive(Clone, Copy, Debug)]
-pub struct CheckedSet<'t, const W: usize, const N: usize, const WIDE: bool, const MASK: usize>(
-    &'t SupervisorSet<'t, W>,
-);
+pub struct CheckedSet<
+    't,
+    const W: usize,
+    const N: usize,
+    const WIDE: bool,
+    const MASK: usize,
+    const INDEXED: bool,
+>(&'t SupervisorSet<'t, W>);
 
-impl<'t, const W: usize, const N: usize, const WIDE: bool, const MASK: usize>
-    CheckedSet<'t, W, N, WIDE, MASK>
+impl<'t, const W: usize, const N: usize, const WIDE: bool, const MASK: usize, const INDEXED: bool>
+    CheckedSet<'t, W, N, WIDE, MASK, INDEXED>
 {
-    /// `set`, if it passes the check for `N` automata and has the widths `WIDE` and `MASK`.
+    /// `set`, if it passes the check for `N` automata and has the widths `WIDE` and `MASK` and the
+    /// layout `INDEXED`.
     pub const fn new(set: &'t SupervisorSet<'t, W>) -> Result<Self, TableError> {
-        if set.wide != WIDE || set.mask_bytes as usize != MASK {
+        if set.wide != WIDE || set.mask_bytes as usize != MASK || set.indexed != INDEXED {
             return Err(TableError::Shape);
         }
         match set.check(N) {
@@ -65,6 +71,17 @@ const fn beyond(events: usize, w: usize) -> u32 {
     }
 }
 
+/// The place of event `e` in `alphabet`: the number of its events below `e`.
+pub(super) const fn place<const W: usize>(alphabet: &[u32; W], e: usize) -> usize {
+    let mut n = 0;
+    let mut w = 0;
+    while w < e / 32 {
+        n += alphabet[w].count_ones() as usize;
+        w += 1;
+    }
+    n + (alphabet[e / 32] & ((1u32 << (e % 32)) - 1)).count_ones() as usize
+}
+
 /// Bytes of one event's holder mask in a set of `automata` automata: one bit per automaton, at least one
 /// byte.
 pub const fn holder_bytes(automata: usize) -> usize {
@@ -102,18 +119,25 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         self.holders.len() / self.holder_bytes()
     }
 
-    /// Number of masks in the pool, if its length is a whole number of masks of
-    /// [`SupervisorSet::mask_bytes`] and the padding that lets the runtime read `W` words of the last.
+    /// Number of masks the pool holds with the padding that lets the runtime read `W` words of the
+    /// last, if its mask width fits `W` words (and is a whole number of words in the `indexed` layout).
+    /// The pool is whole words, so up to 3 bytes of padding beyond may count as masks: masks the encoder
+    /// never names, read as safely as the others.
     pub const fn mask_count(&self) -> Option<usize> {
         let stride = self.mask_bytes as usize;
-        if stride == 0 || stride > 4 * W {
+        if stride == 0 || stride > 4 * W || (self.indexed && stride % 4 != 0) {
             return None;
         }
-        let pad = 4 * W - stride;
-        if self.masks.len() < pad || (self.masks.len() - pad) % stride != 0 {
-            return None;
+        let (bytes, pad) = (4 * self.masks.len(), 4 * W - stride);
+        if bytes < pad + stride {
+            return Some(0);
         }
-        Some((self.masks.len() - pad) / stride)
+        Some((bytes - pad) / stride)
+    }
+
+    /// Byte `i` of the mask pool (bytes are packed little-endian into its words).
+    pub(super) const fn pool_byte(&self, i: usize) -> u8 {
+        (self.masks[i / 4] >> (8 * (i % 4))) as u8
     }
 
     /// Mask `id` of the pool (its own bytes only), if the pool has it.
@@ -126,7 +150,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         let mut mask = [0u32; W];
         let mut i = 0;
         while i < stride {
-            mask[i / 4] |= (self.masks[id * stride + i] as u32) << (8 * (i % 4));
+            mask[i / 4] |= (self.pool_byte(id * stride + i) as u32) << (8 * (i % 4));
             i += 1;
         }
         Some(mask)
@@ -146,8 +170,8 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     }
 
     /// Checks everything the runtime's unchecked reads rely on, for a runtime of `automata` automata:
-    /// sizes, every holder holding the event in its alphabet, every automaton's records (see the module
-    /// documentation) and every choice site a plant's state.
+    /// sizes, every holder holding the event in its alphabet, the places, every automaton's records (see
+    /// the module documentation) and every choice site a plant's state.
     /// Linear in the size of the tables (times the handle count / 256 for automata of more than 256
     /// handle units).
     pub const fn check(&self, automata: usize) -> Result<(), TableError> {
@@ -196,6 +220,9 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
             }
             e += 1;
         }
+        if !self.places_sound(events) {
+            return Err(TableError::Events);
+        }
         let mut a = 0;
         while a < automata {
             if !self.part_sound(a) {
@@ -214,9 +241,35 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         Ok(())
     }
 
-    /// The record at byte `at`, if it ends by `end` and names a mask: mask id, target count and the byte
-    /// after it.
-    pub(super) const fn record_at(&self, at: usize, end: usize) -> Option<(usize, usize, usize)> {
+    /// Whether the place table fits the layout: empty in a `ranked` set; in an `indexed` one, per event
+    /// and automaton the event's place in the alphabet where the automaton holds it, 0 elsewhere.
+    const fn places_sound(&self, events: usize) -> bool {
+        let automata = self.automata.len();
+        if !self.indexed {
+            return self.places.is_empty();
+        }
+        if self.places.len() != events * automata {
+            return false;
+        }
+        let mut e = 0;
+        while e < events {
+            let mut a = 0;
+            while a < automata {
+                let alphabet = &self.automata[a].alphabet;
+                let want = if alphabet[e / 32] & (1 << (e % 32)) != 0 { place(alphabet, e) } else { 0 };
+                if self.places[e * automata + a] as usize != want {
+                    return false;
+                }
+                a += 1;
+            }
+            e += 1;
+        }
+        true
+    }
+
+    /// The record of automaton `a` at byte `at`, if it ends by `end` and names a mask: mask id, target
+    /// count (the mask's events, or the alphabet's in the `indexed` layout) and the byte after it.
+    pub(super) const fn record_at(&self, a: usize, at: usize, end: usize) -> Option<(usize, usize, usize)> {
         let id = match field(self.block, self.wide, at, 0) {
             Some(id) => id as usize,
             None => return None,
@@ -225,10 +278,11 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
             Some(mask) => mask,
             None => return None,
         };
+        let counted = if self.indexed { &self.automata[a].alphabet } else { &mask };
         let mut n = 0;
         let mut w = 0;
         while w < W {
-            n += mask[w].count_ones() as usize;
+            n += counted[w].count_ones() as usize;
             w += 1;
         }
         let next = at + (n + 1) * if self.wide { 2 } else { 1 };
@@ -267,7 +321,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
             while pass < 2 {
                 let mut at = start;
                 while at < end {
-                    let Some((id, n, next)) = self.record_at(at, end) else { return false };
+                    let Some((id, n, next)) = self.record_at(a, at, end) else { return false };
                     if pass == 0 {
                         if at >= MAX_BLOCK {
                             return false;
@@ -335,10 +389,10 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         let wanted = start + handle as usize * scale;
         let mut at = start;
         while at < wanted {
-            let Some((_, _, next)) = self.record_at(at, end) else { return false };
+            let Some((_, _, next)) = self.record_at(a, at, end) else { return false };
             at = start + (next - start).div_ceil(scale) * scale;
         }
-        at == wanted && self.record_at(at, end).is_some()
+        at == wanted && self.record_at(a, at, end).is_some()
     }
 }
 
@@ -349,11 +403,11 @@ mod tests {
     use super::*;
 
     /// The cell-sized check runs in the compiler: this `static` is the proof.
-    static CHECKED: CheckedSet<'static, 1, 1, false, 1> = match CheckedSet::new(&super::super::tests::TOGGLE)
-    {
-        Ok(set) => set,
-        Err(_) => panic!("the toggle fails the check"),
-    };
+    static CHECKED: CheckedSet<'static, 1, 1, false, 1, false> =
+        match CheckedSet::new(&super::super::tests::TOGGLE) {
+            Ok(set) => set,
+            Err(_) => panic!("the toggle fails the check"),
+        };
 
     #[test]
     fn check_runs_at_compile_time() {
@@ -362,7 +416,8 @@ mod tests {
 
     #[test]
     fn check_refuses_broken_blocks() {
-        for bad in [&[0u8, 3, 1, 0][..], &[2, 1, 1, 0], &[0, 1, 1]] {
+        // Mask ids 2–4 name the pool's padding (empty masks), id 5 lies beyond it.
+        for bad in [&[0u8, 3, 1, 0][..], &[5, 1, 1, 0], &[0, 1, 1]] {
             let t = SupervisorSet { block: bad, ..toggle() };
             assert_eq!(t.check(1), Err(TableError::Block(0)), "{bad:?}");
         }
@@ -383,7 +438,7 @@ mod tests {
         assert_eq!(t.check(1), Err(TableError::Events));
         // Event 1 held by an automaton whose alphabet lacks it.
         let automata = [Automaton { alphabet: [0b01], ..toggle().automata[0] }];
-        let t = SupervisorSet { automata: &automata, masks: &[0b01, 0b01, 0, 0, 0], ..toggle() };
+        let t = SupervisorSet { automata: &automata, masks: &[0x0101, 0], ..toggle() };
         assert_eq!(t.check(1), Err(TableError::Events));
         // A controllable event beyond the event count.
         assert_eq!(SupervisorSet { controllable: [0b101], ..toggle() }.check(1), Err(TableError::Events));
@@ -395,15 +450,48 @@ mod tests {
             Err(TableError::Sites)
         );
         assert_eq!(toggle().check(2), Err(TableError::Automata));
-        assert!(CheckedSet::<1, 2, false, 1>::new(&super::super::tests::TOGGLE).is_err());
+        assert!(CheckedSet::<1, 2, false, 1, false>::new(&super::super::tests::TOGGLE).is_err());
         assert_eq!(
-            CheckedSet::<1, 1, true, 1>::new(&super::super::tests::TOGGLE).err(),
+            CheckedSet::<1, 1, true, 1, false>::new(&super::super::tests::TOGGLE).err(),
             Some(TableError::Shape)
         );
         assert_eq!(
-            CheckedSet::<1, 1, false, 4>::new(&super::super::tests::TOGGLE).err(),
+            CheckedSet::<1, 1, false, 4, false>::new(&super::super::tests::TOGGLE).err(),
             Some(TableError::Shape)
         );
+    }
+
+    /// The toggle in the `indexed` layout: records `[mask id][target of e0][target of e1]`, scale 3,
+    /// masks of a word, places e0 → 0 and e1 → 1.
+    fn indexed_toggle() -> SupervisorSet<'static, 1> {
+        static AUTOMATA: [Automaton<1>; 1] = [Automaton { alphabet: [0b11], start: 0, scale: 3 }];
+        SupervisorSet {
+            automata: &AUTOMATA,
+            block: &[0, 1, 0, 1, 0, 0],
+            masks: &[0b01, 0b10],
+            mask_bytes: 4,
+            indexed: true,
+            places: &[0, 1],
+            ..toggle()
+        }
+    }
+
+    #[test]
+    fn indexed_sets_are_checked_place_by_place() {
+        let t = indexed_toggle();
+        assert_eq!(t.check(1), Ok(()));
+        assert_eq!((t.step(0, 0, 0), t.step(0, 1, 1), t.step(0, 0, 1)), (Some(1), Some(0), None));
+        assert!(CheckedSet::<1, 1, false, 4, true>::new(&t).is_ok());
+        assert_eq!(CheckedSet::<1, 1, false, 4, false>::new(&t).err(), Some(TableError::Shape));
+        // A place that is not the event's, a place table of another length, or places in a ranked set.
+        for places in [&[0u8, 0][..], &[1, 1], &[0, 1, 0]] {
+            assert_eq!(SupervisorSet { places, ..t }.check(1), Err(TableError::Events), "{places:?}");
+        }
+        assert_eq!(SupervisorSet { places: &[0, 1], ..toggle() }.check(1), Err(TableError::Events));
+        // Masks of other than whole words, a record cut short, a target that starts no record.
+        assert_eq!(SupervisorSet { mask_bytes: 1, ..t }.check(1), Err(TableError::Size));
+        assert_eq!(SupervisorSet { block: &[0, 1, 0, 1, 0], ..t }.check(1), Err(TableError::Block(0)));
+        assert_eq!(SupervisorSet { block: &[0, 1, 2, 1, 0, 0], ..t }.check(1), Err(TableError::Block(0)));
     }
 
     #[test]

@@ -1,5 +1,6 @@
-//! This module is the home of the tables the runtime reads: one [`SupervisorSet`] in the `ranked`
-//! layout, emitted by `codegen` as `static` data in flash.
+//! This module is the home of the tables the runtime reads: one [`SupervisorSet`], emitted by `codegen`
+//! as `static` data in flash, in one of two record layouts, `ranked` (the smaller) or `indexed` (the
+//! faster on a core without unaligned loads).
 //!
 //! # The `ranked` layout
 //!
@@ -26,6 +27,24 @@
 //! `build`) chooses the field width and the scales. The runtime knows the field and mask widths at
 //! compile time ([`CheckedSet`]'s `WIDE` and `MASK`), so its steps read the tables without testing them.
 //!
+//! # The `indexed` layout
+//!
+//! The same pool, block, handles and scales, with two differences that take the bit arithmetic out of
+//! a step ([`SupervisorSet::indexed`]):
+//!
+//! ```text
+//! [mask id]
+//! [target handle, for every event of the automaton's alphabet in increasing id order]
+//! ```
+//!
+//! The target of event `e` is the one at `e`'s *place* in the alphabet (the alphabet's events below
+//! it), which a side table holds per event and automaton ([`SupervisorSet::places`]); the targets of
+//! events that do not leave the state are 0 and never read. And every mask takes a whole number of
+//! words (`4 · ⌈events / 32⌉` bytes), so that it is read with aligned word loads. Records are as long
+//! as the alphabet: the layout is larger, and made for the Cortex-M0+ (Thumb-1 has no unaligned loads
+//! and no bit-scan instruction, so the rank's loop and the assembly of a 3-byte mask there cost more
+//! than the rest of a step).
+//!
 //! Limits: at most 256 events and [`MAX_AUTOMATA`] automata, 65 536 handles per automaton, 65 536 masks,
 //! and every record starting in the first 64 KiB of the block ([`MAX_BLOCK`]): the runtime holds a
 //! state as its record's 16-bit offset.
@@ -40,7 +59,8 @@
 //!
 //! [`SupervisorSet::check`] proves everything the hot path relies on: every record lies in its
 //! automaton's part of the block, every mask id in the pool, every target handle is the start of a
-//! record, every holder bit names an automaton with the event in its alphabet. It is a `const fn`: the
+//! record, every holder bit names an automaton with the event in its alphabet, every place is the
+//! event's in the alphabet. It is a `const fn`: the
 //! emitted tables run it at compile time ([`CheckedSet`], so tables the runtime cannot run do not build
 //! and the firmware carries no check code), host tools at run time. The runtime only takes a
 //! [`CheckedSet`] and then reads the tables without bounds checks ([`read`]); the checked readers
@@ -52,6 +72,9 @@ mod checked;
 pub mod read;
 
 pub use checked::{holder_bytes, CheckedSet};
+
+// The runtime reads the mask pool's words as the bytes the encoder packed into them, little-endian.
+const _: () = assert!(cfg!(target_endian = "little"), "the tables are read as little-endian words");
 
 /// Most automata in one set: one bit each in a `u32` of [`SupervisorSet::holders`].
 pub const MAX_AUTOMATA: usize = 32;
@@ -90,13 +113,21 @@ pub struct SupervisorSet<'t, const W: usize> {
     pub block: &'t [u8],
     /// Mask ids and target handles take 2 bytes (little-endian) instead of 1, in every record.
     pub wide: bool,
-    /// The pool of distinct out-masks that records name by id: mask `id` is the bitset of the
+    /// The pool of distinct out-masks that records name by id, as bytes packed little-endian into
+    /// words (so that masks of whole words are read with aligned loads): mask `id` is the bitset of the
     /// [`SupervisorSet::mask_bytes`] bytes from byte `id · mask_bytes`, little-endian. The runtime reads
-    /// `W` whole words from there, so the pool ends with `4 · W − mask_bytes` bytes of padding; the bits
-    /// read beyond a mask's own bytes are never events.
-    pub masks: &'t [u8],
+    /// `W` whole words from there, so the pool ends with at least `4 · W − mask_bytes` bytes of
+    /// padding; the bits read beyond a mask's own bytes are never events.
+    pub masks: &'t [u32],
     /// Bytes per mask in the pool: enough for the event count (`⌈events / 8⌉`, at most `4 · W`).
     pub mask_bytes: u8,
+    /// The records hold a target per event of the alphabet (`indexed` layout), not per event of the
+    /// state's out-mask (`ranked`).
+    pub indexed: bool,
+    /// Per global event id, one byte per automaton (`events · automata` bytes): the event's place in the
+    /// automaton's alphabet (the number of its events below it) when the automaton holds it, else 0.
+    /// Empty in a `ranked` set.
+    pub places: &'t [u8],
     /// Per global event id, [`SupervisorSet::holder_bytes`] bytes, little-endian: bit `a` set when
     /// automaton `a` has the event in its alphabet. Its length is the event count times that width.
     pub holders: &'t [u8],
@@ -117,13 +148,15 @@ pub enum TableError {
     Automata,
     /// More events than `W` words or [`MAX_EVENTS`] hold, a holder table of another width, a holder bit
     /// naming no automaton or one without the event in its alphabet, a controllable event beyond the
-    /// event count, or a per-plant table of another length.
+    /// event count, a per-plant table of another length, or a place table of another length or with a
+    /// place that is not the event's in the alphabet.
     Events,
     /// A choice site that starts no record of a plant.
     Sites,
-    /// The set's field or mask width is not the one the runtime was built for.
+    /// The set's field or mask width or record layout is not the one the runtime was built for.
     Shape,
-    /// More than [`MAX_MASKS`] masks, or a mask width that does not fit the events and `W` words.
+    /// More than [`MAX_MASKS`] masks, a mask width that does not fit the events and `W` words, or (in
+    /// the `indexed` layout) masks of other than whole words.
     Size,
     /// Automaton `0` starts out of order or beyond the block, has a scale of 0, a record outside its part
     /// of the block or naming no mask, an out-event outside its alphabet, or a target handle that starts
@@ -155,6 +188,12 @@ impl Event {
     #[inline(always)]
     pub fn new(id: u8) -> Event {
         Event(id)
+    }
+
+    /// The event's id, as an index.
+    #[inline(always)]
+    pub fn index(self) -> usize {
+        usize::from(self.0)
     }
 
     /// Index of the event's word in a bitset.
@@ -204,8 +243,11 @@ pub(crate) mod tests {
         automata: &[Automaton { alphabet: [0b11], start: 0, scale: 2 }],
         block: &[0, 1, 1, 0],
         wide: false,
-        masks: &[0b01, 0b10, 0, 0, 0],
+        // Masks {e0} and {e1}, a byte each, then padding to read a word from the last.
+        masks: &[0x0201, 0],
         mask_bytes: 1,
+        indexed: false,
+        places: &[],
         holders: &[1, 1],
         plant_events: &[[0b01]],
         sites: &[],

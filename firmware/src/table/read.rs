@@ -1,7 +1,7 @@
 //! Reading the tables: checked readers for host tools and tests, and the runtime's hot path, which
 //! reads without bounds checks what [`SupervisorSet::check`] proved in bounds.
 
-use super::checked::field;
+use super::checked::{field, place};
 use super::{rank, Automaton, Event, SupervisorSet};
 
 /// Field `i` of the record at byte `at` (the mask id, then the targets), of 2 bytes when `WIDE`, read
@@ -54,12 +54,13 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     /// no such transition (or the handle lies outside the tables).
     pub fn step(&self, a: usize, handle: u16, event: u8) -> Option<u16> {
         let mask = self.mask(a, handle)?;
-        let event = Event::new(event);
-        if !event.in_set(&mask) {
+        let id = Event::new(event);
+        if !id.in_set(&mask) {
             return None;
         }
         let aut = self.automata.get(a)?;
-        field(self.block, self.wide, Self::record(aut, handle), rank(&mask, event) + 1)
+        let i = if self.indexed { place(&aut.alphabet, usize::from(event)) } else { rank(&mask, id) };
+        field(self.block, self.wide, Self::record(aut, handle), i + 1)
     }
 
     /// The handle of `aut`'s state whose record starts at byte `at` of the block.
@@ -90,12 +91,23 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         // SAFETY: the check proved every state's record in the block and its mask id in the pool, which
         // is padded for `W` words from the last mask.
         let mut allowed = unsafe {
-            let id = field_unchecked::<WIDE>(self.block, usize::from(at), 0);
-            let bytes = self.masks.get_unchecked(usize::from(id) * MASK..);
+            let id = usize::from(field_unchecked::<WIDE>(self.block, usize::from(at), 0));
             let mut mask = [0; W];
-            for (w, word) in mask.iter_mut().enumerate() {
-                let b = bytes.get_unchecked(4 * w..4 * w + 4);
-                *word = u32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+            if MASK % 4 == 0 {
+                // Masks of whole words: aligned loads.
+                let words = self.masks.get_unchecked(id * (MASK / 4)..);
+                for (w, word) in mask.iter_mut().enumerate() {
+                    *word = *words.get_unchecked(w);
+                }
+            } else {
+                // The pool's bytes, which its words hold little-endian as the targets store them.
+                let bytes =
+                    core::slice::from_raw_parts(self.masks.as_ptr().cast::<u8>(), 4 * self.masks.len());
+                let bytes = bytes.get_unchecked(id * MASK..);
+                for (w, word) in mask.iter_mut().enumerate() {
+                    let b = bytes.get_unchecked(4 * w..4 * w + 4);
+                    *word = u32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+                }
             }
             mask
         };
@@ -107,29 +119,38 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     }
 
     /// Moves `aut` by `event` from the state whose record starts at byte `at` and which allows `allowed`
-    /// (holding `event`, an event of the alphabet): both become the target's. Reads without bounds
-    /// checks.
+    /// (holding `event`, an event of the alphabet): both become the target's. In the `indexed` layout
+    /// (`INDEXED`) `place` is the event's place in the alphabet; the `ranked` layout ranks the event in
+    /// the state's mask instead. Reads without bounds checks.
     ///
     /// # Safety
     ///
-    /// As for [`SupervisorSet::allowed_at`]; `allowed` is what that state allows and holds `event`, an
-    /// event of `aut`'s alphabet.
+    /// As for [`SupervisorSet::allowed_at`], and `INDEXED` is the set's layout; `allowed` is what that
+    /// state allows and holds `event`, an event of `aut`'s alphabet, whose place is `place` when
+    /// `INDEXED`.
     #[inline(always)]
-    pub unsafe fn advance<const WIDE: bool, const MASK: usize>(
+    pub unsafe fn advance<const WIDE: bool, const MASK: usize, const INDEXED: bool>(
         &self,
         aut: &Automaton<W>,
         at: &mut u16,
         allowed: &mut [u32; W],
         event: Event,
+        place: usize,
     ) {
-        let mut mask = *allowed;
-        for (m, al) in mask.iter_mut().zip(&aut.alphabet) {
-            *m &= al;
-        }
-        // SAFETY: the record holds a target per mask bit; the target of a checked set's record is one of
-        // its states, whose record starts within the first 64 KiB of the block.
+        let i = if INDEXED {
+            place
+        } else {
+            let mut mask = *allowed;
+            for (m, al) in mask.iter_mut().zip(&aut.alphabet) {
+                *m &= al;
+            }
+            rank(&mask, event)
+        };
+        // SAFETY: the record holds a target per mask bit (per alphabet event when `INDEXED`); the
+        // target of a checked set's record is one of its states, whose record starts within the first
+        // 64 KiB of the block.
         unsafe {
-            let target = field_unchecked::<WIDE>(self.block, usize::from(*at), rank(&mask, event) + 1);
+            let target = field_unchecked::<WIDE>(self.block, usize::from(*at), i + 1);
             *at = Self::record(aut, target) as u16;
             *allowed = self.allowed_at::<WIDE, MASK>(aut, *at);
         }

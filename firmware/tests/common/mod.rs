@@ -2,7 +2,7 @@
 //! small automata given as transition lists, and the livelock example of the design notes.
 #![allow(dead_code)]
 
-use firmware::build::{encode as build, HostTables, Source, SourceAutomaton};
+use firmware::build::{encode_as, HostTables, Layout, Source, SourceAutomaton};
 use firmware::table::SupervisorSet;
 
 /// `default` proptest cases, or `PROPTEST_CASES` when set: each suite picks its own count, and an
@@ -56,13 +56,18 @@ fn source(names: Vec<String>, controllable: &[bool], specs: &[Spec]) -> Source {
     }
 }
 
-/// Handles of a spec's states, by state index, in the records the encoder writes for it.
+/// Handles of a spec's states, by state index, in the `ranked` records the encoder writes for it.
 pub fn handles(spec: &Spec) -> Vec<u16> {
+    handles_in(Layout::Ranked, spec)
+}
+
+/// Handles of a spec's states, by state index, in the records the encoder writes for it in `layout`.
+pub fn handles_in(layout: Layout, spec: &Spec) -> Vec<u16> {
     let events =
         spec.alphabet.iter().chain(spec.transitions.iter().map(|t| &t.1)).max().map_or(0, |&e| e + 1);
     let names = (0..events).map(|e| format!("e{e}")).collect();
-    let packed =
-        build(&source(names, &vec![false; usize::from(events)], std::slice::from_ref(spec))).unwrap();
+    let source = source(names, &vec![false; usize::from(events)], std::slice::from_ref(spec));
+    let packed = encode_as(&source, layout).unwrap();
     let mut hs = vec![0u16; spec.states];
     for r in packed.records(0).unwrap() {
         hs[r.state] = r.handle;
@@ -71,14 +76,25 @@ pub fn handles(spec: &Spec) -> Vec<u16> {
 }
 
 /// Encodes `specs` (plants first) over `names.len()` events, `controllable` flags per event, in one-word
-/// bitsets. Leaks the tables (tests only).
+/// bitsets, in the `ranked` layout. Leaks the tables (tests only).
 pub fn encode(
     names: &[&'static str],
     controllable: &[bool],
     specs: &[Spec],
 ) -> &'static SupervisorSet<'static, 1> {
+    encode_in(Layout::Ranked, names, controllable, specs)
+}
+
+/// As [`encode`], in `layout`.
+pub fn encode_in(
+    layout: Layout,
+    names: &[&'static str],
+    controllable: &[bool],
+    specs: &[Spec],
+) -> &'static SupervisorSet<'static, 1> {
     let names = names.iter().map(|n| n.to_string()).collect();
-    let tables = HostTables::<1>::new(build(&source(names, controllable, specs)).unwrap()).unwrap();
+    let packed = encode_as(&source(names, controllable, specs), layout).unwrap();
+    let tables = HostTables::<1>::new(packed).unwrap();
     let tables: &'static HostTables<1> = Box::leak(Box::new(tables));
     Box::leak(Box::new(tables.set()))
 }
