@@ -8,8 +8,9 @@
 //! signals into [`Runtime::apply`] calls and fired events into outputs.
 //!
 //! Cost does not depend on the set's state count: a state is held as the offset of its record in the
-//! tables' block (`ranked` layout, [`crate::table`]), so taking a transition is a mask test, a rank and
-//! one load; an event touches only the automata that hold it ([`SupervisorSet::holders`]). The enabled
+//! tables' block ([`crate::table`]), so taking a transition is a mask test, a rank (in the `indexed`
+//! layout, the event's place from its holder list) and one load; an event touches only the automata
+//! that hold it ([`SupervisorSet::holders`], or its holder list). The enabled
 //! set is the controllable events masked, automaton by automaton, by the current state's out-mask
 //! (or-ed with the events outside the automaton's alphabet): one mask per automaton, no scan.
 //!
@@ -266,13 +267,14 @@ impl<
         let Some(holders) = self.set.holders_of(c, holder_bytes(N)) else {
             return Decision::Idle;
         };
-        // `c` is enabled: every holder allows it, none gets stuck.
+        // `c` is enabled: every holder allows it, none gets stuck. (All of them: the holders' bits, or
+        // none of the holder list passed.)
         take_until_stuck::<W, N, WIDE, MASK, INDEXED>(
             self.set,
             &mut self.records,
             &mut self.allowed,
             Event::new(c),
-            holders,
+            if INDEXED { 0 } else { holders },
         );
         self.counters.commands_out = self.counters.commands_out.wrapping_add(1);
         Decision::Fired(c)
@@ -338,7 +340,7 @@ impl<
             *at = SupervisorSet::record(aut, h) as u16;
             // SAFETY: `new` took a checked set, and `h` is the initial handle (0) or was checked by
             // `restore`.
-            *allowed = unsafe { self.set.allowed_at::<WIDE, MASK>(aut, *at) };
+            *allowed = unsafe { self.set.allowed_at::<WIDE, MASK, INDEXED>(aut, *at) };
         }
     }
 
@@ -353,11 +355,13 @@ impl<
     fn take(&mut self, event: u8, holders: u32) -> Option<u8> {
         let (set, records, allowed, event) =
             (self.set, &mut self.records, &mut self.allowed, Event::new(event));
-        let first = take_until_stuck::<W, N, WIDE, MASK, INDEXED>(set, records, allowed, event, holders)?;
+        let all = if INDEXED { 0 } else { holders };
+        let first = take_until_stuck::<W, N, WIDE, MASK, INDEXED>(set, records, allowed, event, all)?;
         // Rare: an unexpected event. The holders after the stuck one still move.
         let mut stuck = first;
         loop {
-            let rest = holders & (u32::MAX << stuck << 1);
+            let passed = holders & !(u32::MAX << stuck << 1);
+            let rest = if INDEXED { passed.count_ones() } else { holders & !passed };
             match take_until_stuck::<W, N, WIDE, MASK, INDEXED>(set, records, allowed, event, rest) {
                 Some(next) => stuck = next,
                 None => return Some(first),
@@ -378,7 +382,9 @@ impl<
     }
 }
 
-/// Moves the automata of `holders`, in index order, by `event` until one cannot: that one, if any.
+/// Moves the automata of `rest`, in index order, by `event` until one cannot: that one, if any.
+/// `rest` is what is left to move: the holders' bits (`ranked` layout), or in the `indexed` layout how
+/// many of the event's holder list are passed (the list is in index order).
 /// Out of line and over the runtime's parts, so that the compiler knows the stores to `records` and
 /// `allowed` leave the set alone and keeps its fields in registers.
 #[inline(never)]
@@ -393,33 +399,70 @@ fn take_until_stuck<
     records: &mut [u16; N],
     allowed: &mut [[u32; W]; N],
     event: Event,
-    mut holders: u32,
+    rest: u32,
 ) -> Option<u8> {
-    // The event's places in the automata's alphabets (`indexed` layout): `N` bytes.
-    // SAFETY: an indexed set's check proved `N` places per event, and `event` is one.
-    let places = if INDEXED { unsafe { set.places.get_unchecked(event.index() * N..) } } else { &[] };
-    while holders != 0 {
-        let a = holders.trailing_zeros() as usize;
-        holders &= holders - 1;
-        // SAFETY: `Runtime::new` took a checked set: every holder bit names one of the N automata and
-        // event ids are below 32 · W; every record is the initial state's, checked by `restore` or a
-        // target's set here, and `allowed[a]` what it allows (an event of the automaton's alphabet, as
-        // `event` is for a holder, is allowed exactly when it leaves the state).
-        unsafe {
-            let allowed = allowed.get_unchecked_mut(a);
-            if !event.in_set_unchecked(allowed) {
+    if INDEXED {
+        // SAFETY: an indexed set's check proved a holder list for every event (`event` is one) within the
+        // table, and `rest` counts holders of the list.
+        let list = unsafe {
+            let bound = |i: usize| usize::from(*set.places.get_unchecked(i));
+            set.places.get_unchecked(bound(event.index()) + rest as usize..bound(event.index() + 1))
+        };
+        for &entry in list {
+            // The automaton in the low byte, the event's place in its alphabet in the high byte; the check
+            // proved both.
+            let (a, place) = (usize::from(entry as u8), usize::from(entry >> 8));
+            // SAFETY: as for `step`; `place` is the event's in `a`'s alphabet.
+            if unsafe { !step::<W, N, WIDE, MASK, INDEXED>(set, records, allowed, event, a, place) } {
                 // At most MAX_AUTOMATA (32) automata: the index fits a byte.
                 return Some(a as u8);
             }
-            let place = if INDEXED { usize::from(*places.get_unchecked(a)) } else { 0 };
-            set.advance::<WIDE, MASK, INDEXED>(
-                set.automata.get_unchecked(a),
-                records.get_unchecked_mut(a),
-                allowed,
-                event,
-                place,
-            );
+        }
+    } else {
+        let mut holders = rest;
+        while holders != 0 {
+            let a = holders.trailing_zeros() as usize;
+            holders &= holders - 1;
+            // SAFETY: as for `step`; every holder bit of a checked set names one of the N automata.
+            if unsafe { !step::<W, N, WIDE, MASK, INDEXED>(set, records, allowed, event, a, 0) } {
+                return Some(a as u8);
+            }
         }
     }
     None
+}
+
+/// Moves automaton `a`, which holds `event`, by it, if it can (`place` is the event's place in its
+/// alphabet in the `indexed` layout); whether it could.
+///
+/// # Safety
+///
+/// `Runtime::new` took a checked set of `N` automata, `a` is below `N`, `event` is in `a`'s alphabet
+/// (and at `place` in it when `INDEXED`); `records[a]` is a record of `a`, the initial state's, checked
+/// by `restore` or a target's set here, and `allowed[a]` what it allows (an event of the automaton's
+/// alphabet is allowed exactly when it leaves the state).
+#[inline(always)]
+unsafe fn step<const W: usize, const N: usize, const WIDE: bool, const MASK: usize, const INDEXED: bool>(
+    set: &SupervisorSet<'_, W>,
+    records: &mut [u16; N],
+    allowed: &mut [[u32; W]; N],
+    event: Event,
+    a: usize,
+    place: usize,
+) -> bool {
+    // SAFETY: the caller's promise; event ids of a checked set are below 32 · W.
+    unsafe {
+        let allowed = allowed.get_unchecked_mut(a);
+        if !event.in_set_unchecked(allowed) {
+            return false;
+        }
+        set.advance::<WIDE, MASK, INDEXED>(
+            set.automata.get_unchecked(a),
+            records.get_unchecked_mut(a),
+            allowed,
+            event,
+            place,
+        );
+    }
+    true
 }

@@ -233,8 +233,8 @@ fn corrupted<const MASK: usize, const INDEXED: bool>() {
         ),
         proptest::option::weighted(0.2, (0usize..6, 0u32..4)),
         proptest::option::weighted(0.2, (any::<proptest::sample::Index>(), 0u32..32)),
-        // A place of the indexed layout set to any value.
-        proptest::option::weighted(0.2, (any::<proptest::sample::Index>(), any::<u8>())),
+        // An entry of the indexed layout's holder lists set to any value.
+        proptest::option::weighted(0.2, (any::<proptest::sample::Index>(), any::<u16>())),
         // Or instead (half of the cases): a transition retargeted to another state of its automaton,
         // tables the check must accept.
         proptest::option::of(any::<[proptest::sample::Index; 4]>()),

@@ -96,7 +96,7 @@ fn header(
             "// Cortex-M0+ tables (`m0plus`): layout {INDEXED}, {} bytes of blocks + {} bytes of masks + {} bytes of places.",
             m0.automata.iter().map(|b| b.block.len()).sum::<usize>(),
             m0.mask_bytes(),
-            m0.places().len()
+            2 * m0.places().len()
         ),
         Err(e) => writeln!(out, "// Cortex-M0+ tables (`m0plus`): layout {LAYOUT} ({e})."),
     };
@@ -277,12 +277,13 @@ fn tables(out: &mut String, packed: &Packed, side: &SideTables) {
     let places = packed.places();
     let _ = writeln!(
         out,
-        "/// Per event, per automaton: the event's place in the automaton's alphabet (`{INDEXED}` layout)."
+        "/// Per event and one more, where its holder list starts; then per event the automata holding it, \
+         each with the event's place in its alphabet in the high byte (`{INDEXED}` layout)."
     );
-    let _ = writeln!(out, "static PLACES: [u8; {}] = [", places.len());
-    for row in places.chunks(packed.automata.len().max(1)) {
-        let bytes: Vec<String> = row.iter().map(u8::to_string).collect();
-        let _ = writeln!(out, "    {},", bytes.join(", "));
+    let _ = writeln!(out, "static PLACES: [u16; {}] = [", places.len());
+    for row in places.chunks(12) {
+        let entries: Vec<String> = row.iter().map(|x| format!("0x{x:04x}")).collect();
+        let _ = writeln!(out, "    {},", entries.join(", "));
     }
     let _ = writeln!(out, "];");
     let sites: Vec<String> = side.sites.iter().map(u16::to_string).collect();

@@ -35,7 +35,7 @@ impl Measure for Packed {
             ],
         };
         if self.indexed {
-            size.side_tables.push(("places", self.places().len()));
+            size.side_tables.push(("holder lists", 2 * self.places().len()));
         }
         size
     }
@@ -118,12 +118,15 @@ fn decode_block(b: &Block, role: Role, packed: &Packed) -> Result<Automaton, Dec
     let mut edges = Vec::new();
     for r in &records {
         // `walk` checked the id.
-        let mask = packed.masks.get(r.mask).map_or(&[][..], Vec::as_slice);
-        for (i, (e, &t)) in bitset::ids(mask).zip(&r.targets).enumerate() {
+        let mask = packed.out_mask(b, r.mask).unwrap_or_default();
+        for (i, (e, &t)) in bitset::ids(&mask).zip(&r.targets).enumerate() {
             if !bitset::contains(&b.alphabet, e) {
                 return Err(DecodeError::BadEvent { what: what(), at: r.at, event: e });
             }
-            edges.push((r.state, e, state_of(t, r.at + (1 + i) * t_bytes)?));
+            // The target's field: its rank in the mask, or its place in the alphabet (`indexed`).
+            let field =
+                if packed.indexed { bitset::ids(&b.alphabet).position(|x| x == e).unwrap_or(i) } else { i };
+            edges.push((r.state, e, state_of(t, r.at + (1 + field) * t_bytes)?));
         }
     }
     Recovered {
@@ -146,8 +149,9 @@ mod tests {
     use firmware::build::{extent, NARROW_HANDLE, WIDE_HANDLE};
     use firmware::table::{Automaton as RtAutomaton, SupervisorSet, TableError};
 
-    /// Runs `f` on the firmware's view of `packed` (one-word bitsets, no automaton holding any event),
-    /// the blocks back to back (starts beyond 16 bits wrap, and the check refuses them).
+    /// Runs `f` on the firmware's view of `packed` (one-word bitsets, every automaton holding the events
+    /// of its alphabet), the blocks back to back (starts beyond 16 bits wrap, and the check refuses
+    /// them).
     fn with_runtime_set<R>(packed: &Packed, f: impl FnOnce(&SupervisorSet<'_, 1>) -> R) -> R {
         let word = |v: &[u32]| [v.first().copied().unwrap_or(0)];
         let masks = packed.mask_pool();
@@ -163,8 +167,19 @@ mod tests {
             .collect();
         let block: Vec<u8> = packed.automata.iter().flat_map(|b| b.block.iter().copied()).collect();
         let places = packed.places();
-        let plants = packed.plants;
         let width = firmware::table::holder_bytes(automata.len());
+        let holders: Vec<u8> = (0..packed.event_names.len())
+            .flat_map(|e| {
+                let mask: u32 = automata
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, a)| a.alphabet[0] >> e & 1 != 0)
+                    .map(|(i, _)| 1 << i)
+                    .sum();
+                mask.to_le_bytes().into_iter().take(width)
+            })
+            .collect();
+        let plants = packed.plants;
         f(&SupervisorSet {
             controllable: word(&packed.controllable),
             plants: plants as u8,
@@ -175,7 +190,7 @@ mod tests {
             mask_bytes: packed.mask_width() as u8,
             indexed: packed.indexed,
             places: &places,
-            holders: &vec![0; width * packed.event_names.len()],
+            holders: &holders,
             plant_events: &vec![[0]; plants],
             sites: &[],
         })
@@ -234,11 +249,12 @@ mod tests {
         assert_eq!(size.blocks(), 8);
         // Two 1-byte masks and 3 bytes of padding to read a whole word, in whole words.
         assert_eq!(size.side(), 8 + 2 * DESCRIPTOR_BYTES + 2 * 4 + 4);
-        // Indexed: a target per event of the alphabet (2 of them), word masks, a place per event and
-        // automaton.
+        // Indexed: a target per event of the alphabet (2 of them), word masks, per event the list of
+        // its holders with its place (automata 0 and 1 hold a at place 0, b at place 1).
         let indexed = encode_indexed(&set).unwrap();
         assert_eq!(indexed.automata[1].block, [0, 3, 0, 1, 0, 0]);
-        assert_eq!((indexed.mask_pool(), indexed.places()), (vec![0b01, 0b10], vec![0, 0, 1, 1]));
+        assert_eq!(indexed.mask_pool(), [0b01, 0b10]);
+        assert_eq!(indexed.places(), [3, 5, 7, 0x0000, 0x0001, 0x0100, 0x0101]);
         assert_round_trip(&set, &decode(&indexed).unwrap());
         assert_eq!(indexed.size().layout, INDEXED_NAME);
     }

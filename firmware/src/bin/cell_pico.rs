@@ -3,7 +3,7 @@
 //! commands to output pins (set, clear, timed pulse) through `firmware::board::Outputs` (embedded-hal
 //! traits), defmt over RTT. Flash and run with `cargo pico` (probe-rs); README, "Flash a board".
 //!
-//! Tables and pin map: `SCT_TABLES_FILE` (see `build.rs`), the cell's with `examples/cell/pico.toml` by
+//! Tables and pin map: `SCT_TABLES_FILE` (see `build.rs`), the cell's with its manifest's `[board]` by
 //! default. Randomness: the RP2040's ring-oscillator random bit, gathered while the loop is idle, mixed with
 //! the microsecond timer.
 #![no_std]

@@ -38,7 +38,7 @@ pub struct HostTables<const W: usize> {
     automata: Vec<Automaton<W>>,
     block: Vec<u8>,
     masks: Vec<u32>,
-    places: Vec<u8>,
+    places: Vec<u16>,
     plant_events: Vec<[u32; W]>,
     controllable: [u32; W],
 }

@@ -90,7 +90,8 @@ pub struct Packed {
     pub controllable: Vec<u32>,
     /// How many of the automata, the first ones, are plants.
     pub plants: usize,
-    /// The pool of distinct out-masks, each ⌈e/32⌉ words, in first-appearance order.
+    /// The pool of distinct out-masks (`ranked`) or allowed sets (`indexed`: the out-mask and every
+    /// event outside the automaton's alphabet), each ⌈e/32⌉ words, in first-appearance order.
     pub masks: Vec<Vec<u32>>,
     /// Mask ids and target handles take 2 bytes (little-endian) instead of 1, in every block.
     pub wide: bool,
@@ -176,21 +177,35 @@ impl Packed {
         4 * self.mask_pool().len()
     }
 
-    /// The runtime's place table ([`crate::table::SupervisorSet::places`]): per event, per automaton,
-    /// the event's place in the alphabet where the automaton holds it, else 0; empty in the `ranked`
-    /// layout.
-    pub fn places(&self) -> Vec<u8> {
+    /// The runtime's holder lists ([`crate::table::SupervisorSet::places`]): per event and one more,
+    /// where its list starts; then per event the automata holding it, in index order, each with the
+    /// event's place in its alphabet. Empty in the `ranked` layout.
+    pub fn places(&self) -> Vec<u16> {
         if !self.indexed {
             return Vec::new();
         }
+        let events = self.event_names.len();
         let alphabets: Vec<Vec<usize>> =
             self.automata.iter().map(|b| bitset::ids(&b.alphabet).collect()).collect();
-        (0..self.event_names.len())
-            .flat_map(|e| {
-                // At most 256 events: a place fits a byte.
-                alphabets.iter().map(move |ids| ids.iter().position(|&x| x == e).map_or(0, |p| p as u8))
+        let lists: Vec<Vec<u16>> = (0..events)
+            .map(|e| {
+                alphabets
+                    .iter()
+                    .enumerate()
+                    // At most 32 automata and 256 events: the automaton and the place fit a byte each.
+                    .filter_map(|(a, ids)| ids.iter().position(|&x| x == e).map(|p| (a | p << 8) as u16))
+                    .collect()
             })
-            .collect()
+            .collect();
+        let mut starts = Vec::with_capacity(events + 1);
+        let mut at = events + 1;
+        for list in &lists {
+            starts.push(at as u16);
+            at += list.len();
+        }
+        // The table's length: (events + 1) + one entry per holder, at most 257 + 256 · 32.
+        starts.push(at as u16);
+        starts.into_iter().chain(lists.into_iter().flatten()).collect()
     }
 
     /// Where each automaton's block starts when the blocks are put back to back in set order.
@@ -214,6 +229,17 @@ impl Packed {
             detail: format!("no automaton {a} of {}", self.automata.len()),
         })?;
         self.walk(b)
+    }
+
+    /// The out-mask of pool entry `id` for an automaton of block `b`: the entry (`ranked`), or its part
+    /// within the alphabet (`indexed`, whose pool holds allowed sets).
+    pub fn out_mask(&self, b: &Block, id: usize) -> Option<Vec<u32>> {
+        let entry = self.masks.get(id)?;
+        Some(if self.indexed {
+            entry.iter().zip(&b.alphabet).map(|(m, al)| m & al).collect()
+        } else {
+            entry.clone()
+        })
     }
 
     /// Padding bytes of automaton `a`'s block (between records).
@@ -246,6 +272,15 @@ impl Packed {
             })?;
             let id = read(bytes, at, id_bytes).ok_or_else(truncated)?;
             let mask = self.masks.get(id).ok_or(ReadError::BadMask { what: what(), at, id })?;
+            let events = self.event_names.len();
+            let lacking =
+                (0..events).find(|&e| !bitset::contains(&b.alphabet, e) && !bitset::contains(mask, e));
+            if let Some(e) = lacking.filter(|_| self.indexed) {
+                return Err(ReadError::Inconsistent {
+                    what: what(),
+                    detail: format!("the allowed set {id} of the record at byte {at} lacks event {e}, outside the alphabet"),
+                });
+            }
             // The events with a target field: the mask's, or the alphabet's in the `indexed` layout.
             let fields: Vec<usize> = bitset::ids(if self.indexed { &b.alphabet } else { mask }).collect();
             let first = at + id_bytes;
@@ -392,14 +427,19 @@ pub fn encode_as(source: &Source, layout: Layout) -> Result<Packed, BuildError> 
             });
         }
     }
-    // The pool, in first-appearance order, and every state's mask id.
+    // The pool, in first-appearance order, and every state's mask id. Indexed: allowed sets, the
+    // out-mask with the events outside the alphabet.
     let mut masks: Vec<Vec<u32>> = Vec::new();
     let mut index: BTreeMap<Vec<u32>, usize> = BTreeMap::new();
     let mut ids: Vec<Vec<usize>> = Vec::with_capacity(source.automata.len());
     for a in &source.automata {
         let mut of_automaton = Vec::with_capacity(a.out.len());
+        let outside: Vec<usize> = match layout {
+            Layout::Ranked => Vec::new(),
+            Layout::Indexed => (0..events).filter(|e| !a.alphabet.contains(e)).collect(),
+        };
         for edges in &a.out {
-            let mask = bitset::from_ids(edges.iter().map(|&(e, _)| e), events);
+            let mask = bitset::from_ids(edges.iter().map(|&(e, _)| e).chain(outside.iter().copied()), events);
             let id = *index.entry(mask.clone()).or_insert_with(|| {
                 masks.push(mask);
                 masks.len() - 1

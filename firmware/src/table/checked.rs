@@ -241,26 +241,38 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         Ok(())
     }
 
-    /// Whether the place table fits the layout: empty in a `ranked` set; in an `indexed` one, per event
-    /// and automaton the event's place in the alphabet where the automaton holds it, 0 elsewhere.
+    /// Whether the holder lists fit the layout: empty in a `ranked` set; in an `indexed` one, the
+    /// starts ascending from just after them to the table's end, and each event's list exactly its
+    /// holders in index order, each with the event's place in its alphabet.
     const fn places_sound(&self, events: usize) -> bool {
-        let automata = self.automata.len();
+        let (places, width) = (self.places, holder_bytes(self.automata.len()));
         if !self.indexed {
-            return self.places.is_empty();
+            return places.is_empty();
         }
-        if self.places.len() != events * automata {
+        if places.len() <= events
+            || places[0] as usize != events + 1
+            || places[events] as usize != places.len()
+        {
             return false;
         }
         let mut e = 0;
         while e < events {
-            let mut a = 0;
-            while a < automata {
-                let alphabet = &self.automata[a].alphabet;
-                let want = if alphabet[e / 32] & (1 << (e % 32)) != 0 { place(alphabet, e) } else { 0 };
-                if self.places[e * automata + a] as usize != want {
+            let (mut i, end) = (places[e] as usize, places[e + 1] as usize);
+            if i <= events || end < i || end > places.len() {
+                return false;
+            }
+            let Some(mut holders) = holder_mask(self.holders, e * width, width) else { return false };
+            while holders != 0 {
+                let a = holders.trailing_zeros() as usize;
+                holders &= holders - 1;
+                let want = a | place(&self.automata[a].alphabet, e) << 8;
+                if i >= end || places[i] as usize != want {
                     return false;
                 }
-                a += 1;
+                i += 1;
+            }
+            if i != end {
+                return false;
             }
             e += 1;
         }
@@ -313,6 +325,9 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
             }
             w += 1;
         }
+        if self.indexed {
+            return self.uniform_part_sound(a);
+        }
         let mut base = 0;
         loop {
             let mut starts = [0u32; 8];
@@ -332,13 +347,8 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
                             starts[i / 32] |= 1 << (i % 32);
                         }
                         handles = h + 1;
-                        let Some(mask) = self.mask_of(id) else { return false };
-                        let mut w = 0;
-                        while w < W {
-                            if mask[w] & !aut.alphabet[w] != 0 {
-                                return false;
-                            }
-                            w += 1;
+                        if !self.entry_sound(a, id) {
+                            return false;
                         }
                     } else {
                         let mut r = 0;
@@ -362,6 +372,77 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         }
     }
 
+    /// Whether pool entry `id` fits automaton `a`: an out-mask within its alphabet (`ranked`), or an
+    /// allowed set, which holds every event outside it (`indexed`).
+    const fn entry_sound(&self, a: usize, id: usize) -> bool {
+        let (alphabet, events) = (&self.automata[a].alphabet, self.events());
+        let Some(mask) = self.mask_of(id) else { return false };
+        let mut w = 0;
+        while w < W {
+            let outside = !alphabet[w] & !beyond(events, w);
+            if self.indexed && outside & !mask[w] != 0 || !self.indexed && mask[w] & !alphabet[w] != 0 {
+                return false;
+            }
+            w += 1;
+        }
+        true
+    }
+
+    /// An `indexed` automaton's records, all as long (a mask id and a target per event of the
+    /// alphabet), start every `unit` handles: `unit`, the record count and the targets per record, if
+    /// they tile its part.
+    const fn uniform(&self, a: usize) -> Option<(usize, usize, usize)> {
+        let aut = &self.automata[a];
+        let (start, end) = self.part(a);
+        let scale = aut.scale as usize;
+        let mut n = 0;
+        let mut w = 0;
+        while w < W {
+            n += aut.alphabet[w].count_ones() as usize;
+            w += 1;
+        }
+        let len = (1 + n) * if self.wide { 2 } else { 1 };
+        if scale == 0 || end - start < len {
+            return None;
+        }
+        let unit = len.div_ceil(scale);
+        if (end - start - len) % (unit * scale) != 0 {
+            return None;
+        }
+        Some((unit, (end - start - len) / (unit * scale) + 1, n))
+    }
+
+    /// One `indexed` automaton, in one pass: its records tile its part, start in the first 64 KiB at
+    /// 16-bit handles, name allowed sets that fit it, and every target is a record's handle.
+    const fn uniform_part_sound(&self, a: usize) -> bool {
+        let Some((unit, count, n)) = self.uniform(a) else { return false };
+        let (start, _) = self.part(a);
+        let stride = unit * self.automata[a].scale as usize;
+        let last = (count - 1) * unit;
+        if last > u16::MAX as usize || start + (count - 1) * stride >= MAX_BLOCK {
+            return false;
+        }
+        let mut k = 0;
+        while k < count {
+            let at = start + k * stride;
+            let Some(id) = field(self.block, self.wide, at, 0) else { return false };
+            if !self.entry_sound(a, id as usize) {
+                return false;
+            }
+            // Every target of the record, in the part: `uniform` measured it.
+            let mut r = 1;
+            while r <= n {
+                let Some(t) = field(self.block, self.wide, at, r) else { return false };
+                if t as usize % unit != 0 || t as usize > last {
+                    return false;
+                }
+                r += 1;
+            }
+            k += 1;
+        }
+        true
+    }
+
     /// Whether byte `at` of the block starts a record of a plant.
     const fn is_plant_record(&self, at: usize) -> bool {
         let mut p = 0;
@@ -382,6 +463,12 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     pub const fn is_state(&self, a: usize, handle: u16) -> bool {
         if a >= self.automata.len() {
             return false;
+        }
+        if self.indexed {
+            return match self.uniform(a) {
+                Some((unit, count, _)) => handle as usize % unit == 0 && (handle as usize) < count * unit,
+                None => false,
+            };
         }
         let aut = &self.automata[a];
         let (start, end) = self.part(a);
@@ -462,7 +549,7 @@ mod tests {
     }
 
     /// The toggle in the `indexed` layout: records `[mask id][target of e0][target of e1]`, scale 3,
-    /// masks of a word, places e0 → 0 and e1 → 1.
+    /// masks of a word, holder lists e0 → automaton 0 at place 0, e1 → automaton 0 at place 1.
     fn indexed_toggle() -> SupervisorSet<'static, 1> {
         static AUTOMATA: [Automaton<1>; 1] = [Automaton { alphabet: [0b11], start: 0, scale: 3 }];
         SupervisorSet {
@@ -471,7 +558,7 @@ mod tests {
             masks: &[0b01, 0b10],
             mask_bytes: 4,
             indexed: true,
-            places: &[0, 1],
+            places: &[3, 4, 5, 0x000, 0x100],
             ..toggle()
         }
     }
@@ -483,15 +570,30 @@ mod tests {
         assert_eq!((t.step(0, 0, 0), t.step(0, 1, 1), t.step(0, 0, 1)), (Some(1), Some(0), None));
         assert!(CheckedSet::<1, 1, false, 4, true>::new(&t).is_ok());
         assert_eq!(CheckedSet::<1, 1, false, 4, false>::new(&t).err(), Some(TableError::Shape));
-        // A place that is not the event's, a place table of another length, or places in a ranked set.
-        for places in [&[0u8, 0][..], &[1, 1], &[0, 1, 0]] {
+        // A place that is not the event's, a list of another length, starts out of the table or out of
+        // order, an automaton that does not hold the event, or lists in a ranked set.
+        for places in [
+            &[3u16, 4, 5, 0x000, 0x000][..],
+            &[3, 4, 6, 0x000, 0x100, 0x100],
+            &[3, 4, 5, 0x000],
+            &[3, 5, 4, 0x000, 0x100],
+            &[3, 4, 9, 0x000, 0x100],
+            &[2, 4, 5, 0x000, 0x100],
+            &[3, 4, 5, 0x001, 0x100],
+        ] {
             assert_eq!(SupervisorSet { places, ..t }.check(1), Err(TableError::Events), "{places:?}");
         }
-        assert_eq!(SupervisorSet { places: &[0, 1], ..toggle() }.check(1), Err(TableError::Events));
+        assert_eq!(SupervisorSet { places: t.places, ..toggle() }.check(1), Err(TableError::Events));
         // Masks of other than whole words, a record cut short, a target that starts no record.
         assert_eq!(SupervisorSet { mask_bytes: 1, ..t }.check(1), Err(TableError::Size));
         assert_eq!(SupervisorSet { block: &[0, 1, 0, 1, 0], ..t }.check(1), Err(TableError::Block(0)));
         assert_eq!(SupervisorSet { block: &[0, 1, 2, 1, 0, 0], ..t }.check(1), Err(TableError::Block(0)));
+        // A third event, outside the alphabet: the pool's allowed sets must hold it.
+        let places = &[4, 5, 6, 6, 0x000, 0x100];
+        let three = SupervisorSet { holders: &[1, 1, 0], places, masks: &[0b101, 0b110], ..t };
+        assert_eq!(three.check(1), Ok(()));
+        assert_eq!(three.mask(0, 1), Some([0b10]));
+        assert_eq!(SupervisorSet { masks: &[0b101, 0b010], ..three }.check(1), Err(TableError::Block(0)));
     }
 
     #[test]

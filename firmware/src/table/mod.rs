@@ -38,9 +38,13 @@
 //! ```
 //!
 //! The target of event `e` is the one at `e`'s *place* in the alphabet (the alphabet's events below
-//! it), which a side table holds per event and automaton ([`SupervisorSet::places`]); the targets of
-//! events that do not leave the state are 0 and never read. And every mask takes a whole number of
-//! words (`4 · ⌈events / 32⌉` bytes), so that it is read with aligned word loads. Records are as long
+//! it), which a side table holds per event in a list of the automata holding it
+//! ([`SupervisorSet::places`]: the runtime walks that list rather than searching the holder bits); the
+//! targets of events that do not leave the state are 0 and never read. The pool holds each state's *allowed set*
+//! rather than its out-mask — the out-mask and every event outside the automaton's alphabet, what the
+//! runtime keeps for the enabled set (the out-mask is its part within the alphabet) — and every entry
+//! takes a whole number of words (`4 · ⌈events / 32⌉` bytes), so that it is read with aligned word loads
+//! and as it is. Records are as long
 //! as the alphabet: the layout is larger, and made for the Cortex-M0+ (Thumb-1 has no unaligned loads
 //! and no bit-scan instruction, so the rank's loop and the assembly of a 3-byte mask there cost more
 //! than the rest of a step).
@@ -113,7 +117,8 @@ pub struct SupervisorSet<'t, const W: usize> {
     pub block: &'t [u8],
     /// Mask ids and target handles take 2 bytes (little-endian) instead of 1, in every record.
     pub wide: bool,
-    /// The pool of distinct out-masks that records name by id, as bytes packed little-endian into
+    /// The pool of distinct out-masks (allowed sets in the `indexed` layout) that records name by id,
+    /// as bytes packed little-endian into
     /// words (so that masks of whole words are read with aligned loads): mask `id` is the bitset of the
     /// [`SupervisorSet::mask_bytes`] bytes from byte `id · mask_bytes`, little-endian. The runtime reads
     /// `W` whole words from there, so the pool ends with at least `4 · W − mask_bytes` bytes of
@@ -124,10 +129,11 @@ pub struct SupervisorSet<'t, const W: usize> {
     /// The records hold a target per event of the alphabet (`indexed` layout), not per event of the
     /// state's out-mask (`ranked`).
     pub indexed: bool,
-    /// Per global event id, one byte per automaton (`events · automata` bytes): the event's place in the
-    /// automaton's alphabet (the number of its events below it) when the automaton holds it, else 0.
-    /// Empty in a `ranked` set.
-    pub places: &'t [u8],
+    /// The `indexed` layout's holder lists: first, per global event id and one more, the index in this
+    /// table where the event's list starts (the last: the table's length); then the lists, one entry per
+    /// automaton holding the event, in index order: the automaton in the low byte, the event's place in
+    /// its alphabet (the number of its events below it) in the high byte. Empty in a `ranked` set.
+    pub places: &'t [u16],
     /// Per global event id, [`SupervisorSet::holder_bytes`] bytes, little-endian: bit `a` set when
     /// automaton `a` has the event in its alphabet. Its length is the event count times that width.
     pub holders: &'t [u8],
@@ -148,8 +154,8 @@ pub enum TableError {
     Automata,
     /// More events than `W` words or [`MAX_EVENTS`] hold, a holder table of another width, a holder bit
     /// naming no automaton or one without the event in its alphabet, a controllable event beyond the
-    /// event count, a per-plant table of another length, or a place table of another length or with a
-    /// place that is not the event's in the alphabet.
+    /// event count, a per-plant table of another length, or holder lists (`indexed` layout) that are not
+    /// each event's holders in index order with its places, or lie outside their table.
     Events,
     /// A choice site that starts no record of a plant.
     Sites,
@@ -159,8 +165,8 @@ pub enum TableError {
     /// the `indexed` layout) masks of other than whole words.
     Size,
     /// Automaton `0` starts out of order or beyond the block, has a scale of 0, a record outside its part
-    /// of the block or naming no mask, an out-event outside its alphabet, or a target handle that starts
-    /// no record.
+    /// of the block or naming no mask, an out-event outside its alphabet (an allowed set without an event
+    /// outside it, in the `indexed` layout), or a target handle that starts no record.
     Block(u8),
 }
 
@@ -282,7 +288,7 @@ pub(crate) mod tests {
         assert_eq!(t.holders_of(1, t.holder_bytes()), Some(1));
         assert_eq!(t.holders_of(2, t.holder_bytes()), None);
         // SAFETY: the toggle passes the check (see `check`'s tests) and byte 2 starts its state 1.
-        let allowed = unsafe { t.allowed_at::<false, 1>(aut, 2) };
+        let allowed = unsafe { t.allowed_at::<false, 1, false>(aut, 2) };
         assert_eq!(allowed, [!0b01]);
     }
 }

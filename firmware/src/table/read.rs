@@ -47,7 +47,14 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     pub fn mask(&self, a: usize, handle: u16) -> Option<[u32; W]> {
         let aut = self.automata.get(a)?;
         let id = field(self.block, self.wide, Self::record(aut, handle), 0)?;
-        self.mask_of(usize::from(id))
+        let mut mask = self.mask_of(usize::from(id))?;
+        if self.indexed {
+            // The pool holds what the state allows: its out-events are those of the alphabet.
+            for (m, al) in mask.iter_mut().zip(&aut.alphabet) {
+                *m &= al;
+            }
+        }
+        Some(mask)
     }
 
     /// The handle reached from automaton `a`'s state `handle` by `event`, or `None` when the state has
@@ -76,14 +83,15 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     }
 
     /// What `aut` allows in the state whose record starts at byte `at` of the block: its out-mask and
-    /// every event outside its alphabet. Reads without bounds checks, with the widths `WIDE` and `MASK`.
+    /// every event outside its alphabet (which the pool holds as it is in the `indexed` layout). Reads
+    /// without bounds checks, with the widths `WIDE` and `MASK` and the layout `INDEXED`.
     ///
     /// # Safety
     ///
-    /// [`crate::table::CheckedSet::new`] returned `Ok` for this set, `WIDE` and `MASK`, `aut` is one of
-    /// its automata and `at` the record of one of its states.
+    /// [`crate::table::CheckedSet::new`] returned `Ok` for this set, `WIDE`, `MASK` and `INDEXED`, `aut`
+    /// is one of its automata and `at` the record of one of its states.
     #[inline(always)]
-    pub unsafe fn allowed_at<const WIDE: bool, const MASK: usize>(
+    pub unsafe fn allowed_at<const WIDE: bool, const MASK: usize, const INDEXED: bool>(
         &self,
         aut: &Automaton<W>,
         at: u16,
@@ -111,9 +119,11 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
             }
             mask
         };
-        // Bits beyond the mask's own bytes are no events, and no events are in the alphabet: allowed.
-        for (m, al) in allowed.iter_mut().zip(&aut.alphabet) {
-            *m |= !al;
+        if !INDEXED {
+            // Bits beyond the mask's own bytes are no events, and no events are in the alphabet: allowed.
+            for (m, al) in allowed.iter_mut().zip(&aut.alphabet) {
+                *m |= !al;
+            }
         }
         allowed
     }
@@ -152,7 +162,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         unsafe {
             let target = field_unchecked::<WIDE>(self.block, usize::from(*at), i + 1);
             *at = Self::record(aut, target) as u16;
-            *allowed = self.allowed_at::<WIDE, MASK>(aut, *at);
+            *allowed = self.allowed_at::<WIDE, MASK, INDEXED>(aut, *at);
         }
     }
 }
