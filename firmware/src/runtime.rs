@@ -40,7 +40,7 @@
 //!     masks: &[0x0201, 0],
 //!     mask_bytes: 1,
 //!     indexed: false,
-//!     places: &[],
+//!     holder_lists: &[],
 //!     holders: &[1, 1],
 //!     plant_events: &[[0b01]],
 //!     sites: &[],
@@ -405,8 +405,8 @@ fn take_until_stuck<
         // SAFETY: an indexed set's check proved a holder list for every event (`event` is one) within the
         // table, and `rest` counts holders of the list.
         let list = unsafe {
-            let bound = |i: usize| usize::from(*set.places.get_unchecked(i));
-            set.places.get_unchecked(bound(event.index()) + rest as usize..bound(event.index() + 1))
+            let bound = |i: usize| usize::from(*set.holder_lists.get_unchecked(i));
+            set.holder_lists.get_unchecked(bound(event.index()) + rest as usize..bound(event.index() + 1))
         };
         for &entry in list {
             // The automaton in the low byte, the event's place in its alphabet in the high byte; the check

@@ -243,12 +243,12 @@ fn corrupted<const MASK: usize, const INDEXED: bool>() {
     let mut runner = proptest::test_runner::TestRunner::new(ProptestConfig::with_cases(cases));
     let result = runner.run(
         &corruptions,
-        |((specs, controllable), flips, holder_flip, mask_flip, place_flip, retarget, ops)| {
+        |((specs, controllable), flips, holder_flip, mask_flip, list_flip, retarget, ops)| {
             let good = encode_in(layout::<INDEXED>(), &NAMES, &controllable, &specs);
-            let (flips, holder_flip, mask_flip, place_flip) = if retarget.is_some() {
+            let (flips, holder_flip, mask_flip, list_flip) = if retarget.is_some() {
                 (vec![], None, None, None)
             } else {
-                (flips, holder_flip, mask_flip, place_flip)
+                (flips, holder_flip, mask_flip, list_flip)
             };
             let mut block = good.block.to_vec();
             if let Some([automaton, state, slot, to]) = retarget {
@@ -282,22 +282,22 @@ fn corrupted<const MASK: usize, const INDEXED: bool>() {
                 let i = at.index(masks.len());
                 masks[i] ^= 1 << bit;
             }
-            let mut places = good.places.to_vec();
-            if let Some((at, value)) = place_flip.filter(|_| !places.is_empty()) {
-                let i = at.index(places.len());
-                places[i] = value;
+            let mut lists = good.holder_lists.to_vec();
+            if let Some((at, value)) = list_flip.filter(|_| !lists.is_empty()) {
+                let i = at.index(lists.len());
+                lists[i] = value;
             }
             let set = Box::leak(Box::new(firmware::table::SupervisorSet {
                 block: Box::leak(block.into_boxed_slice()),
                 holders: Box::leak(holders.into_boxed_slice()),
                 masks: Box::leak(masks.into_boxed_slice()),
-                places: Box::leak(places.into_boxed_slice()),
+                holder_lists: Box::leak(lists.into_boxed_slice()),
                 ..*good
             }));
             let changed = set.block != good.block
                 || set.holders != good.holders
                 || set.masks != good.masks
-                || set.places != good.places;
+                || set.holder_lists != good.holder_lists;
             let ran = exercise::<MASK, INDEXED>(set, &ops);
             if changed {
                 let outcome = if ran { &accepted } else { &refused };

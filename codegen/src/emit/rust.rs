@@ -16,7 +16,7 @@ use crate::pack::ranked::{Packed, INDEXED_NAME as INDEXED, NAME as LAYOUT};
 /// the types `Policy` and `Runtime<P, E>` (the runtime built for these tables), a module `event` with
 /// one `u8` constant per event, the names `EVENT_NAMES` and `AUTOMATON_NAMES` (for logs; the tables
 /// hold none), the `ranked` tables `packed` (private statics: `BLOCK` with every automaton's records,
-/// `MASKS`, `DESCRIPTORS`, `PLACES` (empty), `HOLDERS`, `PLANT_EVENTS`, `CHOICE_SITES`) under
+/// `MASKS`, `DESCRIPTORS`, `HOLDER_LISTS` (empty), `HOLDERS`, `PLANT_EVENTS`, `CHOICE_SITES`) under
 /// `pub static SET: firmware::table::SupervisorSet<'static, EVENT_WORDS>`, the same set checked at compile
 /// time as `pub static CHECKED: firmware::table::CheckedSet`, a module `m0plus` with the same constants,
 /// `Runtime`, `SET` and `CHECKED` for the Cortex-M0+ (the `indexed` tables `indexed` of the same set
@@ -93,10 +93,10 @@ fn header(
     let _ = match indexed {
         Ok(m0) => writeln!(
             out,
-            "// Cortex-M0+ tables (`m0plus`): layout {INDEXED}, {} bytes of blocks + {} bytes of masks + {} bytes of places.",
+            "// Cortex-M0+ tables (`m0plus`): layout {INDEXED}, {} bytes of blocks + {} bytes of masks + {} bytes of holder lists.",
             m0.automata.iter().map(|b| b.block.len()).sum::<usize>(),
             m0.mask_bytes(),
-            2 * m0.places().len()
+            2 * m0.holder_lists().len()
         ),
         Err(e) => writeln!(out, "// Cortex-M0+ tables (`m0plus`): layout {LAYOUT} ({e})."),
     };
@@ -214,7 +214,7 @@ fn m0plus(out: &mut String, m0plus: &Result<&Packed, String>) -> Result<(), Emit
     Ok(())
 }
 
-/// The layout's constants, `Runtime` type and tables (`BLOCK`, `MASKS`, `DESCRIPTORS`, `PLACES`,
+/// The layout's constants, `Runtime` type and tables (`BLOCK`, `MASKS`, `DESCRIPTORS`, `HOLDER_LISTS`,
 /// `CHOICE_SITES`, `SET`, `CHECKED`) of `packed`, over the shared `HOLDERS` and `PLANT_EVENTS`.
 fn tables(out: &mut String, packed: &Packed, side: &SideTables) {
     let layout = if packed.indexed { INDEXED } else { LAYOUT };
@@ -274,14 +274,14 @@ fn tables(out: &mut String, packed: &Packed, side: &SideTables) {
         let _ = writeln!(out, "    }},");
     }
     let _ = writeln!(out, "];");
-    let places = packed.places();
+    let lists = packed.holder_lists();
     let _ = writeln!(
         out,
         "/// Per event and one more, where its holder list starts; then per event the automata holding it, \
          each with the event's place in its alphabet in the high byte (`{INDEXED}` layout)."
     );
-    let _ = writeln!(out, "static PLACES: [u16; {}] = [", places.len());
-    for row in places.chunks(12) {
+    let _ = writeln!(out, "static HOLDER_LISTS: [u16; {}] = [", lists.len());
+    for row in lists.chunks(12) {
         let entries: Vec<String> = row.iter().map(|x| format!("0x{x:04x}")).collect();
         let _ = writeln!(out, "    {},", entries.join(", "));
     }
@@ -303,7 +303,7 @@ fn tables(out: &mut String, packed: &Packed, side: &SideTables) {
     let _ = writeln!(out, "    masks: &MASKS,");
     let _ = writeln!(out, "    mask_bytes: MASK_BYTES as u8,");
     let _ = writeln!(out, "    indexed: INDEXED,");
-    let _ = writeln!(out, "    places: &PLACES,");
+    let _ = writeln!(out, "    holder_lists: &HOLDER_LISTS,");
     let _ = writeln!(out, "    holders: &HOLDERS,");
     let _ = writeln!(out, "    plant_events: &PLANT_EVENTS,");
     let _ = writeln!(out, "    sites: &CHOICE_SITES,");

@@ -35,7 +35,7 @@ impl Measure for Packed {
             ],
         };
         if self.indexed {
-            size.side_tables.push(("holder lists", 2 * self.places().len()));
+            size.side_tables.push(("holder lists", 2 * self.holder_lists().len()));
         }
         size
     }
@@ -166,7 +166,7 @@ mod tests {
             })
             .collect();
         let block: Vec<u8> = packed.automata.iter().flat_map(|b| b.block.iter().copied()).collect();
-        let places = packed.places();
+        let holder_lists = packed.holder_lists();
         let width = firmware::table::holder_bytes(automata.len());
         let holders: Vec<u8> = (0..packed.event_names.len())
             .flat_map(|e| {
@@ -189,7 +189,7 @@ mod tests {
             masks: &masks,
             mask_bytes: packed.mask_width() as u8,
             indexed: packed.indexed,
-            places: &places,
+            holder_lists: &holder_lists,
             holders: &holders,
             plant_events: &vec![[0]; plants],
             sites: &[],
@@ -254,7 +254,7 @@ mod tests {
         let indexed = encode_indexed(&set).unwrap();
         assert_eq!(indexed.automata[1].block, [0, 3, 0, 1, 0, 0]);
         assert_eq!(indexed.mask_pool(), [0b01, 0b10]);
-        assert_eq!(indexed.places(), [3, 5, 7, 0x0000, 0x0001, 0x0100, 0x0101]);
+        assert_eq!(indexed.holder_lists(), [3, 5, 7, 0x0000, 0x0001, 0x0100, 0x0101]);
         assert_round_trip(&set, &decode(&indexed).unwrap());
         assert_eq!(indexed.size().layout, INDEXED_NAME);
     }

@@ -38,7 +38,7 @@ pub struct HostTables<const W: usize> {
     automata: Vec<Automaton<W>>,
     block: Vec<u8>,
     masks: Vec<u32>,
-    places: Vec<u16>,
+    holder_lists: Vec<u16>,
     plant_events: Vec<[u32; W]>,
     controllable: [u32; W],
 }
@@ -63,8 +63,8 @@ impl<const W: usize> HostTables<W> {
             .collect::<Result<_, BuildError>>()?;
         let block = packed.automata.iter().flat_map(|b| b.block.iter().copied()).collect();
         let masks = packed.mask_pool();
-        let places = packed.places();
-        Ok(HostTables { packed, side, automata, block, masks, places, plant_events, controllable })
+        let holder_lists = packed.holder_lists();
+        Ok(HostTables { packed, side, automata, block, masks, holder_lists, plant_events, controllable })
     }
 
     /// Event names by global id (not part of the runtime's tables).
@@ -84,7 +84,7 @@ impl<const W: usize> HostTables<W> {
             // At most 256 events: 32 bytes.
             mask_bytes: self.packed.mask_width() as u8,
             indexed: self.packed.indexed,
-            places: &self.places,
+            holder_lists: &self.holder_lists,
             holders: &self.side.holders,
             plant_events: &self.plant_events,
             sites: &self.side.sites,

@@ -177,10 +177,10 @@ impl Packed {
         4 * self.mask_pool().len()
     }
 
-    /// The runtime's holder lists ([`crate::table::SupervisorSet::places`]): per event and one more,
+    /// The runtime's holder lists ([`crate::table::SupervisorSet::holder_lists`]): per event and one more,
     /// where its list starts; then per event the automata holding it, in index order, each with the
     /// event's place in its alphabet. Empty in the `ranked` layout.
-    pub fn places(&self) -> Vec<u16> {
+    pub fn holder_lists(&self) -> Vec<u16> {
         if !self.indexed {
             return Vec::new();
         }

@@ -170,7 +170,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     }
 
     /// Checks everything the runtime's unchecked reads rely on, for a runtime of `automata` automata:
-    /// sizes, every holder holding the event in its alphabet, the places, every automaton's records (see
+    /// sizes, every holder holding the event in its alphabet, the holder lists, every automaton's records (see
     /// the module documentation) and every choice site a plant's state.
     /// Linear in the size of the tables (times the handle count / 256 for automata of more than 256
     /// handle units).
@@ -220,7 +220,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
             }
             e += 1;
         }
-        if !self.places_sound(events) {
+        if !self.lists_sound(events) {
             return Err(TableError::Events);
         }
         let mut a = 0;
@@ -244,21 +244,18 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     /// Whether the holder lists fit the layout: empty in a `ranked` set; in an `indexed` one, the
     /// starts ascending from just after them to the table's end, and each event's list exactly its
     /// holders in index order, each with the event's place in its alphabet.
-    const fn places_sound(&self, events: usize) -> bool {
-        let (places, width) = (self.places, holder_bytes(self.automata.len()));
+    const fn lists_sound(&self, events: usize) -> bool {
+        let (lists, width) = (self.holder_lists, holder_bytes(self.automata.len()));
         if !self.indexed {
-            return places.is_empty();
+            return lists.is_empty();
         }
-        if places.len() <= events
-            || places[0] as usize != events + 1
-            || places[events] as usize != places.len()
-        {
+        if lists.len() <= events || lists[0] as usize != events + 1 || lists[events] as usize != lists.len() {
             return false;
         }
         let mut e = 0;
         while e < events {
-            let (mut i, end) = (places[e] as usize, places[e + 1] as usize);
-            if i <= events || end < i || end > places.len() {
+            let (mut i, end) = (lists[e] as usize, lists[e + 1] as usize);
+            if i <= events || end < i || end > lists.len() {
                 return false;
             }
             let Some(mut holders) = holder_mask(self.holders, e * width, width) else { return false };
@@ -266,7 +263,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
                 let a = holders.trailing_zeros() as usize;
                 holders &= holders - 1;
                 let want = a | place(&self.automata[a].alphabet, e) << 8;
-                if i >= end || places[i] as usize != want {
+                if i >= end || lists[i] as usize != want {
                     return false;
                 }
                 i += 1;
@@ -558,7 +555,7 @@ mod tests {
             masks: &[0b01, 0b10],
             mask_bytes: 4,
             indexed: true,
-            places: &[3, 4, 5, 0x000, 0x100],
+            holder_lists: &[3, 4, 5, 0x000, 0x100],
             ..toggle()
         }
     }
@@ -572,7 +569,7 @@ mod tests {
         assert_eq!(CheckedSet::<1, 1, false, 4, false>::new(&t).err(), Some(TableError::Shape));
         // A place that is not the event's, a list of another length, starts out of the table or out of
         // order, an automaton that does not hold the event, or lists in a ranked set.
-        for places in [
+        for holder_lists in [
             &[3u16, 4, 5, 0x000, 0x000][..],
             &[3, 4, 6, 0x000, 0x100, 0x100],
             &[3, 4, 5, 0x000],
@@ -581,16 +578,23 @@ mod tests {
             &[2, 4, 5, 0x000, 0x100],
             &[3, 4, 5, 0x001, 0x100],
         ] {
-            assert_eq!(SupervisorSet { places, ..t }.check(1), Err(TableError::Events), "{places:?}");
+            assert_eq!(
+                SupervisorSet { holder_lists, ..t }.check(1),
+                Err(TableError::Events),
+                "{holder_lists:?}"
+            );
         }
-        assert_eq!(SupervisorSet { places: t.places, ..toggle() }.check(1), Err(TableError::Events));
+        assert_eq!(
+            SupervisorSet { holder_lists: t.holder_lists, ..toggle() }.check(1),
+            Err(TableError::Events)
+        );
         // Masks of other than whole words, a record cut short, a target that starts no record.
         assert_eq!(SupervisorSet { mask_bytes: 1, ..t }.check(1), Err(TableError::Size));
         assert_eq!(SupervisorSet { block: &[0, 1, 0, 1, 0], ..t }.check(1), Err(TableError::Block(0)));
         assert_eq!(SupervisorSet { block: &[0, 1, 2, 1, 0, 0], ..t }.check(1), Err(TableError::Block(0)));
         // A third event, outside the alphabet: the pool's allowed sets must hold it.
-        let places = &[4, 5, 6, 6, 0x000, 0x100];
-        let three = SupervisorSet { holders: &[1, 1, 0], places, masks: &[0b101, 0b110], ..t };
+        let holder_lists = &[4, 5, 6, 6, 0x000, 0x100];
+        let three = SupervisorSet { holders: &[1, 1, 0], holder_lists, masks: &[0b101, 0b110], ..t };
         assert_eq!(three.check(1), Ok(()));
         assert_eq!(three.mask(0, 1), Some([0b10]));
         assert_eq!(SupervisorSet { masks: &[0b101, 0b010], ..three }.check(1), Err(TableError::Block(0)));

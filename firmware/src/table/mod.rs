@@ -39,7 +39,7 @@
 //!
 //! The target of event `e` is the one at `e`'s *place* in the alphabet (the alphabet's events below
 //! it), which a side table holds per event in a list of the automata holding it
-//! ([`SupervisorSet::places`]: the runtime walks that list rather than searching the holder bits); the
+//! ([`SupervisorSet::holder_lists`]: the runtime walks that list rather than searching the holder bits); the
 //! targets of events that do not leave the state are 0 and never read. The pool holds each state's *allowed set*
 //! rather than its out-mask — the out-mask and every event outside the automaton's alphabet, what the
 //! runtime keeps for the enabled set (the out-mask is its part within the alphabet) — and every entry
@@ -133,7 +133,7 @@ pub struct SupervisorSet<'t, const W: usize> {
     /// table where the event's list starts (the last: the table's length); then the lists, one entry per
     /// automaton holding the event, in index order: the automaton in the low byte, the event's place in
     /// its alphabet (the number of its events below it) in the high byte. Empty in a `ranked` set.
-    pub places: &'t [u16],
+    pub holder_lists: &'t [u16],
     /// Per global event id, [`SupervisorSet::holder_bytes`] bytes, little-endian: bit `a` set when
     /// automaton `a` has the event in its alphabet. Its length is the event count times that width.
     pub holders: &'t [u8],
@@ -253,7 +253,7 @@ pub(crate) mod tests {
         masks: &[0x0201, 0],
         mask_bytes: 1,
         indexed: false,
-        places: &[],
+        holder_lists: &[],
         holders: &[1, 1],
         plant_events: &[[0b01]],
         sites: &[],
