@@ -70,7 +70,8 @@ impl Port for Outbox {
 /// behind `link`: every chunk of bytes received is pushed into an input buffer of `Q - 1` slots before
 /// the loop runs (so a burst larger than the buffer overflows, which the runtime reports), then the loop
 /// serves until it is idle. The thread ends on EXIT (returning its status) or when the host hangs up.
-/// `W`, `N`, `WIDE`, `MASK` and `INDEXED` are the tables' shape ([`CheckedSet`]), `Q` the input buffer's slots.
+/// `W`, `N`, `WIDE`, `MASK` and `INDEXED` are the tables' shape ([`CheckedSet`]), `Q` the input buffer's
+/// slots.
 pub fn spawn_host_firmware<
     P,
     const W: usize,

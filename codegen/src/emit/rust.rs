@@ -20,8 +20,8 @@ use crate::pack::ranked::{Packed, INDEXED_NAME as INDEXED, NAME as LAYOUT};
 /// `pub static SET: firmware::table::SupervisorSet<'static, EVENT_WORDS>`, the same set checked at compile
 /// time as `pub static CHECKED: firmware::table::CheckedSet`, a module `m0plus` with the same constants,
 /// `Runtime`, `SET` and `CHECKED` for the Cortex-M0+ (the `indexed` tables `indexed` of the same set
-/// when it is `Ok`, else the `ranked` ones, with the reason it gives), and the board tables `BOARD`, `INPUT_PINS`, `INPUT_PULLS`,
-/// `OUTPUT_PINS` (empty without a `[board]`).
+/// when it is `Ok`, else the `ranked` ones, with the reason it gives), and the board tables `BOARD`,
+/// `INPUT_PINS`, `INPUT_PULLS`, `OUTPUT_PINS` (empty without a `[board]`).
 /// `name` names the set, `runtime` is the run-time configuration the tables carry, `board` the pin map
 /// (without one the board tables are empty). Deterministic: the same arguments give the same bytes.
 pub fn emit(

@@ -7,8 +7,8 @@ use alloc::vec::Vec;
 use super::{BuildError, Packed, SideTables};
 use crate::table::{Automaton, SupervisorSet};
 
-/// A set (`ranked` or `indexed` layout) with its side tables, owned in the runtime's representation for event bitsets of `W`
-/// words; [`HostTables::set`] lends the runtime its view.
+/// A set (`ranked` or `indexed` layout) with its side tables, owned in the runtime's representation for
+/// event bitsets of `W` words; [`HostTables::set`] lends the runtime its view.
 ///
 /// `W` must be the set's word count (⌈events / 32⌉), as `EVENT_WORDS` of the emitted file; the
 /// `[u32; W]` arrays and the blocks back to back that the runtime reads are built once, in

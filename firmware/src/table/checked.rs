@@ -6,9 +6,10 @@ use super::{SupervisorSet, TableError, MAX_AUTOMATA, MAX_BLOCK, MAX_EVENTS, MAX_
 
 /// A set that passed [`SupervisorSet::check`] for `N` automata, with 2-byte fields exactly when `WIDE`
 /// ([`SupervisorSet::wide`]), masks of `MASK` bytes ([`SupervisorSet::mask_bytes`]) and the `indexed`
-/// layout exactly when `INDEXED` ([`SupervisorSet::indexed`]): the only form the runtime takes. The emitted tables build theirs in a `static`, so the check runs in the compiler
-/// and a set that fails it does not build; host tools build theirs at run time. The widths are type
-/// parameters so that the runtime's steps are compiled for them.
+/// layout exactly when `INDEXED` ([`SupervisorSet::indexed`]): the only form the runtime takes. The
+/// emitted tables build theirs in a `static`, so the check runs in the compiler and a set that fails it
+/// does not build; host tools build theirs at run time. The widths and the layout are type parameters so
+/// that the runtime's steps are compiled for them.
 #[derive(Clone, Copy, Debug)]
 pub struct CheckedSet<
     't,
@@ -170,10 +171,10 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     }
 
     /// Checks everything the runtime's unchecked reads rely on, for a runtime of `automata` automata:
-    /// sizes, every holder holding the event in its alphabet, the holder lists, every automaton's records (see
-    /// the module documentation) and every choice site a plant's state.
-    /// Linear in the size of the tables (times the handle count / 256 for automata of more than 256
-    /// handle units).
+    /// sizes, every holder holding the event in its alphabet, the holder lists, every automaton's records
+    /// (see the module documentation) and every choice site a plant's state.
+    /// Linear in the size of the tables (times the handle count / 256 for `ranked` automata of more than
+    /// 256 handle units; an `indexed` automaton's records, all as long, are checked in one pass).
     pub const fn check(&self, automata: usize) -> Result<(), TableError> {
         let plants = self.plants as usize;
         if self.automata.len() != automata || automata > MAX_AUTOMATA || plants > automata {
@@ -276,9 +277,9 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         true
     }
 
-    /// The record of automaton `a` at byte `at`, if it ends by `end` and names a mask: mask id, target
-    /// count (the mask's events, or the alphabet's in the `indexed` layout) and the byte after it.
-    pub(super) const fn record_at(&self, a: usize, at: usize, end: usize) -> Option<(usize, usize, usize)> {
+    /// The `ranked` record at byte `at`, if it ends by `end` and names a mask: mask id, target count and
+    /// the byte after it.
+    pub(super) const fn record_at(&self, at: usize, end: usize) -> Option<(usize, usize, usize)> {
         let id = match field(self.block, self.wide, at, 0) {
             Some(id) => id as usize,
             None => return None,
@@ -287,11 +288,10 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
             Some(mask) => mask,
             None => return None,
         };
-        let counted = if self.indexed { &self.automata[a].alphabet } else { &mask };
         let mut n = 0;
         let mut w = 0;
         while w < W {
-            n += counted[w].count_ones() as usize;
+            n += mask[w].count_ones() as usize;
             w += 1;
         }
         let next = at + (n + 1) * if self.wide { 2 } else { 1 };
@@ -333,7 +333,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
             while pass < 2 {
                 let mut at = start;
                 while at < end {
-                    let Some((id, n, next)) = self.record_at(a, at, end) else { return false };
+                    let Some((id, n, next)) = self.record_at(at, end) else { return false };
                     if pass == 0 {
                         if at >= MAX_BLOCK {
                             return false;
@@ -473,10 +473,10 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         let wanted = start + handle as usize * scale;
         let mut at = start;
         while at < wanted {
-            let Some((_, _, next)) = self.record_at(a, at, end) else { return false };
+            let Some((_, _, next)) = self.record_at(at, end) else { return false };
             at = start + (next - start).div_ceil(scale) * scale;
         }
-        at == wanted && self.record_at(a, at, end).is_some()
+        at == wanted && self.record_at(at, end).is_some()
     }
 }
 
