@@ -267,14 +267,13 @@ impl<
         let Some(holders) = self.set.holders_of(c, holder_bytes(N)) else {
             return Decision::Idle;
         };
-        // `c` is enabled: every holder allows it, none gets stuck. (All of them: the holders' bits, or
-        // none of the holder list passed.)
+        // `c` is enabled: every holder allows it, none gets stuck.
         take_until_stuck::<W, N, WIDE, MASK, INDEXED>(
             self.set,
             &mut self.records,
             &mut self.allowed,
             Event::new(c),
-            if INDEXED { 0 } else { holders },
+            every::<INDEXED>(holders),
         );
         self.counters.commands_out = self.counters.commands_out.wrapping_add(1);
         Decision::Fired(c)
@@ -355,7 +354,7 @@ impl<
     fn take(&mut self, event: u8, holders: u32) -> Option<u8> {
         let (set, records, allowed, event) =
             (self.set, &mut self.records, &mut self.allowed, Event::new(event));
-        let all = if INDEXED { 0 } else { holders };
+        let all = every::<INDEXED>(holders);
         let first = take_until_stuck::<W, N, WIDE, MASK, INDEXED>(set, records, allowed, event, all)?;
         // Rare: an unexpected event. The holders after the stuck one still move.
         let mut stuck = first;
@@ -379,6 +378,17 @@ impl<
         if self.on_fault == FaultPolicy::SafeState {
             self.safe = true;
         }
+    }
+}
+
+/// The `rest` of [`take_until_stuck`] that moves every one of `holders`: their bits (`ranked` layout), or
+/// none of the holder list passed (`indexed`).
+#[inline(always)]
+const fn every<const INDEXED: bool>(holders: u32) -> u32 {
+    if INDEXED {
+        0
+    } else {
+        holders
     }
 }
 

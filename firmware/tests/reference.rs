@@ -155,12 +155,7 @@ proptest! {
 
     #[test]
     fn runtime_agrees_with_the_definition_under_every_policy((specs, controllable) in sets(), ops in ops()) {
-        check::<First, 1, false>(&specs, &controllable, &ops)?;
-        check::<Random, 1, false>(&specs, &controllable, &ops)?;
-        check::<GlobalQueue, 1, false>(&specs, &controllable, &ops)?;
-        check::<RandomGlobalQueue<1>, 1, false>(&specs, &controllable, &ops)?;
-        check::<LocalQueue<8>, 1, false>(&specs, &controllable, &ops)?;
-        check::<RandomLocalQueue<1, 8>, 1, false>(&specs, &controllable, &ops)?;
+        every_policy::<1, false>(&specs, &controllable, &ops)?;
     }
 
     #[test]
@@ -168,13 +163,22 @@ proptest! {
         (specs, controllable) in sets(),
         ops in ops(),
     ) {
-        check::<First, 4, true>(&specs, &controllable, &ops)?;
-        check::<Random, 4, true>(&specs, &controllable, &ops)?;
-        check::<GlobalQueue, 4, true>(&specs, &controllable, &ops)?;
-        check::<RandomGlobalQueue<1>, 4, true>(&specs, &controllable, &ops)?;
-        check::<LocalQueue<8>, 4, true>(&specs, &controllable, &ops)?;
-        check::<RandomLocalQueue<1, 8>, 4, true>(&specs, &controllable, &ops)?;
+        every_policy::<4, true>(&specs, &controllable, &ops)?;
     }
+}
+
+/// [`check`] under each of the six policies, in the layout `INDEXED` (masks of `MASK` bytes).
+fn every_policy<const MASK: usize, const INDEXED: bool>(
+    specs: &[Spec],
+    controllable: &[bool],
+    ops: &[Op],
+) -> Result<(), TestCaseError> {
+    check::<First, MASK, INDEXED>(specs, controllable, ops)?;
+    check::<Random, MASK, INDEXED>(specs, controllable, ops)?;
+    check::<GlobalQueue, MASK, INDEXED>(specs, controllable, ops)?;
+    check::<RandomGlobalQueue<1>, MASK, INDEXED>(specs, controllable, ops)?;
+    check::<LocalQueue<8>, MASK, INDEXED>(specs, controllable, ops)?;
+    check::<RandomLocalQueue<1, 8>, MASK, INDEXED>(specs, controllable, ops)
 }
 
 /// Runs `ops` on `set` under the default policy if the check accepts it (and says whether it did); with

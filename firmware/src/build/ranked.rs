@@ -272,10 +272,11 @@ impl Packed {
             })?;
             let id = read(bytes, at, id_bytes).ok_or_else(truncated)?;
             let mask = self.masks.get(id).ok_or(ReadError::BadMask { what: what(), at, id })?;
-            let events = self.event_names.len();
-            let lacking =
-                (0..events).find(|&e| !bitset::contains(&b.alphabet, e) && !bitset::contains(mask, e));
-            if let Some(e) = lacking.filter(|_| self.indexed) {
+            // Indexed: the allowed set holds every event outside the alphabet (nothing to look for in a
+            // ranked set).
+            let outside = if self.indexed { self.event_names.len() } else { 0 };
+            let lacking = |e: &usize| !bitset::contains(&b.alphabet, *e) && !bitset::contains(mask, *e);
+            if let Some(e) = (0..outside).find(lacking) {
                 return Err(ReadError::Inconsistent {
                     what: what(),
                     detail: format!("the allowed set {id} of the record at byte {at} lacks event {e}, outside the alphabet"),
