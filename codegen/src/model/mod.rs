@@ -21,6 +21,7 @@ mod dfa;
 mod error;
 mod event_table;
 mod ids;
+pub mod suggest;
 #[cfg(test)]
 pub(crate) mod testing;
 
