@@ -56,7 +56,8 @@ fn inspect_line_names_file_and_sizes() {
     assert_eq!(
         String::from_utf8(out.stdout).unwrap(),
         format!(
-            "{g1}: G1 (unknown): 2 states, 2 transitions, 2 events (2 controllable), 1 marked, initial '1'\n"
+            "{g1}: G1 (unknown): 2 states, 2 transitions, 2 events (2 controllable), 1 marked, initial '1'\n  \
+             controllable: e1_lig, e1_des\n  uncontrollable: (none)\n"
         )
     );
 }
@@ -115,6 +116,18 @@ fn inspect_reads_the_tct_seed_with_its_published_figures() {
     let figures = ["states", "transitions", "events", "controllable"].map(|k| o[k].as_u64().unwrap());
     assert_eq!(figures, [5, 13, 6, 3]);
     assert_eq!((o["kind"].as_str(), o["initial"].as_str()), (Some("unknown"), Some("0")));
+    // The alphabet, each event with its controllability: TCT's odd labels are controllable.
+    let alphabet: Vec<(&str, bool)> = o["alphabet"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| (e["name"].as_str().unwrap(), e["controllable"].as_bool().unwrap()))
+        .collect();
+    assert_eq!(alphabet.len(), 6);
+    assert!(
+        alphabet.iter().all(|(name, c)| name.parse::<u32>().unwrap() % 2 == u32::from(*c)),
+        "{alphabet:?}"
+    );
 }
 
 #[test]

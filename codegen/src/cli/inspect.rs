@@ -11,16 +11,18 @@ use super::Error;
 
 /// Show the size, role and alphabet of every automaton in the given files.
 ///
-/// Prints one line per automaton: file, name, kind (plant, spec, supervisor or unknown), states,
-/// transitions, events, controllable events, marked states and the initial state. A file that cannot be
-/// read is reported on stderr; the others are still shown, and the exit status is 2.
+/// Prints per automaton a line with file, name, kind (plant, spec, supervisor or unknown), states,
+/// transitions, events, controllable events, marked states and the initial state, then its alphabet: a
+/// line of its controllable events and one of its uncontrollable events, each in the file's order. A
+/// file that cannot be read is reported on stderr; the others are still shown, and the exit status is 2.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Model files (.xmd, .ads, .gen, .wmod; the format is taken from the extension, else the content).
     #[arg(required = true)]
     files: Vec<PathBuf>,
     /// Print a JSON array of objects with the fields file, name, kind, states, transitions, events,
-    /// controllable, marked, initial (the initial state's name, or null).
+    /// controllable, marked, initial (the initial state's name, or null) and alphabet (an array of
+    /// objects name, controllable, in the file's order).
     #[arg(long)]
     json: bool,
 }
@@ -46,6 +48,16 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     } else {
         for (file, a) in &rows {
             writeln!(out, "{}", line(file, a))?;
+            for (word, controllable) in [("controllable", true), ("uncontrollable", false)] {
+                let names: Vec<&str> = a
+                    .events
+                    .iter()
+                    .filter(|e| e.controllable == controllable)
+                    .map(|e| e.name.as_str())
+                    .collect();
+                let names = if names.is_empty() { "(none)".to_owned() } else { names.join(", ") };
+                writeln!(out, "  {word}: {names}")?;
+            }
         }
     }
     out.flush()?;
@@ -81,5 +93,9 @@ fn to_json(file: &str, a: &Automaton) -> serde_json::Value {
         "controllable": a.controllable_count(),
         "marked": a.marked_count(),
         "initial": initial_name(a),
+        "alphabet": a.events.iter().map(|e| serde_json::json!({
+            "name": e.name,
+            "controllable": e.controllable,
+        })).collect::<Vec<_>>(),
     })
 }
