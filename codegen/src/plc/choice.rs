@@ -2,7 +2,7 @@
 //! same rules as `firmware::choice` over the same event ids, so that with the deterministic policies the
 //! program and the firmware fire the same events.
 
-use super::st::{Expr, Op, Stmt};
+use super::st::{Expr, Op, Stmt, Type};
 use crate::config::ScanPolicy;
 
 /// The MINSTD multiplier (Park & Miller), and Schrage's split of the modulus 2³¹ − 1 by it, so that the
@@ -33,8 +33,12 @@ pub struct PlantChoice {
     pub sites: Vec<(Expr, i64)>,
 }
 
+/// The array of enabled controllable events, by id (not `en`: `EN` is reserved, IEC 61131-3 Ed. 3
+/// 6.6.1.5).
+pub const ENABLED: &str = "enabled";
+
 fn en(i: Expr) -> Expr {
-    Expr::at("en", i)
+    Expr::at(ENABLED, i)
 }
 
 fn c_is(e: i64) -> Stmt {
@@ -84,7 +88,13 @@ pub fn statements(policy: ScanPolicy, events: i64, plants: &[PlantChoice]) -> Ve
                             var("rng").op(Op::Le, Expr::Int(0)),
                             vec![Stmt::set("rng", var("rng").op(Op::Add, Expr::Int(MINSTD_M)))],
                         ),
-                        Stmt::set("k", var("rng").op(Op::Mod, var("n"))),
+                        // `rng` is a DINT, `k` and `n` INTs: both conversions written out (6.6.1.6).
+                        Stmt::set(
+                            "k",
+                            var("rng")
+                                .op(Op::Mod, var("n").convert(&Type::Int, &Type::Dint))
+                                .convert(&Type::Dint, &Type::Int),
+                        ),
                         Stmt::For(
                             "i".into(),
                             0,

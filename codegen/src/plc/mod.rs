@@ -14,6 +14,8 @@
 //!   section, a static bound on the statements a scan executes).
 //! * [`program`] — the builder: a `FUNCTION_BLOCK` with plants, supervisors and interface, and a
 //!   `PROGRAM` instantiating it (the scan is described there).
+//! * [`strict`] — the IEC 61131-3 Ed. 3 rules every program is checked against before it is printed
+//!   (keywords, located variables, no implicit conversion), so a strict compiler takes it.
 //! * [`xml`] — the same POUs, and the configuration, as PLCopen XML with ST bodies.
 //! * [`report`] — what the program costs and how it solves each problem.
 //!
@@ -29,6 +31,7 @@ pub mod names;
 pub mod program;
 pub mod report;
 pub mod st;
+pub mod strict;
 pub mod xml;
 
 use std::fmt::Write as _;
@@ -172,6 +175,9 @@ pub enum PlcError {
     /// The manifest's policy has no scan-cycle form and `[plc]` names none.
     #[error("[runtime] policy {0} has no scan-cycle form; set [plc] policy (first, global-queue, local-queue or random)")]
     Policy(ChoicePolicy),
+    /// The program breaks a rule of the standard: a bug of the writer, never of the input.
+    #[error("internal error, please report: the program is not strict IEC 61131-3: {0}")]
+    Strict(#[from] strict::Violation),
     /// The closed loop for the simultaneity check could not be built.
     #[error("simultaneity check: {0}")]
     Synth(#[from] crate::synth::SynthError),
@@ -191,15 +197,12 @@ pub struct Output {
 /// Writes the program for `set` with `opts`; `provenance` goes into every file's header.
 pub fn generate(set: &PackSet, opts: &PlcOptions, provenance: &Provenance) -> Result<Output, PlcError> {
     let program = program::build(set, opts)?;
+    strict::check(program.events_type.as_slice(), &[&program.fb, &program.main])?;
     let base = names::sanitize(&opts.name);
     let header = header(set, opts, provenance);
     let mut st = comment(&header);
     if let Some((name, members)) = &program.events_type {
-        let mut vars = String::new();
-        for m in members {
-            vars.push_str(&m.text());
-        }
-        let _ = write!(st, "\nTYPE {name} :\nSTRUCT\n{vars}END_STRUCT\nEND_TYPE\n");
+        let _ = write!(st, "\n{}", st::struct_type(name, members));
     }
     let _ = write!(st, "\n{}\n{}", program.fb.text(), program.main.text());
     let config = format!("{}\n{}", comment(&header), xml::configuration_text(&base, opts.cycle_ms));

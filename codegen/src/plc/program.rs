@@ -29,7 +29,7 @@ use super::avalanche::{plan, Avalanche, Method, Plan};
 use super::choice::{self, PlantChoice};
 use super::io::{IoMap, Source};
 use super::names::{sanitize, Names};
-use super::st::{Expr, Op, Pou, Section, SectionKind, Stmt, Var, VarClass};
+use super::st::{Expr, Op, Pou, Section, SectionKind, Stmt, Type, Var, VarClass};
 use super::{Encoding, PlcError, PlcOptions};
 use crate::config::{Action, Edge, ScanPolicy};
 
@@ -89,7 +89,7 @@ pub fn build(set: &PackSet, opts: &PlcOptions) -> Result<Program, PlcError> {
     for fixed in ["ready", "reset", "hold", "guard", "fired", "pending", "safe", "busy", "arrived", "EVENTS"]
         .iter()
         .chain(&COUNTERS)
-        .chain(&["en", "c", "i", "j", "k", "n", "p", "pc", "gq", "sc", "site", "cur", "rng", "sct"])
+        .chain(&["enabled", "c", "i", "j", "k", "n", "p", "pc", "gq", "sc", "site", "cur", "rng", "sct"])
     {
         names.reserve(fixed);
     }
@@ -427,7 +427,7 @@ impl Builder<'_> {
                     }
                 }
                 let value = Expr::fold(terms, Op::And, Expr::Bool(true));
-                Stmt::Assign(Expr::at("en", Expr::Int(c.index() as i64)), value)
+                Stmt::Assign(Expr::at(choice::ENABLED, Expr::Int(c.index() as i64)), value)
             })
             .collect()
     }
@@ -546,31 +546,44 @@ impl Builder<'_> {
         let members: Vec<Var> = self
             .io
             .members()
-            .map(|(e, m)| Var::new(m, "BOOL", format!("'{}': its rising edge", events.name(e))))
+            .map(|(e, m)| Var::new(m, Type::Bool, format!("'{}': its rising edge", events.name(e))))
             .collect();
         let events_type = (!members.is_empty()).then(|| (type_name.clone(), members));
 
-        let mut inputs: Vec<Var> = Vec::new();
+        // The I/O variables, located as the manifest says: declared so in the PROGRAM only, which binds
+        // each address once and passes the values to the block, whose interface is never located
+        // (IEC 61131-3 Ed. 3 6.5.5). An input carrying several events (both edges) is declared once.
+        let mut io_inputs: Vec<Var> = Vec::new();
         for (&e, s) in &self.io.sources {
             if let Source::Input { variable, edge, address } = s {
-                let mut v = Var::new(variable, "BOOL", format!("'{}': {} edge", events.name(e), edge.name()));
-                v.address.clone_from(address);
-                inputs.push(v);
+                let what = format!("'{}': {} edge", events.name(e), edge.name());
+                match io_inputs.iter_mut().find(|v| &v.name == variable) {
+                    Some(v) => v.comment = format!("{}, {what}", v.comment),
+                    None => {
+                        let mut v = Var::new(variable, Type::Bool, what);
+                        v.address.clone_from(address);
+                        io_inputs.push(v);
+                    }
+                }
             }
         }
-        let io_inputs = inputs.clone();
+        let unlocated =
+            |vars: &[Var]| -> Vec<Var> { vars.iter().map(|v| Var { address: None, ..v.clone() }).collect() };
+        let mut inputs = unlocated(&io_inputs);
         if events_type.is_some() {
-            inputs.push(Var::new("EVENTS", &type_name, "internal uncontrollable events (tests)"));
+            inputs.push(Var::new(
+                "EVENTS",
+                Type::Named(type_name.clone()),
+                "internal uncontrollable events (tests)",
+            ));
         }
-        inputs.push(Var::new("hold", "BOOL", "no command while TRUE").init("FALSE"));
-        inputs.push(Var::new("guard", "BOOL", "inexact-synchronisation guard").init(if self.opts.guard {
-            "TRUE"
-        } else {
-            "FALSE"
-        }));
-        inputs.push(Var::new("reset", "BOOL", "initial states while TRUE").init("FALSE"));
+        inputs.push(Var::new("hold", Type::Bool, "no command while TRUE").init(Expr::Bool(false)));
+        inputs.push(
+            Var::new("guard", Type::Bool, "inexact-synchronisation guard").init(Expr::Bool(self.opts.guard)),
+        );
+        inputs.push(Var::new("reset", Type::Bool, "initial states while TRUE").init(Expr::Bool(false)));
 
-        let mut outputs: Vec<Var> = self
+        let outputs: Vec<Var> = self
             .io
             .outputs
             .iter()
@@ -583,26 +596,30 @@ impl Builder<'_> {
                         _ => format!("'{}' {}", events.name(e), a.name()),
                     })
                     .collect();
-                let mut v = Var::new(&o.variable, "BOOL", what.join(", "));
+                let mut v = Var::new(&o.variable, Type::Bool, what.join(", "));
                 v.address.clone_from(&o.address);
                 v
             })
             .collect();
-        let io_outputs = outputs.clone();
-        outputs.push(Var::new("fired", "INT", "controllable event id fired this scan, -1 none").init("-1"));
-        outputs.push(Var::new("pending", "BOOL", "uncontrollable events latched, not yet applied"));
-        outputs.push(Var::new("safe", "BOOL", "a fault stopped the controller"));
+        let io_outputs = outputs;
+        let mut outputs = unlocated(&io_outputs);
+        outputs.push(
+            Var::new("fired", Type::Int, "controllable event id fired this scan, -1 none")
+                .init(Expr::Int(-1)),
+        );
+        outputs.push(Var::new("pending", Type::Bool, "uncontrollable events latched, not yet applied"));
+        outputs.push(Var::new("safe", Type::Bool, "a fault stopped the controller"));
         for c in COUNTERS {
-            outputs.push(Var::new(c, "UDINT", ""));
+            outputs.push(Var::new(c, Type::Udint, ""));
         }
 
-        let mut locals = vec![Var::new("ready", "BOOL", "initialised")];
+        let mut locals = vec![Var::new("ready", Type::Bool, "initialised")];
         for (a, m) in self.set.members().iter().enumerate() {
             let role = m.role.as_str();
             match self.opts.encoding {
                 Encoding::Int => locals.push(Var::new(
                     &self.auts[a].name,
-                    "INT",
+                    Type::Int,
                     format!("{role} {}: state index, initial {}", m.name(), m.initial().index()),
                 )),
                 Encoding::Bits => {
@@ -610,7 +627,7 @@ impl Builder<'_> {
                         let state = &m.automaton.states[s].name;
                         locals.push(Var::new(
                             self.state_var(a, s),
-                            "BOOL",
+                            Type::Bool,
                             format!("{role} {} in state '{state}'", m.name()),
                         ));
                     }
@@ -621,61 +638,69 @@ impl Builder<'_> {
             let kind = if events.is_controllable(e) { "controllable" } else { "uncontrollable" };
             locals.push(Var::new(
                 &self.ev[e.index()],
-                "BOOL",
+                Type::Bool,
                 format!("event {} '{}' ({kind}) this scan", e.index(), events.name(e)),
             ));
         }
         for u in self.uncontrollable() {
-            locals.push(Var::new(&self.pend[u.index()], "BOOL", "latched"));
-            locals.push(Var::new(&self.prev[u.index()], "BOOL", "input at the previous scan"));
+            locals.push(Var::new(&self.pend[u.index()], Type::Bool, "latched"));
+            locals.push(Var::new(&self.prev[u.index()], Type::Bool, "input at the previous scan"));
         }
         for (bit, a, e) in &self.bits {
             let m = &self.set.members()[*a];
-            locals.push(Var::new(bit, "BOOL", format!("AEEM bit of '{}' in {}", events.name(*e), m.name())));
+            locals.push(Var::new(
+                bit,
+                Type::Bool,
+                format!("AEEM bit of '{}' in {}", events.name(*e), m.name()),
+            ));
         }
         for pt in self.pulse.iter().flatten() {
-            locals.push(Var::new(pt, "INT", "pulse scans left"));
+            locals.push(Var::new(pt, Type::Int, "pulse scans left"));
         }
         let last = events.len() - 1;
         let has_u = !self.uncontrollable().is_empty();
         let has_c = !self.controllable().is_empty();
         if has_u {
-            locals.push(Var::new("busy", "BOOL", "an event latched or arrived this scan"));
+            locals.push(Var::new("busy", Type::Bool, "an event latched or arrived this scan"));
             locals.push(Var::new(
                 "arrived",
-                "BOOL",
+                Type::Bool,
                 "an uncontrollable event arrived: the guard holds commands",
             ));
         }
         if has_c {
-            locals.push(Var::new("en", format!("ARRAY[0..{last}] OF BOOL"), "enabled, by event id"));
-            locals.push(Var::new("c", "INT", "chosen event id, -1 none"));
-            locals.push(Var::new("i", "INT", ""));
+            locals.push(Var::new(
+                choice::ENABLED,
+                Type::array(last as i64, Type::Bool),
+                "enabled, by event id",
+            ));
+            locals.push(Var::new("c", Type::Int, "chosen event id, -1 none"));
+            locals.push(Var::new("i", Type::Int, ""));
             match self.opts.policy {
                 ScanPolicy::First => {}
                 ScanPolicy::GlobalQueue => {
-                    locals.push(Var::new("j", "INT", ""));
-                    locals.push(Var::new("gq", "INT", "global cursor (event id)"));
+                    locals.push(Var::new("j", Type::Int, ""));
+                    locals.push(Var::new("gq", Type::Int, "global cursor (event id)"));
                 }
                 ScanPolicy::LocalQueue => {
-                    locals.push(Var::new("p", "INT", "plant"));
-                    locals.push(Var::new("pc", "INT", "plant cursor"));
-                    locals.push(Var::new("cur", "INT", "site cursor in use"));
+                    locals.push(Var::new("p", Type::Int, "plant"));
+                    locals.push(Var::new("pc", Type::Int, "plant cursor"));
+                    locals.push(Var::new("cur", Type::Int, "site cursor in use"));
                     if sites > 0 {
-                        locals.push(Var::new("site", "INT", "choice site, -1 none"));
+                        locals.push(Var::new("site", Type::Int, "choice site, -1 none"));
                         locals.push(Var::new(
                             "sc",
-                            format!("ARRAY[0..{}] OF INT", sites - 1),
+                            Type::array(sites as i64 - 1, Type::Int),
                             "cursor per choice site",
                         ));
                     }
                 }
                 ScanPolicy::Random => {
-                    locals.push(Var::new("n", "INT", "enabled count"));
-                    locals.push(Var::new("k", "INT", ""));
+                    locals.push(Var::new("n", Type::Int, "enabled count"));
+                    locals.push(Var::new("k", Type::Int, ""));
                     locals.push(
-                        Var::new("rng", "DINT", "MINSTD state")
-                            .init(choice::minstd_seed(self.opts.seed).to_string()),
+                        Var::new("rng", Type::Dint, "MINSTD state")
+                            .init(Expr::Int(choice::minstd_seed(self.opts.seed))),
                     );
                 }
             }
@@ -691,7 +716,11 @@ impl Builder<'_> {
         let mut args: Vec<(String, Expr)> =
             io_inputs.iter().map(|v| (v.name.clone(), Expr::var(&v.name))).collect();
         if let Some((ty, _)) = &events_type {
-            main_vars.push(Var::new("EVENTS", ty, "internal uncontrollable events (tests)"));
+            main_vars.push(Var::new(
+                "EVENTS",
+                Type::Named(ty.clone()),
+                "internal uncontrollable events (tests)",
+            ));
             args.push(("EVENTS".into(), Expr::var("EVENTS")));
         }
         for v in ["hold", "guard", "reset"] {
@@ -701,7 +730,7 @@ impl Builder<'_> {
             }
             args.push((v.into(), Expr::var(v)));
         }
-        main_vars.push(Var::new("sct", &fb_name, "plants, supervisors and interface"));
+        main_vars.push(Var::new("sct", Type::Named(fb_name.clone()), "plants, supervisors and interface"));
         let mut run = vec![Stmt::Call("sct".into(), args)];
         run.extend(io_outputs.iter().map(|v| Stmt::set(&v.name, Expr::var(format!("sct.{}", v.name)))));
         let main = Pou {

@@ -3,7 +3,14 @@
 //! the statements one scan executes.
 //!
 //! Building the program as a tree rather than as text is what makes the measures functions of the
-//! emitted program: the text is this tree printed, and the counts are this tree walked.
+//! emitted program: the text is this tree printed, and the counts are this tree walked. It is also what
+//! lets [`super::strict`] hold the program to IEC 61131-3 Ed. 3 (2013) before it is printed: every
+//! declaration carries its [`Type`], so each expression's type is known and an assignment or operator
+//! that would need an implicit conversion is refused at build time rather than by the user's compiler.
+//!
+//! The printer itself follows the grammar (Annex A) where a strict compiler is stricter than the common
+//! dialects: a `TYPE` declaration ends `END_STRUCT;` (the `;` after each type declaration), and located
+//! variables are printed in a `VAR` block of their own (`Loc_Var_Decls`, never mixed with unlocated ones).
 
 use std::fmt::Write as _;
 
@@ -22,8 +29,9 @@ pub enum Expr {
     Not(Box<Expr>),
     /// A binary operation.
     Bin(Box<Expr>, Op, Box<Expr>),
-    /// A standard function call (`BOOL_TO_INT(x)`).
-    Call(&'static str, Vec<Expr>),
+    /// A standard function call (`DINT_TO_INT(x)`): conversions are always written
+    /// out (6.6.2.5.6), never left implicit.
+    Call(String, Vec<Expr>),
 }
 
 /// Binary operators, in the IEC precedence classes.
@@ -108,6 +116,13 @@ impl Expr {
     /// `name[i]`.
     pub fn at(name: &str, i: Expr) -> Expr {
         Expr::Index(name.to_owned(), Box::new(i))
+    }
+
+    /// The explicit conversion of `self` from elementary type `from` to `to` (`INT_TO_DINT(x)`, IEC
+    /// 61131-3 Ed. 3 6.6.2.5.6); [`super::strict`] refuses it when either type is not elementary.
+    pub fn convert(self, from: &Type, to: &Type) -> Expr {
+        let name = |t: &Type| t.elementary().unwrap_or("?");
+        Expr::Call(format!("{}_TO_{}", name(from), name(to)), vec![self])
     }
 
     /// `self op rhs`.
@@ -377,16 +392,72 @@ pub struct Section {
     pub stmts: Vec<Stmt>,
 }
 
+/// An IEC 61131-3 data type as the writer declares it (6.4): the elementary types the program uses,
+/// one-dimensional arrays from 0, and derived types (a structure or a function block) by name.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Type {
+    /// `BOOL`
+    Bool,
+    /// `INT` (16-bit signed)
+    Int,
+    /// `DINT` (32-bit signed)
+    Dint,
+    /// `UDINT` (32-bit unsigned)
+    Udint,
+    /// `ARRAY[0..upper] OF T`
+    Array(i64, Box<Type>),
+    /// A structure or function block type by name.
+    Named(String),
+}
+
+impl Type {
+    /// `ARRAY[0..upper] OF of`.
+    pub fn array(upper: i64, of: Type) -> Type {
+        Type::Array(upper, Box::new(of))
+    }
+
+    /// The elementary type's keyword, if it is one.
+    pub fn elementary(&self) -> Option<&'static str> {
+        match self {
+            Type::Bool => Some("BOOL"),
+            Type::Int => Some("INT"),
+            Type::Dint => Some("DINT"),
+            Type::Udint => Some("UDINT"),
+            Type::Array(..) | Type::Named(_) => None,
+        }
+    }
+
+    /// The range of an integer type (Table 10), `None` for the others.
+    pub fn range(&self) -> Option<(i64, i64)> {
+        match self {
+            Type::Int => Some((-32_768, 32_767)),
+            Type::Dint => Some((-2_147_483_648, 2_147_483_647)),
+            Type::Udint => Some((0, 4_294_967_295)),
+            _ => None,
+        }
+    }
+
+    /// The type as a declaration writes it.
+    pub fn text(&self) -> String {
+        match self {
+            Type::Array(upper, of) => format!("ARRAY[0..{upper}] OF {}", of.text()),
+            Type::Named(n) => n.clone(),
+            t => t.elementary().unwrap_or_default().to_owned(),
+        }
+    }
+}
+
 /// A variable declaration.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Var {
     /// Name.
     pub name: String,
-    /// Type as written (`BOOL`, `ARRAY[0..22] OF BOOL`, a struct or block name).
-    pub ty: String,
-    /// Initial value as written, if any.
-    pub init: Option<String>,
-    /// Located address, if any.
+    /// Type.
+    pub ty: Type,
+    /// Initial value, if any: a literal of the variable's type.
+    pub init: Option<Expr>,
+    /// Located address (`%IX0.2`), if any: allowed in a `PROGRAM`'s `VAR` only (6.5.5; Annex A
+    /// `Prog_Decl` takes `Loc_Var_Decls`, `FB_Decl` does not).
     pub address: Option<String>,
     /// What it is, printed after the declaration.
     pub comment: String,
@@ -394,27 +465,38 @@ pub struct Var {
 
 impl Var {
     /// A variable of type `ty`, without initial value or address.
-    pub fn new(name: impl Into<String>, ty: impl Into<String>, comment: impl Into<String>) -> Var {
-        Var { name: name.into(), ty: ty.into(), init: None, address: None, comment: comment.into() }
+    pub fn new(name: impl Into<String>, ty: Type, comment: impl Into<String>) -> Var {
+        Var { name: name.into(), ty, init: None, address: None, comment: comment.into() }
     }
 
     /// With an initial value.
-    pub fn init(mut self, value: impl Into<String>) -> Var {
-        self.init = Some(value.into());
+    pub fn init(mut self, value: Expr) -> Var {
+        self.init = Some(value);
         self
     }
 
     /// The declaration line, indented, with its comment.
     pub fn text(&self) -> String {
         let at = self.address.as_ref().map(|a| format!(" AT {a}")).unwrap_or_default();
-        let init = self.init.as_ref().map(|v| format!(" := {v}")).unwrap_or_default();
+        let init = self.init.as_ref().map(|v| format!(" := {}", v.text())).unwrap_or_default();
         let comment = if self.comment.is_empty() {
             String::new()
         } else {
             format!(" (* {} *)", safe_comment(&self.comment))
         };
-        format!("    {}{at} : {}{init};{comment}\n", self.name, self.ty)
+        format!("    {}{at} : {}{init};{comment}\n", self.name, self.ty.text())
     }
+}
+
+/// A structure type's declaration: `TYPE name : STRUCT … END_STRUCT; END_TYPE`, with the `;` the grammar
+/// puts after every type declaration (Annex A `Data_Type_Decl`; 6.4.4.6 structures).
+pub fn struct_type(name: &str, members: &[Var]) -> String {
+    let mut out = format!("TYPE {name} :\nSTRUCT\n");
+    for m in members {
+        out.push_str(&m.text());
+    }
+    out.push_str("END_STRUCT;\nEND_TYPE\n");
+    out
 }
 
 /// Which block of declarations a variable is in.
@@ -458,10 +540,22 @@ pub struct Pou {
 }
 
 impl Pou {
-    /// The declarations as ST text (the `VAR…END_VAR` blocks).
+    /// The declaration blocks as printed: each block of `vars` in order, its located variables split
+    /// into a block of their own after the unlocated ones (a `VAR` block is either `Var_Decls` or
+    /// `Loc_Var_Decls`, Annex A; matiec: "invalid located variable declaration"). Empty blocks are left out.
+    pub fn blocks(&self) -> Vec<(VarClass, Vec<&Var>)> {
+        let mut out = Vec::new();
+        for (class, vars) in &self.vars {
+            let (located, plain): (Vec<&Var>, Vec<&Var>) = vars.iter().partition(|v| v.address.is_some());
+            out.extend([(*class, plain), (*class, located)].into_iter().filter(|(_, v)| !v.is_empty()));
+        }
+        out
+    }
+
+    /// The declarations as ST text (the `VAR…END_VAR` blocks of [`Pou::blocks`]).
     pub fn declarations(&self) -> String {
         let mut out = String::new();
-        for (class, vars) in self.vars.iter().filter(|(_, v)| !v.is_empty()) {
+        for (class, vars) in self.blocks() {
             let _ = writeln!(out, "{}", class.keyword());
             for v in vars {
                 out.push_str(&v.text());
@@ -469,6 +563,12 @@ impl Pou {
             let _ = writeln!(out, "END_VAR");
         }
         out
+    }
+
+    /// The declaration of variable `name` (without regard to case, as ST reads names), with its block.
+    pub fn var(&self, name: &str) -> Option<(VarClass, &Var)> {
+        let all = self.vars.iter().flat_map(|(c, vs)| vs.iter().map(move |v| (*c, v)));
+        all.into_iter().find(|(_, v)| v.name.eq_ignore_ascii_case(name))
     }
 
     /// The body as ST text, each section under its marker.

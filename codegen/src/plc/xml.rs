@@ -8,7 +8,7 @@
 
 use std::fmt::Write as _;
 
-use super::st::{Pou, Var, VarClass};
+use super::st::{Pou, Type, Var, VarClass};
 use super::Program;
 use crate::formats::xml_escape;
 
@@ -22,17 +22,15 @@ pub fn configuration_text(base: &str, cycle_ms: u32) -> String {
     )
 }
 
-/// The schema's form of a type as the ST declarations write it.
-fn data_type(ty: &str) -> String {
+/// The schema's form of a type.
+fn data_type(ty: &Type) -> String {
     match ty {
-        "BOOL" | "INT" | "DINT" | "UDINT" => format!("<{ty}/>"),
-        _ => match ty.strip_prefix("ARRAY[0..").and_then(|r| r.split_once("] OF ")) {
-            Some((upper, base)) => format!(
-                "<array><dimension lower=\"0\" upper=\"{upper}\"/><baseType>{}</baseType></array>",
-                data_type(base)
-            ),
-            None => format!("<derived name=\"{}\"/>", xml_escape(ty)),
-        },
+        Type::Array(upper, of) => format!(
+            "<array><dimension lower=\"0\" upper=\"{upper}\"/><baseType>{}</baseType></array>",
+            data_type(of)
+        ),
+        Type::Named(n) => format!("<derived name=\"{}\"/>", xml_escape(n)),
+        t => format!("<{}/>", t.elementary().unwrap_or_default()),
     }
 }
 
@@ -45,7 +43,8 @@ fn variable(out: &mut String, v: &Var, indent: &str) {
         data_type(&v.ty)
     );
     if let Some(init) = &v.init {
-        let _ = write!(out, "<initialValue><simpleValue value=\"{}\"/></initialValue>", xml_escape(init));
+        let _ =
+            write!(out, "<initialValue><simpleValue value=\"{}\"/></initialValue>", xml_escape(&init.text()));
     }
     if !v.comment.is_empty() {
         let _ = write!(out, "<documentation><xhtml:p>{}</xhtml:p></documentation>", xml_escape(&v.comment));
@@ -57,7 +56,7 @@ fn pou(out: &mut String, p: &Pou) {
     let kind = if p.program { "program" } else { "functionBlock" };
     let _ = writeln!(out, "      <pou name=\"{}\" pouType=\"{kind}\">", xml_escape(&p.name));
     out.push_str("        <interface>\n");
-    for (class, vars) in p.vars.iter().filter(|(_, v)| !v.is_empty()) {
+    for (class, vars) in p.blocks() {
         let tag = match class {
             VarClass::Input => "inputVars",
             VarClass::Output => "outputVars",
@@ -116,12 +115,12 @@ mod tests {
 
     #[test]
     fn types_map_to_the_schema() {
-        assert_eq!(data_type("BOOL"), "<BOOL/>");
+        assert_eq!(data_type(&Type::Bool), "<BOOL/>");
         assert_eq!(
-            data_type("ARRAY[0..22] OF BOOL"),
+            data_type(&Type::array(22, Type::Bool)),
             "<array><dimension lower=\"0\" upper=\"22\"/><baseType><BOOL/></baseType></array>"
         );
-        assert_eq!(data_type("cell_sct"), "<derived name=\"cell_sct\"/>");
+        assert_eq!(data_type(&Type::Named("cell_sct".into())), "<derived name=\"cell_sct\"/>");
         assert_eq!(xml_escape("a<b & 'c'"), "a&lt;b &amp; &apos;c&apos;");
     }
 }

@@ -283,6 +283,8 @@ impl Parser {
             fields.push(self.decl("STRUCT")?);
         }
         self.kw("END_STRUCT")?;
+        // Annex A `Data_Type_Decl`: every type declaration ends with `;`, the last one too.
+        self.sym(";")?;
         self.kw("END_TYPE")?;
         Ok(Unit::Struct(name, fields))
     }

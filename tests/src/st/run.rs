@@ -351,6 +351,14 @@ fn eval(e: &Expr, vars: &BTreeMap<String, Value>) -> Result<Value, String> {
         Expr::Neg(x) => int(-as_int(&eval(x, vars)?)?),
         Expr::Call(f, args) => match (f.as_str(), args.as_slice()) {
             ("BOOL_TO_INT", [x]) => int(i64::from(as_bool(&eval(x, vars)?)?)),
+            ("INT_TO_DINT" | "DINT_TO_INT", [x]) => {
+                let v = as_int(&eval(x, vars)?)?;
+                let (lo, hi) = range(f.split_once("_TO_").map_or("", |(_, to)| to));
+                if v < lo || v > hi {
+                    return Err(format!("{f}({v}): out of range"));
+                }
+                int(v)
+            }
             _ => return Err(format!("unknown function {f}")),
         },
         Expr::Bin(a, op, b) => {
