@@ -1,15 +1,17 @@
 //! Builds the firmware images QEMU boots and the RP2040 harness loads, for a given tables file.
 //!
 //! The applications (`firmware`, binaries `cell-qemu` and `cell-pico`) include the tables named by the
-//! `SCT_TABLES` environment variable. Building it is one `cargo build` in the workspace root (where
-//! `.cargo/config.toml` holds the Cortex-M link flags). Cargo writes the ELF to one fixed path, so two
-//! builds with different tables would overwrite each other: builds are serialised with a lock file
-//! and each ELF is copied to a path of its own before the lock is released.
+//! `SCT_TABLES` environment variable. Building it is one `cargo build` in the root of the sources this
+//! binary carries ([`super::sources`]: unpacked into a cache directory, with the `.cargo/config.toml`
+//! that holds the Cortex-M link flags), whatever the current directory. Cargo writes the ELF to one
+//! fixed path, so two builds with different tables would overwrite each other: builds are serialised
+//! with a lock file and each ELF is copied to a path of its own before the lock is released.
 
-use std::fs::File;
-use std::os::fd::AsRawFd;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
+
+use super::lock::FileLock;
+use super::sources::{self, SourcesError};
 
 /// The Cortex-M target of the QEMU board.
 pub const TARGET: &str = "thumbv7m-none-eabi";
@@ -42,12 +44,9 @@ pub enum ImageError {
     /// Cargo succeeded but named no executable.
     #[error("cargo built no {0} executable")]
     NoExecutable(&'static str),
-}
-
-/// The workspace root this crate was built in (where `.cargo/config.toml` and `firmware/` are).
-pub fn workspace_root() -> PathBuf {
-    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
-    manifest.parent().unwrap_or(manifest).to_path_buf()
+    /// The firmware's sources could not be unpacked.
+    #[error(transparent)]
+    Sources(#[from] SourcesError),
 }
 
 /// Builds the QEMU firmware with the tables in `tables` (a Rust source file as `codegen emit` writes it)
@@ -70,14 +69,13 @@ fn build_image(
     target: &str,
     binary: &'static str,
 ) -> Result<PathBuf, ImageError> {
-    let root = workspace_root();
     let io = |what: String| move |source| ImageError::Io { what, source };
     let tables = std::fs::canonicalize(tables).map_err(io(format!("tables {}", tables.display())))?;
-    let target_dir = std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), PathBuf::from);
+    let root = sources::unpacked()?;
+    let target_dir = sources::target_dir()?;
     std::fs::create_dir_all(&target_dir).map_err(io(format!("creating {}", target_dir.display())))?;
     let lock_path = target_dir.join("codegen-firmware-build.lock");
-    let lock = File::create(&lock_path).map_err(io(format!("creating {}", lock_path.display())))?;
-    let _guard = Flock::exclusive(&lock).map_err(io(format!("locking {}", lock_path.display())))?;
+    let _lock = FileLock::exclusive(&lock_path).map_err(io(format!("locking {}", lock_path.display())))?;
 
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let output = Command::new(cargo)
@@ -96,6 +94,7 @@ fn build_image(
         ])
         .arg("--message-format=json-render-diagnostics")
         .env("SCT_TABLES", &tables)
+        .env("CARGO_TARGET_DIR", &target_dir)
         .stdin(Stdio::null())
         .output()
         .map_err(io("running cargo".to_owned()))?;
@@ -113,26 +112,4 @@ fn build_image(
         .ok_or(ImageError::NoExecutable(binary))?;
     std::fs::copy(&elf, out).map_err(io(format!("copying {} to {}", elf.display(), out.display())))?;
     Ok(out.to_path_buf())
-}
-
-/// An exclusive `flock` held until dropped.
-struct Flock<'a>(&'a File);
-
-impl<'a> Flock<'a> {
-    fn exclusive(file: &'a File) -> std::io::Result<Self> {
-        // SAFETY: `flock` only reads the descriptor, which `file` keeps open for the guard's lifetime.
-        if unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX) } != 0 {
-            return Err(std::io::Error::last_os_error());
-        }
-        Ok(Flock(file))
-    }
-}
-
-impl Drop for Flock<'_> {
-    fn drop(&mut self) {
-        // SAFETY: as in `exclusive`; unlocking a descriptor we locked.
-        unsafe {
-            libc::flock(self.0.as_raw_fd(), libc::LOCK_UN);
-        }
-    }
 }

@@ -5,8 +5,13 @@
 //! An emulator is one module here: it starts the emulator on an ELF, hands back a
 //! [`ByteLink`](crate::link::ByteLink) to the firmware's link and makes sure the process never outlives
 //! its owner ([`child`]). The closed loop ([`crate::closed_loop`]) then runs over that link.
+//!
+//! What the firmware and the harness are built from travels inside the binary ([`sources`]), so an
+//! installed `codegen` builds and runs them from any directory; [`lock`] serialises what processes share.
 
 pub mod child;
 pub mod image;
+pub mod lock;
 pub mod qemu;
 pub mod rp2040;
+pub mod sources;

@@ -19,7 +19,7 @@ use std::time::Duration;
 use serde_json::json;
 
 use super::child::{ConnectError, Emulator};
-use super::image::workspace_root;
+use super::sources::{self, SourcesError};
 use crate::config::{BoardSpec, SamplingSpec};
 use crate::link::StreamLink;
 use crate::model::EventTable;
@@ -28,16 +28,14 @@ mod figures;
 
 pub use figures::{BoardFigures, CallCost, RuntimeCost};
 
-/// The harness's entry point, relative to the workspace root.
-pub const SCRIPT: &str = "harness/rp2040/src/main.js";
-
 /// How to start the harness.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct HarnessConfig {
     /// The Node binary.
     pub node: String,
-    /// The harness script (`main.js`).
-    pub script: PathBuf,
+    /// The harness script (`main.js`); none: the harness this binary carries ([`sources`]), its
+    /// packages installed on first use.
+    pub script: Option<PathBuf>,
     /// Seed of the ring oscillator's random bit.
     pub seed: u64,
     /// Where to save the raw defmt frames the firmware writes over RTT (none: not drained).
@@ -57,7 +55,7 @@ impl Default for HarnessConfig {
     fn default() -> Self {
         HarnessConfig {
             node: "node".into(),
-            script: workspace_root().join(SCRIPT),
+            script: None,
             seed: 1,
             rtt: None,
             input_pulse_us: None,
@@ -134,6 +132,9 @@ pub enum HarnessError {
         /// What the harness printed on stderr.
         stderr: String,
     },
+    /// The carried harness could not be unpacked or its packages installed.
+    #[error(transparent)]
+    Sources(#[from] SourcesError),
     /// The stats file is not what the harness writes.
     #[error("{}: {source}", path.display())]
     Stats {
@@ -208,8 +209,12 @@ impl Harness {
         std::fs::create_dir_all(&dir).map_err(|source| HarnessError::File { path: dir.clone(), source })?;
         let socket = dir.join("board.sock");
         let stats = dir.join("stats.json");
+        let script = match &config.script {
+            Some(script) => script.clone(),
+            None => sources::harness_script()?,
+        };
         let mut cmd = Command::new(&config.node);
-        cmd.arg(&config.script).arg("--elf").arg(elf).arg("--pins").arg(pins).arg("--socket").arg(&socket);
+        cmd.arg(&script).arg("--elf").arg(elf).arg("--pins").arg(pins).arg("--socket").arg(&socket);
         cmd.arg("--stats").arg(&stats).arg("--seed").arg(config.seed.to_string());
         if let Some(rtt) = &config.rtt {
             cmd.arg("--rtt").arg(rtt);
@@ -324,7 +329,11 @@ mod tests {
 
     #[test]
     fn missing_node_is_a_clear_error() {
-        let config = HarnessConfig { node: "/nonexistent/node".into(), ..HarnessConfig::default() };
+        let config = HarnessConfig {
+            node: "/nonexistent/node".into(),
+            script: Some(PathBuf::from("main.js")),
+            ..HarnessConfig::default()
+        };
         let err =
             Harness::start(Path::new("fw.elf"), Path::new("pins.json"), &config).unwrap_err().to_string();
         assert!(err.starts_with("cannot start /nonexistent/node"), "{err}");

@@ -1,0 +1,93 @@
+//! Embeds the sources `codegen run` builds its firmware from into the binary, so that an installed
+//! `codegen` runs a user's project from any directory (`codegen::target::sources` unpacks them).
+//!
+//! What travels: the firmware crate (`firmware/Cargo.toml`, `build.rs`, `src/`, `boards/` with each
+//! board's `memory.x`), the workspace's `Cargo.lock` (the dependencies' versions), `rust-toolchain.toml`,
+//! `.cargo/config.toml` (the Cortex-M link flags) and the RP2040 harness (`harness/rp2040/`: its
+//! `package.json`, `package-lock.json` and `src/`). The workspace manifest travels rewritten to hold the
+//! firmware crate alone, with the same profiles. The generated file `$OUT_DIR/embedded_sources.rs` lists
+//! every file with its bytes, in path order, so that the same checkout gives the same binary.
+
+use std::env;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Single files, relative to the workspace root.
+const FILES: &[&str] = &[
+    "Cargo.lock",
+    "rust-toolchain.toml",
+    ".cargo/config.toml",
+    "firmware/Cargo.toml",
+    "firmware/build.rs",
+    "harness/rp2040/package.json",
+    "harness/rp2040/package-lock.json",
+];
+
+/// Directories embedded whole, relative to the workspace root.
+const DIRS: &[&str] = &["firmware/src", "firmware/boards", "harness/rp2040/src"];
+
+fn main() {
+    let crate_dir = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
+    let root = crate_dir.parent().expect("codegen sits in the workspace").to_path_buf();
+    let mut files: Vec<String> = FILES.iter().map(|f| (*f).to_owned()).collect();
+    for dir in DIRS {
+        println!("cargo:rerun-if-changed={}", root.join(dir).display());
+        walk(&root, Path::new(dir), &mut files);
+    }
+    files.sort();
+
+    let mut out = String::from(
+        "/// Every embedded file: its path relative to the sources' root and its bytes, in path order.\n\
+         pub const FILES: &[(&str, &[u8])] = &[\n",
+    );
+    let _ = writeln!(out, "    (\"Cargo.toml\", {:?}.as_bytes()),", workspace_manifest(&root));
+    for rel in &files {
+        let path = root.join(rel);
+        println!("cargo:rerun-if-changed={}", path.display());
+        assert!(
+            path.is_file(),
+            "codegen/build.rs: {} is missing: build codegen in its checkout",
+            path.display()
+        );
+        let _ = writeln!(out, "    ({rel:?}, include_bytes!({:?})),", path.display().to_string());
+    }
+    out.push_str("];\n");
+    println!("cargo:rerun-if-changed={}", root.join("Cargo.toml").display());
+    let dest = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR")).join("embedded_sources.rs");
+    std::fs::write(&dest, out).expect("write embedded_sources.rs");
+}
+
+/// Adds every file under `root/dir` to `files`, as a path relative to `root` with `/` separators.
+fn walk(root: &Path, dir: &Path, files: &mut Vec<String>) {
+    let entries = std::fs::read_dir(root.join(dir)).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+    for entry in entries {
+        let entry = entry.expect("read a directory entry");
+        let rel = dir.join(entry.file_name());
+        if entry.file_type().expect("file type").is_dir() {
+            walk(root, &rel, files);
+        } else {
+            files.push(rel.to_string_lossy().replace('\\', "/"));
+        }
+    }
+}
+
+/// The workspace's `Cargo.toml` with the firmware crate as its only member: the same `[workspace.package]`
+/// and profiles, so the firmware builds exactly as `cargo qemu-build` builds it in the checkout.
+fn workspace_manifest(root: &Path) -> String {
+    let text = std::fs::read_to_string(root.join("Cargo.toml")).expect("read the workspace Cargo.toml");
+    let mut manifest: toml::Table = text.parse().expect("the workspace Cargo.toml is TOML");
+    let workspace = manifest.get_mut("workspace").and_then(toml::Value::as_table_mut).expect("[workspace]");
+    let members = toml::Value::Array(vec![toml::Value::String("firmware".into())]);
+    workspace.insert("members".into(), members.clone());
+    workspace.insert("default-members".into(), members);
+    if let Some(profiles) = manifest.get_mut("profile").and_then(toml::Value::as_table_mut) {
+        if let Some(release) = profiles.get_mut("release").and_then(toml::Value::as_table_mut) {
+            // Per-package overrides of the host crates name packages this workspace does not have.
+            release.remove("package");
+        }
+    }
+    format!(
+        "# Written by codegen (codegen/build.rs): the firmware crate alone, with the workspace's profiles.\n{}",
+        toml::to_string(&manifest).expect("serialise the workspace manifest")
+    )
+}
