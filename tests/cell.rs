@@ -7,7 +7,7 @@ use codegen::config::ChoicePolicy;
 use codegen::project::Project;
 use end_to_end::{assert_clean, example, qemu_closed_loops};
 
-/// The plant's seeds tried: the README's figures come from 1..=20 (`codegen run --events 10000 --seed S`).
+/// The plant's seeds tried: the figures of docs/measurements.md come from 1..=20 (`codegen run --events 10000 --seed S`).
 const SEEDS: [u64; 6] = [1, 2, 3, 7, 13, 20];
 
 #[test]

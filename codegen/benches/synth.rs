@@ -1,7 +1,7 @@
 //! Synthesis speed on the generated families (see `codegen::synth::families`) and on the cell.
 //!
 //! `cargo bench -p codegen --bench synth`; `scripts/reference/timing.py` times the same instances with
-//! libFAUDES and TCT for the side-by-side table in the README.
+//! libFAUDES and TCT for the side-by-side table in docs/measurements.md.
 
 use std::path::PathBuf;
 

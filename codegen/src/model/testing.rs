@@ -70,7 +70,7 @@ pub fn build(name: &str, states: &[&str], controllable: &[&str], edges: &[(&str,
     a
 }
 
-/// The livelock example of DESIGN.md §4.1 (the reference paper's Figure 5): 1 –a→ 3, 1 –b→ 2, 3 –a→ 4,
+/// The livelock example of docs/design.md §4.1 (the reference paper's Figure 5): 1 –a→ 3, 1 –b→ 2, 3 –a→ 4,
 /// 3 –b→ 1 controllable; 2 –u→ 4 and 4 –v→ 1 uncontrollable; 4 marked.
 pub fn livelock() -> Automaton {
     let mut a = build(

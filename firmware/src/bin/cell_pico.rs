@@ -1,7 +1,7 @@
 //! The supervisor firmware on a Raspberry Pi Pico (RP2040, rp2040-hal): input pins → input buffer by GPIO
 //! edge interrupts or timer sampling (the manifest's `[board] sampling`), the decision loop in `idle`,
 //! commands to output pins (set, clear, timed pulse) through `firmware::board::Outputs` (embedded-hal
-//! traits), defmt over RTT. Flash and run with `cargo pico` (probe-rs); README, "Flash a board".
+//! traits), defmt over RTT. Flash and run with `cargo pico` (probe-rs); docs/firmware.md, "Flash a board".
 //!
 //! Tables and pin map: `SCT_TABLES_FILE` (see `build.rs`), the cell's with its manifest's `[board]` by
 //! default. Randomness: the RP2040's ring-oscillator random bit, gathered while the loop is idle, mixed with

@@ -1,5 +1,5 @@
-//! Cost of the runtime on the emitted tables, for the README's table: SysTick ticks per uncontrollable
-//! event applied and per controllable decision (enabled set, choice, firing), under
+//! Cost of the runtime on the emitted tables, for the table in docs/measurements.md: SysTick ticks per
+//! uncontrollable event applied and per controllable decision (enabled set, choice, firing), under
 //! `qemu-system-arm -icount shift=7,sleep=off` (`cargo qemu-cost`), where virtual time is exact and
 //! repeatable: one instruction is 128 ns and one SysTick tick 1/12 µs, so instructions ≈ ticks × 83.33 / 128;
 //! the binary calibrates the ratio on a loop of exactly 2 000 instructions and converts with it.

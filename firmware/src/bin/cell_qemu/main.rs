@@ -2,7 +2,7 @@
 //! loop in `idle`, commands back out on UART0 (protocol: `firmware::link`), defmt logs over semihosting.
 //!
 //! Tables: `SCT_TABLES_FILE` (see `build.rs`), the cell's by default. Run with `cargo qemu` from the
-//! repository root, or start QEMU on a socket for the virtual plant (README, "Run the cell under QEMU").
+//! repository root, or start QEMU on a socket for the virtual plant (docs/firmware.md, "Run the cell under QEMU").
 #![no_std]
 #![no_main]
 
