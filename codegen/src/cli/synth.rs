@@ -53,9 +53,22 @@ pub struct Args {
     /// total_states, total_transitions.
     #[arg(long)]
     json: bool,
-    /// Write every supervisor to DIR/<name>.xmd.
+    /// Write every supervisor to DIR/<name>.xmd (or, with --format wmod, all to one module).
     #[arg(short = 'o', long = "out", value_name = "DIR")]
     out: Option<PathBuf>,
+    /// What -o writes: one IDES3 file per supervisor, or one Supremica module DIR/<project>.wmod holding
+    /// the plants (PLANT) and the supervisors (SUPERVISOR), itself a project the other commands run.
+    #[arg(long, value_enum, default_value_t = OutFormat::Xmd, requires = "out")]
+    format: OutFormat,
+}
+
+/// `--format`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum OutFormat {
+    /// DIR/<supervisor>.xmd, one per supervisor.
+    Xmd,
+    /// DIR/<project>.wmod: plants and supervisors in one Supremica module.
+    Wmod,
 }
 
 /// Every automaton of `files`, as `kind`.
@@ -121,7 +134,10 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
         b.finish_and_clear();
     }
     if let Some(dir) = &args.out {
-        write_all(dir, &rows)?;
+        match args.format {
+            OutFormat::Xmd => write_all(dir, &rows)?,
+            OutFormat::Wmod => write_module(dir, &name, &plants, &rows)?,
+        }
     }
     let mut out = std::io::stdout().lock();
     if args.json {
@@ -140,6 +156,21 @@ fn write_all(dir: &Path, rows: &[Row]) -> Result<(), Error> {
         let a = &r.supervisor.automaton;
         write_path(&dir.join(format!("{}.xmd", a.name)), std::slice::from_ref(a))?;
     }
+    Ok(())
+}
+
+/// `DIR/<name>.wmod`: the plants as PLANT components, then the supervisors as SUPERVISOR components,
+/// as Supremica's own synthesis leaves them beside the plants; read back, the module is a project whose
+/// supervisors are ready (nothing is synthesised again).
+fn write_module(dir: &Path, name: &str, plants: &[Automaton], rows: &[Row]) -> Result<(), Error> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let with_kind = |a: &Automaton, kind| Automaton { kind, ..a.clone() };
+    let module: Vec<Automaton> = plants
+        .iter()
+        .map(|p| with_kind(p, Kind::Plant))
+        .chain(rows.iter().map(|r| with_kind(&r.supervisor.automaton, Kind::Supervisor)))
+        .collect();
+    write_path(&dir.join(format!("{name}.wmod")), &module)?;
     Ok(())
 }
 
