@@ -57,3 +57,18 @@ fn an_installed_codegen_runs_a_project_outside_the_checkout() {
     let listed: Vec<_> = std::fs::read_dir(&project).unwrap().map(|e| e.unwrap().file_name()).collect();
     assert_eq!(listed.len(), 2, "the project directory is left as it was: {listed:?}");
 }
+
+/// Outside the checkout, `run` without a project says that its default is a path of the checkout.
+#[test]
+fn run_without_a_project_outside_the_checkout_says_to_name_one() {
+    let temp =
+        Temp(std::env::temp_dir().join(format!("codegen-any-directory-{}-default", std::process::id())));
+    std::fs::create_dir_all(&temp.0).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_codegen")).arg("run").current_dir(&temp.0).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("examples/cell/cell.toml is not here") && stderr.contains("codegen run PROJECT"),
+        "{stderr}"
+    );
+}

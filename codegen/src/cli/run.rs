@@ -19,8 +19,9 @@ use super::Error;
 /// violation.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// The project manifest (plants, specifications or supervisors, `[runtime]`, `[board]`).
-    #[arg(default_value = "examples/cell/cell.toml")]
+    /// The project manifest (plants, specifications or supervisors, `[runtime]`, `[board]`) or a
+    /// Supremica module; by default the cell, in the repository's checkout.
+    #[arg(default_value = DEFAULT_MANIFEST)]
     manifest: PathBuf,
     /// What runs the firmware: QEMU's lm3s6965evb over its UART, or the Pico application on an
     /// emulated RP2040 through its pins (`harness/rp2040/`).
@@ -39,6 +40,9 @@ pub struct Args {
     #[command(flatten)]
     run: RunArgs,
 }
+
+/// The manifest `run` takes when none is named: the cell, a path in the repository's checkout.
+const DEFAULT_MANIFEST: &str = "examples/cell/cell.toml";
 
 /// `--target`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -60,6 +64,13 @@ enum Sampling {
 
 /// Runs `run`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
+    if args.manifest.as_os_str() == DEFAULT_MANIFEST && !args.manifest.exists() {
+        return Err(format!(
+            "no project named, and the default {DEFAULT_MANIFEST} is not here (it is in the repository's \
+             checkout): name your manifest or module, `codegen run PROJECT`"
+        )
+        .into());
+    }
     let project = Project::load(&args.manifest)?;
     if args.target == Target::Rp2040 {
         return run_rp2040(args, project);

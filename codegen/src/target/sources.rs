@@ -11,6 +11,7 @@
 //! every version, so the firmware's dependencies compile once. A directory is unpacked whole under a
 //! temporary name and renamed into place, so a process never sees half of one.
 
+use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::sync::OnceLock;
@@ -55,7 +56,12 @@ pub enum SourcesError {
 /// The cache directory: `$SCT_CODEGEN_CACHE`, else `$XDG_CACHE_HOME/sct-codegen`, else
 /// `$HOME/.cache/sct-codegen` (see the module documentation).
 pub fn cache_dir() -> Result<PathBuf, SourcesError> {
-    let var = |name| std::env::var_os(name).filter(|v| !v.is_empty()).map(PathBuf::from);
+    cache_dir_in(&|name| std::env::var_os(name))
+}
+
+/// [`cache_dir`] with the environment read through `env`.
+fn cache_dir_in(env: &dyn Fn(&str) -> Option<OsString>) -> Result<PathBuf, SourcesError> {
+    let var = |name| env(name).filter(|v| !v.is_empty()).map(PathBuf::from);
     var("SCT_CODEGEN_CACHE")
         .or_else(|| var("XDG_CACHE_HOME").map(|d| d.join("sct-codegen")))
         .or_else(|| var("HOME").map(|d| d.join(".cache/sct-codegen")))
@@ -188,6 +194,23 @@ mod tests {
         assert_eq!(manifest["workspace"]["members"][0].as_str(), Some("firmware"));
         assert_eq!(manifest["profile"]["release"]["opt-level"].as_str(), Some("s"));
         assert_eq!(manifest["profile"]["release"]["lto"].as_bool(), Some(true));
+    }
+
+    /// The cache is `SCT_CODEGEN_CACHE`, else under `XDG_CACHE_HOME`, else under `HOME`; empty values
+    /// count as unset.
+    #[test]
+    fn the_cache_directory_follows_the_environment_in_order() {
+        let env = |vars: &'static [(&'static str, &'static str)]| {
+            move |name: &str| vars.iter().find(|(n, _)| *n == name).map(|(_, v)| OsString::from(v))
+        };
+        const ALL: &[(&str, &str)] = &[("SCT_CODEGEN_CACHE", "/c"), ("XDG_CACHE_HOME", "/x"), ("HOME", "/h")];
+        assert_eq!(cache_dir_in(&env(ALL)).unwrap(), PathBuf::from("/c"));
+        assert_eq!(cache_dir_in(&env(&ALL[1..])).unwrap(), PathBuf::from("/x/sct-codegen"));
+        assert_eq!(
+            cache_dir_in(&env(&[("XDG_CACHE_HOME", ""), ("HOME", "/h")])).unwrap(),
+            PathBuf::from("/h/.cache/sct-codegen")
+        );
+        assert!(matches!(cache_dir_in(&env(&[])), Err(SourcesError::NoCache)));
     }
 
     /// Unpacking writes every file as embedded, under the digest's name, and only once.
