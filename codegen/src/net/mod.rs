@@ -23,6 +23,9 @@ pub mod model;
 pub mod pnml;
 pub mod verdict;
 
+#[cfg(test)]
+mod tests;
+
 use std::path::Path;
 
 use serde::Serialize;
