@@ -23,6 +23,12 @@ const CONDITIONS: [&str; 8] =
 /// A reference node: marking, each automaton's state, carried signal values by name.
 type State = (Vec<u32>, Vec<usize>, BTreeMap<String, bool>);
 
+/// Labelled edges between reference nodes.
+type Edges = BTreeSet<(State, String, State)>;
+
+/// Per place, its actions: (0 for `a`, 1 for `lamp`; the value).
+type Actions = Vec<Vec<(usize, u8)>>;
+
 /// A random deterministic automaton over some of [`EVENTS`], every state marked.
 fn plant(name: &'static str) -> impl Strategy<Value = Automaton> {
     (1usize..4, prop::collection::vec((0usize..4, 0usize..4, 0usize..4), 0..10)).prop_map(move |(n, rows)| {
@@ -51,7 +57,7 @@ fn plant(name: &'static str) -> impl Strategy<Value = Automaton> {
 
 /// A random net of three places and three transitions that never gains tokens (so it is bounded), with
 /// conditions, and actions over `a` and the immediate output `lamp`.
-fn net() -> impl Strategy<Value = (Net, Vec<usize>, Vec<Vec<(usize, u8)>>)> {
+fn net() -> impl Strategy<Value = (Net, Vec<usize>, Actions)> {
     let transition = (1u8..8, 0u8..8, 0u8..8, 0usize..CONDITIONS.len());
     (
         prop::collection::vec(0u32..2, 3),
@@ -113,7 +119,7 @@ fn reference(
     conditions: &[usize],
     actions: &[Vec<(usize, u8)>],
     plants: &[Automaton],
-) -> (BTreeSet<State>, BTreeSet<(State, String, State)>, BTreeSet<State>) {
+) -> (BTreeSet<State>, Edges, BTreeSet<State>) {
     // Z(p) over names; only `a` is carried (the plants' events follow the name convention).
     let z: Vec<BTreeMap<&str, bool>> =
         actions.iter().map(|acts| acts.iter().map(|&(s, v)| (["a", "lamp"][s], v == 1)).collect()).collect();
