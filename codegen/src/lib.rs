@@ -5,7 +5,8 @@
 //! Data flows one way along the pipeline [`project`] owns: manifest or model files ([`manifest`],
 //! [`formats`]) → automata ([`model`]) → supervisors ([`synth`]) → tables ([`pack`]) → emitted source
 //! ([`emit`]) → firmware image ([`target`]); the closed loop ([`closed_loop`]) then runs that firmware
-//! against the virtual plant ([`plant`]) and judges it ([`monitor`]) over a byte [`link`]. Imports follow
+//! against the virtual plant ([`plant`]) and judges it ([`monitor`]) over a byte [`link`]. A sequence drawn
+//! as a Petri net is verified under the supervisors ([`net`]). Imports follow
 //! the same direction: every module imports only modules of lower layers (`ARCHITECTURE.md`,
 //! `tests/layers.rs`), so there is no circle.
 #![deny(missing_docs)]
@@ -18,6 +19,7 @@ pub mod link;
 pub mod manifest;
 pub mod model;
 pub mod monitor;
+pub mod net;
 pub mod pack;
 pub mod plant;
 pub mod plc;

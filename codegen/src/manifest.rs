@@ -33,7 +33,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
-use crate::config::{BoardSpec, PlcSpec, RuntimeConfig};
+use crate::config::{BoardSpec, NetSpec, PlcSpec, RuntimeConfig};
 use crate::formats::{read_path, ParseError};
 use crate::model::{resolve_controllability, Automaton, EventTable, Kind, ModelError};
 
@@ -135,6 +135,9 @@ pub struct Manifest {
     /// I/O map and choices of the PLC program (`[plc]`).
     #[serde(default)]
     pub plc: Option<PlcSpec>,
+    /// A sequence as a Petri net and its interpretation (`[net]`).
+    #[serde(default)]
+    pub net: Option<NetSpec>,
     /// The manifest file itself (set by [`Manifest::load`]).
     #[serde(skip)]
     pub file: PathBuf,
@@ -256,6 +259,9 @@ impl Manifest {
     pub fn parse(path: &Path, text: &str) -> Result<Manifest, ManifestError> {
         let mut m: Manifest = parse_toml(path, text)?;
         m.file = path.to_owned();
+        if let Some(net) = &mut m.net {
+            net.locate(text);
+        }
         Ok(m)
     }
 
@@ -274,6 +280,7 @@ impl Manifest {
             runtime: RuntimeConfig::default(),
             board: None,
             plc: None,
+            net: None,
             file: path.to_owned(),
         }
     }

@@ -1,5 +1,6 @@
 //! The bad-input corpus: every malformed file under `tests/bad_input/<format>/` makes `codegen inspect`
-//! exit 2 with one message naming the file and (where there is one) the line, and never panic.
+//! (`codegen verify` for a PNML net) exit 2 with one message naming the file and (where there is one) the
+//! line, and never panic.
 
 use std::path::Path;
 use std::process::Command;
@@ -72,6 +73,37 @@ const CASES: &[(&str, &str)] = &[
     ("xmd/wrong_root.xmd", "line 2: expected a <model> root element, found <automaton>"),
 ];
 
+/// (PNML file under tests/bad_input, the message after "error: <path>: ").
+const PNML_CASES: &[(&str, &str)] = &[
+    ("pnml/bad_marking.pnml", "line 5: initial marking 'one' is not a number from 0 to 1048576"),
+    ("pnml/dangling_arc.pnml", "line 7: arc target 't9' is no place or transition"),
+    ("pnml/duplicate_arc.pnml", "line 8: a second arc between 'p1' and 't1'"),
+    ("pnml/duplicate_id.pnml", "line 7: duplicate id 't1' (first on line 6)"),
+    ("pnml/empty.pnml", "line 1: malformed XML: the document does not have a root node"),
+    ("pnml/entity_bomb.pnml", "line 1: malformed XML: XML with DTD detected"),
+    ("pnml/label_without_text.pnml", "line 5: <initialMarking> without <text>"),
+    ("pnml/inhibitor_to_place.pnml", "line 6: an inhibitor arc goes from a place to a transition"),
+    ("pnml/no_id.pnml", "line 5: <place> without an id"),
+    ("pnml/no_net.pnml", "line 2: no <net> in <pnml>"),
+    ("pnml/not_utf8.pnml", "line 5: not UTF-8 text"),
+    ("pnml/place_to_place.pnml", "line 8: an arc joins a place and a transition"),
+    ("pnml/reference_place.pnml", "line 7: unsupported: <referencePlace id=\"r1\"> (reference nodes)"),
+    ("pnml/reset_arc.pnml", "line 6: unsupported: <type value=\"reset\"> arcs"),
+    (
+        "pnml/symmetric_net.pnml",
+        "line 3: unsupported: <net type=\"http://www.pnml.org/version-2009/grammar/symmetricnet\"> (only \
+         place/transition nets)",
+    ),
+    (
+        "pnml/token_classes.pnml",
+        "line 4: unsupported: initial marking 'Red,1' (token classes other than Default)",
+    ),
+    ("pnml/truncated.pnml", "line 6: malformed XML: the root node was opened but never closed"),
+    ("pnml/two_nets.pnml", "line 9: unsupported: a second <net> (the first is on line 3); one net per file"),
+    ("pnml/wrong_root.pnml", "line 2: expected a <pnml> root element, found <net>"),
+    ("pnml/zero_weight.pnml", "line 7: arc weight '0' is not a number from 1 to 1048576"),
+];
+
 fn corpus() -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad_input")
 }
@@ -109,7 +141,38 @@ fn every_file_of_the_corpus_has_a_case() {
         for file in std::fs::read_dir(format.unwrap().path()).unwrap() {
             let path = file.unwrap().path();
             let rel = path.strip_prefix(corpus()).unwrap().to_str().unwrap().to_owned();
-            assert!(CASES.iter().any(|(r, _)| *r == rel), "{rel} has no expected message");
+            let known = CASES.iter().chain(PNML_CASES).any(|(r, _)| *r == rel);
+            assert!(known, "{rel} has no expected message");
         }
+    }
+}
+
+#[test]
+fn every_bad_net_gives_its_message_with_the_line() {
+    for (rel, msg) in PNML_CASES {
+        let path = corpus().join(rel);
+        let err = codegen::net::read_pnml(&path).unwrap_err();
+        assert_eq!(err.to_string(), format!("{}: {msg}", path.display()), "{rel}");
+        let line = msg.strip_prefix("line ").and_then(|m| m.split(':').next()).map(|n| n.parse().unwrap());
+        assert_eq!(err.line(), line, "{rel}");
+    }
+}
+
+#[test]
+fn verify_exits_2_on_a_bad_net() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("bad_input_pnml");
+    std::fs::create_dir_all(&dir).unwrap();
+    for (rel, msg) in PNML_CASES.iter().step_by(4) {
+        let path = corpus().join(rel);
+        let manifest = dir.join("m.toml");
+        std::fs::write(&manifest, format!("name = \"m\"\n[net]\npnml = {:?}\n", path.display().to_string()))
+            .unwrap();
+        let out = Command::new(env!("CARGO_BIN_EXE_codegen")).arg("verify").arg(&manifest).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{rel}");
+        assert_eq!(
+            String::from_utf8_lossy(&out.stderr),
+            format!("error: {}: {msg}\n", path.display()),
+            "{rel}"
+        );
     }
 }

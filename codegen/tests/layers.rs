@@ -11,7 +11,7 @@ const CODEGEN: &[&[&str]] = &[
     &["model"],
     &["formats", "config", "link"],
     &["manifest", "synth", "plant", "target"],
-    &["problems", "pack", "monitor"],
+    &["problems", "pack", "monitor", "net"],
     &["emit", "closed_loop"],
     &["plc"],
     &["project"],

@@ -12,6 +12,7 @@ mod plant;
 mod plc;
 mod run;
 mod synth;
+mod verify;
 
 use std::error::Error as StdError;
 use std::process::ExitCode;
@@ -44,6 +45,7 @@ enum Command {
     Plant(plant::Args),
     Plc(plc::Args),
     Run(run::Args),
+    Verify(verify::Args),
 }
 
 /// Runs the chosen subcommand; `Ok` carries its exit status (0, or 1 when a check failed).
@@ -59,6 +61,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, Error> {
         Command::Plant(args) => plant::run(args),
         Command::Plc(args) => plc::run(args),
         Command::Run(args) => run::run(args),
+        Command::Verify(args) => verify::run(args),
     }
 }
 

@@ -1,14 +1,17 @@
 //! What a firmware is configured with besides its tables: the run-time configuration ([`RuntimeConfig`],
 //! the manifest's `[runtime]`) and the pin map of a real board ([`BoardSpec`], `[board]`); and what a PLC
-//! program is configured with: its I/O map, policy and cycle ([`PlcSpec`], `[plc]`).
+//! program is configured with: its I/O map, policy and cycle ([`PlcSpec`], `[plc]`); and a sequence net's
+//! interpretation ([`NetSpec`], `[net]`).
 //!
 //! These are plain values: the manifest deserialises them, `codegen emit`'s options override them, and
 //! [`crate::emit`] writes them into the tables. Nothing here reads a file or knows a table.
 
 mod board;
+mod net;
 mod plc;
 mod runtime;
 
 pub use board::{BoardSpec, InputSpec, OutputSpec, SamplingSpec};
+pub use net::{EventEdge, Level, NetSpec};
 pub use plc::{Action, Edge, PlcInput, PlcOutput, PlcSpec, ScanPolicy};
 pub use runtime::{ChoicePolicy, OnFault, RuntimeConfig};

@@ -32,10 +32,10 @@ mod xml;
 use std::path::{Path, PathBuf};
 
 pub use contract::check_reader;
-use decode::decode;
+pub(crate) use decode::decode;
 use error::ErrorKind;
 pub use error::{ParseError, WriteError};
-pub(crate) use xml::escape as xml_escape;
+pub(crate) use xml::{escape as xml_escape, line as xml_line, parse as parse_xml};
 
 use crate::model::Automaton;
 
@@ -155,7 +155,8 @@ fn detect(path: &Path, text: &str) -> Result<Format, ParseError> {
         .ok_or_else(|| ParseError::new(path, None, ErrorKind::UnknownFormat))
 }
 
-fn read_file(path: &Path) -> Result<Vec<u8>, ParseError> {
+/// The bytes of the file at `path`, or an error naming it.
+pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, ParseError> {
     std::fs::read(path).map_err(|e| ParseError::new(path, None, ErrorKind::Io(e)))
 }
 
