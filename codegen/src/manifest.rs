@@ -33,7 +33,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
-use crate::config::{BoardSpec, NetSpec, PlcSpec, RuntimeConfig};
+use crate::config::{BoardSpec, NetSpec, PlcSpec, RuntimeConfig, StateSpec};
 use crate::formats::{read_path, ParseError};
 use crate::model::{resolve_controllability, Automaton, EventTable, Kind, ModelError};
 
@@ -138,6 +138,9 @@ pub struct Manifest {
     /// A sequence as a Petri net and its interpretation (`[net]`).
     #[serde(default)]
     pub net: Option<NetSpec>,
+    /// The plant's state vector for state-based programs (`[state]`, `config::StateSpec`).
+    #[serde(default)]
+    pub state: Option<StateSpec>,
     /// The manifest file itself (set by [`Manifest::load`]).
     #[serde(skip)]
     pub file: PathBuf,
@@ -281,6 +284,7 @@ impl Manifest {
             board: None,
             plc: None,
             net: None,
+            state: None,
             file: path.to_owned(),
         }
     }

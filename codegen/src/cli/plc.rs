@@ -1,12 +1,13 @@
 //! `codegen plc`: Structured Text and PLCopen XML for a scan-cycle controller.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use codegen::config::{RuntimeConfig, ScanPolicy};
 use codegen::manifest::is_manifest;
+use codegen::plc::state_based::StateError;
 use codegen::plc::{Avalanche, Encoding};
-use codegen::project::Project;
+use codegen::project::{Project, ProjectError};
 
 use super::Error;
 
@@ -32,9 +33,19 @@ pub struct Args {
     /// Name of the set, without a manifest (file and POU names derive from it).
     #[arg(long, default_value = "set")]
     name: String,
-    /// State encoding: `int` (an integer per automaton, a CASE per event) or `bits` (a BOOL per state).
-    #[arg(long, value_enum, default_value_t = Encoding::Int)]
-    encoding: Encoding,
+    /// State encoding: `int` (an integer per automaton, a CASE per event), `bits` (a BOOL per state) or
+    /// `state` (no state tracked: one rung per controllable event over the plant's signals, from the
+    /// manifest's `[state]` section; also writes a Ladder Diagram body in the XML).
+    #[arg(long, value_enum, default_value_t = EncodingArg::Int)]
+    encoding: EncodingArg,
+    /// `--encoding state`: where the supervisors' memory decides, keep the supervisors needed instead of
+    /// failing (as `[state] memory = true`).
+    #[arg(long)]
+    memory: bool,
+    /// `--encoding state`: F_σ exactly the union of its states' formulas, no don't-cares (as
+    /// `[state] exact = true`).
+    #[arg(long)]
+    exact: bool,
     /// Avalanche elimination in the bits encoding.
     #[arg(long, value_enum, default_value_t = Avalanche::Auto)]
     avalanche: Avalanche,
@@ -49,6 +60,60 @@ pub struct Args {
     output: PathBuf,
 }
 
+/// `--encoding`: the event-based encodings, or the state-based program.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum EncodingArg {
+    /// One integer per automaton, a `CASE` per event.
+    Int,
+    /// One `BOOL` per state, one statement per transition.
+    Bits,
+    /// State feedback control: one rung per controllable event.
+    State,
+}
+
+/// Writes `files` into `dir` (created if missing).
+fn write(dir: &Path, files: &[(String, String)]) -> Result<(), Error> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    for (name, text) in files {
+        let path = dir.join(name);
+        std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// The state-based program: files, then the report (JSON under `sfbc`). Memory deciding where memory is
+/// not allowed is a finding (exit 1, the plant states with their traces on stderr).
+fn state(project: &Project, args: &Args) -> Result<ExitCode, Error> {
+    let out = match project.state_plc(args.memory, args.exact) {
+        Ok(out) => out,
+        Err(
+            e @ ProjectError::State {
+                source: StateError::Memory(_) | StateError::MemoryProgram { .. }, ..
+            },
+        ) => {
+            eprintln!("{e}");
+            return Ok(ExitCode::from(1));
+        }
+        Err(e) => return Err(e.into()),
+    };
+    write(&args.output, &out.files)?;
+    if args.json {
+        let files: Vec<&str> = out.files.iter().map(|(n, _)| n.as_str()).collect();
+        let json = serde_json::json!({
+            "schema": 1,
+            "name": project.name,
+            "encoding": "state",
+            "files": files,
+            "sfbc": out.report,
+        });
+        println!("{}", serde_json::to_string_pretty(&json)?);
+    } else {
+        print!("{}", out.report.text());
+        println!("written to {}", args.output.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
 /// Runs `plc`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
     let project = match args.files.as_slice() {
@@ -61,12 +126,13 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
         }
     };
     super::say_skipped(&project.left_out);
-    let out = project.plc(args.encoding, args.avalanche, args.policy)?;
-    std::fs::create_dir_all(&args.output).map_err(|e| format!("{}: {e}", args.output.display()))?;
-    for (name, text) in &out.files {
-        let path = args.output.join(name);
-        std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
-    }
+    let encoding = match args.encoding {
+        EncodingArg::Int => Encoding::Int,
+        EncodingArg::Bits => Encoding::Bits,
+        EncodingArg::State => return state(&project, &args),
+    };
+    let out = project.plc(encoding, args.avalanche, args.policy)?;
+    write(&args.output, &out.files)?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&out.report)?);
     } else {

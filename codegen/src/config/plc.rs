@@ -5,6 +5,7 @@
 //! [plc]
 //! policy = "random"              # first | global-queue | local-queue | random (default: [runtime] policy)
 //! cycle_ms = 10                  # the TASK's interval
+//! instruction_ns = 1000          # one IL instruction's time (state-based scan-time figure)
 //! [[plc.inputs]]
 //! event = "s_c1"
 //! variable = "sensor_c1"         # a BOOL of the PROGRAM
@@ -31,6 +32,9 @@ pub struct PlcSpec {
     pub policy: Option<ScanPolicy>,
     /// Interval of the cyclic task, in milliseconds.
     pub cycle_ms: Option<u32>,
+    /// Time one instruction-list instruction takes on the target, in nanoseconds (the state-based
+    /// program's scan-time figure; default 1000, one microsecond).
+    pub instruction_ns: Option<u32>,
     /// Input variables, one per uncontrollable event they make.
     #[serde(default)]
     pub inputs: Vec<PlcInput>,

@@ -18,6 +18,9 @@
 //!   (keywords, located variables, no implicit conversion), so a strict compiler takes it.
 //! * [`xml`] — the same POUs, and the configuration, as PLCopen XML with ST bodies.
 //! * [`report`] — what the program costs and how it solves each problem.
+//! * [`ld`] — Ladder Diagram rungs, their PLCopen `<LD>` body and instruction-list cost.
+//! * [`state_based`] — the state-based program (state feedback control, `--encoding state`): no state
+//!   tracked, one rung per controllable event over the plant's signals.
 //!
 //! Two encodings: `int` — one integer state per automaton and a `CASE` per event, where no event can
 //! chain (a `CASE` takes one branch); `bits` — one `BOOL` per state and one statement per transition,
@@ -27,11 +30,13 @@
 pub mod avalanche;
 pub mod choice;
 pub mod io;
+pub mod ld;
 pub mod names;
 pub mod program;
 pub mod report;
 pub mod st;
 pub mod strict;
+pub mod state_based;
 pub mod xml;
 
 use std::fmt::Write as _;

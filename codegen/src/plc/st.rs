@@ -345,6 +345,8 @@ pub enum SectionKind {
     Outputs,
     /// The program: the function block called, its outputs copied.
     Run,
+    /// A state-based program's rungs: one `IF` per controllable event on the signals.
+    Rungs,
 }
 
 impl SectionKind {
@@ -362,11 +364,12 @@ impl SectionKind {
             SectionKind::AeemReset => "aeem-reset",
             SectionKind::Outputs => "outputs",
             SectionKind::Run => "run",
+            SectionKind::Rungs => "rungs",
         }
     }
 
     /// Every kind, in report order.
-    pub const ALL: [SectionKind; 11] = [
+    pub const ALL: [SectionKind; 12] = [
         SectionKind::Init,
         SectionKind::Inputs,
         SectionKind::Events,
@@ -378,6 +381,7 @@ impl SectionKind {
         SectionKind::AeemReset,
         SectionKind::Outputs,
         SectionKind::Run,
+        SectionKind::Rungs,
     ];
 }
 

@@ -52,7 +52,8 @@ fn variable(out: &mut String, v: &Var, indent: &str) {
     out.push_str("</variable>\n");
 }
 
-fn pou(out: &mut String, p: &Pou) {
+/// `p` as a `<pou>`, its ST body followed by `extra` bodies (their contents, such as an `<LD>`).
+fn pou(out: &mut String, p: &Pou, extra: &[String]) {
     let kind = if p.program { "program" } else { "functionBlock" };
     let _ = writeln!(out, "      <pou name=\"{}\" pouType=\"{kind}\">", xml_escape(&p.name));
     out.push_str("        <interface>\n");
@@ -70,11 +71,32 @@ fn pou(out: &mut String, p: &Pou) {
     }
     out.push_str("        </interface>\n");
     let _ = writeln!(out, "        <body><ST><xhtml:p><![CDATA[{}]]></xhtml:p></ST></body>", p.body());
+    for body in extra {
+        let _ = writeln!(out, "        <body>{body}</body>");
+    }
     out.push_str("      </pou>\n");
 }
 
 /// The whole project file.
 pub fn project(program: &Program, base: &str, cycle_ms: u32, header: &[String]) -> String {
+    document(
+        program.events_type.as_ref(),
+        &[(&program.fb, &[]), (&program.main, &[])],
+        base,
+        cycle_ms,
+        header,
+    )
+}
+
+/// A project file of `pous`, each with its extra bodies, and the structure type `events` if any; the
+/// configuration runs `<base>_main` every `cycle_ms`.
+pub fn document(
+    events: Option<&(String, Vec<Var>)>,
+    pous: &[(&Pou, &[String])],
+    base: &str,
+    cycle_ms: u32,
+    header: &[String],
+) -> String {
     let mut out = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<!--\n");
     for l in header {
         let _ = writeln!(out, "  {}", l.replace("--", "- -"));
@@ -90,7 +112,7 @@ pub fn project(program: &Program, base: &str, cycle_ms: u32, header: &[String]) 
     let _ = writeln!(out, "    <Comment>{}</Comment>", xml_escape(&header.join("\n")));
     out.push_str("    <coordinateInfo><fbd><scaling x=\"1\" y=\"1\"/></fbd><ld><scaling x=\"1\" y=\"1\"/></ld><sfc><scaling x=\"1\" y=\"1\"/></sfc></coordinateInfo>\n");
     out.push_str("  </contentHeader>\n  <types>\n    <dataTypes>\n");
-    if let Some((name, members)) = &program.events_type {
+    if let Some((name, members)) = events {
         let _ = writeln!(out, "      <dataType name=\"{}\"><baseType><struct>", xml_escape(name));
         for m in members {
             variable(&mut out, m, "        ");
@@ -98,8 +120,9 @@ pub fn project(program: &Program, base: &str, cycle_ms: u32, header: &[String]) 
         out.push_str("      </struct></baseType></dataType>\n");
     }
     out.push_str("    </dataTypes>\n    <pous>\n");
-    pou(&mut out, &program.fb);
-    pou(&mut out, &program.main);
+    for (p, extra) in pous {
+        pou(&mut out, p, extra);
+    }
     out.push_str("    </pous>\n  </types>\n  <instances>\n    <configurations>\n");
     let _ = writeln!(out, "      <configuration name=\"{base}_config\">");
     let _ = writeln!(out, "        <resource name=\"{base}_resource\">");

@@ -20,13 +20,14 @@ pub mod comparison;
 
 use std::path::{Path, PathBuf};
 
-use crate::config::{BoardSpec, PlcSpec, RuntimeConfig, ScanPolicy};
+use crate::config::{BoardSpec, PlcSpec, RuntimeConfig, ScanPolicy, StateSpec};
 use crate::emit::{self, EmitError, Input, Provenance};
 use crate::formats::ParseError;
 use crate::manifest::{read_board, read_role, Manifest, ManifestError, ModelSet};
 use crate::model::{resolve_controllability, Automaton, Kind, ModelError};
 use crate::pack::ranked::{self, Packed};
 use crate::pack::{PackError, PackSet};
+use crate::plc::state_based::{self, StateError};
 use crate::plc::{self, Avalanche, Encoding, PlcError, PlcOptions};
 use crate::synth::{local_modular, Config, SynthError};
 use crate::target::image::{build_pico_image, build_qemu_image, ImageError};
@@ -44,6 +45,8 @@ pub struct Project {
     pub board: Option<BoardSpec>,
     /// I/O map, policy and cycle of the PLC program (`[plc]`), if any.
     pub plc: Option<PlcSpec>,
+    /// The plant's state vectors for a state-based program (`[state]`), if any.
+    pub state: Option<StateSpec>,
     /// Components of Supremica modules given in a role of another kind, left out (`module: name (kind)`).
     pub left_out: Vec<String>,
     origin: Origin,
@@ -100,6 +103,14 @@ pub enum ProjectError {
     /// The firmware did not build.
     #[error(transparent)]
     Image(#[from] ImageError),
+    /// The state-based program cannot be written.
+    #[error("{}: {source}", file.display())]
+    State {
+        /// The manifest (or the set's name without one).
+        file: PathBuf,
+        /// Why.
+        source: StateError,
+    },
 }
 
 /// The supervisors stage: `models` with every supervisor its set runs — the ready supervisors first,
@@ -146,6 +157,7 @@ impl Project {
             runtime: m.runtime,
             board: m.board,
             plc: m.plc,
+            state: m.state,
             left_out: Vec::new(),
             inputs,
         })
@@ -187,6 +199,7 @@ impl Project {
             runtime,
             board: board_spec,
             plc: None,
+            state: None,
             left_out,
             origin: Origin::Files {
                 plants: plants.to_vec(),
@@ -210,6 +223,7 @@ impl Project {
             runtime,
             board: None,
             plc: None,
+            state: None,
             left_out: Vec::new(),
             origin: Origin::Code,
             inputs: Vec::new(),
@@ -286,6 +300,34 @@ impl Project {
         };
         let provenance = Provenance { inputs: self.inputs.clone(), command: self.plc_command(&opts) };
         plc::generate(&self.set, &opts, &provenance)
+    }
+
+    /// The state-based PLC program of the set (`--encoding state`): its `[state]` section's state
+    /// vectors, memory allowed with `memory` (or `[state] memory`), F_σ exact with `exact` (or
+    /// `[state] exact`), the event-based program's figures beside. Errors name the manifest.
+    pub fn state_plc(&self, memory: bool, exact: bool) -> Result<state_based::Output, ProjectError> {
+        let file = match &self.origin {
+            Origin::Manifest { path, .. } => path.clone(),
+            Origin::Files { .. } | Origin::Code => PathBuf::from(&self.name),
+        };
+        let in_file = |source: StateError| ProjectError::State { file: file.clone(), source };
+        let signals =
+            self.state.as_ref().ok_or(StateError::Missing).and_then(|s| Ok(s.check()?)).map_err(in_file)?;
+        let opts = PlcOptions::new(&self.name, &self.runtime, self.plc.as_ref(), Some(ScanPolicy::First))
+            .map_err(|e| in_file(StateError::Vector { key: "plc".into(), message: e.to_string() }))?;
+        let mut words = self.plc_command(&opts);
+        words.truncate(words.find(" --encoding").unwrap_or(words.len()));
+        words.push_str(" --encoding state");
+        if memory {
+            words.push_str(" --memory");
+        }
+        if exact {
+            words.push_str(" --exact");
+        }
+        let provenance = Provenance { inputs: self.inputs.clone(), command: words };
+        let event_based = self.plc(Encoding::Int, Avalanche::Auto, None).ok();
+        let report = event_based.as_ref().map(|o| &o.report);
+        state_based::generate(&self.set, signals, &opts, memory, exact, &provenance, report).map_err(in_file)
     }
 
     /// The command that reproduces a PLC program, paths as given, every option spelt out.

@@ -1,0 +1,194 @@
+//! State-based programs (state feedback control, DESIGN §10; Côté, St-Denis & Kerjean): the program
+//! tracks no event — each scan it reads the plant's state from its signals and, per controllable event
+//! σ, evaluates F_σ over them; where F_σ holds, σ's command writes its outputs.
+//!
+//! # Overview
+//!
+//! * [`vector`] — the manifest's `[state]` section bound to the set's plants and checked against them.
+//! * [`sfbc`] — f from the reachable closed loop plants ‖ supervisors; where the supervisors' memory
+//!   decides, the plant states with two traces, or the supervisors kept as memory.
+//! * [`minimise`] — F_σ as a prime, irredundant sum of products (BDDs), don't-cares only where no
+//!   reachable state's signals are.
+//! * [`program`] — the rungs (shared literals in series, products in parallel, SET/RESET coils), the ST
+//!   `PROGRAM` written by the project's ST writer ([`crate::plc::st`]) and the Ladder Diagram body
+//!   ([`crate::plc::ld`]) beside it in the PLCopen XML ([`crate::plc::xml`]).
+//! * [`report`] — |f|, rungs, literals and products per rung, instruction-list instructions and stack
+//!   depth ([`crate::plc::ld`]'s cost model), scan time, and the table of f as in the paper's Table 1.
+//!
+//! [`validate`] is the translation validation: for every reachable state x and every valuation of the
+//! signals that reads as x, each rung conducts exactly when f_σ(x) = 1.
+
+pub mod minimise;
+pub mod program;
+pub mod report;
+pub mod sfbc;
+pub mod vector;
+
+use crate::config::{Cube, Signals, SignalsError};
+use crate::emit::Provenance;
+use crate::pack::PackSet;
+use crate::plc::names::sanitize;
+use crate::plc::{comment, header, ld, xml, PlcOptions};
+use crate::synth::{Reachable, SynthError};
+
+pub use program::EventRung;
+pub use report::Report;
+pub use sfbc::Sfbc;
+pub use vector::Vector;
+
+/// Why a state-based program cannot be written.
+#[derive(Debug, thiserror::Error)]
+pub enum StateError {
+    /// The manifest has no `[state]` section.
+    #[error("--encoding state needs the manifest's [state] section (the plant's state vectors)")]
+    Missing,
+    /// The section is malformed.
+    #[error(transparent)]
+    Signals(#[from] SignalsError),
+    /// The section does not fit the set's plants.
+    #[error("{key}: {message}")]
+    Vector {
+        /// The key it is about.
+        key: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// The closed loop could not be explored.
+    #[error("closed loop: {0}")]
+    Synth(#[from] SynthError),
+    /// The supervisors' memory decides somewhere and memory is not allowed.
+    #[error("{0}")]
+    Memory(String),
+    /// Memory is needed and allowed, but the program that tracks it is not written.
+    #[error("memory of {kept} ({bits} bits) is needed; tracking supervisors in a state-based program is not implemented: use an event-based encoding")]
+    MemoryProgram {
+        /// The supervisors kept.
+        kept: String,
+        /// Bits.
+        bits: u32,
+    },
+}
+
+/// The program's files, report and rungs.
+#[derive(Clone, Debug)]
+pub struct Output {
+    /// `(file name, contents)`: `<name>.st`, `<name>_config.st`, `<name>.xml`.
+    pub files: Vec<(String, String)>,
+    /// The figures and the table of f.
+    pub report: Report,
+    /// One rung per controllable event, in order.
+    pub rungs: Vec<EventRung>,
+    /// The state vectors bound to the set.
+    pub vector: Vector,
+    /// The feedback.
+    pub sfbc: Sfbc,
+}
+
+/// The feedback of `set` under `signals`' state vectors, and the state vectors bound to it.
+pub fn analyse(set: &PackSet, signals: Signals, memory: bool) -> Result<(Vector, Sfbc), StateError> {
+    let vector = Vector::bind(set, signals)?;
+    let f = Sfbc::compute(set, memory || vector.signals.memory)?;
+    Ok((vector, f))
+}
+
+/// The rungs of `f`: per controllable event, F_σ minimised between its ON set and the valuations no
+/// reachable state produces (none with `exact`).
+pub fn rungs(set: &PackSet, vector: &Vector, f: &Sfbc, exact: bool) -> Vec<EventRung> {
+    let u = minimise::Universe::new(vector.signals.signals.len());
+    let cubes: Vec<Cube> = f.entries.iter().map(|e| vector.cube(&e.state[..f.plants])).collect();
+    let reachable = u.union(&cubes);
+    let dc = if exact { u.union(&[]) } else { reachable.not() };
+    f.controllable
+        .iter()
+        .enumerate()
+        .map(|(i, &e)| {
+            let on: Vec<Cube> =
+                f.entries.iter().zip(&cubes).filter(|(en, _)| en.allowed[i]).map(|(_, &c)| c).collect();
+            let cover = u.minimise(&u.union(&on), &dc);
+            let command = vector.commands[e.index()].map_or(Cube::default(), |(_, c)| c);
+            program::rung(&vector.signals, set.events().name(e), cover, command)
+        })
+        .collect()
+}
+
+/// Translation validation: for every entry of `f` (a reachable plant state x) and every valuation of the
+/// signals that reads as x, rung σ conducts iff f_σ(x) = 1. Returns the first disagreement.
+pub fn validate(vector: &Vector, f: &Sfbc, rungs: &[EventRung]) -> Result<usize, String> {
+    let names: Vec<&str> = vector.signals.signals.iter().map(|s| s.name.as_str()).collect();
+    let all = if names.len() == 64 { u64::MAX } else { (1u64 << names.len()) - 1 };
+    let mut checked = 0;
+    for e in &f.entries {
+        let x = vector.cube(&e.state[..f.plants]);
+        let free = all & !x.mask;
+        let mut sub = free;
+        loop {
+            let v = x.value | sub;
+            let closed = |var: &str| names.iter().position(|n| *n == var).is_some_and(|i| v >> i & 1 == 1);
+            for (k, r) in rungs.iter().enumerate() {
+                if r.rung.condition.conducts(&closed) != e.allowed[k] {
+                    return Err(format!(
+                        "rung {} at plant state {:?} (signals {v:#b}): conducts {}, f says {}",
+                        r.event, e.state, !e.allowed[k], e.allowed[k]
+                    ));
+                }
+            }
+            checked += 1;
+            if sub == 0 {
+                break;
+            }
+            sub = (sub - 1) & free;
+        }
+    }
+    Ok(checked)
+}
+
+/// States and transitions of the reachable product of `dfas` (the free plant G, or the specification E).
+pub fn product_size(dfas: &[&crate::model::Dfa]) -> Result<(usize, usize), SynthError> {
+    let r = Reachable::explore(dfas, sfbc::STATE_LIMIT)?;
+    Ok((r.dfa().state_count(), r.dfa().transition_count()))
+}
+
+/// Writes the state-based program of `set` with `opts` and the state vectors `signals`; `memory` allows
+/// supervisor memory (as `[state] memory`), `exact` keeps F_σ free of don't-cares (as `[state] exact`).
+/// `event_based` is the event-based program's report for the same set, for the comparison figures.
+pub fn generate(
+    set: &PackSet,
+    signals: Signals,
+    opts: &PlcOptions,
+    memory: bool,
+    exact: bool,
+    provenance: &Provenance,
+    event_based: Option<&crate::plc::Report>,
+) -> Result<Output, StateError> {
+    let exact = exact || signals.exact;
+    let (vector, f) = analyse(set, signals, memory)?;
+    if !f.conflicts.is_empty() && f.memory.is_none() {
+        return Err(StateError::Memory(report::conflicts_text(set, &f)));
+    }
+    if let Some(m) = &f.memory {
+        let kept: Vec<&str> = m.kept.iter().map(|&k| set.members()[k].name()).collect();
+        return Err(StateError::MemoryProgram { kept: kept.join(", "), bits: m.bits });
+    }
+    let rungs = rungs(set, &vector, &f, exact);
+    let base = sanitize(&opts.name);
+    let pou = program::pou(&vector.signals, &base, &rungs)?;
+    let ns = opts.spec.instruction_ns.unwrap_or(1000);
+    let options = format!(
+        "Options: encoding=state memory={memory} exact={exact} cycle_ms={} instruction_ns={ns}",
+        opts.cycle_ms
+    );
+    let header: Vec<String> = header(set, opts, provenance)
+        .into_iter()
+        .map(|l| if l.starts_with("Options:") { options.clone() } else { l })
+        .collect();
+    let st = format!("{}\n{}", comment(&header), pou.text());
+    let config = format!("{}\n{}", comment(&header), xml::configuration_text(&base, opts.cycle_ms));
+    let ladder: Vec<ld::Rung> = rungs.iter().map(|r| r.rung.clone()).collect();
+    let xml = xml::document(None, &[(&pou, &[ld::body(&ladder)])], &base, opts.cycle_ms, &header);
+    let files =
+        vec![(format!("{base}.st"), st), (format!("{base}_config.st"), config), (format!("{base}.xml"), xml)];
+    let plants: Vec<_> = set.members()[..f.plants].iter().map(|m| &m.dfa).collect();
+    let g = product_size(&plants)?;
+    let report = Report::new(set, &vector, &f, &rungs, g, ns, event_based);
+    Ok(Output { files, report, rungs, vector, sfbc: f })
+}

@@ -1,0 +1,308 @@
+//! The state feedback control f of a supervisor set (DESIGN §10): on the reachable closed loop
+//! plants ‖ supervisors, f_σ(x) = 1 iff σ is physically possible at plant state x and every reachable
+//! closed-loop state (x, y) enables it. Where two such states disagree the supervisors' memory decides:
+//! each such plant state is reported with a shortest trace to each side, and with memory allowed the
+//! fewest supervisors whose states settle every disagreement are kept as further state components.
+
+use std::collections::{BTreeMap, VecDeque};
+
+use crate::model::EventId;
+use crate::pack::{PackSet, Role};
+use crate::synth::Reachable;
+
+use super::StateError;
+
+/// Most closed-loop states explored.
+pub const STATE_LIMIT: usize = 2_000_000;
+
+/// One reachable state of the feedback's domain: a plant state, with the kept supervisors' states when
+/// memory is kept.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Entry {
+    /// Local state of each plant, then of each kept supervisor.
+    pub state: Vec<u32>,
+    /// Per controllable event (in [`Sfbc::controllable`] order): physically possible here.
+    pub possible: Vec<bool>,
+    /// Per controllable event: f_σ — possible and enabled by every closed-loop state over this one.
+    pub allowed: Vec<bool>,
+}
+
+impl Entry {
+    /// Whether f disables something here (the entry counts in |f|).
+    pub fn inhibits(&self) -> bool {
+        self.possible.iter().zip(&self.allowed).any(|(&p, &a)| p && !a)
+    }
+}
+
+/// A plant state where the supervisors' memory decides an event.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Conflict {
+    /// The plant state.
+    pub state: Vec<u32>,
+    /// The event decided by memory.
+    pub event: EventId,
+    /// A shortest trace to a closed-loop state over it that enables the event.
+    pub enabled_after: Vec<EventId>,
+    /// A shortest trace to one that disables it.
+    pub disabled_after: Vec<EventId>,
+}
+
+/// The supervisors kept as memory.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Memory {
+    /// Member indices of the kept supervisors, in set order.
+    pub kept: Vec<usize>,
+    /// Bits their states take (⌈log2 states⌉ each).
+    pub bits: u32,
+}
+
+/// The feedback of a set.
+#[derive(Clone, Debug)]
+pub struct Sfbc {
+    /// The controllable events that some plant holds, in event id order: one rung each.
+    pub controllable: Vec<EventId>,
+    /// Number of plants (the first members of the set).
+    pub plants: usize,
+    /// Reachable closed-loop states.
+    pub closed_states: usize,
+    /// The domain's reachable states, in order of their state vectors.
+    pub entries: Vec<Entry>,
+    /// Plant states where memory decides (empty when the feedback is a function of the plant state).
+    pub conflicts: Vec<Conflict>,
+    /// The supervisors kept, when memory was allowed and needed.
+    pub memory: Option<Memory>,
+}
+
+/// The closed loop explored, with a parent per state for shortest traces.
+struct Closed {
+    reach: Reachable,
+    parent: Vec<Option<(u32, u32)>>,
+}
+
+impl Closed {
+    fn explore(set: &PackSet) -> Result<Closed, StateError> {
+        let dfas: Vec<_> = set.members().iter().map(|m| &m.dfa).collect();
+        let reach = Reachable::explore(&dfas, STATE_LIMIT)?;
+        let n = reach.dfa().state_count();
+        let mut parent = vec![None; n];
+        let mut seen = vec![false; n];
+        let mut queue = VecDeque::from([0u32]);
+        if n > 0 {
+            seen[0] = true;
+        }
+        while let Some(s) = queue.pop_front() {
+            for (e, t) in reach.dfa().edges(s) {
+                if !seen[t as usize] {
+                    seen[t as usize] = true;
+                    parent[t as usize] = Some((s, e));
+                    queue.push_back(t);
+                }
+            }
+        }
+        Ok(Closed { reach, parent })
+    }
+
+    fn trace(&self, mut s: u32) -> Vec<EventId> {
+        let mut out = Vec::new();
+        while let Some((p, e)) = self.parent[s as usize] {
+            out.push(EventId::from_u32(e));
+            s = p;
+        }
+        out.reverse();
+        out
+    }
+}
+
+/// Per closed-loop state: its domain key (plants and `kept` supervisors) and the controllable events it
+/// enables, as a bit per [`Sfbc::controllable`] index.
+fn enabled(closed: &Closed, controllable: &[EventId]) -> Vec<Vec<bool>> {
+    let dfa = closed.reach.dfa();
+    (0..dfa.state_count() as u32)
+        .map(|s| controllable.iter().map(|e| dfa.step(s, e.as_u32()).is_some()).collect())
+        .collect()
+}
+
+impl Sfbc {
+    /// The feedback of `set`: with `memory`, the fewest supervisors whose states settle every
+    /// disagreement are kept (and the conflicts stay reported); without, conflicts are left for the
+    /// caller to refuse.
+    pub fn compute(set: &PackSet, memory: bool) -> Result<Sfbc, StateError> {
+        let members = set.members();
+        let plants = members.iter().take_while(|m| m.role == Role::Plant).count();
+        let table = set.events();
+        let controllable: Vec<EventId> = table
+            .ids()
+            .filter(|&e| table.is_controllable(e))
+            .filter(|e| members[..plants].iter().any(|m| m.dfa.has_event(e.as_u32())))
+            .collect();
+        let closed = Closed::explore(set)?;
+        let en = enabled(&closed, &controllable);
+        let n = closed.reach.dfa().state_count() as u32;
+        let tuples: Vec<Vec<u32>> = (0..n).map(|s| closed.reach.tuple(s)).collect();
+        let conflicts = conflicts(&closed, &tuples, &en, plants, &controllable);
+        let kept = if memory && !conflicts.is_empty() {
+            Some(keep(&tuples, &en, plants, members.len()))
+        } else {
+            None
+        };
+        let kept_list = kept.clone().unwrap_or_default();
+        let key = |t: &[u32]| -> Vec<u32> {
+            t[..plants].iter().copied().chain(kept_list.iter().map(|&k| t[k])).collect()
+        };
+        let mut domain: BTreeMap<Vec<u32>, Vec<bool>> = BTreeMap::new();
+        for (t, e) in tuples.iter().zip(&en) {
+            let slot = domain.entry(key(t)).or_insert_with(|| e.clone());
+            for (a, b) in slot.iter_mut().zip(e) {
+                *a &= *b;
+            }
+        }
+        let entries = domain
+            .into_iter()
+            .map(|(state, allowed)| {
+                let possible = controllable
+                    .iter()
+                    .map(|e| {
+                        members[..plants].iter().zip(&state).all(|(m, &s)| {
+                            !m.dfa.has_event(e.as_u32()) || m.dfa.step(s, e.as_u32()).is_some()
+                        })
+                    })
+                    .collect();
+                Entry { state, possible, allowed }
+            })
+            .collect();
+        let memory = kept
+            .map(|kept| Memory { bits: kept.iter().map(|&k| bits(members[k].state_count())).sum(), kept });
+        Ok(Sfbc { controllable, plants, closed_states: n as usize, entries, conflicts, memory })
+    }
+
+    /// |f|: the domain's states where f disables a physically possible controllable event.
+    pub fn size(&self) -> usize {
+        self.entries.iter().filter(|e| e.inhibits()).count()
+    }
+}
+
+/// Bits to number `states` states.
+fn bits(states: usize) -> u32 {
+    usize::BITS - states.saturating_sub(1).leading_zeros()
+}
+
+/// Per plant state and controllable event on which its closed-loop states disagree: one conflict with
+/// shortest traces to each side (the first in breadth-first order).
+fn conflicts(
+    closed: &Closed,
+    tuples: &[Vec<u32>],
+    en: &[Vec<bool>],
+    plants: usize,
+    controllable: &[EventId],
+) -> Vec<Conflict> {
+    // Per plant state: per event, the first closed-loop state enabling it and the first disabling it.
+    let mut sides: BTreeMap<&[u32], Vec<(Option<u32>, Option<u32>)>> = BTreeMap::new();
+    for (s, (t, e)) in tuples.iter().zip(en).enumerate() {
+        let slot = sides.entry(&t[..plants]).or_insert_with(|| vec![(None, None); controllable.len()]);
+        for (side, &on) in slot.iter_mut().zip(e) {
+            let which = if on { &mut side.0 } else { &mut side.1 };
+            which.get_or_insert(s as u32);
+        }
+    }
+    let mut out = Vec::new();
+    for (x, slot) in sides {
+        for (i, side) in slot.iter().enumerate() {
+            if let (Some(on), Some(off)) = *side {
+                out.push(Conflict {
+                    state: x.to_vec(),
+                    event: controllable[i],
+                    enabled_after: closed.trace(on),
+                    disabled_after: closed.trace(off),
+                });
+            }
+        }
+    }
+    out
+}
+
+/// The fewest supervisors (then the first in set order) whose states, with the plant state, determine
+/// the enabled controllable events of every reachable closed-loop state.
+fn keep(tuples: &[Vec<u32>], en: &[Vec<bool>], plants: usize, members: usize) -> Vec<usize> {
+    let sups: Vec<usize> = (plants..members).collect();
+    let decides = |kept: &[usize]| {
+        let mut seen: BTreeMap<Vec<u32>, &Vec<bool>> = BTreeMap::new();
+        tuples.iter().zip(en).all(|(t, e)| {
+            let k: Vec<u32> = t[..plants].iter().copied().chain(kept.iter().map(|&s| t[s])).collect();
+            *seen.entry(k).or_insert(e) == e
+        })
+    };
+    // Subsets by size, each size in lexicographic order, while there are few supervisors; else greedy.
+    if sups.len() <= 12 {
+        for size in 1..=sups.len() {
+            let mut pick: Vec<usize> = (0..size).collect();
+            loop {
+                let kept: Vec<usize> = pick.iter().map(|&i| sups[i]).collect();
+                if decides(&kept) {
+                    return kept;
+                }
+                // Next combination.
+                let Some(i) = (0..size).rev().find(|&i| pick[i] < sups.len() - size + i) else { break };
+                pick[i] += 1;
+                for j in i + 1..size {
+                    pick[j] = pick[j - 1] + 1;
+                }
+            }
+        }
+    }
+    sups
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::testing::build;
+
+    #[test]
+    fn bits_number_states() {
+        assert_eq!([1, 2, 3, 4, 5, 8, 9].map(bits), [0, 1, 2, 2, 3, 3, 4]);
+    }
+
+    /// A machine that starts by `start` or `alt` (both controllable) and ends by `done`, under a
+    /// supervisor allowing `alt` only every other cycle: the plant state idle is reached with the
+    /// supervisor in two states that disagree on `alt`.
+    fn alternating() -> PackSet {
+        let plant = build(
+            "M",
+            &["I", "W"],
+            &["start", "alt"],
+            &[("I", "start", "W"), ("I", "alt", "W"), ("W", "done", "I")],
+        );
+        let sup = build(
+            "S",
+            &["a", "b", "c", "d"],
+            &["start", "alt"],
+            &[
+                ("a", "start", "b"),
+                ("a", "alt", "b"),
+                ("b", "done", "c"),
+                ("c", "start", "d"),
+                ("d", "done", "a"),
+            ],
+        );
+        PackSet::new(vec![plant], vec![sup]).unwrap()
+    }
+
+    #[test]
+    fn memory_decides_where_closed_loop_states_disagree() {
+        let set = alternating();
+        let f = Sfbc::compute(&set, false).unwrap();
+        assert_eq!(f.conflicts.len(), 1, "{:?}", f.conflicts);
+        let c = &f.conflicts[0];
+        let names = |t: &[EventId]| t.iter().map(|&e| set.events().name(e).to_owned()).collect::<Vec<_>>();
+        assert_eq!(names(&c.enabled_after), Vec::<String>::new());
+        assert_eq!(names(&c.disabled_after), ["start", "done"]);
+        assert!(f.memory.is_none());
+        let m = Sfbc::compute(&set, true).unwrap();
+        assert_eq!(m.memory, Some(Memory { kept: vec![1], bits: 2 }));
+        // With S's state as memory, idle splits in two: alt allowed in (I, a), not in (I, c).
+        let idle: Vec<_> =
+            m.entries.iter().filter(|e| e.state[0] == 0).map(|e| (e.state[1], e.allowed.clone())).collect();
+        assert_eq!(idle, [(0, vec![true, true]), (2, vec![true, false])]);
+        assert!(m.entries.iter().all(|e| e.state.len() == 2));
+    }
+}
