@@ -310,9 +310,9 @@ mod tests {
     #[test]
     fn objects_are_wired_to_what_feeds_them() {
         let xml = body(&[seed_rung()]);
-        // The contact after the parallel block does not exist: the coils are fed by the last contact of
-        // each branch (b, d and e are objects 7, 9 and 10).
-        assert!(xml.contains("<connection refLocalId=\"7\"/><connection refLocalId=\"9\"/><connection refLocalId=\"10\"/></connectionPointIn><connectionPointOut/><variable>Y0</variable>"), "{xml}");
+        // Objects: the comment 1, the rail 2, Y1 3, X2 4, then a b c d e 5 to 9. The coils are fed by the
+        // last contact of each branch (b, d and e).
+        assert!(xml.contains("<connection refLocalId=\"6\"/><connection refLocalId=\"8\"/><connection refLocalId=\"9\"/></connectionPointIn><connectionPointOut/><variable>Y0</variable>"), "{xml}");
         // Each branch starts from the contact before the block (X2, object 4).
         assert_eq!(xml.matches("<connection refLocalId=\"4\"/></connectionPointIn>").count(), 3, "{xml}");
         assert!(xml.contains("storage=\"reset\"") && xml.contains("negated=\"true\""));

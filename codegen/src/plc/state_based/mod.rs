@@ -18,6 +18,7 @@
 //! [`validate`] is the translation validation: for every reachable state x and every valuation of the
 //! signals that reads as x, each rung conducts exactly when f_σ(x) = 1.
 
+pub mod memory;
 pub mod minimise;
 pub mod program;
 pub mod report;
@@ -59,14 +60,6 @@ pub enum StateError {
     /// The supervisors' memory decides somewhere and memory is not allowed.
     #[error("{0}")]
     Memory(String),
-    /// Memory is needed and allowed, but the program that tracks it is not written.
-    #[error("memory of {kept} ({bits} bits) is needed; tracking supervisors in a state-based program is not implemented: use an event-based encoding")]
-    MemoryProgram {
-        /// The supervisors kept.
-        kept: String,
-        /// Bits.
-        bits: u32,
-    },
 }
 
 /// The program's files, report and rungs.
@@ -82,6 +75,26 @@ pub struct Output {
     pub vector: Vector,
     /// The feedback.
     pub sfbc: Sfbc,
+    /// The kept supervisors' memory (empty when the plant state decides).
+    pub memory: memory::Memory,
+}
+
+impl Output {
+    /// The program's Boolean variables: the signals, then the memory bits.
+    pub fn names(&self) -> Vec<String> {
+        variable_names(&self.vector, &self.memory)
+    }
+}
+
+fn variable_names(vector: &Vector, memory: &memory::Memory) -> Vec<String> {
+    vector.signals.signals.iter().map(|s| s.name.clone()).chain(memory.names.iter().cloned()).collect()
+}
+
+/// The cube of entry `e`: its plant state's formula and its kept supervisors' memory bits.
+fn entry_cube(vector: &Vector, f: &Sfbc, memory: &memory::Memory, e: &sfbc::Entry) -> Cube {
+    let x = vector.cube(&e.state[..f.plants]);
+    let m = memory.cube(&e.state[f.plants..]);
+    Cube { mask: x.mask | m.mask, value: x.value | m.value }
 }
 
 /// The feedback of `set` under `signals`' state vectors, and the state vectors bound to it.
@@ -93,9 +106,16 @@ pub fn analyse(set: &PackSet, signals: Signals, memory: bool) -> Result<(Vector,
 
 /// The rungs of `f`: per controllable event, F_σ minimised between its ON set and the valuations no
 /// reachable state produces (none with `exact`).
-pub fn rungs(set: &PackSet, vector: &Vector, f: &Sfbc, exact: bool) -> Vec<EventRung> {
-    let u = minimise::Universe::new(vector.signals.signals.len());
-    let cubes: Vec<Cube> = f.entries.iter().map(|e| vector.cube(&e.state[..f.plants])).collect();
+pub fn rungs(
+    set: &PackSet,
+    vector: &Vector,
+    f: &Sfbc,
+    memory: &memory::Memory,
+    exact: bool,
+) -> Vec<EventRung> {
+    let names = variable_names(vector, memory);
+    let u = minimise::Universe::new(names.len());
+    let cubes: Vec<Cube> = f.entries.iter().map(|e| entry_cube(vector, f, memory, e)).collect();
     let reachable = u.union(&cubes);
     let dc = if exact { u.union(&[]) } else { reachable.not() };
     f.controllable
@@ -106,19 +126,22 @@ pub fn rungs(set: &PackSet, vector: &Vector, f: &Sfbc, exact: bool) -> Vec<Event
                 f.entries.iter().zip(&cubes).filter(|(en, _)| en.allowed[i]).map(|(_, &c)| c).collect();
             let cover = u.minimise(&u.union(&on), &dc);
             let command = vector.commands[e.index()].map_or(Cube::default(), |(_, c)| c);
-            program::rung(&vector.signals, set.events().name(e), cover, command)
+            let extra = memory.after.get(&e.as_u32()).cloned().unwrap_or_default();
+            program::rung(&names, set.events().name(e), cover, command, extra)
         })
         .collect()
 }
 
-/// Translation validation: for every entry of `f` (a reachable plant state x) and every valuation of the
-/// signals that reads as x, rung σ conducts iff f_σ(x) = 1. Returns the first disagreement.
-pub fn validate(vector: &Vector, f: &Sfbc, rungs: &[EventRung]) -> Result<usize, String> {
-    let names: Vec<&str> = vector.signals.signals.iter().map(|s| s.name.as_str()).collect();
+/// Translation validation: for every entry of `f` (a reachable plant state x, with the kept supervisors'
+/// states when memory is kept) and every valuation of the program's variables that reads as it, rung σ
+/// conducts iff f_σ(x) = 1. Returns the valuations checked, or the first disagreement.
+pub fn validate(out: &Output, rungs: &[EventRung]) -> Result<usize, String> {
+    let (vector, f) = (&out.vector, &out.sfbc);
+    let names = out.names();
     let all = if names.len() == 64 { u64::MAX } else { (1u64 << names.len()) - 1 };
     let mut checked = 0;
     for e in &f.entries {
-        let x = vector.cube(&e.state[..f.plants]);
+        let x = entry_cube(vector, f, &out.memory, e);
         let free = all & !x.mask;
         let mut sub = free;
         loop {
@@ -165,16 +188,18 @@ pub fn generate(
     if !f.conflicts.is_empty() && f.memory.is_none() {
         return Err(StateError::Memory(report::conflicts_text(set, &f)));
     }
-    if let Some(m) = &f.memory {
-        let kept: Vec<&str> = m.kept.iter().map(|&k| set.members()[k].name()).collect();
-        return Err(StateError::MemoryProgram { kept: kept.join(", "), bits: m.bits });
-    }
-    let rungs = rungs(set, &vector, &f, exact);
+    let signal_names = variable_names(&vector, &memory::Memory::default());
+    let memory = match &f.memory {
+        Some(m) => memory::Memory::new(set, &vector, &m.kept, &signal_names)?,
+        None => memory::Memory::default(),
+    };
+    let rungs = self::rungs(set, &vector, &f, &memory, exact);
     let base = sanitize(&opts.name);
-    let pou = program::pou(&vector.signals, &base, &rungs)?;
+    let pou = program::pou(&vector.signals, &base, &rungs, &memory)?;
     let ns = opts.spec.instruction_ns.unwrap_or(1000);
     let options = format!(
-        "Options: encoding=state memory={memory} exact={exact} cycle_ms={} instruction_ns={ns}",
+        "Options: encoding=state memory={} exact={exact} cycle_ms={} instruction_ns={ns}",
+        !memory.kept.is_empty(),
         opts.cycle_ms
     );
     let header: Vec<String> = header(set, opts, provenance)
@@ -183,12 +208,14 @@ pub fn generate(
         .collect();
     let st = format!("{}\n{}", comment(&header), pou.text());
     let config = format!("{}\n{}", comment(&header), xml::configuration_text(&base, opts.cycle_ms));
+    // The Ladder Diagram body holds the rungs alone: a program with memory tracks it in ST only.
     let ladder: Vec<ld::Rung> = rungs.iter().map(|r| r.rung.clone()).collect();
-    let xml = xml::document(None, &[(&pou, &[ld::body(&ladder)])], &base, opts.cycle_ms, &header);
+    let bodies = if memory.kept.is_empty() { vec![ld::body(&ladder)] } else { Vec::new() };
+    let xml = xml::document(None, &[(&pou, &bodies)], &base, opts.cycle_ms, &header);
     let files =
         vec![(format!("{base}.st"), st), (format!("{base}_config.st"), config), (format!("{base}.xml"), xml)];
     let plants: Vec<_> = set.members()[..f.plants].iter().map(|m| &m.dfa).collect();
     let g = product_size(&plants)?;
     let report = Report::new(set, &vector, &f, &rungs, g, ns, event_based);
-    Ok(Output { files, report, rungs, vector, sfbc: f })
+    Ok(Output { files, report, rungs, vector, sfbc: f, memory })
 }

@@ -8,6 +8,7 @@ use crate::config::{Cube, Direction, Signals};
 use crate::plc::ld::{Coil, CoilKind, Element, Rung};
 use crate::plc::names::is_identifier;
 use crate::plc::st::{Expr, Pou, Section, SectionKind, Stmt, Var, VarClass};
+use crate::plc::state_based::memory::Memory;
 
 use super::StateError;
 
@@ -20,24 +21,27 @@ pub struct EventRung {
     pub cubes: Vec<Cube>,
     /// The rung.
     pub rung: Rung,
+    /// What the ST rung does besides its coils when it fires (the kept supervisors' memory).
+    pub extra: Vec<Stmt>,
 }
 
-/// The literal of signal `i` with value `v` as a contact.
-fn contact(signals: &Signals, i: usize, v: bool) -> Element {
-    Element::contact(signals.signals[i].name.clone(), !v)
+/// The literal of variable `i` (`names[i]`) with value `v` as a contact.
+fn contact(names: &[String], i: usize, v: bool) -> Element {
+    Element::contact(names.get(i).cloned().unwrap_or_default(), !v)
 }
 
-/// `cubes` as a rung condition: shared literals in series, then the products' remainders in parallel.
-pub fn condition(signals: &Signals, cubes: &[Cube]) -> Element {
+/// `cubes` over the variables `names` as a rung condition: shared literals in series, then the
+/// products' remainders in parallel.
+pub fn condition(names: &[String], cubes: &[Cube]) -> Element {
     let Some(first) = cubes.first() else { return Element::Parallel(Vec::new()) };
     let shared = cubes.iter().fold(first.mask, |m, c| m & c.mask & !(c.value ^ first.value));
     let common = Cube { mask: shared, value: first.value & shared };
-    let mut series: Vec<Element> = common.literals().map(|(i, v)| contact(signals, i, v)).collect();
+    let mut series: Vec<Element> = common.literals().map(|(i, v)| contact(names, i, v)).collect();
     let rest: Vec<Element> = cubes
         .iter()
         .map(|c| {
             let r = Cube { mask: c.mask & !shared, value: c.value & !shared };
-            Element::Series(r.literals().map(|(i, v)| contact(signals, i, v)).collect())
+            Element::Series(r.literals().map(|(i, v)| contact(names, i, v)).collect())
         })
         .collect();
     if rest.len() > 1 {
@@ -46,22 +50,23 @@ pub fn condition(signals: &Signals, cubes: &[Cube]) -> Element {
     Element::Series(series)
 }
 
-/// The rung of `event` with formula `cubes` and command `command`.
-pub fn rung(signals: &Signals, event: &str, cubes: Vec<Cube>, command: Cube) -> EventRung {
+/// The rung of `event` with formula `cubes` over the variables `names` and command `command`; `extra`
+/// runs in ST when it fires.
+pub fn rung(names: &[String], event: &str, cubes: Vec<Cube>, command: Cube, extra: Vec<Stmt>) -> EventRung {
     let coils = command
         .literals()
         .map(|(i, v)| Coil {
-            variable: signals.signals[i].name.clone(),
+            variable: names.get(i).cloned().unwrap_or_default(),
             kind: if v { CoilKind::Set } else { CoilKind::Reset },
         })
         .collect();
-    let rung = Rung { comment: format!("{event}: F_{event}"), condition: condition(signals, &cubes), coils };
-    EventRung { event: event.to_owned(), cubes, rung }
+    let rung = Rung { comment: format!("{event}: F_{event}"), condition: condition(names, &cubes), coils };
+    EventRung { event: event.to_owned(), cubes, rung, extra }
 }
 
-/// The `PROGRAM <base>_main`: every signal a `BOOL` (located where it has an address), one `IF` per
-/// rung.
-pub fn pou(signals: &Signals, base: &str, rungs: &[EventRung]) -> Result<Pou, StateError> {
+/// The `PROGRAM <base>_main`: every signal a `BOOL` (located where it has an address), the memory's
+/// variables, its event detection, then one `IF` per rung.
+pub fn pou(signals: &Signals, base: &str, rungs: &[EventRung], memory: &Memory) -> Result<Pou, StateError> {
     let mut vars = Vec::new();
     for s in &signals.signals {
         if !is_identifier(&s.name) {
@@ -79,6 +84,7 @@ pub fn pou(signals: &Signals, base: &str, rungs: &[EventRung]) -> Result<Pou, St
         v.address.clone_from(&s.address);
         vars.push(v);
     }
+    vars.extend(memory.vars.iter().cloned());
     let stmts = rungs
         .iter()
         .map(|r| {
@@ -87,6 +93,7 @@ pub fn pou(signals: &Signals, base: &str, rungs: &[EventRung]) -> Result<Pou, St
                 .coils
                 .iter()
                 .map(|c| Stmt::set(c.variable.clone(), Expr::Bool(c.kind == CoilKind::Set)))
+                .chain(r.extra.iter().cloned())
                 .collect();
             Stmt::when(r.rung.condition.st(), body)
         })
@@ -96,10 +103,18 @@ pub fn pou(signals: &Signals, base: &str, rungs: &[EventRung]) -> Result<Pou, St
         program: true,
         name: format!("{base}_main"),
         vars: vec![(VarClass::Local, vars)],
-        sections: vec![Section {
-            kind: SectionKind::Rungs,
-            title: format!("one rung per controllable event: {}", events.join(", ")),
-            stmts,
-        }],
+        sections: vec![
+            Section {
+                kind: SectionKind::Events,
+                title: "supervisor memory: sensor events read from the tracked components' state changes"
+                    .into(),
+                stmts: memory.detect.clone(),
+            },
+            Section {
+                kind: SectionKind::Rungs,
+                title: format!("one rung per controllable event: {}", events.join(", ")),
+                stmts,
+            },
+        ],
     })
 }

@@ -40,6 +40,19 @@ pub struct Row {
     pub disabled: Vec<String>,
 }
 
+/// The memory a program keeps.
+#[derive(Clone, Debug, Serialize)]
+pub struct MemoryFigures {
+    /// The kept supervisors.
+    pub kept: Vec<String>,
+    /// Bits their states take (⌈log2 states⌉ each).
+    pub bits: u32,
+    /// The program's memory variables (one `BOOL` per kept state).
+    pub variables: usize,
+    /// (plant state, event) pairs where memory decides.
+    pub conflicts: usize,
+}
+
 /// The event-based program's figures for the same set (the `int` encoding).
 #[derive(Clone, Debug, Serialize)]
 pub struct EventBased {
@@ -76,6 +89,8 @@ pub struct Report {
     pub instruction_ns: u32,
     /// Scan time: instructions × time per instruction, in microseconds.
     pub scan_us: f64,
+    /// The supervisors kept as memory, when the plant state does not decide.
+    pub memory: Option<MemoryFigures>,
     /// The event-based program's figures, when computed.
     pub event_based: Option<EventBased>,
     /// f as a table.
@@ -128,6 +143,12 @@ impl Report {
                 bound_per_scan: r.bound_per_scan,
             }),
             table: table(set, f),
+            memory: f.memory.as_ref().map(|m| MemoryFigures {
+                kept: m.kept.iter().map(|&k| set.members()[k].name().to_owned()).collect(),
+                bits: m.bits,
+                variables: m.kept.iter().map(|&k| set.members()[k].state_count()).sum(),
+                conflicts: f.conflicts.len(),
+            }),
         }
     }
 
@@ -144,6 +165,16 @@ impl Report {
             "{} rungs over {} signals: {} IL instructions, stack depth {}, scan {:.1} us at {} ns per instruction",
             self.rungs, self.signals, self.il_instructions, self.stack_depth, self.scan_us, self.instruction_ns
         );
+        if let Some(m) = &self.memory {
+            let _ = writeln!(
+                out,
+                "memory decides at {} (plant state, event) pairs: kept {} ({} bits; {} BOOLs in the program)",
+                m.conflicts,
+                m.kept.join(", "),
+                m.bits,
+                m.variables
+            );
+        }
         if let Some(e) = &self.event_based {
             let _ = writeln!(
                 out,

