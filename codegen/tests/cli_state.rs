@@ -131,8 +131,9 @@ fn the_specification_e_and_the_program_figures_are_recorded() {
     let table = EventTable::build(&specs).unwrap();
     let dfas: Vec<Dfa> = specs.iter().map(|a| Dfa::from_automaton(a, &table).unwrap()).collect();
     let e = product_size(&dfas.iter().collect::<Vec<_>>()).unwrap();
-    // Our E is determined by G's state (docs/state-based.md explains why the paper's 302/2940 is not).
-    assert_eq!(e, (128, 472));
+    // Our E is determined by G's state (docs/state-based.md explains why the paper's 302/2940 is not):
+    // its reachable part is the closed loop's 52 states.
+    assert_eq!(e, (52, 125));
     let report = Project::load(&repo(STATION)).unwrap().state_plc(false, false).unwrap().report;
     assert_eq!((report.il_instructions, report.stack_depth), (41, 3));
 }
@@ -173,7 +174,7 @@ fn a_state_section_that_cannot_be_read_back_exits_2_naming_the_key() {
         ),
         (
             state.replace("I2D = [\"Y2\", \"!X0\", \"X1\"]", "I2D = [\"Y2\", \"X0\", \"X1\"]"),
-            "after i_docked from IMD the signals",
+            "do not read as",
         ),
     ];
     for (i, (section, want)) in cases.iter().enumerate() {
@@ -212,5 +213,6 @@ fn where_memory_decides_the_plant_states_are_reported_with_two_traces_or_memory_
     let program = project.state_plc(true, false).unwrap();
     assert!(validate(&program, &program.rungs).unwrap() > 0);
     let alt = program.rungs.iter().find(|r| r.event == "alt").unwrap();
-    assert!(alt.rung.condition.st().text().contains("m_S_a"), "{}", alt.rung.condition.st().text());
+    // alt is allowed in I with S in a: the memory bits (one-hot) say so.
+    assert!(alt.rung.condition.st().text().contains("m_S_"), "{}", alt.rung.condition.st().text());
 }

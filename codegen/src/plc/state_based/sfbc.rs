@@ -254,8 +254,67 @@ fn keep(tuples: &[Vec<u32>], en: &[Vec<bool>], plants: usize, members: usize) ->
 
 #[cfg(test)]
 mod tests {
+    use std::collections::BTreeSet;
+
+    use proptest::prelude::*;
+
     use super::*;
-    use crate::model::testing::build;
+    use crate::model::testing::{arb_automaton, build};
+    use crate::model::Composition;
+
+    /// f by brute force: every closed-loop state reached by stepping the composition from the initial
+    /// state; per plant state, the controllable events some plant holds that every closed-loop state
+    /// over it allows.
+    fn brute(set: &PackSet, plants: usize) -> BTreeMap<Vec<u32>, BTreeSet<u32>> {
+        let all: Vec<&crate::model::Automaton> = set.members().iter().map(|m| &m.automaton).collect();
+        let c = Composition::new(&all, set.events()).unwrap();
+        let table = set.events();
+        let ctrl: Vec<EventId> = table
+            .ids()
+            .filter(|&e| table.is_controllable(e) && (0..plants).any(|p| c.has_event(p, e)))
+            .collect();
+        let (mut seen, mut todo) = (BTreeSet::new(), vec![c.initial()]);
+        let mut f: BTreeMap<Vec<u32>, BTreeSet<u32>> = BTreeMap::new();
+        while let Some(s) = todo.pop() {
+            if !seen.insert(s.clone()) {
+                continue;
+            }
+            let here: BTreeSet<u32> = ctrl.iter().filter(|&&e| c.allows(&s, e)).map(|e| e.as_u32()).collect();
+            f.entry(s[..plants].to_vec())
+                .and_modify(|a| *a = a.intersection(&here).copied().collect())
+                .or_insert(here);
+            for e in c.enabled(&s) {
+                let mut t = s.clone();
+                c.step(&mut t, e);
+                todo.push(t);
+            }
+        }
+        f
+    }
+
+    proptest! {
+        /// f and its conflicts against brute force on random plants and supervisors.
+        #[test]
+        fn f_is_the_intersection_over_each_plant_state(
+            g1 in arb_automaton("G1".into(), 4, 3),
+            g2 in arb_automaton("G2".into(), 4, 3),
+            s in arb_automaton("S".into(), 4, 4),
+        ) {
+            let Ok(set) = PackSet::new(vec![g1, g2], vec![s]) else { return Ok(()) };
+            let f = Sfbc::compute(&set, false).unwrap();
+            let want = brute(&set, 2);
+            let got: BTreeMap<Vec<u32>, BTreeSet<u32>> = f
+                .entries
+                .iter()
+                .map(|e| (e.state.clone(), f.controllable.iter().zip(&e.allowed).filter(|(_, &a)| a).map(|(c, _)| c.as_u32()).collect()))
+                .collect();
+            prop_assert_eq!(&got, &want);
+            // A conflict exactly where some closed-loop state over x allows an event f does not.
+            for c in &f.conflicts {
+                prop_assert!(!want[&c.state].contains(&c.event.as_u32()));
+            }
+        }
+    }
 
     #[test]
     fn bits_number_states() {
