@@ -35,8 +35,8 @@ pub mod names;
 pub mod program;
 pub mod report;
 pub mod st;
-pub mod strict;
 pub mod state_based;
+pub mod strict;
 pub mod xml;
 
 use std::fmt::Write as _;
