@@ -11,7 +11,7 @@ use crate::config::Cube;
 use crate::model::EventId;
 use crate::pack::PackSet;
 use crate::plc::names::Names;
-use crate::plc::st::{Expr, Op, Stmt, Var};
+use crate::plc::st::{Expr, Op, Stmt, Type, Var};
 
 use super::{program, StateError, Vector};
 
@@ -82,10 +82,10 @@ impl Memory {
             let mut per = Vec::new();
             for (q, st) in members[s].automaton.states.iter().enumerate() {
                 let name = names.fresh(&format!("m_{}", members[s].name()), &st.name);
-                let init = if members[s].initial().index() == q { "TRUE" } else { "FALSE" };
+                let init = members[s].initial().index() == q;
                 m.vars.push(
-                    Var::new(name.clone(), "BOOL", format!("memory: {} in {}", members[s].name(), st.name))
-                        .init(init),
+                    Var::new(name.clone(), Type::Bool, format!("memory: {} in {}", members[s].name(), st.name))
+                        .init(Expr::Bool(init)),
                 );
                 m.names.push(name);
                 per.push(index);
@@ -132,10 +132,10 @@ impl Memory {
             let prev = names.fresh("p", plant.name());
             let now = names.fresh("n", plant.name());
             m.vars.push(
-                Var::new(prev.clone(), "INT", format!("{}'s state at the last scan", plant.name()))
-                    .init(plant.initial().index().to_string()),
+                Var::new(prev.clone(), Type::Int, format!("{}'s state at the last scan", plant.name()))
+                    .init(Expr::Int(plant.initial().index() as i64)),
             );
-            m.vars.push(Var::new(now.clone(), "INT", format!("{}'s state read this scan", plant.name())));
+            m.vars.push(Var::new(now.clone(), Type::Int, format!("{}'s state read this scan", plant.name())));
             let decode: Vec<(Expr, Vec<Stmt>)> = vector.cubes[p]
                 .iter()
                 .enumerate()

@@ -57,6 +57,9 @@ pub enum StateError {
     /// The closed loop could not be explored.
     #[error("closed loop: {0}")]
     Synth(#[from] SynthError),
+    /// The program breaks a rule of the strict IEC writer (a bug here, not in the input).
+    #[error("internal error, please report: the program is not strict IEC 61131-3: {0}")]
+    Strict(#[from] crate::plc::strict::Violation),
     /// The supervisors' memory decides somewhere and memory is not allowed.
     #[error("{0}")]
     Memory(String),
@@ -196,6 +199,7 @@ pub fn generate(
     let rungs = self::rungs(set, &vector, &f, &memory, exact);
     let base = sanitize(&opts.name);
     let pou = program::pou(&vector.signals, &base, &rungs, &memory)?;
+    crate::plc::strict::check(&[], &[&pou])?;
     let ns = opts.spec.instruction_ns.unwrap_or(1000);
     let options = format!(
         "Options: encoding=state memory={} exact={exact} cycle_ms={} instruction_ns={ns}",

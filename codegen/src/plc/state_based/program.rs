@@ -7,7 +7,7 @@
 use crate::config::{Cube, Direction, Signals};
 use crate::plc::ld::{Coil, CoilKind, Element, Rung};
 use crate::plc::names::is_identifier;
-use crate::plc::st::{Expr, Pou, Section, SectionKind, Stmt, Var, VarClass};
+use crate::plc::st::{Expr, Pou, Section, SectionKind, Stmt, Type, Var, VarClass};
 use crate::plc::state_based::memory::Memory;
 
 use super::StateError;
@@ -80,7 +80,7 @@ pub fn pou(signals: &Signals, base: &str, rungs: &[EventRung], memory: &Memory) 
             Direction::Output => "output",
         };
         let mut v =
-            Var::new(s.name.clone(), "BOOL", format!("{} {what}", signals.components[s.component].name));
+            Var::new(s.name.clone(), Type::Bool, format!("{} {what}", signals.components[s.component].name));
         v.address.clone_from(&s.address);
         vars.push(v);
     }
