@@ -108,8 +108,8 @@ pub enum ProjectError {
     State {
         /// The manifest (or the set's name without one).
         file: PathBuf,
-        /// Why.
-        source: StateError,
+        /// Why (boxed: the other stages' errors are small).
+        source: Box<StateError>,
     },
 }
 
@@ -310,7 +310,8 @@ impl Project {
             Origin::Manifest { path, .. } => path.clone(),
             Origin::Files { .. } | Origin::Code => PathBuf::from(&self.name),
         };
-        let in_file = |source: StateError| ProjectError::State { file: file.clone(), source };
+        let in_file =
+            |source: StateError| ProjectError::State { file: file.clone(), source: Box::new(source) };
         let signals =
             self.state.as_ref().ok_or(StateError::Missing).and_then(|s| Ok(s.check()?)).map_err(in_file)?;
         let opts = PlcOptions::new(&self.name, &self.runtime, self.plc.as_ref(), Some(ScanPolicy::First))

@@ -84,8 +84,12 @@ impl Memory {
                 let name = names.fresh(&format!("m_{}", members[s].name()), &st.name);
                 let init = members[s].initial().index() == q;
                 m.vars.push(
-                    Var::new(name.clone(), Type::Bool, format!("memory: {} in {}", members[s].name(), st.name))
-                        .init(Expr::Bool(init)),
+                    Var::new(
+                        name.clone(),
+                        Type::Bool,
+                        format!("memory: {} in {}", members[s].name(), st.name),
+                    )
+                    .init(Expr::Bool(init)),
                 );
                 m.names.push(name);
                 per.push(index);

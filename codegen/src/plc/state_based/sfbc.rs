@@ -186,6 +186,9 @@ fn bits(states: usize) -> u32 {
     usize::BITS - states.saturating_sub(1).leading_zeros()
 }
 
+/// One event's two sides at one plant state: the first closed-loop state enabling it, the first disabling it.
+type Sides = (Option<u32>, Option<u32>);
+
 /// Per plant state and controllable event on which its closed-loop states disagree: one conflict with
 /// shortest traces to each side (the first in breadth-first order).
 fn conflicts(
@@ -196,7 +199,7 @@ fn conflicts(
     controllable: &[EventId],
 ) -> Vec<Conflict> {
     // Per plant state: per event, the first closed-loop state enabling it and the first disabling it.
-    let mut sides: BTreeMap<&[u32], Vec<(Option<u32>, Option<u32>)>> = BTreeMap::new();
+    let mut sides: BTreeMap<&[u32], Vec<Sides>> = BTreeMap::new();
     for (s, (t, e)) in tuples.iter().zip(en).enumerate() {
         let slot = sides.entry(&t[..plants]).or_insert_with(|| vec![(None, None); controllable.len()]);
         for (side, &on) in slot.iter_mut().zip(e) {
