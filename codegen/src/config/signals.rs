@@ -1,7 +1,7 @@
 //! The manifest's `[state]` section: the plant's state vector, for state-based programs (state feedback
-//! control, DESIGN §10). Each plant component names its signals — inputs it reads, outputs its commands
-//! write, with their PLC addresses and board pins — gives each of its states the conjunction of literals
-//! that state means, and each of its controllable events the outputs its command writes.
+//! control, docs/design.md §10). Each plant component names its signals — inputs it reads, outputs its
+//! commands write, with their PLC addresses and board pins — gives each of its states the conjunction of
+//! literals that state means, and each of its controllable events the outputs its command writes.
 //!
 //! ```toml
 //! [state]

@@ -1,4 +1,4 @@
-//! The IO-reachability graph of a net under supervision (Mušič & Matko 2005, §2.4; DESIGN §11).
+//! The IO-reachability graph of a net under supervision (Mušič & Matko 2005, §2.4; docs/design.md §11).
 //!
 //! A node is (m, x, s): the net's marking, the state tuple of the admissible behaviour H_a (plants ‖
 //! supervisors, stepped as a [`Composition`]) and the values of the carried signals (outputs u and inputs

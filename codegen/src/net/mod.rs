@@ -1,4 +1,4 @@
-//! Sequences drawn as Petri nets and verified under the synthesised interlocks (DESIGN §11; Mušič &
+//! Sequences drawn as Petri nets and verified under the synthesised interlocks (docs/design.md §11; Mušič &
 //! Matko 2005).
 //!
 //! | part | module |

@@ -1,4 +1,4 @@
-//! State-based programs (state feedback control, DESIGN §10; Côté, St-Denis & Kerjean): the program
+//! State-based programs (state feedback control, docs/design.md §10; Côté, St-Denis & Kerjean): the program
 //! tracks no event — each scan it reads the plant's state from its signals and, per controllable event
 //! σ, evaluates F_σ over them; where F_σ holds, σ's command writes its outputs.
 //!

@@ -1,4 +1,4 @@
-//! The state feedback control f of a supervisor set (DESIGN §10): on the reachable closed loop
+//! The state feedback control f of a supervisor set (docs/design.md §10): on the reachable closed loop
 //! plants ‖ supervisors, f_σ(x) = 1 iff σ is physically possible at plant state x and every reachable
 //! closed-loop state (x, y) enables it. Where two such states disagree the supervisors' memory decides:
 //! each such plant state is reported with a shortest trace to each side, and with memory allowed the
