@@ -86,10 +86,10 @@ impl EventLoop {
         const N: usize,
         const WIDE: bool,
         const MASK: usize,
-        const INDEXED: bool,
+        const LAYOUT: u8,
     >(
         &mut self,
-        rt: &mut Runtime<'_, P, E, W, N, WIDE, MASK, INDEXED>,
+        rt: &mut Runtime<'_, P, E, W, N, WIDE, MASK, LAYOUT>,
         rx: &mut InputConsumer<'_>,
         hold: &Hold,
         port: &mut impl Port,

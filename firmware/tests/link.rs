@@ -29,7 +29,7 @@ impl Port for Wire {
     }
 }
 
-type Rt = Runtime<'static, LocalQueue<2>, SeedEntropy, 1, 1, false, 1, false>;
+type Rt = Runtime<'static, LocalQueue<2>, SeedEntropy, 1, 1, false, 1, { firmware::table::layout::RANKED }>;
 
 fn runtime(set: &'static SupervisorSet<'static, 1>, on_fault: FaultPolicy) -> Rt {
     let config = Config { guard: true, on_fault, reseed_every: 0 };

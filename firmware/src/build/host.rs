@@ -7,7 +7,7 @@ use alloc::vec::Vec;
 use super::{BuildError, Packed, SideTables};
 use crate::table::{Automaton, SupervisorSet};
 
-/// A set (`ranked` or `indexed` layout) with its side tables, owned in the runtime's representation for
+/// A set (in any layout) with its side tables, owned in the runtime's representation for
 /// event bitsets of `W` words; [`HostTables::set`] lends the runtime its view.
 ///
 /// `W` must be the set's word count (⌈events / 32⌉), as `EVENT_WORDS` of the emitted file; the
@@ -58,7 +58,12 @@ impl<const W: usize> HostTables<W> {
             .iter()
             .zip(packed.starts())
             .map(|(b, start)| {
-                Ok(Automaton { alphabet: array(&b.alphabet)?, start: start as u16, scale: b.scale })
+                Ok(Automaton {
+                    alphabet: array(&b.alphabet)?,
+                    start: start as u16,
+                    scale: b.scale,
+                    initial: b.handle,
+                })
             })
             .collect::<Result<_, BuildError>>()?;
         let block = packed.automata.iter().flat_map(|b| b.block.iter().copied()).collect();
@@ -83,7 +88,7 @@ impl<const W: usize> HostTables<W> {
             masks: &self.masks,
             // At most 256 events: 32 bytes.
             mask_bytes: self.packed.mask_width() as u8,
-            indexed: self.packed.indexed,
+            layout: self.packed.layout.id(),
             holder_lists: &self.holder_lists,
             holders: &self.side.holders,
             plant_events: &self.plant_events,
