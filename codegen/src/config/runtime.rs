@@ -115,6 +115,17 @@ pub struct RuntimeConfig {
     pub layout: Option<Layout>,
 }
 
+impl RuntimeConfig {
+    /// The layout each core runs, Cortex-M3 then Cortex-M0+: [`RuntimeConfig::layout`] on both, else
+    /// the best measured per core (docs/layouts.md) — `ranked` and `indexed`.
+    pub fn layouts(&self) -> (Layout, Layout) {
+        match self.layout {
+            Some(layout) => (layout, layout),
+            None => (Layout::Ranked, Layout::Indexed),
+        }
+    }
+}
+
 impl Default for RuntimeConfig {
     fn default() -> Self {
         RuntimeConfig {

@@ -20,7 +20,7 @@ pub mod comparison;
 
 use std::path::{Path, PathBuf};
 
-use crate::config::{BoardSpec, Layout, PlcSpec, RuntimeConfig, ScanPolicy, StateSpec};
+use crate::config::{BoardSpec, PlcSpec, RuntimeConfig, ScanPolicy, StateSpec};
 use crate::emit::{self, EmitError, Input, Provenance};
 use crate::formats::ParseError;
 use crate::manifest::{read_board, read_role, Manifest, ManifestError, ModelSet};
@@ -279,21 +279,12 @@ impl Project {
         ranked::encode_indexed(&self.set)
     }
 
-    /// The layout each core runs, Cortex-M3 then Cortex-M0+: the manifest's `[runtime] layout` on both,
-    /// else the best measured per core (docs/layouts.md): `ranked` and `indexed`.
-    pub fn layouts(&self) -> (Layout, Layout) {
-        match self.runtime.layout {
-            Some(layout) => (layout, layout),
-            None => (Layout::Ranked, Layout::Indexed),
-        }
-    }
-
     /// The emitted-source stage: the Rust tables the firmware includes (`SCT_TABLES`), under a header
     /// naming every input with its hash and the command that reproduces them, in the layouts of
-    /// [`Project::layouts`] (the Cortex-M0+'s falls back to the Cortex-M3's when it does not fit).
+    /// [`RuntimeConfig::layouts`] (the Cortex-M0+'s falls back to the Cortex-M3's when it does not fit).
     pub fn emit(&self) -> Result<String, EmitError> {
         let provenance = Provenance { inputs: self.inputs.clone(), command: self.command() };
-        let (m3, m0) = self.layouts();
+        let (m3, m0) = self.runtime.layouts();
         let tables = ranked::encode_as(&self.set, m3.firmware())?;
         let m0plus = ranked::encode_as(&self.set, m0.firmware());
         let m0plus = m0plus.as_ref().map_err(|e| format!("the {m0} layout does not fit: {e}"));
