@@ -33,13 +33,14 @@
 //! static SET: SupervisorSet<'static, 1> = SupervisorSet {
 //!     controllable: [0b01],
 //!     plants: 1,
-//!     automata: &[Automaton { alphabet: [0b11], start: 0, scale: 1, initial: 0 }],
+//!     automata: &[Automaton { alphabet: [0b11], start: 0, scale: 1 }],
 //!     block: &[0, 2, 1, 0],
 //!     wide: false,
 //!     // Masks {start} and {done}, a byte each, packed into words, and padding to read a word.
 //!     masks: &[0x0201, 0],
 //!     mask_bytes: 1,
 //!     layout: layout::RANKED,
+//!     initials: &[],
 //!     holder_lists: &[],
 //!     holders: &[1, 1],
 //!     plant_events: &[[0b01]],
@@ -197,8 +198,9 @@ impl<
 
     /// Automata to their initial states, counters to zero, policy to its boot state, safe state left.
     pub fn reset(&mut self) {
-        let automata = self.set.automata;
-        self.enter(|a| automata.get(a).map_or(0, |aut| aut.initial));
+        // The first record in `ranked` and `indexed`, else the set's initial handle.
+        let initials = self.set.initials;
+        self.enter(|a| initials.get(a).copied().unwrap_or(0));
         self.counters = Counters::default();
         self.safe = false;
         self.policy.reset();
@@ -333,7 +335,7 @@ impl<
         for (a, ((at, allowed), aut)) in all {
             let h = handle(a);
             // A checked set's positions fit 16 bits.
-            *at = self.set.position(aut, h) as u16;
+            *at = self.set.position_in(LAYOUT, aut, h) as u16;
             // SAFETY: `new` took a checked set, and `h` is the initial handle (checked) or was checked by
             // `restore`.
             *allowed = unsafe { self.set.allowed_at::<WIDE, MASK, LAYOUT>(aut, *at) };

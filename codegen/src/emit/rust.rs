@@ -268,10 +268,7 @@ fn tables(out: &mut String, packed: &Packed, side: &SideTables) {
     }
     let _ = writeln!(out, "];");
     let _ = writeln!(out);
-    let _ = writeln!(
-        out,
-        "/// Per automaton (plants first): alphabet, start of its records, scale, initial handle."
-    );
+    let _ = writeln!(out, "/// Per automaton (plants first): alphabet, start of its records, scale.");
     let _ = writeln!(
         out,
         "static DESCRIPTORS: [firmware::table::Automaton<EVENT_WORDS>; {}] = [",
@@ -283,7 +280,6 @@ fn tables(out: &mut String, packed: &Packed, side: &SideTables) {
         let _ = writeln!(out, "        alphabet: [{}],", hex_words(&b.alphabet));
         let _ = writeln!(out, "        start: {start},");
         let _ = writeln!(out, "        scale: {},", b.scale);
-        let _ = writeln!(out, "        initial: {},", b.handle);
         let _ = writeln!(out, "    }},");
     }
     let _ = writeln!(out, "];");
@@ -299,6 +295,12 @@ fn tables(out: &mut String, packed: &Packed, side: &SideTables) {
         let _ = writeln!(out, "    {},", entries.join(", "));
     }
     let _ = writeln!(out, "];");
+    let initials: Vec<String> = packed.initials().iter().map(u16::to_string).collect();
+    let _ = writeln!(
+        out,
+        "/// Per automaton, its initial state's handle (empty when the initial records come first)."
+    );
+    let _ = writeln!(out, "static INITIALS: [u16; {}] = [{}];", initials.len(), initials.join(", "));
     let sites: Vec<String> = side.sites.iter().map(u16::to_string).collect();
     let _ = writeln!(
         out,
@@ -319,6 +321,7 @@ fn tables(out: &mut String, packed: &Packed, side: &SideTables) {
     let _ = writeln!(out, "    masks: &MASKS,");
     let _ = writeln!(out, "    mask_bytes: MASK_BYTES as u8,");
     let _ = writeln!(out, "    layout: LAYOUT,");
+    let _ = writeln!(out, "    initials: &INITIALS,");
     let _ = writeln!(out, "    holder_lists: &HOLDER_LISTS,");
     let _ = writeln!(out, "    holders: &HOLDERS,");
     let _ = writeln!(out, "    plant_events: &PLANT_EVENTS,");

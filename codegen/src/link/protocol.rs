@@ -96,6 +96,7 @@ mod tests {
     fn reserved_bytes_are_unknown_in_this_direction() {
         let mut d = Decoder::default();
         assert_eq!(d.push(HOLD), Some(Frame::Unknown(HOLD)));
+        assert_eq!(d.push(SYNC), Some(Frame::Sync));
         assert_eq!(d.push(0xFF), Some(Frame::Unknown(0xFF)));
         assert_eq!(d.push(MAX_EVENT), Some(Frame::Command(MAX_EVENT)));
     }

@@ -170,7 +170,6 @@ mod tests {
                 alphabet: word(&b.alphabet),
                 start: start as u16,
                 scale: b.scale,
-                initial: b.handle,
             })
             .collect();
         let block: Vec<u8> = packed.automata.iter().flat_map(|b| b.block.iter().copied()).collect();
@@ -197,6 +196,7 @@ mod tests {
             masks: &masks,
             mask_bytes: packed.mask_width() as u8,
             layout: packed.layout.id(),
+            initials: &packed.initials(),
             holder_lists: &holder_lists,
             holders: &holders,
             plant_events: &vec![[0]; plants],

@@ -39,6 +39,7 @@ pub struct HostTables<const W: usize> {
     block: Vec<u8>,
     masks: Vec<u32>,
     holder_lists: Vec<u16>,
+    initials: Vec<u16>,
     plant_events: Vec<[u32; W]>,
     controllable: [u32; W],
 }
@@ -58,18 +59,24 @@ impl<const W: usize> HostTables<W> {
             .iter()
             .zip(packed.starts())
             .map(|(b, start)| {
-                Ok(Automaton {
-                    alphabet: array(&b.alphabet)?,
-                    start: start as u16,
-                    scale: b.scale,
-                    initial: b.handle,
-                })
+                Ok(Automaton { alphabet: array(&b.alphabet)?, start: start as u16, scale: b.scale })
             })
             .collect::<Result<_, BuildError>>()?;
         let block = packed.automata.iter().flat_map(|b| b.block.iter().copied()).collect();
         let masks = packed.mask_pool();
         let holder_lists = packed.holder_lists();
-        Ok(HostTables { packed, side, automata, block, masks, holder_lists, plant_events, controllable })
+        let initials = packed.initials();
+        Ok(HostTables {
+            packed,
+            side,
+            automata,
+            block,
+            masks,
+            holder_lists,
+            initials,
+            plant_events,
+            controllable,
+        })
     }
 
     /// Event names by global id (not part of the runtime's tables).
@@ -89,6 +96,7 @@ impl<const W: usize> HostTables<W> {
             // At most 256 events: 32 bytes.
             mask_bytes: self.packed.mask_width() as u8,
             layout: self.packed.layout.id(),
+            initials: &self.initials,
             holder_lists: &self.holder_lists,
             holders: &self.side.holders,
             plant_events: &self.plant_events,

@@ -143,7 +143,8 @@ pub struct Block {
     pub name: String,
     /// Index of the initial state (whose record comes first, handle 0, in `ranked` and `indexed`).
     pub initial: usize,
-    /// The initial state's handle ([`crate::table::Automaton::initial`]).
+    /// The initial state's handle ([`crate::table::SupervisorSet::initials`]; 0 in `ranked` and
+    /// `indexed`).
     pub handle: u16,
     /// Bytes per handle unit: a record starts at byte `handle · scale` of the block (≥ 1; 1 in the
     /// layouts without a pool).
@@ -194,6 +195,15 @@ impl Packed {
         }
     }
 
+    /// The runtime's initial handles ([`crate::table::SupervisorSet::initials`]): one per automaton,
+    /// none in the layouts with a pool.
+    pub fn initials(&self) -> Vec<u16> {
+        if self.layout.has_pool() {
+            return Vec::new();
+        }
+        self.automata.iter().map(|b| b.handle).collect()
+    }
+
     /// Whether the records hold a target per event of the alphabet (`indexed` layout).
     pub fn indexed(&self) -> bool {
         self.layout == Layout::Indexed
@@ -208,8 +218,8 @@ impl Packed {
         }
     }
 
-    /// The handle of every state of automaton `a`, by state index ([`crate::table::Automaton::initial`]
-    /// says what a handle is in each layout).
+    /// The handle of every state of automaton `a`, by state index ([`crate::table`] says what a handle
+    /// is in each layout).
     pub fn handles(&self, a: usize) -> Result<Vec<u16>, ReadError> {
         let positions = self.state_positions(a)?;
         Ok(match self.layout {

@@ -217,82 +217,74 @@ static MASKS: [u32; 73] = [
     0x00008002,
 ];
 
-/// Per automaton (plants first): alphabet, start of its records, scale, initial handle.
+/// Per automaton (plants first): alphabet, start of its records, scale.
 static DESCRIPTORS: [firmware::table::Automaton<EVENT_WORDS>; 10] = [
     // G1
     firmware::table::Automaton {
         alphabet: [0x00000003],
         start: 0,
         scale: 1,
-        initial: 0,
     },
     // G2
     firmware::table::Automaton {
         alphabet: [0x0000003c],
         start: 4,
         scale: 1,
-        initial: 0,
     },
     // G3
     firmware::table::Automaton {
         alphabet: [0x0003ffc0],
         start: 10,
         scale: 1,
-        initial: 0,
     },
     // G4
     firmware::table::Automaton {
         alphabet: [0x007c0000],
         start: 28,
         scale: 1,
-        initial: 0,
     },
     // S1
     firmware::table::Automaton {
         alphabet: [0x0000003f],
         start: 36,
         scale: 1,
-        initial: 0,
     },
     // S2_6
     firmware::table::Automaton {
         alphabet: [0x007fffc0],
         start: 50,
         scale: 3,
-        initial: 0,
     },
     // S3
     firmware::table::Automaton {
         alphabet: [0x007fffc0],
         start: 593,
         scale: 1,
-        initial: 0,
     },
     // S4
     firmware::table::Automaton {
         alphabet: [0x007fffc0],
         start: 738,
         scale: 1,
-        initial: 0,
     },
     // S5
     firmware::table::Automaton {
         alphabet: [0x0003fffc],
         start: 883,
         scale: 1,
-        initial: 0,
     },
     // S7
     firmware::table::Automaton {
         alphabet: [0x0003ffc3],
         start: 987,
         scale: 1,
-        initial: 0,
     },
 ];
 /// Per event and one more, where its holder list starts; then per event the automata holding it, each with the event's place in its alphabet in the high byte (`indexed` layout; empty in the others).
 static HOLDER_LISTS: [u16; 0] = [
 ];
+/// Per automaton, its initial state's handle (empty when the initial records come first).
+static INITIALS: [u16; 0] = [];
 /// The choice sites, as their positions in `BLOCK` (bit offsets in `compact`, else byte offsets).
 static CHOICE_SITES: [u16; 3] = [10, 28, 31];
 
@@ -306,6 +298,7 @@ pub static SET: firmware::table::SupervisorSet<'static, EVENT_WORDS> = firmware:
     masks: &MASKS,
     mask_bytes: MASK_BYTES as u8,
     layout: LAYOUT,
+    initials: &INITIALS,
     holder_lists: &HOLDER_LISTS,
     holders: &HOLDERS,
     plant_events: &PLANT_EVENTS,
@@ -645,77 +638,67 @@ pub mod m0plus {
         0x007c203e, 0x007c403e, 0x007c803e,
     ];
 
-    /// Per automaton (plants first): alphabet, start of its records, scale, initial handle.
+    /// Per automaton (plants first): alphabet, start of its records, scale.
     static DESCRIPTORS: [firmware::table::Automaton<EVENT_WORDS>; 10] = [
         // G1
         firmware::table::Automaton {
             alphabet: [0x00000003],
             start: 0,
             scale: 1,
-            initial: 0,
         },
         // G2
         firmware::table::Automaton {
             alphabet: [0x0000003c],
             start: 6,
             scale: 1,
-            initial: 0,
         },
         // G3
         firmware::table::Automaton {
             alphabet: [0x0003ffc0],
             start: 16,
             scale: 1,
-            initial: 0,
         },
         // G4
         firmware::table::Automaton {
             alphabet: [0x007c0000],
             start: 94,
             scale: 1,
-            initial: 0,
         },
         // S1
         firmware::table::Automaton {
             alphabet: [0x0000003f],
             start: 112,
             scale: 1,
-            initial: 0,
         },
         // S2_6
         firmware::table::Automaton {
             alphabet: [0x007fffc0],
             start: 140,
             scale: 9,
-            initial: 0,
         },
         // S3
         firmware::table::Automaton {
             alphabet: [0x007fffc0],
             start: 2318,
             scale: 3,
-            initial: 0,
         },
         // S4
         firmware::table::Automaton {
             alphabet: [0x007fffc0],
             start: 2912,
             scale: 3,
-            initial: 0,
         },
         // S5
         firmware::table::Automaton {
             alphabet: [0x0003fffc],
             start: 3506,
             scale: 3,
-            initial: 0,
         },
         // S7
         firmware::table::Automaton {
             alphabet: [0x0003ffc3],
             start: 4045,
             scale: 1,
-            initial: 0,
         },
     ];
     /// Per event and one more, where its holder list starts; then per event the automata holding it, each with the event's place in its alphabet in the high byte (`indexed` layout; empty in the others).
@@ -733,6 +716,8 @@ pub mod m0plus {
         0x0d06, 0x0d07, 0x0203, 0x0e05, 0x0e06, 0x0e07, 0x0303, 0x0f05, 0x0f06, 0x0f07, 0x0403, 0x1005,
         0x1006, 0x1007,
     ];
+    /// Per automaton, its initial state's handle (empty when the initial records come first).
+    static INITIALS: [u16; 0] = [];
     /// The choice sites, as their positions in `BLOCK` (bit offsets in `compact`, else byte offsets).
     static CHOICE_SITES: [u16; 3] = [16, 94, 100];
 
@@ -746,6 +731,7 @@ pub mod m0plus {
         masks: &MASKS,
         mask_bytes: MASK_BYTES as u8,
         layout: LAYOUT,
+        initials: &INITIALS,
         holder_lists: &HOLDER_LISTS,
         holders: &HOLDERS,
         plant_events: &PLANT_EVENTS,

@@ -234,6 +234,11 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         if !self.lists_sound(events) {
             return Err(TableError::Events);
         }
+        // One initial handle per automaton where the layout has them (checked with each automaton).
+        let initials = if layout::has_pool(self.layout) { 0 } else { automata };
+        if self.initials.len() != initials {
+            return Err(TableError::Automata);
+        }
         let mut a = 0;
         while a < automata {
             if !self.part_sound(a) {
@@ -336,10 +341,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
             return if self.layout == COMPACT { self.compact_sound(a) } else { self.records_sound(a) };
         }
         if self.layout == INDEXED {
-            return self.uniform_part_sound(a) && aut.initial == 0;
-        }
-        if aut.initial != 0 {
-            return false;
+            return self.uniform_part_sound(a);
         }
         let mut base = 0;
         loop {
@@ -587,7 +589,7 @@ mod tests {
     /// The toggle in the `indexed` layout: records `[mask id][target of e0][target of e1]`, scale 3,
     /// masks of a word, holder lists e0 → automaton 0 at place 0, e1 → automaton 0 at place 1.
     fn indexed_toggle() -> SupervisorSet<'static, 1> {
-        static AUTOMATA: [Automaton<1>; 1] = [Automaton { alphabet: [0b11], start: 0, scale: 3, initial: 0 }];
+        static AUTOMATA: [Automaton<1>; 1] = [Automaton { alphabet: [0b11], start: 0, scale: 3 }];
         SupervisorSet {
             automata: &AUTOMATA,
             block: &[0, 1, 0, 1, 0, 0],

@@ -170,7 +170,7 @@ impl<const W: usize> SupervisorSet<'_, W> {
                     _ => return false,
                 }
             }
-            initial |= p == aut.initial as usize;
+            initial |= p == self.initials[a] as usize;
             match self.next_state(&sh, p) {
                 Some((next, usize::MAX)) => p = next,
                 _ => return false,

@@ -55,7 +55,7 @@
 //! In every layout the runtime holds a state as a 16-bit *position*: the byte offset of its record in
 //! the block (the bit offset of its mask in `compact`), so that choice sites ([`SupervisorSet::sites`])
 //! are positions too. A state's *handle* is its position from its automaton's start (in scale units in
-//! `ranked` and `indexed`); [`Automaton::initial`] is the initial state's.
+//! `ranked` and `indexed`); [`SupervisorSet::initials`] holds the initial states'.
 //!
 //! Limits: at most 256 events and [`MAX_AUTOMATA`] automata, 65 536 handles per automaton, 65 536 masks,
 //! and every record starting in the first 64 KiB of the block ([`MAX_BLOCK`]): the runtime holds a
@@ -112,9 +112,6 @@ pub struct Automaton<const W: usize> {
     /// Bytes per handle unit: a state's record starts at byte `start + handle · scale` (≥ 1; 1 in the
     /// `memory-safe`, `offset` and `compact` layouts).
     pub scale: u8,
-    /// The initial state's handle: 0 in `ranked` and `indexed` (its record comes first), its record's
-    /// offset from `start` in `memory-safe` and `offset`, its bit offset in the stream in `compact`.
-    pub initial: u16,
 }
 
 /// The whole set the firmware runs: plants and supervisors over one event numbering, events in
@@ -143,6 +140,10 @@ pub struct SupervisorSet<'t, const W: usize> {
     pub mask_bytes: u8,
     /// The record layout, one of [`layout`]'s ids: how the block is read.
     pub layout: u8,
+    /// Per automaton, its initial state's handle: its record's offset from its start in `memory-safe`
+    /// and `offset`, its mask's bit offset in its stream in `compact`. Empty in `ranked` and `indexed`,
+    /// whose initial state's record comes first (handle 0), so that their tables carry nothing more.
+    pub initials: &'t [u16],
     /// The `indexed` layout's holder lists: first, per global event id and one more, the index in this
     /// table where the event's list starts (the last: the table's length); then the lists, one entry per
     /// automaton holding the event, in index order: the automaton in the low byte, the event's place in
@@ -261,13 +262,14 @@ pub(crate) mod tests {
     pub(crate) static TOGGLE: SupervisorSet<'static, 1> = SupervisorSet {
         controllable: [0b01],
         plants: 1,
-        automata: &[Automaton { alphabet: [0b11], start: 0, scale: 2, initial: 0 }],
+        automata: &[Automaton { alphabet: [0b11], start: 0, scale: 2 }],
         block: &[0, 1, 1, 0],
         wide: false,
         // Masks {e0} and {e1}, a byte each, then padding to read a word from the last.
         masks: &[0x0201, 0],
         mask_bytes: 1,
         layout: layout::RANKED,
+        initials: &[],
         holder_lists: &[],
         holders: &[1, 1],
         plant_events: &[[0b01]],

@@ -47,7 +47,14 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     /// and `indexed` its record's byte offset, in `memory-safe` and `offset` too, in `compact` its mask's
     /// bit offset in the block.
     pub fn position(&self, aut: &Automaton<W>, handle: u16) -> usize {
-        match self.layout {
+        self.position_in(self.layout, aut, handle)
+    }
+
+    /// [`SupervisorSet::position`] in layout `layout`: the runtime passes its constant, so that its build
+    /// carries its own layout's arm only.
+    #[inline(always)]
+    pub fn position_in(&self, layout: u8, aut: &Automaton<W>, handle: u16) -> usize {
+        match layout {
             RANKED | INDEXED => Self::record(aut, handle),
             COMPACT => self.compact_stream(aut).unwrap_or(0) + usize::from(handle),
             _ => usize::from(aut.start) + usize::from(handle),

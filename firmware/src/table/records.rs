@@ -46,7 +46,7 @@ impl<const W: usize> SupervisorSet<'_, W> {
     pub(super) const fn records_sound(&self, a: usize) -> bool {
         let (start, end) = self.part(a);
         let (alphabet, events) = (&self.automata[a].alphabet, self.events());
-        if start == end || self.automata[a].scale != 1 || !self.is_record(a, self.automata[a].initial) {
+        if start == end || self.automata[a].scale != 1 || !self.is_record(a, self.initials[a]) {
             return false;
         }
         let mut states = 0;
