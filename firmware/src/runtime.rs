@@ -64,7 +64,7 @@ use crate::choice::{Choose, View};
 use crate::event_set::EventSet;
 use crate::fault::FaultPolicy;
 use crate::rng::{Entropy, Rng};
-use crate::table::layout::INDEXED;
+use crate::table::layout::{has_pool, INDEXED};
 use crate::table::{bit, holder_bytes, CheckedSet, Event, SupervisorSet, TableError};
 
 /// Run-time options (manifest `[runtime]`).
@@ -200,7 +200,7 @@ impl<
     pub fn reset(&mut self) {
         // The first record in `ranked` and `indexed`, else the set's initial handle.
         let initials = self.set.initials;
-        self.enter(|a| initials.get(a).copied().unwrap_or(0));
+        self.enter(|a| if has_pool(LAYOUT) { 0 } else { initials.get(a).copied().unwrap_or(0) });
         self.counters = Counters::default();
         self.safe = false;
         self.policy.reset();
