@@ -7,12 +7,15 @@
 //! only disable, and the *interface* (the caller: [`crate::link`] or a board's pin layer) turns input
 //! signals into [`Runtime::apply`] calls and fired events into outputs.
 //!
-//! Cost does not depend on the set's state count: a state is held as the offset of its record in the
-//! tables' block ([`crate::table`]), so taking a transition is a mask test, a rank (in the `indexed`
-//! layout, the event's place from its holder list) and one load; an event touches only the automata
-//! that hold it ([`SupervisorSet::holders`], or its holder list). The enabled
-//! set is the controllable events masked, automaton by automaton, by the current state's out-mask
-//! (or-ed with the events outside the automaton's alphabet): one mask per automaton, no scan.
+//! One runtime reads every layout of [`crate::table`], the layout its `LAYOUT` const parameter. In the
+//! default ones cost does not depend on the set's state count: a state is held as the offset of its
+//! record in the tables' block, so taking a transition is a mask test, a rank (in the `indexed` layout,
+//! the event's place from its holder list) and one load; `offset` searches the state's record, `compact`
+//! skips at most 15 states from a directory entry, and `memory-safe` walks to the target's record as the
+//! reference tool does (O(state index)). An event touches only the automata that hold it
+//! ([`SupervisorSet::holders`], or its holder list). The enabled set is the controllable events masked,
+//! automaton by automaton, by what the current state allows (kept in RAM with the state): one mask per
+//! automaton, no scan.
 //!
 //! The runtime takes only a [`CheckedSet`] (tables that passed [`SupervisorSet::check`], at compile time
 //! in the firmware, with the field and mask widths the runtime is compiled for); the hot path then
