@@ -12,6 +12,7 @@ use firmware::build::HostTables;
 use firmware::choice::{First, Random, RandomLocalQueue};
 use firmware::fault::FaultPolicy;
 use firmware::runtime::Config;
+use firmware::table::layout;
 
 const CONFIG: Config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 1024 };
 
@@ -23,7 +24,8 @@ fn cell_closed_loop_is_safe_live_and_covers_every_supervisor_transition() {
     // 23 events (one bitset word, 3-byte masks), 4 plants + 6 supervisors, 1-byte fields, 32 input slots;
     // 3 choice sites.
     let policy = RandomLocalQueue::<1, 3>::default();
-    let firmware = spawn_host_firmware::<_, 1, 10, false, 3, false, 33>(tables, CONFIG, policy, 7, target);
+    let firmware =
+        spawn_host_firmware::<_, 1, 10, false, 3, { layout::RANKED }, 33>(tables, CONFIG, policy, 7, target);
     closed_loop(&set, host, firmware);
 }
 
@@ -34,7 +36,8 @@ fn cell_closed_loop_on_the_cortex_m0_plus_tables() {
     let (host, target) = memory::pair();
     // The `indexed` layout: word masks, a target per event of the alphabet.
     let policy = RandomLocalQueue::<1, 3>::default();
-    let firmware = spawn_host_firmware::<_, 1, 10, false, 4, true, 33>(tables, CONFIG, policy, 7, target);
+    let firmware =
+        spawn_host_firmware::<_, 1, 10, false, 4, { layout::INDEXED }, 33>(tables, CONFIG, policy, 7, target);
     closed_loop(&set, host, firmware);
 }
 
@@ -65,7 +68,9 @@ fn burst(n: usize) -> (u64, u64) {
     let tables = HostTables::new(ranked::encode(&set).unwrap()).unwrap();
     let (mut host, target) = memory::pair();
     // 8 input slots: 7 events fit.
-    let firmware = spawn_host_firmware::<Random, 1, 1, false, 1, false, 8>(tables, CONFIG, Random, 1, target);
+    let firmware = spawn_host_firmware::<Random, 1, 1, false, 1, { layout::RANKED }, 8>(
+        tables, CONFIG, Random, 1, target,
+    );
     let options = Options::default();
     let (mut plant, mut monitor) = parts(&set, &options).unwrap();
     let mut session = Session::new(&mut host, &mut plant, &mut monitor, SessionConfig::default());
@@ -92,7 +97,8 @@ fn a_stuck_steering_restarts_the_closed_loop() {
     let set = published_cell();
     let tables = HostTables::new(ranked::encode(&set).unwrap()).unwrap();
     let (mut host, target) = memory::pair();
-    let firmware = spawn_host_firmware::<_, 1, 10, false, 3, false, 33>(tables, CONFIG, First, 7, target);
+    let firmware =
+        spawn_host_firmware::<_, 1, 10, false, 3, { layout::RANKED }, 33>(tables, CONFIG, First, 7, target);
     let options = Options { events: 12_000, ..Options::default() };
     let report = attach(&mut host, &set, "cell", &options, &mut |_| {}).unwrap();
     host.send(&[EXIT]).unwrap();

@@ -13,7 +13,7 @@ use firmware::choice::First;
 use firmware::fault::FaultPolicy;
 use firmware::rng::SeedEntropy;
 use firmware::runtime::{Applied, Config, Decision, Runtime};
-use firmware::table::{CheckedSet, TableError};
+use firmware::table::{layout, CheckedSet, TableError};
 
 /// States of the plant's ring.
 const RING: u32 = 300;
@@ -55,32 +55,32 @@ fn toggle() -> Automaton {
 #[test]
 fn wide_fields_and_word_masks_run_as_the_checked_readers_step() {
     let set = PackSet::new(vec![ring(32)], vec![toggle()]).unwrap();
-    run_as_the_checked_readers_step::<false>(ranked::encode(&set).unwrap());
+    run_as_the_checked_readers_step::<{ layout::RANKED }>(ranked::encode(&set).unwrap());
 }
 
 #[test]
 fn wide_fields_run_as_the_checked_readers_step_in_the_indexed_layout() {
     let set = PackSet::new(vec![ring(32)], vec![toggle()]).unwrap();
-    run_as_the_checked_readers_step::<true>(ranked::encode_indexed(&set).unwrap());
+    run_as_the_checked_readers_step::<{ layout::INDEXED }>(ranked::encode_indexed(&set).unwrap());
 }
 
 /// The host-compiled runtime on `packed` (the ring of 32 events and the toggle, in the layout
-/// `INDEXED`): twice round the ring, every state as the checked readers step.
-fn run_as_the_checked_readers_step<const INDEXED: bool>(packed: ranked::Packed) {
+/// `LAYOUT`): twice round the ring, every state as the checked readers step.
+fn run_as_the_checked_readers_step<const LAYOUT: u8>(packed: ranked::Packed) {
     assert!(packed.wide);
     assert_eq!(packed.mask_width(), 4);
     let host = HostTables::<1>::new(packed).unwrap();
     let tables = host.set();
-    assert_eq!(CheckedSet::<1, 2, false, 4, INDEXED>::new(&tables).err(), Some(TableError::Shape));
-    let other = if INDEXED {
-        CheckedSet::<1, 2, true, 4, false>::new(&tables).err()
+    assert_eq!(CheckedSet::<1, 2, false, 4, LAYOUT>::new(&tables).err(), Some(TableError::Shape));
+    let other = if LAYOUT == layout::INDEXED {
+        CheckedSet::<1, 2, true, 4, { layout::RANKED }>::new(&tables).err()
     } else {
-        CheckedSet::<1, 2, true, 4, true>::new(&tables).err()
+        CheckedSet::<1, 2, true, 4, { layout::INDEXED }>::new(&tables).err()
     };
     assert_eq!(other, Some(TableError::Shape), "a runtime of the other layout");
-    let checked = CheckedSet::<1, 2, true, 4, INDEXED>::new(&tables).unwrap();
+    let checked = CheckedSet::<1, 2, true, 4, LAYOUT>::new(&tables).unwrap();
     let config = Config { guard: false, on_fault: FaultPolicy::Continue, reseed_every: 0 };
-    let mut rt: Runtime<'_, First, SeedEntropy, 1, 2, true, 4, INDEXED> =
+    let mut rt: Runtime<'_, First, SeedEntropy, 1, 2, true, 4, LAYOUT> =
         Runtime::new(checked, config, First, SeedEntropy::new(1));
     let event = |name: &str| -> u8 {
         let id = host.event_names().iter().position(|n| n == name).unwrap();

@@ -70,7 +70,8 @@ fn supervisor_moves(set: &SupervisorSet<'_, 1>, s: &[u16; N], e: u8) -> Vec<(usi
         .collect()
 }
 
-type Rt<'t> = Runtime<'t, RandomLocalQueue<1, 8>, SeedEntropy, 1, N, false, 3, false>;
+type Rt<'t> =
+    Runtime<'t, RandomLocalQueue<1, 8>, SeedEntropy, 1, N, false, 3, { firmware::table::layout::RANKED }>;
 
 fn runtime<'t>(set: &'t SupervisorSet<'t, 1>, seed: u64) -> Rt<'t> {
     let config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 1024 };

@@ -173,3 +173,39 @@ fn modular_and_monolithic_rows() {
     assert_eq!(s2_6.automaton.states.len(), 484);
     assert_eq!(columns(1), (3420, 11_808, 11_696_423, 65_903, 38_867));
 }
+
+/// The tables the firmware runs in the `memory-safe`, `offset` and `compact` layouts are the size
+/// report's bytes: the golden vector itself for `memory-safe` (the firmware runs the reference tool's
+/// vector, to the byte), the same blocks for `offset`, the same streams and directories (behind a header,
+/// the last block padded) for `compact`; and the runtime's check accepts each.
+#[test]
+fn the_firmware_runs_the_size_reports_bytes() {
+    use firmware::build::{HostTables, Layout as Fw};
+    use firmware::table::compact::HEADER;
+    let sups = cell().only(Role::Supervisor);
+    let runtime = |layout: Fw| ranked::encode_as(&sups, layout).unwrap();
+    let blocks = |p: &ranked::Packed| p.automata.iter().map(|b| b.block.clone()).collect::<Vec<_>>();
+
+    let ms = runtime(Fw::MemorySafe);
+    let golden_vector = memory_safe::encode(&sups).unwrap().vector;
+    assert_eq!(blocks(&ms).concat(), golden_vector);
+    golden(
+        "cell.memory-safe.bin",
+        &[golden_vector, memory_safe::encode(&sups).unwrap().controllable].concat(),
+    );
+    let off = runtime(Fw::Offset);
+    let report: Vec<Vec<u8>> = offset::encode(&sups).unwrap().automata.into_iter().map(|b| b.block).collect();
+    assert_eq!(blocks(&off), report);
+    let co = runtime(Fw::Compact);
+    let report = compact::encode(&sups).unwrap();
+    for (fw, b) in co.automata.iter().zip(&report.automata) {
+        let directory = &fw.block[HEADER..HEADER + b.directory.len()];
+        let stream = &fw.block[HEADER + b.directory.len()..][..b.block.len()];
+        assert_eq!((directory, stream), (&b.directory[..], &b.block[..]), "{}", fw.name);
+    }
+    for packed in [ms, off, co] {
+        let layout = packed.layout;
+        let host = HostTables::<1>::new(packed).unwrap();
+        assert_eq!(host.set().check(sups.members().len()), Ok(()), "{layout:?}");
+    }
+}

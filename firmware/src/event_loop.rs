@@ -5,7 +5,7 @@
 
 use crate::choice::Choose;
 use crate::input_queue::InputConsumer;
-use crate::link::{Hold, EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS};
+use crate::link::{Hold, EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, SYNC};
 use crate::rng::Entropy;
 use crate::runtime::{Applied, Decision, Runtime};
 
@@ -69,12 +69,14 @@ impl Poll {
 #[derive(Debug, Default)]
 pub struct EventLoop {
     safe_announced: bool,
+    /// A SYNC came in and waits for the runtime to be idle.
+    sync_asked: bool,
 }
 
 impl EventLoop {
     /// A loop that has not announced anything yet (the caller sends READY at boot).
     pub const fn new() -> Self {
-        Self { safe_announced: false }
+        Self { safe_announced: false, sync_asked: false }
     }
 
     /// One turn of the loop: drains the input buffer into the runtime, then takes at most one decision
@@ -86,10 +88,10 @@ impl EventLoop {
         const N: usize,
         const WIDE: bool,
         const MASK: usize,
-        const INDEXED: bool,
+        const LAYOUT: u8,
     >(
         &mut self,
-        rt: &mut Runtime<'_, P, E, W, N, WIDE, MASK, INDEXED>,
+        rt: &mut Runtime<'_, P, E, W, N, WIDE, MASK, LAYOUT>,
         rx: &mut InputConsumer<'_>,
         hold: &Hold,
         port: &mut impl Port,
@@ -117,6 +119,7 @@ impl EventLoop {
                     }
                 }
                 EXIT => return Poll::Exit(u8::from(rt.is_safe())),
+                SYNC => self.sync_asked = true,
                 HOLD | GO => {
                     hold.filter(byte);
                 }
@@ -144,7 +147,12 @@ impl EventLoop {
                 port.note(Note::Redecided);
                 Poll::Busy
             }
-            Decision::Idle | Decision::Halted => Poll::Idle,
+            Decision::Idle | Decision::Halted => {
+                if core::mem::take(&mut self.sync_asked) {
+                    port.send(SYNC);
+                }
+                Poll::Idle
+            }
         }
     }
 }

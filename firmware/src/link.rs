@@ -13,6 +13,7 @@
 //! | `0xF3` READY | fw → host | once at boot and after each RESET |
 //! | `0xF4` SAFE | fw → host | a fault put the firmware in the safe state; it stopped deciding |
 //! | `0xF5` HOLD, `0xF6` GO | host → fw | stop / resume deciding; handled in the receive interrupt ([`Hold`]) so that a burst can be queued between two decisions |
+//! | `0xF7` SYNC | both | request: answer SYNC once nothing is enabled (or in the safe state) and deciding is not on hold; so a host can run the loop in lock-step, every round's decisions taken on every input it sent |
 //!
 //! Any other byte from `0xF0` up, an event id beyond the set, and a *controllable* event id sent by the
 //! host (only the firmware generates those) count as `unknown_bytes` and are faults. Control bytes go
@@ -36,6 +37,8 @@ pub const SAFE: u8 = 0xF4;
 pub const HOLD: u8 = 0xF5;
 /// Host → firmware: resume deciding.
 pub const GO: u8 = 0xF6;
+/// Host → firmware: answer SYNC once idle; firmware → host: idle (the answer).
+pub const SYNC: u8 = 0xF7;
 /// Highest event id the link can carry.
 pub const MAX_EVENT: u8 = 0xEF;
 /// Bytes of a STATUS answer after its leading [`STATUS`]: the six counters of

@@ -7,12 +7,15 @@
 //! only disable, and the *interface* (the caller: [`crate::link`] or a board's pin layer) turns input
 //! signals into [`Runtime::apply`] calls and fired events into outputs.
 //!
-//! Cost does not depend on the set's state count: a state is held as the offset of its record in the
-//! tables' block ([`crate::table`]), so taking a transition is a mask test, a rank (in the `indexed`
-//! layout, the event's place from its holder list) and one load; an event touches only the automata
-//! that hold it ([`SupervisorSet::holders`], or its holder list). The enabled
-//! set is the controllable events masked, automaton by automaton, by the current state's out-mask
-//! (or-ed with the events outside the automaton's alphabet): one mask per automaton, no scan.
+//! One runtime reads every layout of [`crate::table`], the layout its `LAYOUT` const parameter. In the
+//! default ones cost does not depend on the set's state count: a state is held as the offset of its
+//! record in the tables' block, so taking a transition is a mask test, a rank (in the `indexed` layout,
+//! the event's place from its holder list) and one load; `offset` searches the state's record, `compact`
+//! skips at most 15 states from a directory entry, and `memory-safe` walks to the target's record as the
+//! reference tool does (O(state index)). An event touches only the automata that hold it
+//! ([`SupervisorSet::holders`], or its holder list). The enabled set is the controllable events masked,
+//! automaton by automaton, by what the current state allows (kept in RAM with the state): one mask per
+//! automaton, no scan.
 //!
 //! The runtime takes only a [`CheckedSet`] (tables that passed [`SupervisorSet::check`], at compile time
 //! in the firmware, with the field and mask widths the runtime is compiled for); the hot path then
@@ -26,7 +29,7 @@
 //! use firmware::fault::FaultPolicy;
 //! use firmware::rng::SeedEntropy;
 //! use firmware::runtime::{Config, Decision, Runtime};
-//! use firmware::table::{Automaton, CheckedSet, SupervisorSet};
+//! use firmware::table::{layout, Automaton, CheckedSet, SupervisorSet};
 //!
 //! // One plant: state 0 –start(0)→ state 1 –done(1)→ state 0; start is controllable. Out-masks {start}
 //! // (id 0) and {done} (id 1); records [id][target], one byte each, so state 1 is handle 2.
@@ -39,7 +42,8 @@
 //!     // Masks {start} and {done}, a byte each, packed into words, and padding to read a word.
 //!     masks: &[0x0201, 0],
 //!     mask_bytes: 1,
-//!     indexed: false,
+//!     layout: layout::RANKED,
+//!     initials: &[],
 //!     holder_lists: &[],
 //!     holders: &[1, 1],
 //!     plant_events: &[[0b01]],
@@ -48,7 +52,7 @@
 //! let config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 0 };
 //! // Checked at compile time: a set the runtime cannot run does not build. One event word, one
 //! // automaton, 1-byte fields, 1-byte masks, `ranked` layout.
-//! static CHECKED: CheckedSet<'static, 1, 1, false, 1, false> = match CheckedSet::new(&SET) {
+//! static CHECKED: CheckedSet<'static, 1, 1, false, 1, { layout::RANKED }> = match CheckedSet::new(&SET) {
 //!     Ok(set) => set,
 //!     Err(_) => panic!("the tables fail the runtime's check"),
 //! };
@@ -63,6 +67,7 @@ use crate::choice::{Choose, View};
 use crate::event_set::EventSet;
 use crate::fault::FaultPolicy;
 use crate::rng::{Entropy, Rng};
+use crate::table::layout::{has_pool, INDEXED};
 use crate::table::{bit, holder_bytes, CheckedSet, Event, SupervisorSet, TableError};
 
 /// Run-time options (manifest `[runtime]`).
@@ -136,8 +141,9 @@ pub enum Decision {
 }
 
 /// The runtime over a set of `N` automata and events in `W`-word bitsets, with the field and mask
-/// widths `WIDE` and `MASK` and the layout `INDEXED` ([`CheckedSet`]), choosing with policy `P` and
-/// drawing entropy from `E`.
+/// widths `WIDE` and `MASK` and the layout `LAYOUT` ([`CheckedSet`], [`crate::table::layout`]),
+/// choosing with policy `P` and drawing entropy from `E`: one runtime for every layout, each build
+/// compiled with its own reader.
 pub struct Runtime<
     't,
     P,
@@ -146,7 +152,7 @@ pub struct Runtime<
     const N: usize,
     const WIDE: bool,
     const MASK: usize,
-    const INDEXED: bool,
+    const LAYOUT: u8,
 > {
     set: &'t SupervisorSet<'t, W>,
     /// Where every automaton is: the byte offset of its current state's record in the block.
@@ -171,17 +177,12 @@ impl<
         const N: usize,
         const WIDE: bool,
         const MASK: usize,
-        const INDEXED: bool,
-    > Runtime<'t, P, E, W, N, WIDE, MASK, INDEXED>
+        const LAYOUT: u8,
+    > Runtime<'t, P, E, W, N, WIDE, MASK, LAYOUT>
 {
     /// A runtime in the initial states of `set`.
     #[inline(never)]
-    pub fn new(
-        set: CheckedSet<'t, W, N, WIDE, MASK, INDEXED>,
-        config: Config,
-        policy: P,
-        entropy: E,
-    ) -> Self {
+    pub fn new(set: CheckedSet<'t, W, N, WIDE, MASK, LAYOUT>, config: Config, policy: P, entropy: E) -> Self {
         let mut rt = Self {
             set: set.set(),
             records: [0; N],
@@ -200,8 +201,9 @@ impl<
 
     /// Automata to their initial states, counters to zero, policy to its boot state, safe state left.
     pub fn reset(&mut self) {
-        // Every automaton's first record is its initial state's.
-        self.enter(|_| 0);
+        // The first record in `ranked` and `indexed`, else the set's initial handle.
+        let initials = self.set.initials;
+        self.enter(|a| if has_pool(LAYOUT) { 0 } else { initials.get(a).copied().unwrap_or(0) });
         self.counters = Counters::default();
         self.safe = false;
         self.policy.reset();
@@ -268,12 +270,12 @@ impl<
             return Decision::Idle;
         };
         // `c` is enabled: every holder allows it, none gets stuck.
-        take_until_stuck::<W, N, WIDE, MASK, INDEXED>(
+        take_until_stuck::<W, N, WIDE, MASK, LAYOUT>(
             self.set,
             &mut self.records,
             &mut self.allowed,
             Event::new(c),
-            every::<INDEXED>(holders),
+            every::<LAYOUT>(holders),
         );
         self.counters.commands_out = self.counters.commands_out.wrapping_add(1);
         Decision::Fired(c)
@@ -311,7 +313,7 @@ impl<
     pub fn states(&self) -> [u16; N] {
         let mut out = [0; N];
         for ((h, aut), &at) in out.iter_mut().zip(self.set.automata).zip(&self.records) {
-            *h = SupervisorSet::handle_of(aut, at);
+            *h = self.set.handle_of(aut, at);
         }
         out
     }
@@ -335,11 +337,11 @@ impl<
         let all = self.records.iter_mut().zip(&mut self.allowed).zip(self.set.automata).enumerate();
         for (a, ((at, allowed), aut)) in all {
             let h = handle(a);
-            // A checked set's records start in the first 64 KiB of the block.
-            *at = SupervisorSet::record(aut, h) as u16;
-            // SAFETY: `new` took a checked set, and `h` is the initial handle (0) or was checked by
+            // A checked set's positions fit 16 bits.
+            *at = self.set.position_in(LAYOUT, aut, h) as u16;
+            // SAFETY: `new` took a checked set, and `h` is the initial handle (checked) or was checked by
             // `restore`.
-            *allowed = unsafe { self.set.allowed_at::<WIDE, MASK, INDEXED>(aut, *at) };
+            *allowed = unsafe { self.set.allowed_at::<WIDE, MASK, LAYOUT>(aut, *at) };
         }
     }
 
@@ -354,14 +356,14 @@ impl<
     fn take(&mut self, event: u8, holders: u32) -> Option<u8> {
         let (set, records, allowed, event) =
             (self.set, &mut self.records, &mut self.allowed, Event::new(event));
-        let all = every::<INDEXED>(holders);
-        let first = take_until_stuck::<W, N, WIDE, MASK, INDEXED>(set, records, allowed, event, all)?;
+        let all = every::<LAYOUT>(holders);
+        let first = take_until_stuck::<W, N, WIDE, MASK, LAYOUT>(set, records, allowed, event, all)?;
         // Rare: an unexpected event. The holders after the stuck one still move.
         let mut stuck = first;
         loop {
             let passed = holders & !(u32::MAX << stuck << 1);
-            let rest = if INDEXED { passed.count_ones() } else { holders & !passed };
-            match take_until_stuck::<W, N, WIDE, MASK, INDEXED>(set, records, allowed, event, rest) {
+            let rest = if LAYOUT == INDEXED { passed.count_ones() } else { holders & !passed };
+            match take_until_stuck::<W, N, WIDE, MASK, LAYOUT>(set, records, allowed, event, rest) {
                 Some(next) => stuck = next,
                 None => return Some(first),
             }
@@ -381,11 +383,11 @@ impl<
     }
 }
 
-/// The `rest` of [`take_until_stuck`] that moves every one of `holders`: their bits (`ranked` layout), or
-/// none of the holder list passed (`indexed`).
+/// The `rest` of [`take_until_stuck`] that moves every one of `holders`: their bits, or none of the
+/// holder list passed (`indexed` layout).
 #[inline(always)]
-const fn every<const INDEXED: bool>(holders: u32) -> u32 {
-    if INDEXED {
+const fn every<const LAYOUT: u8>(holders: u32) -> u32 {
+    if LAYOUT == INDEXED {
         0
     } else {
         holders
@@ -398,20 +400,14 @@ const fn every<const INDEXED: bool>(holders: u32) -> u32 {
 /// Out of line and over the runtime's parts, so that the compiler knows the stores to `records` and
 /// `allowed` leave the set alone and keeps its fields in registers.
 #[inline(never)]
-fn take_until_stuck<
-    const W: usize,
-    const N: usize,
-    const WIDE: bool,
-    const MASK: usize,
-    const INDEXED: bool,
->(
+fn take_until_stuck<const W: usize, const N: usize, const WIDE: bool, const MASK: usize, const LAYOUT: u8>(
     set: &SupervisorSet<'_, W>,
     records: &mut [u16; N],
     allowed: &mut [[u32; W]; N],
     event: Event,
     rest: u32,
 ) -> Option<u8> {
-    if INDEXED {
+    if LAYOUT == INDEXED {
         // SAFETY: an indexed set's check proved a holder list for every event (`event` is one) within the
         // table, and `rest` counts holders of the list.
         let list = unsafe {
@@ -423,7 +419,7 @@ fn take_until_stuck<
             // proved both.
             let (a, place) = (usize::from(entry as u8), usize::from(entry >> 8));
             // SAFETY: as for `step`; `place` is the event's in `a`'s alphabet.
-            if unsafe { !step::<W, N, WIDE, MASK, INDEXED>(set, records, allowed, event, a, place) } {
+            if unsafe { !step::<W, N, WIDE, MASK, LAYOUT>(set, records, allowed, event, a, place) } {
                 // At most MAX_AUTOMATA (32) automata: the index fits a byte.
                 return Some(a as u8);
             }
@@ -434,7 +430,7 @@ fn take_until_stuck<
             let a = holders.trailing_zeros() as usize;
             holders &= holders - 1;
             // SAFETY: as for `step`; every holder bit of a checked set names one of the N automata.
-            if unsafe { !step::<W, N, WIDE, MASK, INDEXED>(set, records, allowed, event, a, 0) } {
+            if unsafe { !step::<W, N, WIDE, MASK, LAYOUT>(set, records, allowed, event, a, 0) } {
                 return Some(a as u8);
             }
         }
@@ -452,7 +448,7 @@ fn take_until_stuck<
 /// by `restore` or a target's set here, and `allowed[a]` what it allows (an event of the automaton's
 /// alphabet is allowed exactly when it leaves the state).
 #[inline(always)]
-unsafe fn step<const W: usize, const N: usize, const WIDE: bool, const MASK: usize, const INDEXED: bool>(
+unsafe fn step<const W: usize, const N: usize, const WIDE: bool, const MASK: usize, const LAYOUT: u8>(
     set: &SupervisorSet<'_, W>,
     records: &mut [u16; N],
     allowed: &mut [[u32; W]; N],
@@ -466,7 +462,7 @@ unsafe fn step<const W: usize, const N: usize, const WIDE: bool, const MASK: usi
         if !event.in_set_unchecked(allowed) {
             return false;
         }
-        set.advance::<WIDE, MASK, INDEXED>(
+        set.advance::<WIDE, MASK, LAYOUT>(
             set.automata.get_unchecked(a),
             records.get_unchecked_mut(a),
             allowed,

@@ -29,7 +29,7 @@ impl Port for Wire {
     }
 }
 
-type Rt = Runtime<'static, LocalQueue<2>, SeedEntropy, 1, 1, false, 1, false>;
+type Rt = Runtime<'static, LocalQueue<2>, SeedEntropy, 1, 1, false, 1, { firmware::table::layout::RANKED }>;
 
 fn runtime(set: &'static SupervisorSet<'static, 1>, on_fault: FaultPolicy) -> Rt {
     let config = Config { guard: true, on_fault, reseed_every: 0 };
@@ -216,7 +216,7 @@ fn each_fault_enters_the_safe_state_which_reset_leaves() {
     type Inject = fn(&mut InputProducer<'_>);
     let faults: [(&str, Inject); 4] = [
         ("unexpected", |tx| tx.push(TO4).unwrap()),
-        ("unknown control byte", |tx| tx.push(0xF7).unwrap()),
+        ("unknown control byte", |tx| tx.push(0xF8).unwrap()),
         ("event beyond the set", |tx| tx.push(77).unwrap()),
         ("overflow", |tx| tx.count_overflow()),
     ];
@@ -253,10 +253,35 @@ fn read_wire(sent: &[u8]) -> (u32, Vec<[u32; 6]>) {
                 commands += 1;
                 i += 1;
             }
+            link::SYNC => i += 1,
             other => panic!("the firmware sent {other:#04x}"),
         }
     }
     (commands, answers)
+}
+
+/// SYNC is answered once the loop is idle and not held, after every command the bytes before it
+/// allowed, and once per request: what lets a host run the loop in lock-step.
+#[test]
+fn sync_is_answered_once_idle_and_not_held() {
+    let mut b = Bench::new::<8>(FaultPolicy::Continue);
+    b.send(&[link::HOLD, link::SYNC]);
+    assert_eq!(b.settle(), Poll::Held);
+    assert!(b.wire.sent.is_empty(), "answered while held: {:?}", b.wire.sent);
+    b.send(&[link::GO]);
+    assert_eq!(b.settle(), Poll::Idle);
+    let sent = std::mem::take(&mut b.wire.sent);
+    // The livelock plant from its initial state: controllable moves until only an uncontrollable one is
+    // left, then the answer, once.
+    assert!(sent.len() >= 2, "{sent:?}");
+    assert_eq!(sent.iter().filter(|&&x| x == link::SYNC).count(), 1, "{sent:?}");
+    assert_eq!(sent.last(), Some(&link::SYNC), "{sent:?}");
+    assert!(sent[..sent.len() - 1].iter().all(|&x| x == A || x == B), "{sent:?}");
+    // Idle already: the next request is answered at once; none unasked.
+    b.send(&[link::SYNC]);
+    b.settle();
+    b.settle();
+    assert_eq!(b.wire.sent, [link::SYNC]);
 }
 
 proptest::proptest! {
@@ -278,7 +303,7 @@ proptest::proptest! {
             for &b in &chunk {
                 match b {
                     TO4 | TO1 => events += 1,
-                    link::STATUS | link::HOLD | link::GO => {}
+                    link::STATUS | link::HOLD | link::GO | link::SYNC => {}
                     _ => unknown += 1,
                 }
             }

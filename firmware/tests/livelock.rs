@@ -19,7 +19,7 @@ fn run<P: Choose<1>>(policy: P, seed: u64, steps: usize) -> Vec<usize> {
     let hs = handles(&spec);
     let number = |h: u16| hs.iter().position(|&o| o == h).unwrap() + 1;
     let mut rt = Runtime::new(
-        CheckedSet::<1, 1, false, 1, false>::new(set).unwrap(),
+        CheckedSet::<1, 1, false, 1, { firmware::table::layout::RANKED }>::new(set).unwrap(),
         CONFIG,
         policy,
         SeedEntropy::new(seed),

@@ -1,6 +1,7 @@
 //! The runtime against a brute-force reference on random small sets: the same states after every input,
 //! every fired event enabled by the definition (every automaton holding it can take it), idle exactly when
-//! nothing is enabled, the same counters — under every choice policy, in both record layouts.
+//! nothing is enabled, the same counters — under every choice policy, in every record layout; and
+//! corrupted tables of every layout refused by the check or read in bounds.
 
 mod common;
 
@@ -13,7 +14,7 @@ use firmware::choice::{Choose, First, GlobalQueue, LocalQueue, Random, RandomGlo
 use firmware::fault::FaultPolicy;
 use firmware::rng::SeedEntropy;
 use firmware::runtime::{Applied, Config, Decision, Runtime};
-use firmware::table::CheckedSet;
+use firmware::table::{layout as id, CheckedSet};
 use proptest::prelude::*;
 
 const NAMES: [&str; 6] = ["e0", "e1", "e2", "e3", "e4", "e5"];
@@ -37,7 +38,7 @@ fn spec(role: Role) -> impl Strategy<Value = Spec> {
                         }
                     }
                 }
-                Spec { role, states, initial: 0, transitions, alphabet }
+                Spec { role, states, initial: states / 2, transitions, alphabet }
             })
     })
 }
@@ -56,34 +57,30 @@ fn delta(spec: &Spec, state: usize, event: u8) -> Option<usize> {
     spec.transitions.iter().find(|t| t.0 == state && t.1 == event).map(|t| t.2)
 }
 
-/// The layout of a runtime built for records `INDEXED` or not.
-fn layout<const INDEXED: bool>() -> Layout {
-    if INDEXED {
-        Layout::Indexed
-    } else {
-        Layout::Ranked
-    }
+/// The encoder's layout of the runtime's layout id `LAYOUT`.
+fn layout<const LAYOUT: u8>() -> Layout {
+    Layout::of_id(LAYOUT).unwrap()
 }
 
-/// The runtime on `specs` in the layout `INDEXED` (masks of `MASK` bytes: 1 ranked, 4 indexed) against
-/// the definition, choosing with `P`.
-fn check<P: Choose<1> + Default, const MASK: usize, const INDEXED: bool>(
+/// The runtime on `specs` in the layout `LAYOUT` (masks of `MASK` bytes: 1 ranked, 4 indexed, 0 for the
+/// layouts without a pool) against the definition, choosing with `P`.
+fn check<P: Choose<1> + Default, const MASK: usize, const LAYOUT: u8>(
     specs: &[Spec],
     controllable: &[bool],
     ops: &[Op],
 ) -> Result<(), TestCaseError> {
-    let layout = layout::<INDEXED>();
+    let layout = layout::<LAYOUT>();
     let set = encode_in(layout, &NAMES, controllable, specs);
     let config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 5 };
     // N is fixed at 4 here: pad with automata that hold nothing.
     let mut rt = Runtime::new(
-        CheckedSet::<1, 4, false, MASK, INDEXED>::new(set).unwrap(),
+        CheckedSet::<1, 4, false, MASK, LAYOUT>::new(set).unwrap(),
         config,
         P::default(),
         SeedEntropy::new(9),
     );
     let offs: Vec<Vec<u16>> = specs.iter().map(|s| handles_in(layout, s)).collect();
-    let mut states = vec![0usize; specs.len()];
+    let mut states: Vec<usize> = specs.iter().map(|s| s.initial).collect();
     let (mut events_in, mut unexpected, mut unknown) = (0, 0, 0);
     let enabled_ref = |states: &[usize]| -> Vec<u8> {
         (0..6u8)
@@ -155,7 +152,7 @@ proptest! {
 
     #[test]
     fn runtime_agrees_with_the_definition_under_every_policy((specs, controllable) in sets(), ops in ops()) {
-        every_policy::<1, false>(&specs, &controllable, &ops)?;
+        every_policy::<1, { id::RANKED }>(&specs, &controllable, &ops)?;
     }
 
     #[test]
@@ -163,34 +160,58 @@ proptest! {
         (specs, controllable) in sets(),
         ops in ops(),
     ) {
-        every_policy::<4, true>(&specs, &controllable, &ops)?;
+        every_policy::<4, { id::INDEXED }>(&specs, &controllable, &ops)?;
+    }
+
+    #[test]
+    fn memory_safe_runtime_agrees_with_the_definition_under_every_policy(
+        (specs, controllable) in sets(),
+        ops in ops(),
+    ) {
+        every_policy::<0, { id::MEMORY_SAFE }>(&specs, &controllable, &ops)?;
+    }
+
+    #[test]
+    fn offset_runtime_agrees_with_the_definition_under_every_policy(
+        (specs, controllable) in sets(),
+        ops in ops(),
+    ) {
+        every_policy::<0, { id::OFFSET }>(&specs, &controllable, &ops)?;
+    }
+
+    #[test]
+    fn compact_runtime_agrees_with_the_definition_under_every_policy(
+        (specs, controllable) in sets(),
+        ops in ops(),
+    ) {
+        every_policy::<0, { id::COMPACT }>(&specs, &controllable, &ops)?;
     }
 }
 
-/// [`check`] under each of the six policies, in the layout `INDEXED` (masks of `MASK` bytes).
-fn every_policy<const MASK: usize, const INDEXED: bool>(
+/// [`check`] under each of the six policies, in the layout `LAYOUT` (masks of `MASK` bytes).
+fn every_policy<const MASK: usize, const LAYOUT: u8>(
     specs: &[Spec],
     controllable: &[bool],
     ops: &[Op],
 ) -> Result<(), TestCaseError> {
-    check::<First, MASK, INDEXED>(specs, controllable, ops)?;
-    check::<Random, MASK, INDEXED>(specs, controllable, ops)?;
-    check::<GlobalQueue, MASK, INDEXED>(specs, controllable, ops)?;
-    check::<RandomGlobalQueue<1>, MASK, INDEXED>(specs, controllable, ops)?;
-    check::<LocalQueue<8>, MASK, INDEXED>(specs, controllable, ops)?;
-    check::<RandomLocalQueue<1, 8>, MASK, INDEXED>(specs, controllable, ops)
+    check::<First, MASK, LAYOUT>(specs, controllable, ops)?;
+    check::<Random, MASK, LAYOUT>(specs, controllable, ops)?;
+    check::<GlobalQueue, MASK, LAYOUT>(specs, controllable, ops)?;
+    check::<RandomGlobalQueue<1>, MASK, LAYOUT>(specs, controllable, ops)?;
+    check::<LocalQueue<8>, MASK, LAYOUT>(specs, controllable, ops)?;
+    check::<RandomLocalQueue<1, 8>, MASK, LAYOUT>(specs, controllable, ops)
 }
 
 /// Runs `ops` on `set` under the default policy if the check accepts it (and says whether it did); with
 /// debug assertions every unchecked read of the runtime asserts its bounds, so a set that passed the
 /// check but is read out of bounds panics.
-fn exercise<const MASK: usize, const INDEXED: bool>(
+fn exercise<const MASK: usize, const LAYOUT: u8>(
     set: &'static firmware::table::SupervisorSet<'static, 1>,
     ops: &[Op],
 ) -> bool {
     let config = Config { guard: false, on_fault: FaultPolicy::Continue, reseed_every: 3 };
     let policy = RandomLocalQueue::<1, 8>::default();
-    let Ok(set) = CheckedSet::<1, 4, false, MASK, INDEXED>::new(set) else { return false };
+    let Ok(set) = CheckedSet::<1, 4, false, MASK, LAYOUT>::new(set) else { return false };
     let mut rt = Runtime::new(set, config, policy, SeedEntropy::new(3));
     for op in ops {
         match *op {
@@ -210,17 +231,64 @@ fn exercise<const MASK: usize, const INDEXED: bool>(
 /// make the property say nothing.
 #[test]
 fn corrupted_tables_are_refused_or_read_in_bounds() {
-    corrupted::<1, false>();
+    corrupted::<1, { id::RANKED }>();
 }
 
 /// As [`corrupted_tables_are_refused_or_read_in_bounds`], in the `indexed` layout.
 #[test]
 fn corrupted_indexed_tables_are_refused_or_read_in_bounds() {
-    corrupted::<4, true>();
+    corrupted::<4, { id::INDEXED }>();
 }
 
-/// Corrupts tables in the layout `INDEXED` (masks of `MASK` bytes) and runs them.
-fn corrupted<const MASK: usize, const INDEXED: bool>() {
+/// As [`corrupted_tables_are_refused_or_read_in_bounds`], in the `memory-safe` layout.
+#[test]
+fn corrupted_memory_safe_tables_are_refused_or_read_in_bounds() {
+    corrupted::<0, { id::MEMORY_SAFE }>();
+}
+
+/// As [`corrupted_tables_are_refused_or_read_in_bounds`], in the `offset` layout.
+#[test]
+fn corrupted_offset_tables_are_refused_or_read_in_bounds() {
+    corrupted::<0, { id::OFFSET }>();
+}
+
+/// As [`corrupted_tables_are_refused_or_read_in_bounds`], in the `compact` layout.
+#[test]
+fn corrupted_compact_tables_are_refused_or_read_in_bounds() {
+    corrupted::<0, { id::COMPACT }>();
+}
+
+/// Where to write `to`, the handle of state `to_state`, as target `slot` of state `from` of `spec`, in
+/// `good`'s block at automaton `i` in the layout `LAYOUT` (`None`: a state without targets, or the
+/// `compact` layout, whose targets are bit fields).
+fn target_field<const LAYOUT: u8>(
+    good: &firmware::table::SupervisorSet<'_, 1>,
+    spec: &Spec,
+    i: usize,
+    [from, slot, to]: [usize; 3],
+) -> Option<(usize, Vec<u8>)> {
+    let at = good.automata[i];
+    let hs = handles_in(layout::<LAYOUT>(), spec);
+    let targets = if LAYOUT == id::INDEXED {
+        spec.alphabet.len()
+    } else {
+        spec.transitions.iter().filter(|t| t.0 == from).count()
+    };
+    if targets == 0 {
+        return None;
+    }
+    let slot = slot % targets;
+    let record = usize::from(at.start) + usize::from(hs[from]) * usize::from(at.scale);
+    match LAYOUT {
+        id::RANKED | id::INDEXED => Some((record + 1 + slot, vec![hs[to] as u8])),
+        id::MEMORY_SAFE => Some((record + 2 + 3 * slot, (to as u16).to_be_bytes().to_vec())),
+        id::OFFSET => Some((record + 2 + 3 * slot, hs[to].to_be_bytes().to_vec())),
+        _ => None,
+    }
+}
+
+/// Corrupts tables in the layout `LAYOUT` (masks of `MASK` bytes) and runs them.
+fn corrupted<const MASK: usize, const LAYOUT: u8>() {
     let cases = common::cases(512);
     let (accepted, refused) = (Cell::new(0u32), Cell::new(0u32));
     let corruptions = (
@@ -248,8 +316,8 @@ fn corrupted<const MASK: usize, const INDEXED: bool>() {
     let result = runner.run(
         &corruptions,
         |((specs, controllable), flips, holder_flip, mask_flip, list_flip, retarget, ops)| {
-            let good = encode_in(layout::<INDEXED>(), &NAMES, &controllable, &specs);
-            let (flips, holder_flip, mask_flip, list_flip) = if retarget.is_some() {
+            let good = encode_in(layout::<LAYOUT>(), &NAMES, &controllable, &specs);
+            let (flips, holder_flip, mask_flip, list_flip) = if retarget.is_some() && LAYOUT != id::COMPACT {
                 (vec![], None, None, None)
             } else {
                 (flips, holder_flip, mask_flip, list_flip)
@@ -257,17 +325,10 @@ fn corrupted<const MASK: usize, const INDEXED: bool>() {
             let mut block = good.block.to_vec();
             if let Some([automaton, state, slot, to]) = retarget {
                 let i = automaton.index(specs.len());
-                let (spec, at) = (&specs[i], good.automata[i]);
-                let hs = handles_in(layout::<INDEXED>(), spec);
-                let from = state.index(spec.states);
-                let targets = if INDEXED {
-                    spec.alphabet.len()
-                } else {
-                    spec.transitions.iter().filter(|t| t.0 == from).count()
-                };
-                if targets > 0 {
-                    let byte = usize::from(at.start) + usize::from(hs[from]) * usize::from(at.scale) + 1;
-                    block[byte + slot.index(targets)] = hs[to.index(spec.states)] as u8;
+                let spec = &specs[i];
+                let states = [state.index(spec.states), slot.index(256), to.index(spec.states)];
+                if let Some((byte, value)) = target_field::<LAYOUT>(good, spec, i, states) {
+                    block[byte..byte + value.len()].copy_from_slice(&value);
                 }
             }
             for (at, value, copy_of) in &flips {
@@ -282,7 +343,7 @@ fn corrupted<const MASK: usize, const INDEXED: bool>() {
             }
             // A bit of a mask (the padding included): the records' lengths no longer match it.
             let mut masks = good.masks.to_vec();
-            if let Some((at, bit)) = mask_flip {
+            if let Some((at, bit)) = mask_flip.filter(|_| !masks.is_empty()) {
                 let i = at.index(masks.len());
                 masks[i] ^= 1 << bit;
             }
@@ -302,7 +363,7 @@ fn corrupted<const MASK: usize, const INDEXED: bool>() {
                 || set.holders != good.holders
                 || set.masks != good.masks
                 || set.holder_lists != good.holder_lists;
-            let ran = exercise::<MASK, INDEXED>(set, &ops);
+            let ran = exercise::<MASK, LAYOUT>(set, &ops);
             if changed {
                 let outcome = if ran { &accepted } else { &refused };
                 outcome.set(outcome.get() + 1);

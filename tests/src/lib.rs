@@ -70,7 +70,7 @@ impl Port for Outbox {
 /// behind `link`: every chunk of bytes received is pushed into an input buffer of `Q - 1` slots before
 /// the loop runs (so a burst larger than the buffer overflows, which the runtime reports), then the loop
 /// serves until it is idle. The thread ends on EXIT (returning its status) or when the host hangs up.
-/// `W`, `N`, `WIDE`, `MASK` and `INDEXED` are the tables' shape ([`CheckedSet`]), `Q` the input buffer's
+/// `W`, `N`, `WIDE`, `MASK` and `LAYOUT` are the tables' shape ([`CheckedSet`]), `Q` the input buffer's
 /// slots.
 pub fn spawn_host_firmware<
     P,
@@ -78,7 +78,7 @@ pub fn spawn_host_firmware<
     const N: usize,
     const WIDE: bool,
     const MASK: usize,
-    const INDEXED: bool,
+    const LAYOUT: u8,
     const Q: usize,
 >(
     tables: HostTables<W>,
@@ -92,8 +92,8 @@ where
 {
     std::thread::spawn(move || {
         let set = tables.set();
-        let checked = CheckedSet::<W, N, WIDE, MASK, INDEXED>::new(&set).unwrap_or_else(|e| {
-            panic!("tables do not fit W={W}, N={N}, WIDE={WIDE}, MASK={MASK}, INDEXED={INDEXED}: {e:?}")
+        let checked = CheckedSet::<W, N, WIDE, MASK, LAYOUT>::new(&set).unwrap_or_else(|e| {
+            panic!("tables do not fit W={W}, N={N}, WIDE={WIDE}, MASK={MASK}, LAYOUT={LAYOUT}: {e:?}")
         });
         let mut rt = Runtime::new(checked, config, policy, SeedEntropy::new(seed));
         let mut queue = InputQueue::<Q>::new();

@@ -3,13 +3,13 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use codegen::config::{ChoicePolicy, OnFault, RuntimeConfig};
+use codegen::config::{ChoicePolicy, Layout, OnFault, RuntimeConfig};
 use codegen::project::Project;
 
 use super::Error;
 
-/// Emit the Rust tables (ranked layout, side tables, policy, configuration, board pins) the firmware
-/// includes.
+/// Emit the Rust tables (in their layout, with side tables, policy, configuration, board pins) the
+/// firmware includes.
 ///
 /// From a manifest (its supervisors, or the local modular ones synthesised from its plants and
 /// specifications; its `[runtime]` and `[board]`), or from model files given one by one. The output starts
@@ -47,6 +47,10 @@ pub struct Args {
     /// Random draws between two reseeds (0: never) [default: the manifest's `reseed_every`, else 1024].
     #[arg(long)]
     reseed_every: Option<u16>,
+    /// The tables' layout on every core [default: the manifest's `[runtime] layout`, else `ranked` on
+    /// the Cortex-M3 and `indexed` on the Cortex-M0+].
+    #[arg(long, value_enum)]
+    layout: Option<Layout>,
     /// A TOML file with a `[board]` table: the pin map of a real board.
     #[arg(long, value_name = "FILE")]
     board: Option<PathBuf>,
@@ -74,6 +78,9 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     super::say_skipped(&project.left_out);
     if let Some(n) = args.reseed_every {
         project.runtime.reseed_every = n;
+    }
+    if args.layout.is_some() {
+        project.runtime.layout = args.layout;
     }
     let text = project.emit()?;
     std::fs::write(&args.output, &text).map_err(|e| format!("{}: {e}", args.output.display()))?;

@@ -4,6 +4,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use codegen::config::RuntimeConfig;
 use codegen::manifest::{Manifest, ModelSet};
 use codegen::pack::{report::Report, Layout, PackSet};
 use codegen::project::comparison::modular_and_monolithic;
@@ -34,7 +35,9 @@ pub struct Args {
     /// monolithic supervisors, synthesised from the plants and these specifications.
     #[arg(long = "spec", num_args = 1..)]
     specs: Vec<PathBuf>,
-    /// Report only this layout (memory-safe, offset, ranked or compact).
+    /// Report only this layout (memory-safe, offset, ranked, indexed or compact). The layouts the
+    /// firmware runs — the manifest's `[runtime] layout`, else ranked on the Cortex-M3 and indexed on
+    /// the Cortex-M0+ — are marked.
     #[arg(long, value_parser = parse_layout)]
     layout: Option<Layout>,
     /// Print JSON (schema 1): layouts (name, bytes, supervisor_bytes, per_automaton, side_tables),
@@ -52,8 +55,13 @@ fn parse_layout(name: &str) -> Result<Layout, String> {
 
 /// Runs `pack`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
+    let mut targets = RuntimeConfig::default().layouts();
     let closed = match &args.manifest {
-        Some(path) => supervisors(Manifest::load(path)?.read_automata()?)?,
+        Some(path) => {
+            let manifest = Manifest::load(path)?;
+            targets = manifest.runtime.layouts();
+            supervisors(manifest.read_automata()?)?
+        }
         None => {
             let (mut set, skipped) = ModelSet::from_files(&args.plants, &args.specs, &args.supervisors)?;
             super::say_skipped(&skipped);
@@ -71,7 +79,7 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
         Some(l) => vec![l],
         None => Layout::ALL.to_vec(),
     };
-    let report = Report::new(set, &layouts, comparisons);
+    let report = Report::new(set, &layouts, comparisons).with_targets(targets);
     let mut out = std::io::stdout().lock();
     if args.json {
         // Serialised first so a closed pipe surfaces as an io::Error, which `main` treats as success.

@@ -5,7 +5,7 @@ use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use codegen::closed_loop::{attach, Options};
+use codegen::closed_loop::{attach, Options, SessionConfig};
 use codegen::config::RuntimeConfig;
 use codegen::link::Endpoint;
 use codegen::monitor::{ChoiceModel, Report};
@@ -58,6 +58,20 @@ pub struct RunArgs {
     /// Print the report as JSON (schema version in its `schema` field).
     #[arg(long)]
     pub json: bool,
+    /// How plant and firmware take turns: `lockstep` rounds (the same seeds give the same trace,
+    /// whatever the table layout or the machine's load; --delay-us and --race play no part), or the
+    /// plant's own `realtime` timing, racing the controller's decisions. The RP2040 runs realtime.
+    #[arg(long, value_enum, default_value_t = Timing::Lockstep)]
+    pub timing: Timing,
+}
+
+/// `--timing`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Timing {
+    /// Rounds: the plant's events, then the firmware's decisions until it is idle.
+    Lockstep,
+    /// The plant's delays, bursts and races.
+    Realtime,
 }
 
 /// `--burst` parsed.
@@ -105,6 +119,7 @@ impl RunArgs {
                 race_per_mille: self.race,
                 guide_per_mille: self.guide,
             },
+            session: SessionConfig { lockstep: self.timing == Timing::Lockstep, ..SessionConfig::default() },
             ..Options::for_events(self.events)
         }
     }

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use codegen::closed_loop::{run_on_rp2040, run_under_qemu};
-use codegen::config::SamplingSpec;
+use codegen::config::{Layout, SamplingSpec};
 use codegen::project::Project;
 use codegen::target::rp2040::pin_map;
 
@@ -33,6 +33,10 @@ pub struct Args {
     /// Timer sampling period in µs (default: the manifest's, else 1000).
     #[arg(long, value_name = "US")]
     sample_period_us: Option<u32>,
+    /// The tables' layout [default: the manifest's `[runtime] layout`, else the best measured for the
+    /// target: `ranked` on QEMU's Cortex-M3, `indexed` on the RP2040].
+    #[arg(long, value_enum)]
+    layout: Option<Layout>,
     /// Save the raw defmt frames the Pico firmware writes over RTT to FILE (`defmt-print -e ELF < FILE`).
     #[arg(long, value_name = "FILE")]
     rtt: Option<PathBuf>,
@@ -71,7 +75,8 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
         )
         .into());
     }
-    let project = Project::load(&args.manifest)?;
+    let mut project = Project::load(&args.manifest)?;
+    project.runtime.layout = args.layout.or(project.runtime.layout);
     if args.target == Target::Rp2040 {
         return run_rp2040(args, project);
     }

@@ -6,10 +6,16 @@
 //! their drawn delays (bursts as one write), every command coming back is judged, taken by the plant
 //! and may be answered at once (a race). A violation, an unresolved desynchronisation, a firmware fault
 //! or a stall resets both sides and the run goes on; all of it is counted.
+//!
+//! In lock-step ([`SessionConfig::lockstep`]) time plays no part: every round the plant's emission goes
+//! out while the firmware is held, followed by a SYNC request and GO, and the next round starts when
+//! the firmware answers SYNC (it decided until nothing was enabled). So every decision is taken on every
+//! event sent before it, and the trace is a function of the seeds alone — the same whatever the table
+//! layout or the machine's load. Commands are judged as taken after the round's events were read.
 
 use std::time::{Duration, Instant};
 
-use crate::link::protocol::{Decoder, Frame, GO, HOLD, RESET, STATUS};
+use crate::link::protocol::{Decoder, Frame, GO, HOLD, RESET, STATUS, SYNC};
 use crate::link::ByteLink;
 use crate::model::EventId;
 use crate::monitor::{FirmwareCounters, Monitor, Move, Report, Verdict};
@@ -31,6 +37,11 @@ const STAGNATION: u64 = 250;
 /// mirror of the controller's choice rounds may have lost step (a choice the guard dropped still counts
 /// in the firmware's round), and a reset puts both back in step.
 const STEERING_RESET: u64 = 2_000;
+/// Lock-step clock: a round's events are stamped at an even multiple of it and its commands one tick
+/// later, beyond any read window, so that the controller counts as having read them.
+const TICK_US: u64 = 1 << 32;
+/// Most commands in one lock-step round: a controller that never goes idle is a stall.
+const MAX_ROUND_COMMANDS: usize = 4096;
 
 /// Timing of a session.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -39,11 +50,18 @@ pub struct SessionConfig {
     pub answer_timeout: Duration,
     /// With nothing for the plant to do and no command for this long, the loop is blocked: reset.
     pub stall_timeout: Duration,
+    /// Lock-step rounds instead of the plant's timing (see the module documentation): a reproducible
+    /// trace, without races or stale decisions.
+    pub lockstep: bool,
 }
 
 impl Default for SessionConfig {
     fn default() -> Self {
-        SessionConfig { answer_timeout: Duration::from_secs(10), stall_timeout: Duration::from_secs(2) }
+        SessionConfig {
+            answer_timeout: Duration::from_secs(10),
+            stall_timeout: Duration::from_secs(2),
+            lockstep: false,
+        }
     }
 }
 
@@ -85,6 +103,10 @@ pub struct Session<'a, L: ByteLink + ?Sized> {
     /// desynchronisation, SAFE or a restart until the next reset; the firmware's commands in between
     /// are not judged.
     in_step: bool,
+    /// Lock-step: the firmware was restarted with a SYNC request whose answer the next round awaits.
+    settle: bool,
+    /// Lock-step: the rounds run so far (the clock).
+    round: u64,
 }
 
 impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
@@ -110,6 +132,8 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             progress: (0, 0),
             garbled: 0,
             in_step: true,
+            settle: false,
+            round: 0,
         }
     }
 
@@ -138,7 +162,10 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         self.plant.reset();
         self.monitor.reset();
         self.in_step = true;
-        self.link.send(&[GO])?;
+        // Lock-step: the decisions from the initial state end with a SYNC answer, awaited by the next
+        // round; the request goes before GO so that nothing reaches the firmware while it decides.
+        self.settle = self.config.lockstep;
+        self.link.send(if self.settle { &[SYNC, GO][..] } else { &[GO][..] })?;
         self.next_emit = Some(Instant::now());
         self.last_activity = Instant::now();
         Ok(())
@@ -166,6 +193,9 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
     /// Runs the closed loop until the monitor has seen `events` events in all, calling `progress` now
     /// and then.
     pub fn run(&mut self, events: u64, progress: &mut dyn FnMut(&Report)) -> Result<(), SessionError> {
+        if self.config.lockstep {
+            return self.run_lockstep(events, progress);
+        }
         let mut last_progress = Instant::now();
         let mut buf = [0u8; 256];
         while self.monitor.report().events < events {
@@ -194,6 +224,86 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             }
         }
         Ok(())
+    }
+
+    /// [`Session::run`] in lock-step rounds (see the module documentation).
+    fn run_lockstep(&mut self, events: u64, progress: &mut dyn FnMut(&Report)) -> Result<(), SessionError> {
+        let mut last_progress = Instant::now();
+        while self.monitor.report().events < events {
+            self.explore_when_stuck()?;
+            if std::mem::take(&mut self.settle) && self.await_round()?.is_none() {
+                continue;
+            }
+            self.round += 1;
+            let (mut bytes, _, violated) = self.draw(2 * self.round * TICK_US);
+            let sent = bytes.len();
+            bytes.insert(0, HOLD);
+            bytes.extend([SYNC, GO]);
+            self.link.send(&bytes)?;
+            if violated {
+                self.out_of_step()?;
+                continue;
+            }
+            match self.await_round()? {
+                Some(0) if sent == 0 => {
+                    self.monitor.report_mut().stalls += 1;
+                    self.sync(true)?;
+                }
+                _ => {}
+            }
+            if last_progress.elapsed() >= PROGRESS_EVERY {
+                last_progress = Instant::now();
+                progress(self.monitor.report());
+            }
+        }
+        Ok(())
+    }
+
+    /// Judges the firmware's commands until it answers SYNC: how many there were, or `None` when the
+    /// round ended in a restart (a violation, a fault, a reboot, a controller that does not go idle).
+    fn await_round(&mut self) -> Result<Option<usize>, SessionError> {
+        let t = (2 * self.round + 1) * TICK_US;
+        let mut commands = 0;
+        let mut buf = [0u8; 256];
+        let mut deadline = Instant::now() + self.config.answer_timeout;
+        loop {
+            while let Some(frame) = self.inbox.pop_front() {
+                deadline = Instant::now() + self.config.answer_timeout;
+                match frame {
+                    Frame::Sync => return Ok(Some(commands)),
+                    Frame::Command(c) => {
+                        commands += 1;
+                        let verdict = self.judge(c, t);
+                        let stuck = commands > MAX_ROUND_COMMANDS;
+                        if stuck {
+                            self.monitor.report_mut().stalls += 1;
+                        }
+                        if stuck
+                            || matches!(verdict, Verdict::Desync { resolved: false } | Verdict::Violation)
+                        {
+                            self.out_of_step()?;
+                            return Ok(None);
+                        }
+                    }
+                    Frame::Safe | Frame::Ready => {
+                        self.handle(frame)?;
+                        return Ok(None);
+                    }
+                    Frame::Status(_) => {}
+                    Frame::Unknown(_) => self.garbled += 1,
+                }
+            }
+            let left = deadline.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                return Err(SessionError::NoAnswer { what: "SYNC", timeout: self.config.answer_timeout });
+            }
+            let n = self.link.recv(&mut buf, left.min(Duration::from_millis(50)))?;
+            for &b in &buf[..n] {
+                if let Some(frame) = self.decoder.push(b) {
+                    self.inbox.push_back(frame);
+                }
+            }
+        }
     }
 
     /// Ends the run: holds the firmware, collects its counters and completes the report.
@@ -241,8 +351,30 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             self.next_emit = Some(Instant::now() + PATIENCE);
             return Ok(());
         }
+        let (mut bytes, held, violated) = self.draw(self.micros());
+        if bytes.is_empty() {
+            self.next_emit = None;
+            return Ok(());
+        }
+        if held {
+            bytes.insert(0, HOLD);
+            bytes.push(GO);
+        }
+        self.link.send(&bytes)?;
+        if violated {
+            return self.out_of_step();
+        }
+        self.last_activity = Instant::now();
+        self.next_emit = Some(Instant::now() + Duration::from_micros(self.plant.next_delay_us(false)));
+        Ok(())
+    }
+
+    /// The plant's next emission at time `t`, judged: its events (the drawn length, and more while the
+    /// steering gets ahead of the controller), whether it went past the drawn length (then the caller
+    /// holds the controller over it), and whether an event was a violation (the last one then).
+    fn draw(&mut self, t: u64) -> (Vec<u8>, bool, bool) {
+        let steers = self.plant.steers();
         let len = self.plant.burst_len();
-        let t = self.micros();
         let mut bytes = Vec::with_capacity(len);
         let mut held = false;
         let mut violated = false;
@@ -259,21 +391,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             bytes.push(e.as_u32() as u8);
             violated = self.monitor.uncontrollable(e, t) == Verdict::Violation;
         }
-        if bytes.is_empty() {
-            self.next_emit = None;
-            return Ok(());
-        }
-        if held {
-            bytes.insert(0, HOLD);
-            bytes.push(GO);
-        }
-        self.link.send(&bytes)?;
-        if violated {
-            return self.out_of_step();
-        }
-        self.last_activity = Instant::now();
-        self.next_emit = Some(Instant::now() + Duration::from_micros(self.plant.next_delay_us(false)));
-        Ok(())
+        (bytes, held, violated)
     }
 
     /// Lets the plant mix its own timing into the steering while no new transition is taken, and
@@ -300,7 +418,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             Frame::Command(c) => {
                 self.last_activity = Instant::now();
                 self.waited = false;
-                match self.judge(c) {
+                match self.judge(c, self.micros()) {
                     Verdict::Ok | Verdict::Desync { resolved: true } => {
                         let delay = Duration::from_micros(self.plant.next_delay_us(true));
                         let due = Instant::now() + delay;
@@ -318,15 +436,16 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
                 self.monitor.report_mut().reboots += 1;
                 self.out_of_step()?;
             }
-            Frame::Status(_) => {}
+            Frame::Status(_) | Frame::Sync => {}
             Frame::Unknown(_) => self.garbled += 1,
         }
         Ok(())
     }
 
-    /// The monitor's verdict on command byte `c`; where it takes the command, the plant takes it too.
-    fn judge(&mut self, c: u8) -> Verdict {
-        let verdict = self.monitor.command(EventId::from_u32(u32::from(c)), self.micros());
+    /// The monitor's verdict on command byte `c` at time `t`; where it takes the command, the plant
+    /// takes it too.
+    fn judge(&mut self, c: u8, t: u64) -> Verdict {
+        let verdict = self.monitor.command(EventId::from_u32(u32::from(c)), t);
         if matches!(verdict, Verdict::Ok | Verdict::Desync { resolved: true }) {
             self.plant.set_state(self.monitor.plant_state());
         }
@@ -351,13 +470,16 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         match frame {
             Frame::Command(_) | Frame::Safe if !self.in_step => {}
             Frame::Command(c) => {
-                if matches!(self.judge(c), Verdict::Desync { resolved: false } | Verdict::Violation) {
+                if matches!(
+                    self.judge(c, self.micros()),
+                    Verdict::Desync { resolved: false } | Verdict::Violation
+                ) {
                     self.in_step = false;
                 }
             }
             Frame::Safe => self.monitor.firmware_safe(),
             Frame::Ready => self.monitor.report_mut().reboots += 1,
-            Frame::Status(_) => {}
+            Frame::Status(_) | Frame::Sync => {}
             Frame::Unknown(_) => self.garbled += 1,
         }
     }

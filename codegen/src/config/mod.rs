@@ -16,7 +16,7 @@ mod signals;
 pub use board::{BoardSpec, InputSpec, OutputSpec, SamplingSpec};
 pub use net::{EventEdge, Level, NetSpec};
 pub use plc::{Action, Edge, PlcInput, PlcOutput, PlcSpec, ScanPolicy};
-pub use runtime::{ChoicePolicy, OnFault, RuntimeConfig};
+pub use runtime::{ChoicePolicy, Layout, OnFault, RuntimeConfig};
 pub use signals::{
     Component, ComponentSpec, Cube, Direction, Signal, SignalSpec, Signals, SignalsError, StateSpec,
     MAX_SIGNALS,

@@ -1,6 +1,6 @@
 //! This module is the home of [`RuntimeConfig`]: what the firmware runs its tables with besides the
-//! tables — the choice policy, the fault reaction, the seed, the guard, the input buffer and the reseed
-//! period.
+//! tables — the choice policy, the fault reaction, the seed, the guard, the input buffer, the reseed
+//! period and the tables' [`Layout`].
 
 use std::fmt;
 
@@ -51,12 +51,36 @@ pub enum OnFault {
     SafeState,
 }
 
+/// A layout of the tables (`firmware::table::layout`): every one is packed by `codegen pack` and run by
+/// the firmware; named in kebab case like [`ChoicePolicy`] (`memory-safe`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, ValueEnum, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Layout {
+    /// The reference tool's vector, to the byte; a step walks to the target's record.
+    MemorySafe,
+    /// The same records with targets as offsets: a step jumps.
+    Offset,
+    /// Out-mask pool and rank-addressed targets: the Cortex-M3's default.
+    Ranked,
+    /// Targets addressed by the event's place in the alphabet, masks of whole words: the Cortex-M0+'s
+    /// default.
+    Indexed,
+    /// Bit-packed over local alphabets: the smallest.
+    Compact,
+}
+
 /// Writes the name clap and serde derive from the variant (`random-local-queue`).
 fn kebab(value: &impl ValueEnum, f: &mut fmt::Formatter<'_>) -> fmt::Result {
     value.to_possible_value().map_or(Ok(()), |v| f.write_str(v.get_name()))
 }
 
 impl fmt::Display for ChoicePolicy {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        kebab(self, f)
+    }
+}
+
+impl fmt::Display for Layout {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         kebab(self, f)
     }
@@ -86,6 +110,20 @@ pub struct RuntimeConfig {
     pub input_buffer: usize,
     /// Random draws between two reseeds (0: never).
     pub reseed_every: u16,
+    /// The tables' layout on every core (default: the best measured per core, `ranked` on the
+    /// Cortex-M3 and `indexed` on the Cortex-M0+).
+    pub layout: Option<Layout>,
+}
+
+impl RuntimeConfig {
+    /// The layout each core runs, Cortex-M3 then Cortex-M0+: [`RuntimeConfig::layout`] on both, else
+    /// the best measured per core (docs/layouts.md) — `ranked` and `indexed`.
+    pub fn layouts(&self) -> (Layout, Layout) {
+        match self.layout {
+            Some(layout) => (layout, layout),
+            None => (Layout::Ranked, Layout::Indexed),
+        }
+    }
 }
 
 impl Default for RuntimeConfig {
@@ -97,6 +135,7 @@ impl Default for RuntimeConfig {
             on_fault: OnFault::default(),
             input_buffer: 32,
             reseed_every: 1024,
+            layout: None,
         }
     }
 }
@@ -125,6 +164,8 @@ mod tests {
     fn names_are_kebab_case_and_read_back() {
         reads_back(&ChoicePolicy::ALL);
         reads_back(OnFault::value_variants());
+        reads_back(Layout::value_variants());
+        assert_eq!(Layout::MemorySafe.to_string(), "memory-safe");
         assert_eq!(ChoicePolicy::RandomGlobalQueue.to_string(), "random-global-queue");
         assert_eq!(OnFault::SafeState.to_string(), "safe-state");
     }

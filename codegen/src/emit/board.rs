@@ -151,7 +151,7 @@ mod tests {
             plants: 0,
             masks: vec![],
             wide: false,
-            indexed: false,
+            layout: firmware::build::Layout::Ranked,
             automata: vec![],
         }
     }

@@ -9,24 +9,25 @@ use super::policy::{fault_value, ram_bytes, rust_type};
 use super::provenance::Provenance;
 use super::EmitError;
 use crate::config::{BoardSpec, ChoicePolicy, RuntimeConfig, SamplingSpec};
-use crate::pack::ranked::{Packed, INDEXED_NAME as INDEXED, NAME as LAYOUT};
+use crate::pack::ranked::Packed;
+use firmware::table::layout::name as layout_name;
 
 /// Rust source for `firmware`'s applications (`include!`d inside a module): constants `NAME`,
-/// `EVENT_WORDS`, `AUTOMATA`, `SITES`, `INPUT_SLOTS`, `SEED`, `WIDE`, `MASK_BYTES`, `INDEXED`, `CONFIG`,
+/// `EVENT_WORDS`, `AUTOMATA`, `SITES`, `INPUT_SLOTS`, `SEED`, `WIDE`, `MASK_BYTES`, `LAYOUT`, `CONFIG`,
 /// the types `Policy` and `Runtime<P, E>` (the runtime built for these tables), a module `event` with
 /// one `u8` constant per event, the names `EVENT_NAMES` and `AUTOMATON_NAMES` (for logs; the tables
-/// hold none), the `ranked` tables `packed` (private statics: `BLOCK` with every automaton's records,
-/// `MASKS`, `DESCRIPTORS`, `HOLDER_LISTS` (empty), `HOLDERS`, `PLANT_EVENTS`, `CHOICE_SITES`) under
+/// hold none), the tables `packed` in their layout (private statics: `BLOCK` with every automaton's
+/// records, `MASKS`, `DESCRIPTORS`, `HOLDER_LISTS`, `HOLDERS`, `PLANT_EVENTS`, `CHOICE_SITES`) under
 /// `pub static SET: firmware::table::SupervisorSet<'static, EVENT_WORDS>`, the same set checked at compile
 /// time as `pub static CHECKED: firmware::table::CheckedSet`, a module `m0plus` with the same constants,
-/// `Runtime`, `SET` and `CHECKED` for the Cortex-M0+ (the `indexed` tables `indexed` of the same set
-/// when it is `Ok`, else the `ranked` ones, with the reason it gives), and the board tables `BOARD`,
-/// `INPUT_PINS`, `INPUT_PULLS`, `OUTPUT_PINS` (empty without a `[board]`).
+/// `Runtime`, `SET` and `CHECKED` for the Cortex-M0+ (the tables `m0plus` of the same set, `indexed`
+/// by default, when it is `Ok`, else the top level's, with the reason it gives), and the board tables
+/// `BOARD`, `INPUT_PINS`, `INPUT_PULLS`, `OUTPUT_PINS` (empty without a `[board]`).
 /// `name` names the set, `runtime` is the run-time configuration the tables carry, `board` the pin map
 /// (without one the board tables are empty). Deterministic: the same arguments give the same bytes.
 pub fn emit(
     packed: &Packed,
-    indexed: Result<&Packed, String>,
+    m0plus: Result<&Packed, String>,
     name: &str,
     runtime: &RuntimeConfig,
     board: Option<&BoardSpec>,
@@ -37,9 +38,9 @@ pub fn emit(
         return Err(EmitError::InputBuffer { capacity: runtime.input_buffer });
     }
     let mut out = String::new();
-    header(&mut out, packed, &indexed, &side, name, runtime, provenance);
+    header(&mut out, packed, &m0plus, &side, name, runtime, provenance);
     body(&mut out, packed, &side, name, runtime);
-    m0plus(&mut out, &indexed)?;
+    m0plus_module(&mut out, packed, &m0plus)?;
     let none = BoardSpec {
         name: String::from("none"),
         sampling: SamplingSpec::Interrupt,
@@ -63,7 +64,7 @@ fn side_tables(packed: &Packed) -> Result<SideTables, EmitError> {
 fn header(
     out: &mut String,
     packed: &Packed,
-    indexed: &Result<&Packed, String>,
+    m0plus: &Result<&Packed, String>,
     side: &SideTables,
     name: &str,
     runtime: &RuntimeConfig,
@@ -85,33 +86,37 @@ fn header(
         plants,
         packed.automata.len() - plants,
         packed.event_names.len(),
-        LAYOUT,
+        layout_name(packed.layout.id()),
         blocks,
         packed.mask_bytes(),
         packed.masks.len()
     );
-    let _ = match indexed {
+    let _ = match m0plus {
         Ok(m0) => writeln!(
             out,
-            "// Cortex-M0+ tables (`m0plus`): layout {INDEXED}, {} bytes of blocks + {} bytes of masks + {} bytes of holder lists.",
+            "// Cortex-M0+ tables (`m0plus`): layout {}, {} bytes of blocks + {} bytes of masks + {} bytes of holder lists.",
+            layout_name(m0.layout.id()),
             m0.automata.iter().map(|b| b.block.len()).sum::<usize>(),
             m0.mask_bytes(),
             2 * m0.holder_lists().len()
         ),
-        Err(e) => writeln!(out, "// Cortex-M0+ tables (`m0plus`): layout {LAYOUT} ({e})."),
+        Err(e) => {
+            writeln!(out, "// Cortex-M0+ tables (`m0plus`): layout {} ({e}).", layout_name(packed.layout.id()))
+        }
     };
     for line in provenance.lines() {
         let _ = writeln!(out, "// {line}");
     }
     let _ = writeln!(
         out,
-        "// Options: policy={} seed={} guard={} on_fault={} input_buffer={} reseed_every={}",
+        "// Options: policy={} seed={} guard={} on_fault={} input_buffer={} reseed_every={} layout={}",
         runtime.policy,
         runtime.seed,
         runtime.guard,
         runtime.on_fault,
         runtime.input_buffer,
-        runtime.reseed_every
+        runtime.reseed_every,
+        runtime.layout.map_or(String::from("default"), |l| l.to_string())
     );
     let ram: Vec<String> =
         ChoicePolicy::ALL.iter().map(|&p| format!("{p} {}", ram_bytes(p, words, side.sites.len()))).collect();
@@ -188,9 +193,13 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, name: &str, runtim
     tables(out, packed, side);
 }
 
-/// The module `m0plus`: the tables the Cortex-M0+ runs — `m0plus`, the set in the `indexed` layout,
-/// or, when there is none, the top level's `ranked` tables with the reason.
-fn m0plus(out: &mut String, m0plus: &Result<&Packed, String>) -> Result<(), EmitError> {
+/// The module `m0plus`: the tables the Cortex-M0+ runs — `m0plus` (the set in the `indexed` layout by
+/// default), or, when there is none, the top level's `packed` tables with the reason.
+fn m0plus_module(
+    out: &mut String,
+    packed: &Packed,
+    m0plus: &Result<&Packed, String>,
+) -> Result<(), EmitError> {
     let _ = writeln!(out);
     let _ = writeln!(out, "/// The tables the Cortex-M0+ runs (the Pico's firmware).");
     let _ = writeln!(out, "pub mod m0plus {{");
@@ -206,8 +215,8 @@ fn m0plus(out: &mut String, m0plus: &Result<&Packed, String>) -> Result<(), Emit
             }
         }
         Err(e) => {
-            let _ = writeln!(out, "    // The `{LAYOUT}` tables: {e}.");
-            let _ = writeln!(out, "    pub use super::{{Runtime, CHECKED, INDEXED, MASK_BYTES, SET, WIDE}};");
+            let _ = writeln!(out, "    // The `{}` tables: {e}.", layout_name(packed.layout.id()));
+            let _ = writeln!(out, "    pub use super::{{Runtime, CHECKED, LAYOUT, MASK_BYTES, SET, WIDE}};");
         }
     }
     let _ = writeln!(out, "}}");
@@ -217,18 +226,18 @@ fn m0plus(out: &mut String, m0plus: &Result<&Packed, String>) -> Result<(), Emit
 /// The layout's constants, `Runtime` type and tables (`BLOCK`, `MASKS`, `DESCRIPTORS`, `HOLDER_LISTS`,
 /// `CHOICE_SITES`, `SET`, `CHECKED`) of `packed`, over the shared `HOLDERS` and `PLANT_EVENTS`.
 fn tables(out: &mut String, packed: &Packed, side: &SideTables) {
-    let layout = if packed.indexed { INDEXED } else { LAYOUT };
+    let layout = layout_name(packed.layout.id());
     let _ = writeln!(out, "/// Mask ids and state handles take 2 bytes in the records.");
     let _ = writeln!(out, "pub const WIDE: bool = {};", packed.wide);
-    let _ = writeln!(out, "/// Bytes of one mask in the pool.");
+    let _ = writeln!(out, "/// Bytes of one mask in the pool (0: a layout without a pool).");
     let _ = writeln!(out, "pub const MASK_BYTES: usize = {};", packed.mask_width());
-    let _ = writeln!(out, "/// The records hold a target per event of the alphabet (`{INDEXED}` layout).");
-    let _ = writeln!(out, "pub const INDEXED: bool = {};", packed.indexed);
+    let _ = writeln!(out, "/// The record layout (`{layout}`): the reader the runtime compiles in.");
+    let _ = writeln!(out, "pub const LAYOUT: u8 = firmware::table::layout::{};", const_name(layout));
     let _ =
         writeln!(out, "/// The runtime over these tables, choosing with `P` and drawing entropy from `E`.");
     let _ = writeln!(
         out,
-        "pub type Runtime<P, E> =\n    firmware::runtime::Runtime<'static, P, E, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES, INDEXED>;"
+        "pub type Runtime<P, E> =\n    firmware::runtime::Runtime<'static, P, E, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES, LAYOUT>;"
     );
     let total: usize = packed.automata.iter().map(|b| b.block.len()).sum();
     let _ = writeln!(
@@ -278,7 +287,7 @@ fn tables(out: &mut String, packed: &Packed, side: &SideTables) {
     let _ = writeln!(
         out,
         "/// Per event and one more, where its holder list starts; then per event the automata holding it, \
-         each with the event's place in its alphabet in the high byte (`{INDEXED}` layout)."
+         each with the event's place in its alphabet in the high byte (`indexed` layout; empty in the others)."
     );
     let _ = writeln!(out, "static HOLDER_LISTS: [u16; {}] = [", lists.len());
     for row in lists.chunks(12) {
@@ -286,8 +295,17 @@ fn tables(out: &mut String, packed: &Packed, side: &SideTables) {
         let _ = writeln!(out, "    {},", entries.join(", "));
     }
     let _ = writeln!(out, "];");
+    let initials: Vec<String> = packed.initials().iter().map(u16::to_string).collect();
+    let _ = writeln!(
+        out,
+        "/// Per automaton, its initial state's handle (empty when the initial records come first)."
+    );
+    let _ = writeln!(out, "static INITIALS: [u16; {}] = [{}];", initials.len(), initials.join(", "));
     let sites: Vec<String> = side.sites.iter().map(u16::to_string).collect();
-    let _ = writeln!(out, "/// The choice sites, as the offsets of their records in `BLOCK`.");
+    let _ = writeln!(
+        out,
+        "/// The choice sites, as their positions in `BLOCK` (bit offsets in `compact`, else byte offsets)."
+    );
     let _ = writeln!(out, "static CHOICE_SITES: [u16; {}] = [{}];", sites.len(), sites.join(", "));
     let _ = writeln!(out);
     let _ = writeln!(out, "/// The set the runtime runs.");
@@ -302,7 +320,8 @@ fn tables(out: &mut String, packed: &Packed, side: &SideTables) {
     let _ = writeln!(out, "    wide: WIDE,");
     let _ = writeln!(out, "    masks: &MASKS,");
     let _ = writeln!(out, "    mask_bytes: MASK_BYTES as u8,");
-    let _ = writeln!(out, "    indexed: INDEXED,");
+    let _ = writeln!(out, "    layout: LAYOUT,");
+    let _ = writeln!(out, "    initials: &INITIALS,");
     let _ = writeln!(out, "    holder_lists: &HOLDER_LISTS,");
     let _ = writeln!(out, "    holders: &HOLDERS,");
     let _ = writeln!(out, "    plant_events: &PLANT_EVENTS,");
@@ -314,12 +333,17 @@ fn tables(out: &mut String, packed: &Packed, side: &SideTables) {
     );
     let _ = writeln!(
         out,
-        "pub static CHECKED: firmware::table::CheckedSet<'static, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES, INDEXED> =\n    \
+        "pub static CHECKED: firmware::table::CheckedSet<'static, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES, LAYOUT> =\n    \
          match firmware::table::CheckedSet::new(&SET) {{"
     );
     let _ = writeln!(out, "        Ok(set) => set,");
     let _ = writeln!(out, "        Err(_) => panic!(\"the tables fail the runtime's check\"),");
     let _ = writeln!(out, "    }};");
+}
+
+/// The name of `firmware::table::layout`'s constant for the layout called `name`.
+fn const_name(name: &str) -> String {
+    name.replace('-', "_").to_ascii_uppercase()
 }
 
 fn hex_words(words: &[u32]) -> String {

@@ -3,11 +3,11 @@
 //!
 //! Bytes `0x00..=0xEF` are event ids: host → firmware an uncontrollable event the plant produced,
 //! firmware → host a command the firmware fired. Control bytes: [`RESET`], [`STATUS`], [`EXIT`],
-//! [`READY`], [`SAFE`], [`HOLD`], [`GO`] (see each). The firmware's side is in `firmware/src/link.rs`.
+//! [`READY`], [`SAFE`], [`HOLD`], [`GO`], [`SYNC`] (see each). The firmware's side is in `firmware/src/link.rs`.
 
 // The byte values and the STATUS answer's format are the firmware's own (`firmware::link`), so the two
 // ends cannot drift apart.
-pub use firmware::link::{EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, STATUS_BYTES};
+pub use firmware::link::{EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, STATUS_BYTES, SYNC};
 pub use firmware::runtime::Counters;
 
 /// One message from the firmware.
@@ -19,6 +19,8 @@ pub enum Frame {
     Ready,
     /// [`SAFE`].
     Safe,
+    /// [`SYNC`]: the firmware is idle (the answer to a SYNC request).
+    Sync,
     /// A complete [`STATUS`] answer: the firmware's counters since its last reset.
     Status(Counters),
     /// A byte the protocol does not define in this direction.
@@ -56,6 +58,7 @@ impl Decoder {
             0..=MAX_EVENT => Frame::Command(byte),
             READY => Frame::Ready,
             SAFE => Frame::Safe,
+            SYNC => Frame::Sync,
             STATUS => {
                 self.status = Some(Vec::with_capacity(STATUS_BYTES));
                 return None;
@@ -93,6 +96,7 @@ mod tests {
     fn reserved_bytes_are_unknown_in_this_direction() {
         let mut d = Decoder::default();
         assert_eq!(d.push(HOLD), Some(Frame::Unknown(HOLD)));
+        assert_eq!(d.push(SYNC), Some(Frame::Sync));
         assert_eq!(d.push(0xFF), Some(Frame::Unknown(0xFF)));
         assert_eq!(d.push(MAX_EVENT), Some(Frame::Command(MAX_EVENT)));
     }

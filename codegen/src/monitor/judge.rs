@@ -144,6 +144,7 @@ impl Monitor {
     /// The plant sent uncontrollable `event` at `t_us`.
     pub fn uncontrollable(&mut self, event: EventId, t_us: u64) -> Verdict {
         self.report.events += 1;
+        self.report.trace.push(event.index() as u8);
         self.report.uncontrollable += 1;
         if !self.closed.step(&mut self.physical, event) {
             let refusers = self.closed.refusers(&self.physical, event).join(", ");
@@ -159,6 +160,7 @@ impl Monitor {
     /// The controller sent command byte `event` at `t_us`.
     pub fn command(&mut self, event: EventId, t_us: u64) -> Verdict {
         self.report.events += 1;
+        self.report.trace.push(event.index() as u8);
         self.report.commands += 1;
         if !self.controllable.get(event.index()).copied().unwrap_or(false) {
             let what = self.names.get(event.index()).map_or("an unknown event", |_| "uncontrollable");

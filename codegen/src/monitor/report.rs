@@ -4,6 +4,7 @@ use std::fmt;
 
 use firmware::runtime::Counters;
 use serde::Serialize;
+use sha2::{Digest, Sha256};
 
 use crate::target::rp2040::BoardFigures;
 
@@ -84,6 +85,12 @@ pub struct Report {
     pub commands: u64,
     /// Uncontrollable events the plant sent.
     pub uncontrollable: u64,
+    /// SHA-256 of the event sequence the link carried (one byte per event, its id, in link order), as
+    /// lower-case hex: the fingerprint by which two runs — of two layouts, say — took the same trace.
+    pub trace_sha256: String,
+    /// The running hash behind [`Report::trace_sha256`].
+    #[serde(skip)]
+    pub trace: Trace,
     /// Safety violations: disabled or impossible commands, refused uncontrollable events, safe-state
     /// faults.
     pub violations: u64,
@@ -132,10 +139,34 @@ pub struct Report {
     pub board: Option<BoardFigures>,
 }
 
+/// The running SHA-256 of a run's event sequence.
+#[derive(Clone, Debug, Default)]
+pub struct Trace(Sha256);
+
+impl Trace {
+    /// Adds event `id` to the sequence.
+    pub fn push(&mut self, id: u8) {
+        self.0.update([id]);
+    }
+
+    /// The digest of the sequence so far, as lower-case hex.
+    pub fn hex(&self) -> String {
+        self.0.clone().finalize().iter().map(|b| format!("{b:02x}")).collect()
+    }
+}
+
+impl PartialEq for Trace {
+    /// Two traces are equal when their sequences hash alike.
+    fn eq(&self, other: &Self) -> bool {
+        self.hex() == other.hex()
+    }
+}
+
 impl Report {
     /// Fills the derived figures once the run is over and the firmware's counters are in.
     pub fn finish(&mut self, seconds: f64) {
         self.schema = SCHEMA;
+        self.trace_sha256 = self.trace.hex();
         self.seconds = seconds;
         self.events_per_second = if seconds > 0.0 { self.events as f64 / seconds } else { 0.0 };
         self.overflows = self.firmware.overflows;
@@ -178,6 +209,7 @@ impl fmt::Display for Report {
             self.seed
         )?;
         writeln!(f, "  safety    {} violations", self.violations)?;
+        writeln!(f, "  trace     sha256 {}", self.trace_sha256)?;
         for finding in &self.findings {
             writeln!(f, "            {finding}")?;
         }

@@ -1,22 +1,7 @@
-//! The layouts by name, for the CLI and the report.
+//! The layouts by name, for the CLI and the report: the manifest's [`Layout`] (`config`), packed here.
 
 use super::{compact, memory_safe, offset, ranked, Measure, PackError, PackSet, Size};
-
-/// One of the byte layouts of this module.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum Layout {
-    /// The reference tool's vector ([`memory_safe`]).
-    MemorySafe,
-    /// Records with u16 offsets, the runtime's former table ([`offset`]).
-    Offset,
-    /// Out-mask pool and rank-addressed targets, the runtime's table ([`ranked`]).
-    Ranked,
-    /// Targets addressed by the event's place in the alphabet and masks of whole words, the runtime's
-    /// table on the Cortex-M0+ ([`ranked`]).
-    Indexed,
-    /// Bit-packed over local alphabets ([`compact`]).
-    Compact,
-}
+pub use crate::config::Layout;
 
 impl Layout {
     /// Every layout, in report order.
@@ -39,6 +24,17 @@ impl Layout {
         Layout::ALL.into_iter().find(|l| l.name() == name)
     }
 
+    /// The firmware encoder's layout: the one the runtime reads.
+    pub fn firmware(self) -> firmware::build::Layout {
+        match self {
+            Layout::MemorySafe => firmware::build::Layout::MemorySafe,
+            Layout::Offset => firmware::build::Layout::Offset,
+            Layout::Ranked => firmware::build::Layout::Ranked,
+            Layout::Indexed => firmware::build::Layout::Indexed,
+            Layout::Compact => firmware::build::Layout::Compact,
+        }
+    }
+
     /// Packs `set` and measures the bytes produced.
     pub fn size(self, set: &PackSet) -> Result<Size, PackError> {
         Ok(match self {
@@ -59,6 +55,8 @@ mod tests {
     fn names_round_trip() {
         for l in Layout::ALL {
             assert_eq!(Layout::from_name(l.name()), Some(l));
+            // The manifest's and the command line's name is the report's.
+            assert_eq!(l.to_string(), l.name());
         }
         assert_eq!(Layout::from_name("dense"), None);
     }

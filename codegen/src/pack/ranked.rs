@@ -25,7 +25,7 @@ impl Measure for Packed {
     fn size(&self) -> Size {
         let n = self.automata.len();
         let mut size = Size {
-            layout: if self.indexed { INDEXED_NAME } else { NAME },
+            layout: if self.indexed() { INDEXED_NAME } else { NAME },
             per_automaton: self.automata.iter().map(|b| (b.name.clone(), b.block.len())).collect(),
             side_tables: vec![
                 ("mask pool", self.mask_bytes()),
@@ -34,7 +34,7 @@ impl Measure for Packed {
                 ("controllability", 4 * self.controllable.len()),
             ],
         };
-        if self.indexed {
+        if self.indexed() {
             size.side_tables.push(("holder lists", 2 * self.holder_lists().len()));
         }
         size
@@ -70,7 +70,14 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
 
 /// Packs `set` in the `indexed` layout, or says which limit it breaks.
 pub fn encode_indexed(set: &PackSet) -> Result<Packed, PackError> {
-    Ok(firmware::build::encode_as(&source(set), Layout::Indexed)?)
+    encode_as(set, Layout::Indexed)
+}
+
+/// Packs `set` in `layout` as the firmware runs it (any of the five: the runtime's tables of the
+/// `memory-safe`, `offset` and `compact` layouts hold their blocks as this module's [`Packed`]), or says
+/// which limit it breaks.
+pub fn encode_as(set: &PackSet, layout: Layout) -> Result<Packed, PackError> {
+    Ok(firmware::build::encode_as(&source(set), layout)?)
 }
 
 /// Reads `packed` back into automata (plants first), checking every mask id, target, handle, length
@@ -125,7 +132,7 @@ fn decode_block(b: &Block, role: Role, packed: &Packed) -> Result<Automaton, Dec
             }
             // The target's field: its rank in the mask, or its place in the alphabet (`indexed`).
             let field =
-                if packed.indexed { bitset::ids(&b.alphabet).position(|x| x == e).unwrap_or(i) } else { i };
+                if packed.indexed() { bitset::ids(&b.alphabet).position(|x| x == e).unwrap_or(i) } else { i };
             edges.push((r.state, e, state_of(t, r.at + (1 + field) * t_bytes)?));
         }
     }
@@ -188,7 +195,8 @@ mod tests {
             wide: packed.wide,
             masks: &masks,
             mask_bytes: packed.mask_width() as u8,
-            indexed: packed.indexed,
+            layout: packed.layout.id(),
+            initials: &packed.initials(),
             holder_lists: &holder_lists,
             holders: &holders,
             plant_events: &vec![[0]; plants],

@@ -9,6 +9,7 @@ use std::fmt::{self, Write as _};
 use serde_json::{json, Value};
 
 use super::{floor, paper::Columns, Layout, PackSet, Role, Size};
+use crate::config::RuntimeConfig;
 
 /// The paper's columns for one approach (local modular, modular, monolithic), or why they are missing.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -36,7 +37,12 @@ pub struct Report {
     set: PackSet,
     measured: Vec<Measured>,
     comparisons: Vec<Comparison>,
+    /// The layouts the firmware runs, Cortex-M3 then Cortex-M0+.
+    targets: (Layout, Layout),
 }
+
+/// The cores, as the report names them, with the emulator each runs under.
+const CORES: [(&str, &str); 2] = [("cortex-m3", "QEMU"), ("cortex-m0+", "RP2040")];
 
 impl Report {
     /// Measures `layouts` on `set`. `comparisons` are the paper's columns for other supervisor sets of the
@@ -55,7 +61,20 @@ impl Report {
             approach: "local modular".to_owned(),
             columns: Ok(Columns::of(sups.members().iter().map(|m| &m.automaton), set.events().len())),
         };
-        Report { set, measured, comparisons: [vec![own], comparisons].concat() }
+        let targets = RuntimeConfig::default().layouts();
+        Report { set, measured, comparisons: [vec![own], comparisons].concat(), targets }
+    }
+
+    /// The report marking `targets` (Cortex-M3, Cortex-M0+: [`RuntimeConfig::layouts`]) as the layouts
+    /// the firmware runs; [`Report::new`] marks the defaults.
+    pub fn with_targets(self, targets: (Layout, Layout)) -> Report {
+        Report { targets, ..self }
+    }
+
+    /// The cores (`cortex-m3`, `cortex-m0+`) that run `layout`.
+    pub fn cores_running(&self, layout: Layout) -> Vec<&'static str> {
+        let (m3, m0) = self.targets;
+        CORES.iter().zip([m3, m0]).filter(|(_, l)| *l == layout).map(|((core, _), _)| *core).collect()
     }
 
     /// The layouts as measured.
@@ -79,7 +98,7 @@ impl Report {
     }
 
     /// The report as JSON (schema 1): `layouts` (each `name`, `bytes`, `per_automaton`, `side_tables`,
-    /// `supervisor_bytes`), `floor_bytes`, `paper` (the set's own supervisors: `matrix`, `chained_list`,
+    /// `supervisor_bytes`, `runs_on`: the cores whose firmware runs it), `floor_bytes`, `paper` (the set's own supervisors: `matrix`, `chained_list`,
     /// `memory_safe`), `comparisons` (every approach) and `automata`.
     pub fn to_json(&self) -> Value {
         let size_json = |s: &Result<Size, String>| match s {
@@ -94,6 +113,7 @@ impl Report {
                     "name": m.layout.name(),
                     "bytes": size_json(&m.all),
                     "supervisor_bytes": size_json(&m.supervisors),
+                    "runs_on": self.cores_running(m.layout),
                 });
                 match &m.all {
                     Ok(size) => {
@@ -218,9 +238,19 @@ impl fmt::Display for Report {
                         let side: Vec<String> =
                             size.side_tables.iter().map(|(n, b)| format!("{n} {b}")).collect();
                         let ratio = if floor > 0 { size.total() as f64 / floor as f64 } else { 0.0 };
+                        let runs: Vec<String> = CORES
+                            .iter()
+                            .filter(|(core, _)| self.cores_running(m.layout).contains(core))
+                            .map(|(core, emulator)| format!("{core} ({emulator})"))
+                            .collect();
+                        let runs = if runs.is_empty() || label != "all" {
+                            String::new()
+                        } else {
+                            format!("  ← runs on {}", runs.join(", "))
+                        };
                         writeln!(
                             f,
-                            "  {:<11} {:>7} bytes = blocks {} + side tables {} ({}); {:.2}× floor",
+                            "  {:<11} {:>7} bytes = blocks {} + side tables {} ({}); {:.2}× floor{runs}",
                             m.layout.name(),
                             size.total(),
                             size.blocks(),
@@ -292,5 +322,13 @@ mod tests {
         assert_eq!(json["layouts"][0]["name"], "memory-safe");
         assert_eq!(json["layouts"][0]["per_automaton"][1]["bytes"], 8);
         assert!(report.to_string().contains("local modular"));
+        // The defaults: ranked on the Cortex-M3, indexed on the Cortex-M0+; a manifest's layout on both.
+        assert_eq!(json["layouts"][2]["runs_on"], json!(["cortex-m3"]));
+        assert_eq!(json["layouts"][3]["runs_on"], json!(["cortex-m0+"]));
+        assert_eq!(json["layouts"][0]["runs_on"], json!([]));
+        assert!(report.to_string().contains("← runs on cortex-m3 (QEMU)"));
+        let report = report.with_targets((Layout::Compact, Layout::Compact));
+        assert_eq!(report.cores_running(Layout::Compact), ["cortex-m3", "cortex-m0+"]);
+        assert!(report.cores_running(Layout::Ranked).is_empty());
     }
 }

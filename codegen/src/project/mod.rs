@@ -236,7 +236,12 @@ impl Project {
         let words = match &self.origin {
             Origin::Manifest { path, runtime } => {
                 let mut line = format!("codegen emit {} --reseed-every {}", path.display(), r.reseed_every);
-                if *runtime != (RuntimeConfig { reseed_every: runtime.reseed_every, ..r.clone() }) {
+                if let Some(layout) = r.layout.filter(|_| r.layout != runtime.layout) {
+                    line.push_str(&format!(" --layout {layout}"));
+                }
+                let same =
+                    RuntimeConfig { reseed_every: runtime.reseed_every, layout: runtime.layout, ..r.clone() };
+                if *runtime != same {
                     line.push_str(" (then its [runtime] changed in code)");
                 }
                 line
@@ -251,6 +256,9 @@ impl Project {
                 words.push(format!("--on-fault {}", r.on_fault));
                 words.push(format!("--input-buffer {}", r.input_buffer));
                 words.push(format!("--reseed-every {}", r.reseed_every));
+                if let Some(layout) = r.layout {
+                    words.push(format!("--layout {layout}"));
+                }
                 if let Some(board) = board {
                     words.push(format!("--board {}", board.display()));
                 }
@@ -272,12 +280,15 @@ impl Project {
     }
 
     /// The emitted-source stage: the Rust tables the firmware includes (`SCT_TABLES`), under a header
-    /// naming every input with its hash and the command that reproduces them.
+    /// naming every input with its hash and the command that reproduces them, in the layouts of
+    /// [`RuntimeConfig::layouts`] (the Cortex-M0+'s falls back to the Cortex-M3's when it does not fit).
     pub fn emit(&self) -> Result<String, EmitError> {
         let provenance = Provenance { inputs: self.inputs.clone(), command: self.command() };
-        let indexed = self.m0plus_tables();
-        let indexed = indexed.as_ref().map_err(|e| format!("the indexed layout does not fit: {e}"));
-        emit::emit(&self.tables()?, indexed, &self.name, &self.runtime, self.board.as_ref(), &provenance)
+        let (m3, m0) = self.runtime.layouts();
+        let tables = ranked::encode_as(&self.set, m3.firmware())?;
+        let m0plus = ranked::encode_as(&self.set, m0.firmware());
+        let m0plus = m0plus.as_ref().map_err(|e| format!("the {m0} layout does not fit: {e}"));
+        emit::emit(&tables, m0plus, &self.name, &self.runtime, self.board.as_ref(), &provenance)
     }
 
     /// The PLC stage: the Structured Text and PLCopen XML program of the set with its report, under the

@@ -24,6 +24,18 @@ pub enum BuildError {
         /// [`super::MAX_STATES`].
         limit: usize,
     },
+    /// A state with more transitions than a record's count byte holds (`memory-safe`, `offset`).
+    #[error("state {state} of '{automaton}' has {transitions} outgoing transitions, more than the limit of {limit}")]
+    TooManyTransitions {
+        /// Automaton name.
+        automaton: String,
+        /// The state's index.
+        state: usize,
+        /// Its outgoing transitions.
+        transitions: usize,
+        /// 255.
+        limit: usize,
+    },
     /// More distinct out-masks than 2-byte mask ids number.
     #[error("the set has {masks} distinct out-masks, more than the limit of {limit}")]
     TooManyMasks {

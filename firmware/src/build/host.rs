@@ -7,7 +7,7 @@ use alloc::vec::Vec;
 use super::{BuildError, Packed, SideTables};
 use crate::table::{Automaton, SupervisorSet};
 
-/// A set (`ranked` or `indexed` layout) with its side tables, owned in the runtime's representation for
+/// A set (in any layout) with its side tables, owned in the runtime's representation for
 /// event bitsets of `W` words; [`HostTables::set`] lends the runtime its view.
 ///
 /// `W` must be the set's word count (⌈events / 32⌉), as `EVENT_WORDS` of the emitted file; the
@@ -39,6 +39,7 @@ pub struct HostTables<const W: usize> {
     block: Vec<u8>,
     masks: Vec<u32>,
     holder_lists: Vec<u16>,
+    initials: Vec<u16>,
     plant_events: Vec<[u32; W]>,
     controllable: [u32; W],
 }
@@ -64,7 +65,18 @@ impl<const W: usize> HostTables<W> {
         let block = packed.automata.iter().flat_map(|b| b.block.iter().copied()).collect();
         let masks = packed.mask_pool();
         let holder_lists = packed.holder_lists();
-        Ok(HostTables { packed, side, automata, block, masks, holder_lists, plant_events, controllable })
+        let initials = packed.initials();
+        Ok(HostTables {
+            packed,
+            side,
+            automata,
+            block,
+            masks,
+            holder_lists,
+            initials,
+            plant_events,
+            controllable,
+        })
     }
 
     /// Event names by global id (not part of the runtime's tables).
@@ -83,7 +95,8 @@ impl<const W: usize> HostTables<W> {
             masks: &self.masks,
             // At most 256 events: 32 bytes.
             mask_bytes: self.packed.mask_width() as u8,
-            indexed: self.packed.indexed,
+            layout: self.packed.layout.id(),
+            initials: &self.initials,
             holder_lists: &self.holder_lists,
             holders: &self.side.holders,
             plant_events: &self.plant_events,

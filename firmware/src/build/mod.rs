@@ -1,5 +1,6 @@
-//! Building the tables on the host (feature `build`): the encoder of the `ranked` layout ([`encode`],
-//! the layout itself is described once, in [`crate::table`]), the side tables of the runtime's hot path
+//! Building the tables on the host (feature `build`): the encoder of every layout ([`encode_as`]; the
+//! `ranked` one is [`encode`], the others are in [`records`] and [`compact`]; the layouts themselves are
+//! described once, in [`crate::table`]), the side tables of the runtime's hot path
 //! ([`SideTables`]) and tables owned on the host that the runtime can borrow ([`HostTables`]).
 //!
 //! As regex-automata builds its DFAs with `dfa-build` and searches them `no_std`, the construction of
@@ -19,9 +20,11 @@
 //! * [`bitset`] — event bitsets of any word count, as the tables hold them.
 
 pub mod bitset;
+pub mod compact;
 mod error;
 mod host;
 mod ranked;
+pub mod records;
 mod side;
 
 pub use error::{BuildError, ReadError};

@@ -71,7 +71,7 @@ pub struct SourceAutomaton {
     pub out: Vec<Vec<(usize, usize)>>,
 }
 
-/// The two record layouts of [`crate::table`].
+/// The record layouts of [`crate::table`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Layout {
     /// A target per event of the state's out-mask, masks of `⌈events / 8⌉` bytes: the smaller.
@@ -79,9 +79,43 @@ pub enum Layout {
     /// A target per event of the automaton's alphabet, masks of whole words: no rank and aligned mask
     /// loads in a step, for cores without unaligned loads or a bit-scan instruction (Cortex-M0+).
     Indexed,
+    /// The reference tool's vector, to the byte ([`crate::table::records`]).
+    MemorySafe,
+    /// The reference tool's records with targets as offsets ([`crate::table::records`]).
+    Offset,
+    /// Bit-packed over local alphabets ([`crate::table::compact`]).
+    Compact,
 }
 
-/// A set in the `ranked` or `indexed` layout: what [`crate::table::SupervisorSet`] holds, with names.
+impl Layout {
+    /// Every layout, in the size report's order.
+    pub const ALL: [Layout; 5] =
+        [Layout::MemorySafe, Layout::Offset, Layout::Ranked, Layout::Indexed, Layout::Compact];
+
+    /// The layout whose runtime id ([`crate::table::layout`]) is `id`.
+    pub fn of_id(id: u8) -> Option<Layout> {
+        Layout::ALL.into_iter().find(|l| l.id() == id)
+    }
+
+    /// The runtime's id of the layout ([`crate::table::layout`]).
+    pub fn id(self) -> u8 {
+        use crate::table::layout;
+        match self {
+            Layout::Ranked => layout::RANKED,
+            Layout::Indexed => layout::INDEXED,
+            Layout::MemorySafe => layout::MEMORY_SAFE,
+            Layout::Offset => layout::OFFSET,
+            Layout::Compact => layout::COMPACT,
+        }
+    }
+
+    /// Whether the records name masks of a pool (`ranked`, `indexed`).
+    pub fn has_pool(self) -> bool {
+        crate::table::layout::has_pool(self.id())
+    }
+}
+
+/// A set in one of the layouts: what [`crate::table::SupervisorSet`] holds, with names.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Packed {
     /// Event names by global id.
@@ -91,24 +125,29 @@ pub struct Packed {
     /// How many of the automata, the first ones, are plants.
     pub plants: usize,
     /// The pool of distinct out-masks (`ranked`) or allowed sets (`indexed`: the out-mask and every
-    /// event outside the automaton's alphabet), each ⌈e/32⌉ words, in first-appearance order.
+    /// event outside the automaton's alphabet), each ⌈e/32⌉ words, in first-appearance order; empty in
+    /// the layouts without a pool.
     pub masks: Vec<Vec<u32>>,
     /// Mask ids and target handles take 2 bytes (little-endian) instead of 1, in every block.
     pub wide: bool,
-    /// The records hold a target per event of the alphabet (`indexed` layout).
-    pub indexed: bool,
+    /// The layout of the blocks.
+    pub layout: Layout,
     /// Plants first, then supervisors.
     pub automata: Vec<Block>,
 }
 
-/// One automaton in the `ranked` layout: the runtime's [`crate::table::Automaton`] and its block.
+/// One automaton: the runtime's [`crate::table::Automaton`] and its block.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Block {
     /// Automaton name.
     pub name: String,
-    /// Index of the initial state, whose record comes first (handle 0).
+    /// Index of the initial state (whose record comes first, handle 0, in `ranked` and `indexed`).
     pub initial: usize,
-    /// Bytes per handle unit: a record starts at byte `handle · scale` of the block (≥ 1).
+    /// The initial state's handle ([`crate::table::SupervisorSet::initials`]; 0 in `ranked` and
+    /// `indexed`).
+    pub handle: u16,
+    /// Bytes per handle unit: a record starts at byte `handle · scale` of the block (≥ 1; 1 in the
+    /// layouts without a pool).
     pub scale: u8,
     /// The records (see [`crate::table`]).
     pub block: Vec<u8>,
@@ -147,12 +186,81 @@ impl Packed {
     }
 
     /// Bytes of one mask in the runtime's pool: enough for the events (at least one), whole words in
-    /// the `indexed` layout.
+    /// the `indexed` layout, 0 in the layouts without a pool.
     pub fn mask_width(&self) -> usize {
-        if self.indexed {
-            4 * self.words().max(1)
+        match self.layout {
+            Layout::Indexed => 4 * self.words().max(1),
+            Layout::Ranked => self.event_names.len().div_ceil(8).max(1),
+            _ => 0,
+        }
+    }
+
+    /// The runtime's initial handles ([`crate::table::SupervisorSet::initials`]): one per automaton,
+    /// none in the layouts with a pool.
+    pub fn initials(&self) -> Vec<u16> {
+        if self.layout.has_pool() {
+            return Vec::new();
+        }
+        self.automata.iter().map(|b| b.handle).collect()
+    }
+
+    /// Whether the records hold a target per event of the alphabet (`indexed` layout).
+    pub fn indexed(&self) -> bool {
+        self.layout == Layout::Indexed
+    }
+
+    /// Units of a position per byte of the block: 8 in `compact` (bit offsets), else 1.
+    pub fn position_unit(&self) -> usize {
+        if self.layout == Layout::Compact {
+            8
         } else {
-            self.event_names.len().div_ceil(8).max(1)
+            1
+        }
+    }
+
+    /// The handle of every state of automaton `a`, by state index ([`crate::table`] says what a handle
+    /// is in each layout).
+    pub fn handles(&self, a: usize) -> Result<Vec<u16>, ReadError> {
+        let positions = self.state_positions(a)?;
+        Ok(match self.layout {
+            Layout::Ranked | Layout::Indexed => {
+                let mut handles = vec![0; positions.len()];
+                for r in self.records(a)? {
+                    if let Some(h) = handles.get_mut(r.state) {
+                        *h = r.handle;
+                    }
+                }
+                handles
+            }
+            Layout::Compact => {
+                let base = positions.first().map_or(0, |p| p.0);
+                positions.iter().map(|p| (p.0 - base) as u16).collect()
+            }
+            Layout::MemorySafe | Layout::Offset => positions.iter().map(|p| p.0 as u16).collect(),
+        })
+    }
+
+    /// Every state of automaton `a`: its position from the automaton's start (in
+    /// [`Packed::position_unit`]s) and its out-events, in block order.
+    pub fn state_positions(&self, a: usize) -> Result<Vec<(usize, Vec<u32>)>, ReadError> {
+        let words = self.words();
+        match self.layout {
+            Layout::Ranked | Layout::Indexed => {
+                let b = self.automata.get(a);
+                Ok(self
+                    .records(a)?
+                    .into_iter()
+                    .map(|r| (r.at, b.and_then(|b| self.out_mask(b, r.mask)).unwrap_or_default()))
+                    .collect())
+            }
+            Layout::Compact => Ok(self
+                .automata
+                .get(a)
+                .map(|b| super::compact::states(&b.block, &b.alphabet, words))
+                .unwrap_or_default()),
+            Layout::MemorySafe | Layout::Offset => {
+                Ok(self.automata.get(a).map(|b| super::records::states(&b.block, words)).unwrap_or_default())
+            }
         }
     }
 
@@ -160,6 +268,9 @@ impl Packed {
     /// [`Packed::mask_width`] bytes, little-endian, then the padding that lets the runtime read whole
     /// words from the last, packed little-endian into words.
     pub fn mask_pool(&self) -> Vec<u32> {
+        if !self.layout.has_pool() {
+            return Vec::new();
+        }
         let width = self.mask_width();
         // A mask of a set without events has no words: its byte is 0.
         let mut pool: Vec<u8> = self
@@ -179,9 +290,9 @@ impl Packed {
 
     /// The runtime's holder lists ([`crate::table::SupervisorSet::holder_lists`]): per event and one more,
     /// where its list starts; then per event the automata holding it, in index order, each with the
-    /// event's place in its alphabet. Empty in the `ranked` layout.
+    /// event's place in its alphabet. Empty in the other layouts.
     pub fn holder_lists(&self) -> Vec<u16> {
-        if !self.indexed {
+        if !self.indexed() {
             return Vec::new();
         }
         let events = self.event_names.len();
@@ -235,7 +346,7 @@ impl Packed {
     /// within the alphabet (`indexed`, whose pool holds allowed sets).
     pub fn out_mask(&self, b: &Block, id: usize) -> Option<Vec<u32>> {
         let entry = self.masks.get(id)?;
-        Some(if self.indexed {
+        Some(if self.indexed() {
             entry.iter().zip(&b.alphabet).map(|(m, al)| m & al).collect()
         } else {
             entry.clone()
@@ -247,7 +358,7 @@ impl Packed {
         let records = self.records(a)?;
         let t_bytes = self.field_bytes();
         let alphabet = self.automata.get(a).map_or(0, |b| bitset::ids(&b.alphabet).count());
-        let targets = |r: &Record| if self.indexed { alphabet } else { r.targets.len() };
+        let targets = |r: &Record| if self.indexed() { alphabet } else { r.targets.len() };
         let used: usize = records.iter().map(|r| (1 + targets(r)) * t_bytes).sum();
         Ok(self.automata.get(a).map_or(0, |b| b.block.len()).saturating_sub(used))
     }
@@ -274,7 +385,7 @@ impl Packed {
             let mask = self.masks.get(id).ok_or(ReadError::BadMask { what: what(), at, id })?;
             // Indexed: the allowed set holds every event outside the alphabet (nothing to look for in a
             // ranked set).
-            let outside = if self.indexed { self.event_names.len() } else { 0 };
+            let outside = if self.indexed() { self.event_names.len() } else { 0 };
             let lacking = |e: &usize| !bitset::contains(&b.alphabet, *e) && !bitset::contains(mask, *e);
             if let Some(e) = (0..outside).find(lacking) {
                 return Err(ReadError::Inconsistent {
@@ -283,7 +394,7 @@ impl Packed {
                 });
             }
             // The events with a target field: the mask's, or the alphabet's in the `indexed` layout.
-            let fields: Vec<usize> = bitset::ids(if self.indexed { &b.alphabet } else { mask }).collect();
+            let fields: Vec<usize> = bitset::ids(if self.indexed() { &b.alphabet } else { mask }).collect();
             let first = at + id_bytes;
             let end = first + fields.len() * t_bytes;
             if end > bytes.len() {
@@ -403,8 +514,8 @@ fn record_order(a: &SourceAutomaton) -> Vec<usize> {
 /// (`a`'s, ascending).
 fn targets(a: &SourceAutomaton, s: usize, alphabet: &[usize], layout: Layout) -> usize {
     match layout {
-        Layout::Ranked => a.out[s].len(),
         Layout::Indexed => alphabet.len(),
+        _ => a.out[s].len(),
     }
 }
 
@@ -428,6 +539,25 @@ pub fn encode_as(source: &Source, layout: Layout) -> Result<Packed, BuildError> 
             });
         }
     }
+    let packed = |masks, wide, automata| Packed {
+        event_names: source.event_names.clone(),
+        controllable: bitset::from_ids(
+            (0..events).filter(|&e| source.controllable.get(e).copied().unwrap_or(false)),
+            events,
+        ),
+        plants: source.plants,
+        masks,
+        wide,
+        layout,
+        automata,
+    };
+    match layout {
+        Layout::Ranked | Layout::Indexed => {}
+        Layout::MemorySafe | Layout::Offset => {
+            return Ok(packed(Vec::new(), false, super::records::encode(source, layout)?))
+        }
+        Layout::Compact => return Ok(packed(Vec::new(), false, super::compact::encode(source)?)),
+    }
     // The pool, in first-appearance order, and every state's mask id. Indexed: allowed sets, the
     // out-mask with the events outside the alphabet.
     let mut masks: Vec<Vec<u32>> = Vec::new();
@@ -436,8 +566,8 @@ pub fn encode_as(source: &Source, layout: Layout) -> Result<Packed, BuildError> 
     for a in &source.automata {
         let mut of_automaton = Vec::with_capacity(a.out.len());
         let outside: Vec<usize> = match layout {
-            Layout::Ranked => Vec::new(),
             Layout::Indexed => (0..events).filter(|e| !a.alphabet.contains(e)).collect(),
+            _ => Vec::new(),
         };
         for edges in &a.out {
             let mask = bitset::from_ids(edges.iter().map(|&(e, _)| e).chain(outside.iter().copied()), events);
@@ -494,11 +624,11 @@ pub fn encode_as(source: &Source, layout: Layout) -> Result<Packed, BuildError> 
             block.extend_from_slice(&(ids[s] as u16).to_le_bytes()[..width]);
             let target = |t: usize| handles[t] as u16;
             let fields: Vec<u16> = match layout {
-                Layout::Ranked => a.out[s].iter().map(|&(_, t)| target(t)).collect(),
                 Layout::Indexed => alphabet
                     .iter()
                     .map(|&e| a.out[s].iter().find(|&&(x, _)| x == e).map_or(0, |&(_, t)| target(t)))
                     .collect(),
+                _ => a.out[s].iter().map(|&(_, t)| target(t)).collect(),
             };
             for h in fields {
                 block.extend_from_slice(&h.to_le_bytes()[..width]);
@@ -516,23 +646,13 @@ pub fn encode_as(source: &Source, layout: Layout) -> Result<Packed, BuildError> 
         automata.push(Block {
             name: a.name.clone(),
             initial: a.initial,
+            handle: 0,
             scale,
             block,
             alphabet: bitset::from_ids(a.alphabet.iter().copied(), events),
         });
     }
-    Ok(Packed {
-        event_names: source.event_names.clone(),
-        controllable: bitset::from_ids(
-            (0..events).filter(|&e| source.controllable.get(e).copied().unwrap_or(false)),
-            events,
-        ),
-        plants: source.plants,
-        masks,
-        wide,
-        indexed: layout == Layout::Indexed,
-        automata,
-    })
+    Ok(packed(masks, wide, automata))
 }
 
 #[cfg(test)]

@@ -19,8 +19,9 @@ pub struct SideTables {
     /// Per plant, a bitset: the controllable events it generates (of its alphabet, those no earlier
     /// plant holds).
     pub plant_events: Vec<Vec<u32>>,
-    /// Choice sites (plant states with two or more generated controllable out-events), each as the
-    /// offset of its record in the blocks back to back, ascending.
+    /// Choice sites (plant states with two or more generated controllable out-events), each as its
+    /// position in the blocks back to back (its record's offset; its mask's bit offset in `compact`),
+    /// ascending.
     pub sites: Vec<u16>,
 }
 
@@ -74,14 +75,14 @@ impl SideTables {
             }
         }
         let mut sites = Vec::new();
+        let unit = packed.position_unit();
         for (p, start) in packed.starts().into_iter().enumerate().take(plants) {
-            for r in packed.records(p)? {
-                let mask = packed.masks.get(r.mask).map_or(&[][..], Vec::as_slice);
+            for (at, out) in packed.state_positions(p)? {
                 let generated =
-                    (0..events).filter(|&e| bitset::contains(mask, e) && owner[e] == Some(p)).count();
+                    (0..events).filter(|&e| bitset::contains(&out, e) && owner[e] == Some(p)).count();
                 if generated >= 2 {
-                    // Records start in the first 64 KiB of the blocks back to back (`encode`).
-                    sites.push((start + r.at) as u16);
+                    // Positions fit 16 bits (`encode_as`).
+                    sites.push((unit * start + at) as u16);
                 }
             }
         }

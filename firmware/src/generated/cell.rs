@@ -16,7 +16,7 @@
 //   d85f74d31722ca93567b5b121b1f57b1f8f787a68db600bcd9ff668b729d4015  examples/cell/specs/E5.xmd
 //   0c602b88ff2a91ae64808f59ffe6c4e654569abe256985369c1edbd03e0ceab8  examples/cell/specs/E6.xmd
 //   4012bdea376111ecd8d1dda8e887b4f20d52a43babada815a4baa9e132a1e30b  examples/cell/specs/E7.xmd
-// Options: policy=random-local-queue seed=1 guard=true on_fault=continue input_buffer=32 reseed_every=1024
+// Options: policy=random-local-queue seed=1 guard=true on_fault=continue input_buffer=32 reseed_every=1024 layout=default
 // Choice-policy RAM in bytes (3 choice sites): first 0, random 0, global-queue 1, random-global-queue 4, local-queue 4, random-local-queue 12
 
 /// Name of the supervisor set.
@@ -104,13 +104,13 @@ static PLANT_EVENTS: [[u32; EVENT_WORDS]; 4] = [[0x00000003], [0x00000000], [0x0
 // The tables of cores with unaligned loads (the QEMU board's Cortex-M3).
 /// Mask ids and state handles take 2 bytes in the records.
 pub const WIDE: bool = false;
-/// Bytes of one mask in the pool.
+/// Bytes of one mask in the pool (0: a layout without a pool).
 pub const MASK_BYTES: usize = 3;
-/// The records hold a target per event of the alphabet (`indexed` layout).
-pub const INDEXED: bool = false;
+/// The record layout (`ranked`): the reader the runtime compiles in.
+pub const LAYOUT: u8 = firmware::table::layout::RANKED;
 /// The runtime over these tables, choosing with `P` and drawing entropy from `E`.
 pub type Runtime<P, E> =
-    firmware::runtime::Runtime<'static, P, E, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES, INDEXED>;
+    firmware::runtime::Runtime<'static, P, E, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES, LAYOUT>;
 /// The records of every automaton (`ranked` layout), back to back in set order; 1-byte mask ids and handles.
 static BLOCK: [u8; 1028] = [
     // G1 from byte 0: scale 1
@@ -280,10 +280,12 @@ static DESCRIPTORS: [firmware::table::Automaton<EVENT_WORDS>; 10] = [
         scale: 1,
     },
 ];
-/// Per event and one more, where its holder list starts; then per event the automata holding it, each with the event's place in its alphabet in the high byte (`indexed` layout).
+/// Per event and one more, where its holder list starts; then per event the automata holding it, each with the event's place in its alphabet in the high byte (`indexed` layout; empty in the others).
 static HOLDER_LISTS: [u16; 0] = [
 ];
-/// The choice sites, as the offsets of their records in `BLOCK`.
+/// Per automaton, its initial state's handle (empty when the initial records come first).
+static INITIALS: [u16; 0] = [];
+/// The choice sites, as their positions in `BLOCK` (bit offsets in `compact`, else byte offsets).
 static CHOICE_SITES: [u16; 3] = [10, 28, 31];
 
 /// The set the runtime runs.
@@ -295,14 +297,15 @@ pub static SET: firmware::table::SupervisorSet<'static, EVENT_WORDS> = firmware:
     wide: WIDE,
     masks: &MASKS,
     mask_bytes: MASK_BYTES as u8,
-    indexed: INDEXED,
+    layout: LAYOUT,
+    initials: &INITIALS,
     holder_lists: &HOLDER_LISTS,
     holders: &HOLDERS,
     plant_events: &PLANT_EVENTS,
     sites: &CHOICE_SITES,
 };
 /// The set, checked when it is compiled: tables the runtime cannot run do not build.
-pub static CHECKED: firmware::table::CheckedSet<'static, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES, INDEXED> =
+pub static CHECKED: firmware::table::CheckedSet<'static, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES, LAYOUT> =
     match firmware::table::CheckedSet::new(&SET) {
         Ok(set) => set,
         Err(_) => panic!("the tables fail the runtime's check"),
@@ -314,13 +317,13 @@ pub mod m0plus {
 
     /// Mask ids and state handles take 2 bytes in the records.
     pub const WIDE: bool = false;
-    /// Bytes of one mask in the pool.
+    /// Bytes of one mask in the pool (0: a layout without a pool).
     pub const MASK_BYTES: usize = 4;
-    /// The records hold a target per event of the alphabet (`indexed` layout).
-    pub const INDEXED: bool = true;
+    /// The record layout (`indexed`): the reader the runtime compiles in.
+    pub const LAYOUT: u8 = firmware::table::layout::INDEXED;
     /// The runtime over these tables, choosing with `P` and drawing entropy from `E`.
     pub type Runtime<P, E> =
-        firmware::runtime::Runtime<'static, P, E, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES, INDEXED>;
+        firmware::runtime::Runtime<'static, P, E, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES, LAYOUT>;
     /// The records of every automaton (`indexed` layout), back to back in set order; 1-byte mask ids and handles.
     static BLOCK: [u8; 4225] = [
         // G1 from byte 0: scale 1
@@ -698,7 +701,7 @@ pub mod m0plus {
             scale: 1,
         },
     ];
-    /// Per event and one more, where its holder list starts; then per event the automata holding it, each with the event's place in its alphabet in the high byte (`indexed` layout).
+    /// Per event and one more, where its holder list starts; then per event the automata holding it, each with the event's place in its alphabet in the high byte (`indexed` layout; empty in the others).
     static HOLDER_LISTS: [u16; 134] = [
         0x0018, 0x001b, 0x001e, 0x0021, 0x0024, 0x0027, 0x002a, 0x0030, 0x0036, 0x003c, 0x0042, 0x0048,
         0x004e, 0x0054, 0x005a, 0x0060, 0x0066, 0x006c, 0x0072, 0x0076, 0x007a, 0x007e, 0x0082, 0x0086,
@@ -713,7 +716,9 @@ pub mod m0plus {
         0x0d06, 0x0d07, 0x0203, 0x0e05, 0x0e06, 0x0e07, 0x0303, 0x0f05, 0x0f06, 0x0f07, 0x0403, 0x1005,
         0x1006, 0x1007,
     ];
-    /// The choice sites, as the offsets of their records in `BLOCK`.
+    /// Per automaton, its initial state's handle (empty when the initial records come first).
+    static INITIALS: [u16; 0] = [];
+    /// The choice sites, as their positions in `BLOCK` (bit offsets in `compact`, else byte offsets).
     static CHOICE_SITES: [u16; 3] = [16, 94, 100];
 
     /// The set the runtime runs.
@@ -725,14 +730,15 @@ pub mod m0plus {
         wide: WIDE,
         masks: &MASKS,
         mask_bytes: MASK_BYTES as u8,
-        indexed: INDEXED,
+        layout: LAYOUT,
+        initials: &INITIALS,
         holder_lists: &HOLDER_LISTS,
         holders: &HOLDERS,
         plant_events: &PLANT_EVENTS,
         sites: &CHOICE_SITES,
     };
     /// The set, checked when it is compiled: tables the runtime cannot run do not build.
-    pub static CHECKED: firmware::table::CheckedSet<'static, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES, INDEXED> =
+    pub static CHECKED: firmware::table::CheckedSet<'static, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES, LAYOUT> =
         match firmware::table::CheckedSet::new(&SET) {
             Ok(set) => set,
             Err(_) => panic!("the tables fail the runtime's check"),

@@ -2,11 +2,13 @@
 //! unchecked reads sound, a `const fn`: the emitted tables run it at compile time, host tools at run
 //! time.
 
+use super::layout::{self, COMPACT, INDEXED, RANKED};
 use super::{SupervisorSet, TableError, MAX_AUTOMATA, MAX_BLOCK, MAX_EVENTS, MAX_MASKS};
 
 /// A set that passed [`SupervisorSet::check`] for `N` automata, with 2-byte fields exactly when `WIDE`
-/// ([`SupervisorSet::wide`]), masks of `MASK` bytes ([`SupervisorSet::mask_bytes`]) and the `indexed`
-/// layout exactly when `INDEXED` ([`SupervisorSet::indexed`]): the only form the runtime takes. The
+/// ([`SupervisorSet::wide`]), masks of `MASK` bytes ([`SupervisorSet::mask_bytes`]; 0 and narrow fields
+/// in the layouts without a pool) and the layout `LAYOUT` ([`SupervisorSet::layout`], one of
+/// [`layout`]'s ids): the only form the runtime takes. The
 /// emitted tables build theirs in a `static`, so the check runs in the compiler and a set that fails it
 /// does not build; host tools build theirs at run time. The widths and the layout are type parameters so
 /// that the runtime's steps are compiled for them.
@@ -17,16 +19,16 @@ pub struct CheckedSet<
     const N: usize,
     const WIDE: bool,
     const MASK: usize,
-    const INDEXED: bool,
+    const LAYOUT: u8,
 >(&'t SupervisorSet<'t, W>);
 
-impl<'t, const W: usize, const N: usize, const WIDE: bool, const MASK: usize, const INDEXED: bool>
-    CheckedSet<'t, W, N, WIDE, MASK, INDEXED>
+impl<'t, const W: usize, const N: usize, const WIDE: bool, const MASK: usize, const LAYOUT: u8>
+    CheckedSet<'t, W, N, WIDE, MASK, LAYOUT>
 {
     /// `set`, if it passes the check for `N` automata and has the widths `WIDE` and `MASK` and the
-    /// layout `INDEXED`.
+    /// layout `LAYOUT`.
     pub const fn new(set: &'t SupervisorSet<'t, W>) -> Result<Self, TableError> {
-        if set.wide != WIDE || set.mask_bytes as usize != MASK || set.indexed != INDEXED {
+        if set.wide != WIDE || set.mask_bytes as usize != MASK || set.layout != LAYOUT {
             return Err(TableError::Shape);
         }
         match set.check(N) {
@@ -56,7 +58,7 @@ pub(super) const fn field(block: &[u8], wide: bool, at: usize, i: usize) -> Opti
 }
 
 /// Whether handle `h` is below `handles` and, when in the 256 handles from `base`, marked in `starts`.
-const fn marked(starts: &[u32; 8], base: usize, handles: usize, h: usize) -> bool {
+pub(super) const fn marked(starts: &[u32; 8], base: usize, handles: usize, h: usize) -> bool {
     let i = h.wrapping_sub(base);
     h < handles && (i >= 256 || starts[i / 32] & (1 << (i % 32)) != 0)
 }
@@ -126,7 +128,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     /// never names, read as safely as the others.
     pub const fn mask_count(&self) -> Option<usize> {
         let stride = self.mask_bytes as usize;
-        if stride == 0 || stride > 4 * W || (self.indexed && stride % 4 != 0) {
+        if stride == 0 || stride > 4 * W || (self.layout == INDEXED && stride % 4 != 0) {
             return None;
         }
         let (bytes, pad) = (4 * self.masks.len(), 4 * W - stride);
@@ -189,9 +191,17 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         {
             return Err(TableError::Events);
         }
+        if !matches!(self.layout, layout::RANKED..=layout::COMPACT) {
+            return Err(TableError::Shape);
+        }
         match self.mask_count() {
             // The bits the runtime reads beyond a mask's own bytes are no events.
             Some(count) if count <= MAX_MASKS && events <= 8 * self.mask_bytes as usize => {}
+            // Layouts without a pool have neither masks nor a field width.
+            _ if !layout::has_pool(self.layout)
+                && self.masks.is_empty()
+                && self.mask_bytes == 0
+                && !self.wide => {}
             _ => return Err(TableError::Size),
         }
         // Controllable events are events of the set: the runtime fires them through their holders.
@@ -224,6 +234,11 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         if !self.lists_sound(events) {
             return Err(TableError::Events);
         }
+        // One initial handle per automaton where the layout has them (checked with each automaton).
+        let initials = if layout::has_pool(self.layout) { 0 } else { automata };
+        if self.initials.len() != initials {
+            return Err(TableError::Automata);
+        }
         let mut a = 0;
         while a < automata {
             if !self.part_sound(a) {
@@ -247,7 +262,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     /// holders in index order, each with the event's place in its alphabet.
     const fn lists_sound(&self, events: usize) -> bool {
         let (lists, width) = (self.holder_lists, holder_bytes(self.automata.len()));
-        if !self.indexed {
+        if self.layout != INDEXED {
             return lists.is_empty();
         }
         if lists.len() <= events || lists[0] as usize != events + 1 || lists[events] as usize != lists.len() {
@@ -322,7 +337,10 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
             }
             w += 1;
         }
-        if self.indexed {
+        if !layout::has_pool(self.layout) {
+            return if self.layout == COMPACT { self.compact_sound(a) } else { self.records_sound(a) };
+        }
+        if self.layout == INDEXED {
             return self.uniform_part_sound(a);
         }
         let mut base = 0;
@@ -377,7 +395,8 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         let mut w = 0;
         while w < W {
             let outside = !alphabet[w] & !beyond(events, w);
-            if self.indexed && outside & !mask[w] != 0 || !self.indexed && mask[w] & !alphabet[w] != 0 {
+            let indexed = self.layout == INDEXED;
+            if indexed && outside & !mask[w] != 0 || !indexed && mask[w] & !alphabet[w] != 0 {
                 return false;
             }
             w += 1;
@@ -440,12 +459,18 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         true
     }
 
-    /// Whether byte `at` of the block starts a record of a plant.
+    /// Whether `at` is the position of a plant's state.
     const fn is_plant_record(&self, at: usize) -> bool {
         let mut p = 0;
         while p < self.plants as usize {
             let (start, end) = self.part(p);
-            if start <= at && at < end {
+            if self.layout == COMPACT {
+                if let Some(base) = self.compact_base(p) {
+                    if base <= at && at < 8 * end {
+                        return at - base <= u16::MAX as usize && self.is_state(p, (at - base) as u16);
+                    }
+                }
+            } else if start <= at && at < end {
                 let scale = self.automata[p].scale as usize;
                 return scale != 0
                     && (at - start) % scale == 0
@@ -456,12 +481,28 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         false
     }
 
-    /// Whether `handle` starts a record of automaton `a` (a state of it).
+    /// The position of automaton `a`'s stream (its handle 0) in a `compact` set, if its header lies in
+    /// the block.
+    const fn compact_base(&self, a: usize) -> Option<usize> {
+        let start = self.part(a).0;
+        if start + super::compact::HEADER > self.block.len() {
+            return None;
+        }
+        let dir = u16::from_le_bytes([self.block[start + 6], self.block[start + 7]]) as usize;
+        Some(8 * (start + super::compact::HEADER + dir))
+    }
+
+    /// Whether `handle` is a state of automaton `a` (a record's, or in `compact` a mask's).
     pub const fn is_state(&self, a: usize, handle: u16) -> bool {
         if a >= self.automata.len() {
             return false;
         }
-        if self.indexed {
+        match self.layout {
+            RANKED | INDEXED => {}
+            COMPACT => return self.is_compact_state(a, handle),
+            _ => return self.is_record(a, handle),
+        }
+        if self.layout == INDEXED {
             return match self.uniform(a) {
                 Some((unit, count, _)) => handle as usize % unit == 0 && (handle as usize) < count * unit,
                 None => false,
@@ -487,7 +528,7 @@ mod tests {
     use super::*;
 
     /// The cell-sized check runs in the compiler: this `static` is the proof.
-    static CHECKED: CheckedSet<'static, 1, 1, false, 1, false> =
+    static CHECKED: CheckedSet<'static, 1, 1, false, 1, RANKED> =
         match CheckedSet::new(&super::super::tests::TOGGLE) {
             Ok(set) => set,
             Err(_) => panic!("the toggle fails the check"),
@@ -534,13 +575,13 @@ mod tests {
             Err(TableError::Sites)
         );
         assert_eq!(toggle().check(2), Err(TableError::Automata));
-        assert!(CheckedSet::<1, 2, false, 1, false>::new(&super::super::tests::TOGGLE).is_err());
+        assert!(CheckedSet::<1, 2, false, 1, RANKED>::new(&super::super::tests::TOGGLE).is_err());
         assert_eq!(
-            CheckedSet::<1, 1, true, 1, false>::new(&super::super::tests::TOGGLE).err(),
+            CheckedSet::<1, 1, true, 1, RANKED>::new(&super::super::tests::TOGGLE).err(),
             Some(TableError::Shape)
         );
         assert_eq!(
-            CheckedSet::<1, 1, false, 4, false>::new(&super::super::tests::TOGGLE).err(),
+            CheckedSet::<1, 1, false, 4, RANKED>::new(&super::super::tests::TOGGLE).err(),
             Some(TableError::Shape)
         );
     }
@@ -554,7 +595,7 @@ mod tests {
             block: &[0, 1, 0, 1, 0, 0],
             masks: &[0b01, 0b10],
             mask_bytes: 4,
-            indexed: true,
+            layout: INDEXED,
             holder_lists: &[3, 4, 5, 0x000, 0x100],
             ..toggle()
         }
@@ -565,8 +606,8 @@ mod tests {
         let t = indexed_toggle();
         assert_eq!(t.check(1), Ok(()));
         assert_eq!((t.step(0, 0, 0), t.step(0, 1, 1), t.step(0, 0, 1)), (Some(1), Some(0), None));
-        assert!(CheckedSet::<1, 1, false, 4, true>::new(&t).is_ok());
-        assert_eq!(CheckedSet::<1, 1, false, 4, false>::new(&t).err(), Some(TableError::Shape));
+        assert!(CheckedSet::<1, 1, false, 4, INDEXED>::new(&t).is_ok());
+        assert_eq!(CheckedSet::<1, 1, false, 4, RANKED>::new(&t).err(), Some(TableError::Shape));
         // A place that is not the event's, a list of another length, starts out of the table or out of
         // order, an automaton that does not hold the event, or lists in a ranked set.
         for holder_lists in [

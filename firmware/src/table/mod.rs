@@ -1,6 +1,9 @@
 //! This module is the home of the tables the runtime reads: one [`SupervisorSet`], emitted by `codegen`
-//! as `static` data in flash, in one of two record layouts, `ranked` (the smaller) or `indexed` (the
-//! faster on a core without unaligned loads).
+//! as `static` data in flash, in one of five record layouts ([`layout`]): `ranked` (small and fast on
+//! the Cortex-M3), `indexed` (the faster on a core without unaligned loads), and the three of the size
+//! report that trade speed for compatibility or size — `memory-safe` (the reference tool's vector, to
+//! the byte, stepped by its walk to state k), `offset` (the same records with targets as offsets: no
+//! walk) and `compact` (bit-packed over local alphabets), described in [`records`] and [`compact`].
 //!
 //! # The `ranked` layout
 //!
@@ -49,6 +52,11 @@
 //! and no bit-scan instruction, so the rank's loop and the assembly of a 3-byte mask there cost more
 //! than the rest of a step).
 //!
+//! In every layout the runtime holds a state as a 16-bit *position*: the byte offset of its record in
+//! the block (the bit offset of its mask in `compact`), so that choice sites ([`SupervisorSet::sites`])
+//! are positions too. A state's *handle* is its position from its automaton's start (in scale units in
+//! `ranked` and `indexed`); [`SupervisorSet::initials`] holds the initial states'.
+//!
 //! Limits: at most 256 events and [`MAX_AUTOMATA`] automata, 65 536 handles per automaton, 65 536 masks,
 //! and every record starting in the first 64 KiB of the block ([`MAX_BLOCK`]): the runtime holds a
 //! state as its record's 16-bit offset.
@@ -73,7 +81,10 @@
 use crate::event_set::ones;
 
 mod checked;
+pub mod compact;
+pub mod layout;
 pub mod read;
+pub mod records;
 
 pub use checked::{holder_bytes, CheckedSet};
 
@@ -98,7 +109,8 @@ pub struct Automaton<const W: usize> {
     pub alphabet: [u32; W],
     /// Byte offset in the set's block of its first record, the initial state's (handle 0).
     pub start: u16,
-    /// Bytes per handle unit: a state's record starts at byte `start + handle · scale` (≥ 1).
+    /// Bytes per handle unit: a state's record starts at byte `start + handle · scale` (≥ 1; 1 in the
+    /// `memory-safe`, `offset` and `compact` layouts).
     pub scale: u8,
 }
 
@@ -126,9 +138,12 @@ pub struct SupervisorSet<'t, const W: usize> {
     pub masks: &'t [u32],
     /// Bytes per mask in the pool: enough for the event count (`⌈events / 8⌉`, at most `4 · W`).
     pub mask_bytes: u8,
-    /// The records hold a target per event of the alphabet (`indexed` layout), not per event of the
-    /// state's out-mask (`ranked`).
-    pub indexed: bool,
+    /// The record layout, one of [`layout`]'s ids: how the block is read.
+    pub layout: u8,
+    /// Per automaton, its initial state's handle: its record's offset from its start in `memory-safe`
+    /// and `offset`, its mask's bit offset in its stream in `compact`. Empty in `ranked` and `indexed`,
+    /// whose initial state's record comes first (handle 0), so that their tables carry nothing more.
+    pub initials: &'t [u16],
     /// The `indexed` layout's holder lists: first, per global event id and one more, the index in this
     /// table where the event's list starts (the last: the table's length); then the lists, one entry per
     /// automaton holding the event, in index order: the automaton in the low byte, the event's place in
@@ -159,7 +174,8 @@ pub enum TableError {
     Events,
     /// A choice site that starts no record of a plant.
     Sites,
-    /// The set's field or mask width or record layout is not the one the runtime was built for.
+    /// The set's field or mask width or record layout is not the one the runtime was built for, or a
+    /// layout id the runtime does not know.
     Shape,
     /// More than [`MAX_MASKS`] masks, a mask width that does not fit the events and `W` words, or (in
     /// the `indexed` layout) masks of other than whole words.
@@ -252,7 +268,8 @@ pub(crate) mod tests {
         // Masks {e0} and {e1}, a byte each, then padding to read a word from the last.
         masks: &[0x0201, 0],
         mask_bytes: 1,
-        indexed: false,
+        layout: layout::RANKED,
+        initials: &[],
         holder_lists: &[],
         holders: &[1, 1],
         plant_events: &[[0b01]],
@@ -284,11 +301,11 @@ pub(crate) mod tests {
     fn records_and_what_they_allow() {
         let t = toggle();
         let aut = &t.automata[0];
-        assert_eq!(SupervisorSet::handle_of(aut, 2), 1);
+        assert_eq!(t.handle_of(aut, 2), 1);
         assert_eq!(t.holders_of(1, t.holder_bytes()), Some(1));
         assert_eq!(t.holders_of(2, t.holder_bytes()), None);
         // SAFETY: the toggle passes the check (see `check`'s tests) and byte 2 starts its state 1.
-        let allowed = unsafe { t.allowed_at::<false, 1, false>(aut, 2) };
+        let allowed = unsafe { t.allowed_at::<false, 1, { layout::RANKED }>(aut, 2) };
         assert_eq!(allowed, [!0b01]);
     }
 }

@@ -2,6 +2,7 @@
 //! reads without bounds checks what [`SupervisorSet::check`] proved in bounds.
 
 use super::checked::{field, place};
+use super::layout::{COMPACT, INDEXED, MEMORY_SAFE, OFFSET, RANKED};
 use super::{rank, Automaton, Event, SupervisorSet};
 
 /// Field `i` of the record at byte `at` (the mask id, then the targets), of 2 bytes when `WIDE`, read
@@ -42,13 +43,37 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         Some(u32::from_le_bytes(mask))
     }
 
+    /// The position of `aut`'s state `handle` (see the module documentation of [`super`]): in `ranked`
+    /// and `indexed` its record's byte offset, in `memory-safe` and `offset` too, in `compact` its mask's
+    /// bit offset in the block.
+    pub fn position(&self, aut: &Automaton<W>, handle: u16) -> usize {
+        self.position_in(self.layout, aut, handle)
+    }
+
+    /// [`SupervisorSet::position`] in layout `layout`: the runtime passes its constant, so that its build
+    /// carries its own layout's arm only.
+    #[inline(always)]
+    pub fn position_in(&self, layout: u8, aut: &Automaton<W>, handle: u16) -> usize {
+        match layout {
+            RANKED | INDEXED => Self::record(aut, handle),
+            COMPACT => self.compact_stream(aut).unwrap_or(0) + usize::from(handle),
+            _ => usize::from(aut.start) + usize::from(handle),
+        }
+    }
+
     /// The out-mask of automaton `a`'s state `handle`, or `None` when it lies outside the tables. (A
-    /// handle that starts no record gives a meaningless but harmless answer.)
+    /// handle that is no state gives a meaningless but harmless answer.)
     pub fn mask(&self, a: usize, handle: u16) -> Option<[u32; W]> {
         let aut = self.automata.get(a)?;
-        let id = field(self.block, self.wide, Self::record(aut, handle), 0)?;
+        let at = self.position(aut, handle);
+        match self.layout {
+            RANKED | INDEXED => {}
+            COMPACT => return self.compact_events(aut, at),
+            _ => return self.record_events(at),
+        }
+        let id = field(self.block, self.wide, at, 0)?;
         let mut mask = self.mask_of(usize::from(id))?;
-        if self.indexed {
+        if self.layout == INDEXED {
             // The pool holds what the state allows: its out-events are those of the alphabet.
             for (m, al) in mask.iter_mut().zip(&aut.alphabet) {
                 *m &= al;
@@ -60,19 +85,30 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     /// The handle reached from automaton `a`'s state `handle` by `event`, or `None` when the state has
     /// no such transition (or the handle lies outside the tables).
     pub fn step(&self, a: usize, handle: u16, event: u8) -> Option<u16> {
+        let aut = self.automata.get(a)?;
+        let at = self.position(aut, handle);
+        match self.layout {
+            RANKED | INDEXED => {}
+            COMPACT => return self.compact_step(aut, at, event),
+            _ => return self.record_step(aut, at, event),
+        }
         let mask = self.mask(a, handle)?;
         let id = Event::new(event);
         if !id.in_set(&mask) {
             return None;
         }
-        let aut = self.automata.get(a)?;
-        let i = if self.indexed { place(&aut.alphabet, usize::from(event)) } else { rank(&mask, id) };
-        field(self.block, self.wide, Self::record(aut, handle), i + 1)
+        let i =
+            if self.layout == INDEXED { place(&aut.alphabet, usize::from(event)) } else { rank(&mask, id) };
+        field(self.block, self.wide, at, i + 1)
     }
 
-    /// The handle of `aut`'s state whose record starts at byte `at` of the block.
-    pub fn handle_of(aut: &Automaton<W>, at: u16) -> u16 {
-        at.wrapping_sub(aut.start) / u16::from(aut.scale.max(1))
+    /// The handle of `aut`'s state at position `at` (see [`SupervisorSet::position`]).
+    pub fn handle_of(&self, aut: &Automaton<W>, at: u16) -> u16 {
+        match self.layout {
+            RANKED | INDEXED => at.wrapping_sub(aut.start) / u16::from(aut.scale.max(1)),
+            COMPACT => at.wrapping_sub(self.compact_stream(aut).unwrap_or(0) as u16),
+            _ => at.wrapping_sub(aut.start),
+        }
     }
 
     /// The index of the choice site whose record starts at byte `at`, if it is one. A scan: sites are
@@ -82,20 +118,27 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         self.sites.iter().position(|&s| s == at)
     }
 
-    /// What `aut` allows in the state whose record starts at byte `at` of the block: its out-mask and
-    /// every event outside its alphabet (which the pool holds as it is in the `indexed` layout). Reads
-    /// without bounds checks, with the widths `WIDE` and `MASK` and the layout `INDEXED`.
+    /// What `aut` allows in its state at position `at`: its out-mask and every event outside its
+    /// alphabet (which the pool holds as it is in the `indexed` layout). Reads without bounds checks,
+    /// with the widths `WIDE` and `MASK` and the layout `LAYOUT`.
     ///
     /// # Safety
     ///
-    /// [`crate::table::CheckedSet::new`] returned `Ok` for this set, `WIDE`, `MASK` and `INDEXED`, `aut`
-    /// is one of its automata and `at` the record of one of its states.
+    /// [`crate::table::CheckedSet::new`] returned `Ok` for this set, `WIDE`, `MASK` and `LAYOUT`, `aut`
+    /// is one of its automata and `at` the position of one of its states.
     #[inline(always)]
-    pub unsafe fn allowed_at<const WIDE: bool, const MASK: usize, const INDEXED: bool>(
+    pub unsafe fn allowed_at<const WIDE: bool, const MASK: usize, const LAYOUT: u8>(
         &self,
         aut: &Automaton<W>,
         at: u16,
     ) -> [u32; W] {
+        match LAYOUT {
+            RANKED | INDEXED => {}
+            // SAFETY: the caller's promise.
+            COMPACT => return unsafe { self.compact_allowed(aut, at) },
+            // SAFETY: the caller's promise.
+            _ => return unsafe { self.records_allowed(aut, at) },
+        }
         // SAFETY: the check proved every state's record in the block and its mask id in the pool, which
         // is padded for `W` words from the last mask.
         let mut allowed = unsafe {
@@ -119,7 +162,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
             }
             mask
         };
-        if !INDEXED {
+        if LAYOUT == RANKED {
             // Bits beyond the mask's own bytes are no events, and no events are in the alphabet: allowed.
             for (m, al) in allowed.iter_mut().zip(&aut.alphabet) {
                 *m |= !al;
@@ -128,18 +171,18 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         allowed
     }
 
-    /// Moves `aut` by `event` from the state whose record starts at byte `at` and which allows `allowed`
-    /// (holding `event`, an event of the alphabet): both become the target's. In the `indexed` layout
-    /// (`INDEXED`) `place` is the event's place in the alphabet; the `ranked` layout ranks the event in
-    /// the state's mask instead. Reads without bounds checks.
+    /// Moves `aut` by `event` from its state at position `at`, which allows `allowed` (holding `event`,
+    /// an event of the alphabet): both become the target's. In the `indexed` layout `place` is the
+    /// event's place in the alphabet; the `ranked` layout ranks the event in the state's mask instead,
+    /// the others search or rank the state's record. Reads without bounds checks.
     ///
     /// # Safety
     ///
-    /// As for [`SupervisorSet::allowed_at`], and `INDEXED` is the set's layout; `allowed` is what that
-    /// state allows and holds `event`, an event of `aut`'s alphabet, whose place is `place` when
-    /// `INDEXED`.
+    /// As for [`SupervisorSet::allowed_at`], and `LAYOUT` is the set's layout; `allowed` is what that
+    /// state allows and holds `event`, an event of `aut`'s alphabet, whose place is `place` in the
+    /// `indexed` layout.
     #[inline(always)]
-    pub unsafe fn advance<const WIDE: bool, const MASK: usize, const INDEXED: bool>(
+    pub unsafe fn advance<const WIDE: bool, const MASK: usize, const LAYOUT: u8>(
         &self,
         aut: &Automaton<W>,
         at: &mut u16,
@@ -147,7 +190,20 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         event: Event,
         place: usize,
     ) {
-        let i = if INDEXED {
+        // SAFETY (all arms): the caller's promise; the event leaves the state.
+        let next = match LAYOUT {
+            RANKED | INDEXED => None,
+            MEMORY_SAFE => Some(unsafe { self.records_next::<true>(aut, *at, event) }),
+            OFFSET => Some(unsafe { self.records_next::<false>(aut, *at, event) }),
+            _ => Some(unsafe { self.compact_next(aut, *at, event) }),
+        };
+        if let Some(next) = next {
+            *at = next;
+            // SAFETY: the target is one of the automaton's states.
+            *allowed = unsafe { self.allowed_at::<WIDE, MASK, LAYOUT>(aut, next) };
+            return;
+        }
+        let i = if LAYOUT == INDEXED {
             place
         } else {
             let mut mask = *allowed;
@@ -162,7 +218,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         unsafe {
             let target = field_unchecked::<WIDE>(self.block, usize::from(*at), i + 1);
             *at = Self::record(aut, target) as u16;
-            *allowed = self.allowed_at::<WIDE, MASK, INDEXED>(aut, *at);
+            *allowed = self.allowed_at::<WIDE, MASK, LAYOUT>(aut, *at);
         }
     }
 }

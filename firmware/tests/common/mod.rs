@@ -67,12 +67,7 @@ pub fn handles_in(layout: Layout, spec: &Spec) -> Vec<u16> {
         spec.alphabet.iter().chain(spec.transitions.iter().map(|t| &t.1)).max().map_or(0, |&e| e + 1);
     let names = (0..events).map(|e| format!("e{e}")).collect();
     let source = source(names, &vec![false; usize::from(events)], std::slice::from_ref(spec));
-    let packed = encode_as(&source, layout).unwrap();
-    let mut hs = vec![0u16; spec.states];
-    for r in packed.records(0).unwrap() {
-        hs[r.state] = r.handle;
-    }
-    hs
+    encode_as(&source, layout).unwrap().handles(0).unwrap()
 }
 
 /// Encodes `specs` (plants first) over `names.len()` events, `controllable` flags per event, in one-word
