@@ -1,0 +1,74 @@
+"""How fast the virtual plant's steering covers every controllable supervisor transition, per example: runs
+`codegen run EXAMPLE --events N --seed S --json` under QEMU for seeds 1..20 (two at a time) and prints, per
+example, the median and worst event count at which coverage became full (`incomplete` when a run never got
+there) and the steering resets, as `docs/steering.md` records them.
+
+    python3 scripts/measure/steering.py [--events 10000] [--seeds 20] [EXAMPLE ...]
+
+EXAMPLE is a manifest under examples/ (default: cell, factory, livelock, station). The codegen binary is
+target/debug/codegen (build it first: `cargo build -p codegen`). Exit status 1 when a run did not reach
+full coverage.
+"""
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+from concurrent.futures import ThreadPoolExecutor
+
+ROOT = os.path.normpath(os.path.join(os.path.dirname(__file__), "..", ".."))
+EXAMPLES = {
+    "cell": "examples/cell/cell.toml",
+    "factory": "examples/factory/factory.toml",
+    "livelock": "examples/livelock/livelock.toml",
+    "station": "examples/station/station.toml",
+}
+
+
+def run(codegen, manifest, events, seed):
+    """One closed-loop run; its report as a dict."""
+    out = subprocess.run(
+        [codegen, "run", manifest, "--events", str(events), "--seed", str(seed), "--json"],
+        cwd=ROOT, capture_output=True, text=True, check=False)
+    if out.returncode not in (0, 1):
+        sys.exit(f"{manifest} seed {seed}: exit {out.returncode}\n{out.stderr}")
+    return json.loads(out.stdout)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("examples", nargs="*", default=list(EXAMPLES))
+    parser.add_argument("--events", type=int, default=10_000)
+    parser.add_argument("--seeds", type=int, default=20)
+    parser.add_argument("--codegen", default=os.path.join(ROOT, "target", "debug", "codegen"))
+    args = parser.parse_args()
+    failed = False
+    print(f"{'example':<10} {'full coverage at (median / worst)':>34} {'resets (median / worst)':>24}  incomplete")
+    for name in args.examples:
+        manifest = EXAMPLES.get(name, name)
+        # The first run builds the firmware; the others find it built.
+        first = run(args.codegen, manifest, args.events, 1)
+        with ThreadPoolExecutor(max_workers=2) as pool:
+            rest = list(pool.map(lambda s: run(args.codegen, manifest, args.events, s),
+                                 range(2, args.seeds + 1)))
+        reports = [first] + rest
+        at = [r["full_coverage_at"] for r in reports]
+        resets = [r["steering_resets"] for r in reports]
+        missing = [r["seed"] for r in reports if r["full_coverage_at"] is None]
+        for r in reports:
+            print(f"  {name} seed {r['seed']}: full coverage at {r['full_coverage_at']}, "
+                  f"{r['steering_resets']} resets, {r['uncontrollable']} plant events, "
+                  f"{r['violations']} violations", file=sys.stderr)
+        covered = sorted(a for a in at if a is not None)
+        median = statistics.median_low(covered) if covered else None
+        worst = "incomplete" if missing else max(covered)
+        print(f"{name:<10} {str(median) + ' / ' + str(worst):>34} "
+              f"{str(statistics.median_low(resets)) + ' / ' + str(max(resets)):>24}  {missing or '-'}")
+        failed |= bool(missing)
+    sys.exit(1 if failed else 0)
+
+
+if __name__ == "__main__":
+    main()
