@@ -37,6 +37,12 @@ def run(codegen, manifest, events, seed):
     return json.loads(out.stdout)
 
 
+def taken(report):
+    """Transitions taken out of those reachable, over every supervisor."""
+    cover = report["coverage"]
+    return f"{sum(c['taken'] for c in cover)}/{sum(c['reachable'] or 0 for c in cover)}"
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("examples", nargs="*", default=list(EXAMPLES))
@@ -59,13 +65,15 @@ def main():
         missing = [r["seed"] for r in reports if r["full_coverage_at"] is None]
         for r in reports:
             print(f"  {name} seed {r['seed']}: full coverage at {r['full_coverage_at']}, "
-                  f"{r['steering_resets']} resets, {r['uncontrollable']} plant events, "
-                  f"{r['violations']} violations", file=sys.stderr)
+                  f"{taken(r)} transitions taken, {r['steering_resets']} resets, "
+                  f"{r['uncontrollable']} plant events, {r['violations']} violations", file=sys.stderr)
         covered = sorted(a for a in at if a is not None)
         median = statistics.median_low(covered) if covered else None
         worst = "incomplete" if missing else max(covered)
+        least = min(reports, key=lambda r: sum(c["taken"] for c in r["coverage"]))
         print(f"{name:<10} {str(median) + ' / ' + str(worst):>34} "
-              f"{str(statistics.median_low(resets)) + ' / ' + str(max(resets)):>24}  {missing or '-'}")
+              f"{str(statistics.median_low(resets)) + ' / ' + str(max(resets)):>24}  "
+              f"{'seeds ' + str(missing) + ', least taken ' + taken(least) if missing else '-'}")
         failed |= bool(missing)
     sys.exit(1 if failed else 0)
 
