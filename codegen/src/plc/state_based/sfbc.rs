@@ -246,8 +246,9 @@ fn keep(tuples: &[Vec<u32>], en: &[Vec<bool>], plants: usize, members: usize) ->
                 // Next combination.
                 let Some(i) = (0..size).rev().find(|&i| pick[i] < sups.len() - size + i) else { break };
                 pick[i] += 1;
-                for j in i + 1..size {
-                    pick[j] = pick[j - 1] + 1;
+                let first = pick[i];
+                for (off, p) in pick[i + 1..].iter_mut().enumerate() {
+                    *p = first + off + 1;
                 }
             }
         }
