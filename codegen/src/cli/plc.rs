@@ -86,7 +86,8 @@ fn write(dir: &Path, files: &[(String, String)]) -> Result<(), Error> {
 fn state(project: &Project, args: &Args) -> Result<ExitCode, Error> {
     let out = match project.state_plc(args.memory, args.exact) {
         Ok(out) => out,
-        Err(e @ ProjectError::State { source: StateError::Memory(_), .. }) => {
+        Err(e @ ProjectError::State { .. }) if matches!(&e, ProjectError::State { source, .. } if matches!(**source, StateError::Memory(_))) =>
+        {
             eprintln!("{e}");
             return Ok(ExitCode::from(1));
         }
