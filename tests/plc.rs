@@ -256,7 +256,7 @@ fn the_program_and_the_firmware_runtime_agree_step_by_step() {
     use firmware::fault::FaultPolicy;
     use firmware::rng::SeedEntropy;
     use firmware::runtime::{Config, Decision, Runtime};
-    use firmware::table::CheckedSet;
+    use firmware::table::{layout, CheckedSet};
 
     for manifest in SYSTEMS {
         let (set, base) = system(manifest);
@@ -267,7 +267,7 @@ fn the_program_and_the_firmware_runtime_agree_step_by_step() {
             .collect();
         let tables = HostTables::new(packed).unwrap();
         let sup = tables.set();
-        let checked = CheckedSet::<1, 10, false, 3, false>::new(&sup).unwrap();
+        let checked = CheckedSet::<1, 10, false, 3, { layout::RANKED }>::new(&sup).unwrap();
         for encoding in ENCODINGS {
             for policy in [ScanPolicy::First, ScanPolicy::GlobalQueue, ScanPolicy::LocalQueue] {
                 let opts = PlcOptions { encoding, policy, ..base.clone() };

@@ -18,6 +18,7 @@ use firmware::build::HostTables;
 use firmware::choice::RandomLocalQueue;
 use firmware::fault::FaultPolicy;
 use firmware::runtime::Config;
+use firmware::table::layout;
 
 const CONFIG: Config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 1024 };
 
@@ -28,7 +29,9 @@ fn station(seed: u64) -> Report {
     let (mut host, target) = memory::pair();
     // 18 events (one bitset word, 3-byte masks), 3 plants + 6 supervisors, 12 choice sites.
     let policy = RandomLocalQueue::<1, 12>::default();
-    let firmware = spawn_host_firmware::<_, 1, 9, false, 3, false, 33>(tables, CONFIG, policy, seed, target);
+    let firmware = spawn_host_firmware::<_, 1, 9, false, 3, { layout::RANKED }, 33>(
+        tables, CONFIG, policy, seed, target,
+    );
     let mut options =
         Options { events: 10_000, choices: ChoiceModel::of(project.runtime.policy), ..Options::default() };
     options.plant.seed = seed;
