@@ -91,6 +91,9 @@ pub struct PlcOptions {
     pub cycle_ms: u32,
     /// The I/O map.
     pub spec: PlcSpec,
+    /// Whether every controllable event must drive an output or be listed in `[plc] internal` (set when
+    /// the manifest has a `[plc]` section: a program without one drives no outputs by design).
+    pub require_outputs: bool,
 }
 
 impl Default for PlcOptions {
@@ -105,6 +108,7 @@ impl Default for PlcOptions {
             on_fault: OnFault::default(),
             cycle_ms: 10,
             spec: PlcSpec::default(),
+            require_outputs: false,
         }
     }
 }
@@ -120,6 +124,7 @@ impl PlcOptions {
         spec: Option<&PlcSpec>,
         policy: Option<ScanPolicy>,
     ) -> Result<PlcOptions, PlcError> {
+        let require_outputs = spec.is_some();
         let spec = spec.cloned().unwrap_or_default();
         let policy = match (policy.or(spec.policy), ScanPolicy::of_runtime(runtime.policy)) {
             (Some(p), _) | (None, Some(p)) => p,
@@ -133,6 +138,7 @@ impl PlcOptions {
             on_fault: runtime.on_fault,
             cycle_ms: spec.cycle_ms.unwrap_or(10),
             spec,
+            require_outputs,
             ..PlcOptions::default()
         })
     }
@@ -145,8 +151,17 @@ pub enum PlcError {
     #[error("the set has no events: nothing to program")]
     Empty,
     /// `[plc]` names an event the set does not have.
-    #[error("plc: event '{0}' is not an event of the set")]
-    UnknownEvent(String),
+    #[error("plc: event '{event}' is not an event of the set{}", hint.as_ref().map(|h| format!(" (did you mean '{h}'?)")).unwrap_or_default())]
+    UnknownEvent {
+        /// The name.
+        event: String,
+        /// The set's event closest in spelling, if one is close.
+        hint: Option<String>,
+    },
+    /// Controllable events `[plc]` maps to no output and does not list as internal: the program would
+    /// never drive them. Every such event, each with the closest output name if one is close.
+    #[error("plc: {}; map each in [[plc.outputs]] or list it in [plc] internal", unmapped(.0))]
+    Unmapped(Vec<(String, Option<String>)>),
     /// An input for a controllable event, or an output for an uncontrollable one.
     #[error("plc: event '{event}' is {what}")]
     WrongKind {
@@ -188,6 +203,21 @@ pub enum PlcError {
     Synth(#[from] crate::synth::SynthError),
 }
 
+/// The text of [`PlcError::Unmapped`].
+fn unmapped(events: &[(String, Option<String>)]) -> String {
+    let one = |(e, hint): &(String, Option<String>)| match hint {
+        Some(h) => format!("'{e}' (did you mean '{h}'?)"),
+        None => format!("'{e}'"),
+    };
+    let list: Vec<String> = events.iter().map(one).collect();
+    let verb = if events.len() == 1 { "drives" } else { "drive" };
+    format!(
+        "controllable event{} {} {verb} no output",
+        if events.len() == 1 { "" } else { "s" },
+        list.join(", ")
+    )
+}
+
 /// The files of one program and its report.
 #[derive(Clone, Debug)]
 pub struct Output {
@@ -203,7 +233,7 @@ pub struct Output {
 pub fn generate(set: &PackSet, opts: &PlcOptions, provenance: &Provenance) -> Result<Output, PlcError> {
     let program = program::build(set, opts)?;
     strict::check(program.events_type.as_slice(), &[&program.fb, &program.main])?;
-    let base = names::sanitize(&opts.name);
+    let base = names::stem(&opts.name);
     let header = header(set, opts, provenance);
     let mut st = comment(&header);
     if let Some((name, members)) = &program.events_type {
