@@ -26,7 +26,7 @@ use end_to_end::{example, root, Scratch};
 const SYSTEMS: &[&str] = &["cell/cell.toml"];
 
 /// Every example with a `[plc]` section: each of its programs must be strict IEC 61131-3.
-const PLC_EXAMPLES: &[&str] = &["cell/cell.toml", "factory/factory.toml"];
+const PLC_EXAMPLES: &[&str] = &["cell/cell.toml", "factory/factory.toml", "station/station.toml"];
 
 const POLICIES: [ScanPolicy; 4] =
     [ScanPolicy::First, ScanPolicy::GlobalQueue, ScanPolicy::LocalQueue, ScanPolicy::Random];
@@ -446,7 +446,7 @@ fn blark_and_the_plcopen_schema_accept_every_file() {
             checked.1 += 1;
         }
     }
-    assert_eq!(checked, (8, 8));
+    assert_eq!(checked, (10, 10));
     // And a broken file is refused by both, so the checks can fail.
     let bad = scratch.path().join("bad.st");
     std::fs::write(&bad, "PROGRAM p\nVAR x : BOOL; END_VAR\nIF x THEN x := FALSE;\nEND_PROGRAM\n").unwrap();
@@ -520,12 +520,17 @@ fn r22_the_interpreter_refuses_each_construct_a_strict_compiler_refuses() {
 // See: issue 22 (every generated program strict; the five constructs absent).
 #[test]
 fn r22_every_generated_program_is_strict_iec_61131_3() {
-    let mut outs = Vec::new();
+    // (what, [program, configuration, XML]) of every program form of every example.
+    let mut programs: Vec<(String, Vec<(String, String)>)> = Vec::new();
+    let mut event_based = |out: Output| {
+        let what = format!("{} {} {}", out.report.name, out.report.encoding, out.report.policy);
+        programs.push((what, out.files));
+    };
     for manifest in PLC_EXAMPLES {
         let (set, opts) = system(manifest);
         for encoding in ENCODINGS {
             for policy in POLICIES {
-                outs.push(program(&set, &PlcOptions { encoding, policy, ..opts.clone() }));
+                event_based(program(&set, &PlcOptions { encoding, policy, ..opts.clone() }));
             }
         }
     }
@@ -535,13 +540,17 @@ fn r22_every_generated_program_is_strict_iec_61131_3() {
             (Encoding::Bits, Avalanche::Auto),
             (Encoding::Bits, Avalanche::Aeem),
         ] {
-            outs.push(seed_program(all_inputs, encoding, avalanche));
+            event_based(seed_program(all_inputs, encoding, avalanche));
         }
     }
+    let distribution = Project::load(&example("distribution/distribution.toml")).unwrap();
+    for (memory, exact) in [(false, false), (false, true), (true, false)] {
+        let out = distribution.state_plc(memory, exact).unwrap_or_else(|e| panic!("distribution: {e}"));
+        programs.push((format!("distribution state memory={memory} exact={exact}"), out.files));
+    }
     let mut located = 0;
-    for out in &outs {
-        let what = format!("{} {} {}", out.report.name, out.report.encoding, out.report.policy);
-        let (text, config, xml) = (&out.files[0].1, &out.files[1].1, &out.files[2].1);
+    for (what, files) in &programs {
+        let (text, config, xml) = (&files[0].1, &files[1].1, &files[2].1);
         // Strictly taken: keywords, located variables, conversions, semicolons, writes (see the test above).
         Plc::load(text).unwrap_or_else(|e| panic!("{what}: {e}"));
         end_to_end::st::parse(config).unwrap_or_else(|e| panic!("{what} configuration: {e}"));
@@ -570,5 +579,5 @@ fn r22_every_generated_program_is_strict_iec_61131_3() {
         let fb_xml = xml.split("pouType=\"program\"").next().unwrap();
         assert!(!fb_xml.contains("address="), "{what}: the XML locates a block variable");
     }
-    assert!(located >= 8, "the factory's located variables were checked: {located}");
+    assert!(located >= 8 + 10 + 12, "the located variables of factory, station and distribution: {located}");
 }

@@ -19,9 +19,10 @@
 //!
 //! One input variable may carry two events, one per edge (`sb1` rising, `sb0` falling of `sb`).
 //!
-//! An unmapped uncontrollable event is a member of the `EVENTS` input structure (rising edge). A
-//! controllable event must drive an output unless `internal` lists it (a command with no actuator, e.g.
-//! a bookkeeping event of a model): an unmapped controllable event not listed is an error naming it.
+//! An unmapped uncontrollable event is a member of the `EVENTS` input structure (rising edge). Once the
+//! section maps anything (an input, an output or an internal event), every controllable event must drive
+//! an output unless `internal` lists it (a command with no actuator): an unmapped controllable event not
+//! listed is an error naming it.
 //!
 //! ```toml
 //! [plc]

@@ -4,6 +4,7 @@
 
 use std::collections::BTreeMap;
 
+use crate::model::suggest::did_you_mean;
 use crate::model::{EventId, EventTable};
 
 use super::names::{is_identifier, Names};
@@ -191,11 +192,12 @@ impl IoMap {
         }
         if complete {
             let driven = |e: EventId| outputs.iter().any(|o| o.actions.iter().any(|&(x, ..)| x == e));
-            let unmapped: Vec<(String, Option<String>)> = events
+            let unmapped: Vec<(String, String)> = events
                 .ids()
                 .filter(|&e| events.is_controllable(e) && !driven(e) && !internal.contains(&e))
                 .map(|e| {
-                    let near = spec.outputs.iter().flat_map(|o| [o.variable.as_str(), o.event.as_str()]);
+                    // The output variables: an event mapped under another event's name shows here.
+                    let near = spec.outputs.iter().map(|o| o.variable.as_str());
                     (events.name(e).to_owned(), did_you_mean(events.name(e), near))
                 })
                 .collect();
@@ -217,34 +219,6 @@ impl IoMap {
             Source::Input { .. } => None,
         })
     }
-}
-
-/// The candidate closest to `name` in edit distance, if it is close: at most a third of the name's length
-/// edits away (so names of one or two characters get no guess), and not `name` itself.
-pub fn did_you_mean<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Option<String> {
-    let limit = name.chars().count() / 3;
-    candidates
-        .filter(|c| *c != name)
-        .map(|c| (distance(name, c), c))
-        .filter(|&(d, _)| d <= limit)
-        .min()
-        .map(|(_, c)| c.to_owned())
-}
-
-/// Levenshtein distance over characters.
-fn distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut row: Vec<usize> = (0..=b.len()).collect();
-    for (i, x) in a.chars().enumerate() {
-        let mut diagonal = row[0];
-        row[0] = i + 1;
-        for (j, &y) in b.iter().enumerate() {
-            let next = (row[j + 1] + 1).min(row[j] + 1).min(diagonal + usize::from(x != y));
-            diagonal = row[j + 1];
-            row[j + 1] = next;
-        }
-    }
-    row[b.len()]
 }
 
 #[cfg(test)]
@@ -330,14 +304,5 @@ mod tests {
         spec.outputs.clear();
         let err = map(&spec).unwrap_err().to_string();
         assert!(err.contains("events 'piston_out', 'piston_in' drive no output"), "every one named: {err}");
-    }
-
-    #[test]
-    fn suggestions_are_close_or_absent() {
-        let names = ["sl1", "sl0", "sensor"];
-        assert_eq!(did_you_mean("s11", names.into_iter()), Some("sl1".into()));
-        assert_eq!(did_you_mean("xyz", names.into_iter()), None);
-        assert_eq!(did_you_mean("s1", names.into_iter()), None, "too short to guess");
-        assert_eq!(distance("kitten", "sitting"), 3);
     }
 }

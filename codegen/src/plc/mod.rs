@@ -92,7 +92,8 @@ pub struct PlcOptions {
     /// The I/O map.
     pub spec: PlcSpec,
     /// Whether every controllable event must drive an output or be listed in `[plc] internal` (set when
-    /// the manifest has a `[plc]` section: a program without one drives no outputs by design).
+    /// the manifest's `[plc]` gives an I/O map — any input, output or internal entry; a program without
+    /// one drives no outputs by design).
     pub require_outputs: bool,
 }
 
@@ -124,7 +125,8 @@ impl PlcOptions {
         spec: Option<&PlcSpec>,
         policy: Option<ScanPolicy>,
     ) -> Result<PlcOptions, PlcError> {
-        let require_outputs = spec.is_some();
+        let require_outputs =
+            spec.is_some_and(|s| !(s.inputs.is_empty() && s.outputs.is_empty() && s.internal.is_empty()));
         let spec = spec.cloned().unwrap_or_default();
         let policy = match (policy.or(spec.policy), ScanPolicy::of_runtime(runtime.policy)) {
             (Some(p), _) | (None, Some(p)) => p,
@@ -151,17 +153,18 @@ pub enum PlcError {
     #[error("the set has no events: nothing to program")]
     Empty,
     /// `[plc]` names an event the set does not have.
-    #[error("plc: event '{event}' is not an event of the set{}", hint.as_ref().map(|h| format!(" (did you mean '{h}'?)")).unwrap_or_default())]
+    #[error("plc: event '{event}' is not an event of the set{hint}")]
     UnknownEvent {
         /// The name.
         event: String,
-        /// The set's event closest in spelling, if one is close.
-        hint: Option<String>,
+        /// ` (did you mean 'x'?)` naming the set's events closest in spelling, or empty.
+        hint: String,
     },
     /// Controllable events `[plc]` maps to no output and does not list as internal: the program would
-    /// never drive them. Every such event, each with the closest output name if one is close.
+    /// never drive them. Every such event, each with its ` (did you mean …?)` tail (empty when no output
+    /// variable is close).
     #[error("plc: {}; map each in [[plc.outputs]] or list it in [plc] internal", unmapped(.0))]
-    Unmapped(Vec<(String, Option<String>)>),
+    Unmapped(Vec<(String, String)>),
     /// An input for a controllable event, or an output for an uncontrollable one.
     #[error("plc: event '{event}' is {what}")]
     WrongKind {
@@ -171,7 +174,7 @@ pub enum PlcError {
         what: &'static str,
     },
     /// A variable name that is no IEC identifier (or a reserved word).
-    #[error("plc: '{0}' is not an IEC 61131-3 identifier (letters, digits, single underscores; no keyword)")]
+    #[error("plc: '{0}' is not an IEC 61131-3 identifier (letters, digits, single underscores, at most 63; not a keyword such as EN, SR, TON or TIME in any case: see docs/plc-strict.md)")]
     Identifier(String),
     /// A name used twice.
     #[error("plc: '{0}' is mapped twice or clashes with a generated name")]
@@ -204,12 +207,8 @@ pub enum PlcError {
 }
 
 /// The text of [`PlcError::Unmapped`].
-fn unmapped(events: &[(String, Option<String>)]) -> String {
-    let one = |(e, hint): &(String, Option<String>)| match hint {
-        Some(h) => format!("'{e}' (did you mean '{h}'?)"),
-        None => format!("'{e}'"),
-    };
-    let list: Vec<String> = events.iter().map(one).collect();
+fn unmapped(events: &[(String, String)]) -> String {
+    let list: Vec<String> = events.iter().map(|(e, hint)| format!("'{e}'{hint}")).collect();
     let verb = if events.len() == 1 { "drives" } else { "drive" };
     format!(
         "controllable event{} {} {verb} no output",
