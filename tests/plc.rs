@@ -28,6 +28,11 @@ const SYSTEMS: &[&str] = &["cell/cell.toml"];
 /// Every example with a `[plc]` section: each of its programs must be strict IEC 61131-3.
 const PLC_EXAMPLES: &[&str] = &["cell/cell.toml", "factory/factory.toml", "station/station.toml"];
 
+/// The examples whose files blark and the TC6 schema check: the cell, and the factory for its located
+/// variables (the station's 3 000-line programs would add minutes of blark to CI; they are held to the
+/// strict rules by the interpreter in `r22_every_generated_program_is_strict_iec_61131_3`).
+const VALIDATED: &[&str] = &["cell/cell.toml", "factory/factory.toml"];
+
 const POLICIES: [ScanPolicy; 4] =
     [ScanPolicy::First, ScanPolicy::GlobalQueue, ScanPolicy::LocalQueue, ScanPolicy::Random];
 
@@ -377,7 +382,7 @@ fn program_state(plc: &Plc, encoding: Encoding, m: &codegen::pack::Member) -> us
 fn write_all(dir: &Path) -> Vec<std::path::PathBuf> {
     let mut files = Vec::new();
     let mut outs: Vec<Output> = Vec::new();
-    for manifest in PLC_EXAMPLES {
+    for manifest in VALIDATED {
         let (set, opts) = system(manifest);
         for encoding in ENCODINGS {
             outs.push(program(&set, &PlcOptions { encoding, ..opts.clone() }));
@@ -446,7 +451,7 @@ fn blark_and_the_plcopen_schema_accept_every_file() {
             checked.1 += 1;
         }
     }
-    assert_eq!(checked, (10, 10));
+    assert_eq!(checked, (8, 8));
     // And a broken file is refused by both, so the checks can fail.
     let bad = scratch.path().join("bad.st");
     std::fs::write(&bad, "PROGRAM p\nVAR x : BOOL; END_VAR\nIF x THEN x := FALSE;\nEND_PROGRAM\n").unwrap();

@@ -27,6 +27,9 @@ pub enum Source {
     Member(String),
 }
 
+/// One input variable as `[plc]` maps it: its name, its events with their edges, its address.
+type Line = (String, Vec<(EventId, Edge)>, Option<String>);
+
 /// One output variable.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Output {
@@ -77,7 +80,7 @@ impl IoMap {
         };
         // Per input variable: its events with their edges, and its address. One variable may carry an
         // event per edge (`sb1` rising, `sb0` falling of `sb`), never one change for two events.
-        let mut lines: Vec<(String, Vec<(EventId, Edge)>, Option<String>)> = Vec::new();
+        let mut lines: Vec<Line> = Vec::new();
         for i in &spec.inputs {
             let e = id(&i.event)?;
             if events.is_controllable(e) {
