@@ -69,3 +69,25 @@ fn bad_input_exits_2_naming_the_problem() {
     assert!(err.contains("plc: event '1' is controllable: it cannot be an input"), "{err}");
     assert!(!Path::new(&dir).exists(), "nothing written");
 }
+
+// See: issue 22 (item 5: a controllable event without output is named; `internal` says it is meant).
+#[test]
+fn a_controllable_event_without_output_exits_2_unless_internal() {
+    let dir = scratch("unmapped").display().to_string();
+    let ads = repo("codegen/tests/data/TEST.ADS");
+    let manifest = scratch("u").with_extension("toml");
+    std::fs::create_dir_all(manifest.parent().unwrap()).unwrap();
+    let head = format!("name = \"x\"\nplants = [{ads:?}]\n[plc]\npolicy = \"first\"\n");
+    let outputs = "[[plc.outputs]]\nevent = \"1\"\nvariable = \"e1\"\naction = \"set\"\n";
+    std::fs::write(&manifest, format!("{head}{outputs}")).unwrap();
+    let out = codegen(&["plc", &manifest.display().to_string(), "-o", &dir]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("controllable events '3', '5' drive no output") && err.contains("[plc] internal"),
+        "{err}"
+    );
+    std::fs::write(&manifest, format!("{head}internal = [\"3\", \"5\"]\n{outputs}")).unwrap();
+    let out = codegen(&["plc", &manifest.display().to_string(), "-o", &dir]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+}

@@ -17,8 +17,17 @@
 //! action = "set"                 # set | clear | pulse (with scans = N, default 1)
 //! ```
 //!
-//! Events named by no entry are internal: an unmapped uncontrollable event is a member of the `EVENTS`
-//! input structure (rising edge), an unmapped controllable event drives no output.
+//! One input variable may carry two events, one per edge (`sb1` rising, `sb0` falling of `sb`).
+//!
+//! An unmapped uncontrollable event is a member of the `EVENTS` input structure (rising edge). Once the
+//! section maps anything (an input, an output or an internal event), every controllable event must drive
+//! an output unless `internal` lists it (a command with no actuator): an unmapped controllable event not
+//! listed is an error naming it.
+//!
+//! ```toml
+//! [plc]
+//! internal = ["count_done"]      # controllable events that drive no output (default: none)
+//! ```
 
 use serde::Deserialize;
 
@@ -41,6 +50,9 @@ pub struct PlcSpec {
     /// Output variables and the controllable events that drive them.
     #[serde(default)]
     pub outputs: Vec<PlcOutput>,
+    /// Controllable events that deliberately drive no output.
+    #[serde(default)]
+    pub internal: Vec<String>,
 }
 
 /// One input variable.
@@ -174,6 +186,8 @@ mod tests {
         assert_eq!(spec.inputs[0].edge, Edge::Both);
         assert_eq!((spec.outputs[0].action, spec.outputs[0].scans), (Action::Pulse, Some(3)));
         assert!(toml::from_str::<File>("[plc]\ncycle = 3\n").is_err());
+        let internal = toml::from_str::<File>("[plc]\ninternal = [\"x\"]\n").unwrap().plc.internal;
+        assert_eq!(internal, ["x"]);
         assert!(toml::from_str::<File>("[plc]\npolicy = \"random-local-queue\"\n").is_err());
     }
 }

@@ -34,7 +34,7 @@ pub struct PlantChoice {
 }
 
 /// The array of enabled controllable events, by id (not `en`: `EN` is reserved, IEC 61131-3 Ed. 3
-/// 6.6.1.5).
+/// 6.6.1).
 pub const ENABLED: &str = "enabled";
 
 fn en(i: Expr) -> Expr {

@@ -91,6 +91,10 @@ pub struct PlcOptions {
     pub cycle_ms: u32,
     /// The I/O map.
     pub spec: PlcSpec,
+    /// Whether every controllable event must drive an output or be listed in `[plc] internal` (set when
+    /// the manifest's `[plc]` gives an I/O map — any input, output or internal entry; a program without
+    /// one drives no outputs by design).
+    pub require_outputs: bool,
 }
 
 impl Default for PlcOptions {
@@ -105,6 +109,7 @@ impl Default for PlcOptions {
             on_fault: OnFault::default(),
             cycle_ms: 10,
             spec: PlcSpec::default(),
+            require_outputs: false,
         }
     }
 }
@@ -120,6 +125,8 @@ impl PlcOptions {
         spec: Option<&PlcSpec>,
         policy: Option<ScanPolicy>,
     ) -> Result<PlcOptions, PlcError> {
+        let require_outputs =
+            spec.is_some_and(|s| !(s.inputs.is_empty() && s.outputs.is_empty() && s.internal.is_empty()));
         let spec = spec.cloned().unwrap_or_default();
         let policy = match (policy.or(spec.policy), ScanPolicy::of_runtime(runtime.policy)) {
             (Some(p), _) | (None, Some(p)) => p,
@@ -133,6 +140,7 @@ impl PlcOptions {
             on_fault: runtime.on_fault,
             cycle_ms: spec.cycle_ms.unwrap_or(10),
             spec,
+            require_outputs,
             ..PlcOptions::default()
         })
     }
@@ -145,8 +153,18 @@ pub enum PlcError {
     #[error("the set has no events: nothing to program")]
     Empty,
     /// `[plc]` names an event the set does not have.
-    #[error("plc: event '{0}' is not an event of the set")]
-    UnknownEvent(String),
+    #[error("plc: event '{event}' is not an event of the set{hint}")]
+    UnknownEvent {
+        /// The name.
+        event: String,
+        /// ` (did you mean 'x'?)` naming the set's events closest in spelling, or empty.
+        hint: String,
+    },
+    /// Controllable events `[plc]` maps to no output and does not list as internal: the program would
+    /// never drive them. Every such event, each with its ` (did you mean …?)` tail (empty when no output
+    /// variable is close).
+    #[error("plc: {}; map each in [[plc.outputs]] or list it in [plc] internal", unmapped(.0))]
+    Unmapped(Vec<(String, String)>),
     /// An input for a controllable event, or an output for an uncontrollable one.
     #[error("plc: event '{event}' is {what}")]
     WrongKind {
@@ -156,7 +174,7 @@ pub enum PlcError {
         what: &'static str,
     },
     /// A variable name that is no IEC identifier (or a reserved word).
-    #[error("plc: '{0}' is not an IEC 61131-3 identifier (letters, digits, single underscores; no keyword)")]
+    #[error("plc: '{0}' is not an IEC 61131-3 identifier (letters, digits, single underscores, at most 63; not a keyword such as EN, SR, TON or TIME in any case: see docs/plc-strict.md)")]
     Identifier(String),
     /// A name used twice.
     #[error("plc: '{0}' is mapped twice or clashes with a generated name")]
@@ -188,6 +206,17 @@ pub enum PlcError {
     Synth(#[from] crate::synth::SynthError),
 }
 
+/// The text of [`PlcError::Unmapped`].
+fn unmapped(events: &[(String, String)]) -> String {
+    let list: Vec<String> = events.iter().map(|(e, hint)| format!("'{e}'{hint}")).collect();
+    let verb = if events.len() == 1 { "drives" } else { "drive" };
+    format!(
+        "controllable event{} {} {verb} no output",
+        if events.len() == 1 { "" } else { "s" },
+        list.join(", ")
+    )
+}
+
 /// The files of one program and its report.
 #[derive(Clone, Debug)]
 pub struct Output {
@@ -203,7 +232,7 @@ pub struct Output {
 pub fn generate(set: &PackSet, opts: &PlcOptions, provenance: &Provenance) -> Result<Output, PlcError> {
     let program = program::build(set, opts)?;
     strict::check(program.events_type.as_slice(), &[&program.fb, &program.main])?;
-    let base = names::sanitize(&opts.name);
+    let base = names::stem(&opts.name);
     let header = header(set, opts, provenance);
     let mut st = comment(&header);
     if let Some((name, members)) = &program.events_type {

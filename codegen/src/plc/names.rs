@@ -3,12 +3,12 @@
 //! digit, not a keyword, unique without regard to case (ST is case-insensitive).
 //!
 //! The rules, by clause of IEC 61131-3 Ed. 3 (2013):
-//! * 6.1.2 (identifiers, Table 2): a letter or underscore, then letters, digits and underscores; no two
+//! * 6.1.2 (identifiers): a letter or underscore, then letters, digits and underscores; no two
 //!   underscores in a row, none at the end; case is not significant.
 //! * 6.1.3 (keywords): no keyword may be an identifier, in any case — the whole list is [`KEYWORDS`]
 //!   (the language's keywords, `EN`/`ENO`, the elementary and generic data type names of 6.4.2/6.4.3,
-//!   and the standard function and function block names of 6.6.2.5 and 6.6.3.5), plus every
-//!   `<type>_TO_<type>`/`TO_<type>` conversion function name of 6.6.2.5.6 ([`is_keyword`]).
+//!   and the standard function and function block names of 6.6.2.5 and 6.6.3), plus every
+//!   `<type>_TO_<type>`/`TO_<type>` conversion function name of 6.6.2.5 ([`is_keyword`]).
 //! * 6.1.2 leaves the significant length to the implementer; identifiers are kept to [`MAX_LEN`]
 //!   characters, which the toolchains with the lowest limits accept.
 
@@ -20,8 +20,8 @@ pub const MAX_LEN: usize = 63;
 
 /// Every word IEC 61131-3 Ed. 3 reserves (6.1.3), upper-case, sorted; conversion function names are
 /// matched by pattern in [`is_keyword`]. Groups: the language's keywords (ST, SFC, configurations,
-/// classes, namespaces, IL operators of 7.2), `EN`/`ENO` (6.6.1.5), the elementary and generic data types
-/// (6.4.2, 6.4.3), the standard functions (6.6.2.5) and function blocks (6.6.3.5).
+/// classes, namespaces, IL operators of 7.2), `EN`/`ENO` (6.6.1), the elementary and generic data types
+/// (6.4.2, 6.4.3), the standard functions (6.6.2.5) and function blocks (6.6.3).
 pub const KEYWORDS: &[&str] = &[
     "ABS",
     "ABSTRACT",
@@ -304,7 +304,7 @@ pub const KEYWORDS: &[&str] = &[
     "XORN",
 ];
 
-/// The elementary type names a conversion function's name is made of (6.6.2.5.6: `INT_TO_DINT`,
+/// The elementary type names a conversion function's name is made of (6.6.2.5: `INT_TO_DINT`,
 /// `TO_INT`, `BCD_TO_INT`, `INT_TRUNC_…`).
 const CONVERTIBLE: &[&str] = &[
     "BCD",
@@ -342,7 +342,7 @@ const CONVERTIBLE: &[&str] = &[
 ];
 
 /// Whether `name` is reserved in any case: a keyword of [`KEYWORDS`] or a conversion function name
-/// (`X_TO_Y`, `TO_Y`, `X_TRUNC_Y`, 6.6.2.5.6).
+/// (`X_TO_Y`, `TO_Y`, `X_TRUNC_Y`, 6.6.2.5).
 pub fn is_keyword(name: &str) -> bool {
     let up = name.to_ascii_uppercase();
     let ty = |t: &str| CONVERTIBLE.contains(&t);
@@ -373,7 +373,17 @@ pub fn sanitize(name: &str) -> String {
     out
 }
 
-/// Whether `name` can be used as it is for a variable: an identifier of 6.1.2 (Table 2) of at most
+/// The stem of the POU and configuration names of a set named `name` (`NAME_sct`, `NAME_main`,
+/// `NAME_resource`, …): the sanitised name, cut so that the longest of them stays within [`MAX_LEN`].
+pub fn stem(name: &str) -> String {
+    let mut out: String = sanitize(name).chars().take(MAX_LEN - "_resource".len()).collect();
+    while out.ends_with('_') {
+        out.pop();
+    }
+    out
+}
+
+/// Whether `name` can be used as it is for a variable: an identifier of 6.1.2 of at most
 /// [`MAX_LEN`] characters, no keyword (6.1.3).
 pub fn is_identifier(name: &str) -> bool {
     let mut chars = name.chars();
@@ -466,6 +476,8 @@ mod tests {
 
     #[test]
     fn long_names_are_cut_and_stay_unique() {
+        let stem = stem(&format!("{}_b", "a".repeat(60)));
+        assert!(is_identifier(&format!("{stem}_resource")) && stem.len() == MAX_LEN - 9);
         let long = "a".repeat(100);
         let mut names = Names::default();
         let (x, y) = (names.fresh("ev", &long), names.fresh("ev", &long));

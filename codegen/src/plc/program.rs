@@ -28,7 +28,7 @@ use crate::pack::{PackSet, Role};
 use super::avalanche::{plan, Avalanche, Method, Plan};
 use super::choice::{self, PlantChoice};
 use super::io::{IoMap, Source};
-use super::names::{sanitize, Names};
+use super::names::{sanitize, stem, Names};
 use super::st::{Expr, Op, Pou, Section, SectionKind, Stmt, Type, Var, VarClass};
 use super::{Encoding, PlcError, PlcOptions};
 use crate::config::{Action, Edge, ScanPolicy};
@@ -89,11 +89,26 @@ pub fn build(set: &PackSet, opts: &PlcOptions) -> Result<Program, PlcError> {
     for fixed in ["ready", "reset", "hold", "guard", "fired", "pending", "safe", "busy", "arrived", "EVENTS"]
         .iter()
         .chain(&COUNTERS)
-        .chain(&["enabled", "c", "i", "j", "k", "n", "p", "pc", "gq", "sc", "site", "cur", "rng", "sct"])
+        .chain(&[
+            choice::ENABLED,
+            "c",
+            "i",
+            "j",
+            "k",
+            "n",
+            "p",
+            "pc",
+            "gq",
+            "sc",
+            "site",
+            "cur",
+            "rng",
+            "sct",
+        ])
     {
         names.reserve(fixed);
     }
-    let io = IoMap::new(&opts.spec, events, &mut names)?;
+    let io = IoMap::new(&opts.spec, events, &mut names, opts.require_outputs)?;
     let n = events.len();
     if n == 0 {
         return Err(PlcError::Empty);
@@ -540,7 +555,7 @@ impl Builder<'_> {
             section(SectionKind::Outputs, "", self.outputs()),
         ];
         let sites = self.site_count().max(0) as usize;
-        let base = sanitize(&self.opts.name);
+        let base = stem(&self.opts.name);
         let fb_name = format!("{base}_sct");
         let type_name = format!("{base}_events");
         let members: Vec<Var> = self

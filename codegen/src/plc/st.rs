@@ -30,7 +30,7 @@ pub enum Expr {
     /// A binary operation.
     Bin(Box<Expr>, Op, Box<Expr>),
     /// A standard function call (`DINT_TO_INT(x)`): conversions are always written
-    /// out (6.6.2.5.6), never left implicit.
+    /// out (6.6.2.5), never left implicit.
     Call(String, Vec<Expr>),
 }
 
@@ -68,7 +68,8 @@ pub enum Op {
 }
 
 impl Op {
-    fn text(self) -> &'static str {
+    /// The operator as ST writes it.
+    pub fn text(self) -> &'static str {
         match self {
             Op::Or => "OR",
             Op::Xor => "XOR",
@@ -119,7 +120,7 @@ impl Expr {
     }
 
     /// The explicit conversion of `self` from elementary type `from` to `to` (`INT_TO_DINT(x)`, IEC
-    /// 61131-3 Ed. 3 6.6.2.5.6); [`super::strict`] refuses it when either type is not elementary.
+    /// 61131-3 Ed. 3 6.6.2.5); [`super::strict`] refuses it when either type is not elementary.
     pub fn convert(self, from: &Type, to: &Type) -> Expr {
         let name = |t: &Type| t.elementary().unwrap_or("?");
         Expr::Call(format!("{}_TO_{}", name(from), name(to)), vec![self])
@@ -431,7 +432,7 @@ impl Type {
         }
     }
 
-    /// The range of an integer type (Table 10), `None` for the others.
+    /// The range of an integer type (6.4.2), `None` for the others.
     pub fn range(&self) -> Option<(i64, i64)> {
         match self {
             Type::Int => Some((-32_768, 32_767)),
@@ -493,7 +494,7 @@ impl Var {
 }
 
 /// A structure type's declaration: `TYPE name : STRUCT … END_STRUCT; END_TYPE`, with the `;` the grammar
-/// puts after every type declaration (Annex A `Data_Type_Decl`; 6.4.4.6 structures).
+/// puts after every type declaration (Annex A `Data_Type_Decl`; 6.4.4 structures).
 pub fn struct_type(name: &str, members: &[Var]) -> String {
     let mut out = format!("TYPE {name} :\nSTRUCT\n");
     for m in members {

@@ -9,9 +9,9 @@
 //! * an implicit conversion: an assignment, operator, comparison, call argument, `CASE` selector or
 //!   `FOR` bound whose operand types differ (6.6.1.6: the writer never relies on implicit conversion,
 //!   even the widenings Ed. 3 allows, because Ed. 2 compilers allow none; conversions are written out
-//!   as `INT_TO_DINT` and the like, 6.6.2.5.6); an integer literal out of its type's range (6.3.2);
-//! * a write to the block's own `VAR_INPUT` (6.5.2.2: inputs are set by the caller) or to a member of a
-//!   block instance from outside (6.6.3.2: an instance's outputs are read-only to its caller).
+//!   as `INT_TO_DINT` and the like, 6.6.2.5); an integer literal out of its type's range (6.3.2);
+//! * a write to the block's own `VAR_INPUT` (6.5.2: inputs are set by the caller) or to a member of a
+//!   block instance from outside (6.6.3: an instance's outputs are read-only to its caller).
 //!
 //! The grammar's punctuation is the printer's ([`super::st`]): `END_STRUCT;`, located and unlocated
 //! variables in separate blocks.
@@ -120,7 +120,7 @@ fn declarations<'v>(
             if !ok {
                 let what =
                     format!("'{}': initial value {} is no {} literal", v.name, init.text(), v.ty.text());
-                return Err(fail(what, "6.5.1.2"));
+                return Err(fail(what, "6.5.1"));
             }
         }
     }
@@ -155,12 +155,12 @@ impl Body<'_> {
                 ms.iter().find(|m| m.name.eq_ignore_ascii_case(member)).map(|m| m.ty.clone())
             } else if let Some(b) = self.scope.pous.iter().find(|p| !p.program && &p.name == n) {
                 instance = true;
-                // From outside, an instance shows its inputs and outputs only (6.6.3.2).
+                // From outside, an instance shows its inputs and outputs only (6.6.3).
                 b.var(member).filter(|(c, _)| *c != VarClass::Local).map(|(_, v)| v.ty.clone())
             } else {
                 None
             };
-            ty = found.ok_or_else(|| (format!("'{path}': no visible member '{member}'"), "6.6.3.2"))?;
+            ty = found.ok_or_else(|| (format!("'{path}': no visible member '{member}'"), "6.6.3"))?;
         }
         Ok((ty, instance))
     }
@@ -175,15 +175,15 @@ impl Body<'_> {
             Expr::Var(p) => Ty::Is(self.path(p)?.0),
             Expr::Index(a, i) => {
                 let Type::Array(upper, of) = self.path(a)?.0 else {
-                    return Err((format!("'{a}' is no array"), "6.4.4.5"));
+                    return Err((format!("'{a}' is no array"), "6.4.4"));
                 };
                 match self.expr(i)? {
                     Ty::Literal(Some(k)) if !(0..=upper).contains(&k) => {
-                        return Err((format!("'{}': index out of 0..{upper}", e.text()), "6.4.4.5"))
+                        return Err((format!("'{}': index out of 0..{upper}", e.text()), "6.4.4"))
                     }
                     Ty::Literal(_) => {}
                     Ty::Is(t) if t.range().is_some() => {}
-                    t => return Err((format!("'{}': index of type {}", e.text(), show(&t)), "6.4.4.5")),
+                    t => return Err((format!("'{}': index of type {}", e.text(), show(&t)), "6.4.4")),
                 }
                 Ty::Is(*of)
             }
@@ -201,8 +201,8 @@ impl Body<'_> {
                 let compare = matches!(op, Op::Eq | Op::Ne | Op::Lt | Op::Gt | Op::Le | Op::Ge);
                 let is_bool = common == Ty::Is(Type::Bool);
                 if logic != is_bool && !(compare && is_bool && matches!(op, Op::Eq | Op::Ne)) {
-                    let what = format!("'{}': {} operands for {}", e.text(), show(&common), op_text(*op));
-                    return Err((what, "7.3.2, Table 71"));
+                    let what = format!("'{}': {} operands for {}", e.text(), show(&common), op.text());
+                    return Err((what, "7.3.2"));
                 }
                 match (compare, common) {
                     (true, _) => Ty::Is(Type::Bool),
@@ -219,7 +219,7 @@ impl Body<'_> {
                         .find(|t| t.elementary() == Some(n))
                 };
                 let (Some(from), Some(to), [x]) = (ty(from), ty(to), args.as_slice()) else {
-                    return Err((format!("'{}': not a conversion of one argument", e.text()), "6.6.2.5.6"));
+                    return Err((format!("'{}': not a conversion of one argument", e.text()), "6.6.2.5"));
                 };
                 let tx = self.expr(x)?;
                 unify(&tx, &Ty::Is(from.clone()))
@@ -258,7 +258,7 @@ impl Body<'_> {
                     Expr::Var(p) => {
                         let (ty, instance) = self.path(p)?;
                         if instance {
-                            return Err((format!("'{p}' written from outside its block"), "6.6.3.2"));
+                            return Err((format!("'{p}' written from outside its block"), "6.6.3"));
                         }
                         (p.as_str(), ty)
                     }
@@ -273,7 +273,7 @@ impl Body<'_> {
                 };
                 let root = name.split('.').next().unwrap_or_default();
                 if !self.pou.program && matches!(self.own(root), Some((VarClass::Input, _))) {
-                    return Err((format!("'{root}' is a VAR_INPUT: the block cannot write it"), "6.5.2.2"));
+                    return Err((format!("'{root}' is a VAR_INPUT: the block cannot write it"), "6.5.2"));
                 }
                 self.store(&ty, value, &target.text())
             }
@@ -288,10 +288,7 @@ impl Body<'_> {
                 let t = match self.expr(e)? {
                     Ty::Is(t) if t.range().is_some() => t,
                     t => {
-                        return Err((
-                            format!("CASE {}: selector of type {}", e.text(), show(&t)),
-                            "7.3.3.3.3",
-                        ))
+                        return Err((format!("CASE {}: selector of type {}", e.text(), show(&t)), "7.3.3.3"))
                     }
                 };
                 for (labels, body) in arms {
@@ -305,7 +302,7 @@ impl Body<'_> {
             Stmt::For(v, from, to, body) => {
                 let (ty, _) = self.path(v)?;
                 if ty.range().is_none() {
-                    return Err((format!("FOR {v}: control variable of type {}", ty.text()), "7.3.3.4.2"));
+                    return Err((format!("FOR {v}: control variable of type {}", ty.text()), "7.3.3.4"));
                 }
                 self.store(&ty, &Expr::Int(*from), v)?;
                 self.store(&ty, &Expr::Int(*to), v)?;
@@ -314,14 +311,14 @@ impl Body<'_> {
             Stmt::Exit => Ok(()),
             Stmt::Call(inst, args) => {
                 let Some((_, Var { ty: Type::Named(n), .. })) = self.own(inst) else {
-                    return Err((format!("'{inst}' is no block instance"), "6.6.3.2"));
+                    return Err((format!("'{inst}' is no block instance"), "6.6.3"));
                 };
                 let block = self.scope.pous.iter().find(|p| !p.program && &p.name == n);
-                let block = block.ok_or_else(|| (format!("'{inst}' is no block instance"), "6.6.3.2"))?;
+                let block = block.ok_or_else(|| (format!("'{inst}' is no block instance"), "6.6.3"))?;
                 for (name, value) in args {
                     match block.var(name) {
                         Some((VarClass::Input, v)) => self.store(&v.ty, value, &format!("{inst}.{name}"))?,
-                        _ => return Err((format!("{inst}: '{name}' is no input of {n}"), "6.6.3.2")),
+                        _ => return Err((format!("{inst}: '{name}' is no input of {n}"), "6.6.3")),
                     }
                 }
                 Ok(())
@@ -347,10 +344,6 @@ fn show(t: &Ty) -> String {
         Ty::Is(t) => t.text(),
         Ty::Literal(_) => "an integer literal".into(),
     }
-}
-
-fn op_text(op: Op) -> String {
-    Expr::var("a").op(op, Expr::var("b")).text().trim_start_matches("a ").trim_end_matches(" b").to_owned()
 }
 
 #[cfg(test)]
@@ -416,14 +409,14 @@ mod tests {
         assert_eq!(one(&fb), Ok(()));
         let mut bad = fb.clone();
         bad.sections[0].stmts = vec![Stmt::set("i", Expr::Bool(true))];
-        assert_eq!(one(&bad).unwrap_err().clause, "6.5.2.2");
+        assert_eq!(one(&bad).unwrap_err().clause, "6.5.2");
         let vars = locals(vec![Var::new("b", Type::Named("fb".into()), ""), Var::new("v", Type::Bool, "")]);
         let call = Stmt::Call("b".into(), vec![("i".into(), Expr::var("v"))]);
         let read = Stmt::set("v", Expr::var("b.o"));
         let main = pou(true, vars.clone(), vec![call, read]);
         assert_eq!(check(&[], &[&fb, &main]), Ok(()));
         let write = pou(true, vars.clone(), vec![Stmt::set("b.o", Expr::Bool(true))]);
-        assert_eq!(check(&[], &[&fb, &write]).unwrap_err().clause, "6.6.3.2");
+        assert_eq!(check(&[], &[&fb, &write]).unwrap_err().clause, "6.6.3");
         let wrong = pou(true, vars, vec![Stmt::Call("b".into(), vec![("i".into(), Expr::Int(1))])]);
         assert!(check(&[], &[&fb, &wrong]).is_err(), "an INT literal into a BOOL input");
     }

@@ -7,9 +7,16 @@
 //! `CONFIGURATION`/`RESOURCE`/`TASK`/`PROGRAM … WITH`. Written from the standard's grammar for the
 //! harness; it reads the emitted text itself, never codegen's syntax tree.
 //!
+//! Strict where the grammar is (IEC 61131-3 Ed. 3): a keyword is never a name (6.1.3, the list of
+//! `codegen::plc::names`), an identifier has no `__` and no trailing `_` (6.1.2), located variables only
+//! in a `PROGRAM`'s `VAR` block of located variables (6.5.5, Annex A `Loc_Var_Decls`), each address
+//! bound once, and `END_STRUCT;` before `END_TYPE` (Annex A `Data_Type_Decl`).
+//!
 //! Comments are skipped except section markers `(* section: NAME … *)`, which become [`Stmt::Section`]
 //! so that statements can be counted per section on the text. Identifiers are case-insensitive: they
 //! are kept upper-cased.
+
+use codegen::plc::names::is_keyword;
 
 /// A token.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -64,7 +71,13 @@ fn lex(text: &str) -> Result<Vec<(Tok, usize)>, String> {
                 }
                 out.push((Tok::Word(text[start..i].to_owned()), line));
             } else {
-                out.push((Tok::Ident(text[start..i].to_ascii_uppercase()), line));
+                let word = &text[start..i];
+                if word.contains("__") || word.ends_with('_') {
+                    return Err(format!(
+                        "line {line}: '{word}': no identifier has two underscores in a row or one at its end (IEC 61131-3 6.1.2)"
+                    ));
+                }
+                out.push((Tok::Ident(word.to_ascii_uppercase()), line));
             }
         } else if c == b'%' {
             let start = i;
@@ -249,6 +262,17 @@ impl Parser {
         }
     }
 
+    /// An identifier a declaration introduces or a statement refers to: never a keyword of the
+    /// standard (IEC 61131-3 Ed. 3 6.1.3: `EN`, `IF`, `TIME`, `R_TRIG`, … in any case).
+    fn name(&mut self) -> Result<String, String> {
+        let line = self.line();
+        let name = self.ident()?;
+        if is_keyword(&name) {
+            return Err(format!("line {line}: '{name}' is a keyword, not an identifier (IEC 61131-3 6.1.3)"));
+        }
+        Ok(name)
+    }
+
     fn int(&mut self) -> Result<i64, String> {
         let neg = self.eat_sym("-");
         match self.next() {
@@ -275,12 +299,17 @@ impl Parser {
 
     fn struct_type(&mut self) -> Result<Unit, String> {
         self.kw("TYPE")?;
-        let name = self.ident()?;
+        let name = self.name()?;
         self.sym(":")?;
         self.kw("STRUCT")?;
         let mut fields = Vec::new();
         while !self.is_kw("END_STRUCT") {
-            fields.push(self.decl("STRUCT")?);
+            let line = self.line();
+            let field = self.decl("STRUCT")?;
+            if field.address.is_some() {
+                return Err(format!("line {line}: a located structure member (IEC 61131-3 6.5.5)"));
+            }
+            fields.push(field);
         }
         self.kw("END_STRUCT")?;
         // Annex A `Data_Type_Decl`: every type declaration ends with `;`, the last one too.
@@ -292,18 +321,32 @@ impl Parser {
     fn pou(&mut self) -> Result<Unit, String> {
         let kind = self.ident()?;
         let program = kind == "PROGRAM";
-        let name = self.ident()?;
+        let name = self.name()?;
         let mut vars = Vec::new();
         while let Some(Tok::Ident(k)) = self.peek() {
             let class = k.clone();
             if !["VAR", "VAR_INPUT", "VAR_OUTPUT"].contains(&class.as_str()) {
                 break;
             }
+            let line = self.line();
             self.at += 1;
+            let mut block = Vec::new();
             while !self.is_kw("END_VAR") {
-                vars.push(self.decl(&class)?);
+                block.push(self.decl(&class)?);
             }
             self.kw("END_VAR")?;
+            let located = block.iter().filter(|d| d.address.is_some()).count();
+            if located > 0 && !(program && class == "VAR") {
+                return Err(format!(
+                    "line {line}: located variables in a {class} of a {kind}: only a PROGRAM's VAR binds addresses (IEC 61131-3 6.5.5; Annex A Loc_Var_Decls)"
+                ));
+            }
+            if located > 0 && located < block.len() {
+                return Err(format!(
+                    "line {line}: a VAR block mixes located and unlocated variables: each is a block of its own (IEC 61131-3 Annex A Var_Decls, Loc_Var_Decls)"
+                ));
+            }
+            vars.extend(block);
         }
         let end = format!("END_{kind}");
         let body = self.stmts(&[&end])?;
@@ -312,7 +355,7 @@ impl Parser {
     }
 
     fn decl(&mut self, class: &str) -> Result<Decl, String> {
-        let name = self.ident()?;
+        let name = self.name()?;
         let address = if self.is_kw("AT") {
             self.at += 1;
             match self.next() {
@@ -333,7 +376,7 @@ impl Parser {
         let name = self.ident()?;
         Ok(match name.as_str() {
             "BOOL" => Type::Bool,
-            "INT" | "DINT" | "UDINT" => Type::Int(name),
+            "SINT" | "INT" | "DINT" | "LINT" | "USINT" | "UINT" | "UDINT" => Type::Int(name),
             "ARRAY" => {
                 self.sym("[")?;
                 let lo = self.int()?;
@@ -349,18 +392,18 @@ impl Parser {
 
     fn configuration(&mut self) -> Result<Unit, String> {
         self.kw("CONFIGURATION")?;
-        let name = self.ident()?;
+        let name = self.name()?;
         let (mut tasks, mut programs) = (Vec::new(), Vec::new());
         while !self.is_kw("END_CONFIGURATION") {
             match self.ident()?.as_str() {
                 "RESOURCE" => {
-                    self.ident()?;
+                    self.name()?;
                     self.kw("ON")?;
                     self.ident()?;
                 }
                 "END_RESOURCE" => {}
                 "TASK" => {
-                    let task = self.ident()?;
+                    let task = self.name()?;
                     self.sym("(")?;
                     let mut interval = String::new();
                     loop {
@@ -380,7 +423,7 @@ impl Parser {
                     tasks.push((task, interval));
                 }
                 "PROGRAM" => {
-                    let inst = self.ident()?;
+                    let inst = self.name()?;
                     self.kw("WITH")?;
                     let task = self.ident()?;
                     self.sym(":")?;
@@ -459,7 +502,7 @@ impl Parser {
             Stmt::Case(e, arms, els)
         } else if self.is_kw("FOR") {
             self.at += 1;
-            let v = self.ident()?;
+            let v = self.name()?;
             self.sym(":=")?;
             let from = self.expr()?;
             self.kw("TO")?;
@@ -512,7 +555,7 @@ impl Parser {
     fn path(&mut self) -> Result<Path, String> {
         let mut segs = Vec::new();
         loop {
-            let name = self.ident()?;
+            let name = self.name()?;
             let index = if self.eat_sym("[") {
                 let i = self.expr()?;
                 self.sym("]")?;
@@ -600,7 +643,22 @@ impl Parser {
 /// Parses a source file into its declarations.
 pub fn parse(text: &str) -> Result<Vec<Unit>, String> {
     let mut p = Parser { toks: lex(text)?, at: 0 };
-    p.units()
+    let units = p.units()?;
+    let mut bound: Vec<(&str, &str)> = Vec::new();
+    for unit in &units {
+        let Unit::Pou { vars, .. } = unit else { continue };
+        for d in vars {
+            let Some(address) = &d.address else { continue };
+            if let Some((other, _)) = bound.iter().find(|(_, a)| a.eq_ignore_ascii_case(address)) {
+                return Err(format!(
+                    "{address} is bound twice, to {other} and {} (IEC 61131-3 6.5.5: one variable per address)",
+                    d.name
+                ));
+            }
+            bound.push((&d.name, address));
+        }
+    }
+    Ok(units)
 }
 
 /// Top-level statements of a body per section marker, in order of first appearance.

@@ -4,9 +4,15 @@
 //! Values: `BOOL`, integers (kept as `i64` and checked against their declared type's range on every
 //! assignment, so an overflow the PLC would wrap is an error here), arrays (index checked), structs and
 //! block instances. Unset variables start at their initial value or zero/FALSE, as on a PLC.
+//!
+//! Strict as a strict compiler is: [`Plc::load`] refuses what [`super::parse`] refuses (keywords as
+//! names, located variables outside a `PROGRAM`'s own `VAR` block or bound twice, a missing `;`) and
+//! what [`super::check`] refuses (an implicit conversion the standard does not allow, a write to an
+//! input or into a block instance).
 
 use std::collections::BTreeMap;
 
+use super::check::{check, range};
 use super::parse::{parse, Decl, Expr, Path, Stmt, Type, Unit};
 
 /// A value.
@@ -43,14 +49,6 @@ enum Flow {
     Exit,
 }
 
-fn range(ty: &str) -> (i64, i64) {
-    match ty {
-        "INT" => (-32_768, 32_767),
-        "DINT" => (-2_147_483_648, 2_147_483_647),
-        _ => (0, 4_294_967_295),
-    }
-}
-
 impl Plc {
     /// Parses `text` and instantiates its (single) `PROGRAM`.
     pub fn load(text: &str) -> Result<Plc, String> {
@@ -61,7 +59,9 @@ impl Plc {
             vars: BTreeMap::new(),
             executed: 0,
         };
-        for unit in parse(text)? {
+        let units = parse(text)?;
+        check(&units)?;
+        for unit in units {
             match unit {
                 Unit::Struct(name, fields) => {
                     plc.types.insert(name, fields);
@@ -104,7 +104,7 @@ impl Plc {
         Ok(match ty {
             Type::Bool => Value::Bool(false),
             Type::Int(n) => {
-                let (lo, hi) = range(n);
+                let (lo, hi) = range(n).ok_or_else(|| format!("no integer type {n}"))?;
                 Value::Int(0, lo, hi)
             }
             Type::Array(lo, hi, t) => {
@@ -349,18 +349,26 @@ fn eval(e: &Expr, vars: &BTreeMap<String, Value>) -> Result<Value, String> {
         Expr::Var(p) => lookup(vars, p)?.clone(),
         Expr::Not(x) => Value::Bool(!as_bool(&eval(x, vars)?)?),
         Expr::Neg(x) => int(-as_int(&eval(x, vars)?)?),
-        Expr::Call(f, args) => match (f.as_str(), args.as_slice()) {
-            ("BOOL_TO_INT", [x]) => int(i64::from(as_bool(&eval(x, vars)?)?)),
-            ("INT_TO_DINT" | "DINT_TO_INT", [x]) => {
-                let v = as_int(&eval(x, vars)?)?;
-                let (lo, hi) = range(f.split_once("_TO_").map_or("", |(_, to)| to));
+        Expr::Call(f, args) => {
+            let (Some((from, to)), [x]) = (f.split_once("_TO_"), args.as_slice()) else {
+                return Err(format!("unknown function {f}"));
+            };
+            let v = match (from, eval(x, vars)?) {
+                ("BOOL", Value::Bool(b)) => i64::from(b),
+                (_, Value::Int(i, ..)) => i,
+                (_, v) => return Err(format!("{f} of {v:?}")),
+            };
+            if to == "BOOL" {
+                Value::Bool(v != 0)
+            } else {
+                // A narrowing conversion of a value out of range is the program's error here.
+                let (lo, hi) = range(to).ok_or_else(|| format!("unknown function {f}"))?;
                 if v < lo || v > hi {
                     return Err(format!("{f}({v}): out of range"));
                 }
                 int(v)
             }
-            _ => return Err(format!("unknown function {f}")),
-        },
+        }
         Expr::Bin(a, op, b) => {
             let (a, b) = (eval(a, vars)?, eval(b, vars)?);
             match op.as_str() {
