@@ -29,20 +29,22 @@ use crate::net::condition;
 use crate::net::interpretation::{Direction, Interpretation};
 
 /// The identifiers of a net's program, unique without regard to case and clear of the keywords (a
-/// signal called `sr`, the standard's bistable block, becomes `e_sr`).
-struct Idents {
+/// signal called `sr`, the standard's bistable block, becomes `e_sr`): what a program calling the block
+/// connects.
+pub struct Idents {
     /// `P_<id>` per place.
-    place: Vec<String>,
+    pub place: Vec<String>,
     /// Per signal, its variable.
-    signal: Vec<String>,
+    pub signal: Vec<String>,
     /// Per signal, the feedback input of a carried output (`is_<name>`: the value the actuator has now).
-    feedback: Vec<String>,
+    pub feedback: Vec<String>,
     /// Per place, its SFC step name.
-    step: Vec<String>,
+    pub step: Vec<String>,
 }
 
 impl Idents {
-    fn new(net: &Interpretation) -> Idents {
+    /// The identifiers of `net`'s program.
+    pub fn new(net: &Interpretation) -> Idents {
         let mut names = Names::default();
         names.reserve("fired");
         let place = net.net.places.iter().map(|p| names.fresh("P", &p.id)).collect();
