@@ -387,3 +387,68 @@ pub fn files(
     let xml = super::xml::document(None, &[(&fb, &[]), (&sfc, &[body])], name, cycle_ms, header);
     Ok(vec![(format!("{name}_net.st"), st), (format!("{name}_net.xml"), xml)])
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::manifest::Manifest;
+    use crate::model::testing::build;
+    use crate::model::EventTable;
+    use crate::net::model::{Net, Place, Transition};
+    use std::path::Path;
+
+    /// p0 –t0 (sr)→ p1 –t1→ p0, with a second way out of p0 (t2 into p1 and p2): p1 demands `af`.
+    fn net() -> Interpretation {
+        let t = |id: &str, inputs: Vec<(usize, u32)>, outputs: Vec<(usize, u32)>| Transition {
+            id: id.into(),
+            inputs,
+            outputs,
+            ..Transition::default()
+        };
+        let n = Net {
+            name: "n".into(),
+            places: (0..3).map(|i| Place { id: format!("p{i}"), initial: u32::from(i == 0) }).collect(),
+            transitions: vec![
+                t("t0", vec![(0, 1)], vec![(1, 1)]),
+                t("t1", vec![(1, 1)], vec![(0, 1)]),
+                t("t2", vec![(0, 1)], vec![(1, 1), (2, 1)]),
+            ],
+        };
+        let a = build(
+            "A",
+            &["0", "1"],
+            &["af1", "af0"],
+            &[("0", "af1", "1"), ("1", "af0", "0"), ("0", "sr1", "0")],
+        );
+        let table = EventTable::build([&a]).unwrap();
+        let text = "name = \"x\"\n[net]\npnml = \"n.pnml\"\n[net.conditions]\nt0 = \"sr\"\n[net.actions]\np1 = { af = 1 }\n";
+        let m = Manifest::parse(Path::new("m.toml"), text).unwrap();
+        Interpretation::bind(m.net.as_ref().unwrap(), &m.file, n, &table).unwrap()
+    }
+
+    #[test]
+    fn token_passing_fires_one_transition_per_scan_behind_output_enabling() {
+        let fb = token_passing(&net(), "n").unwrap();
+        let body = fb.body();
+        assert!(body.contains("IF NOT fired AND P_p0 AND e_sr THEN\n    P_p0 := FALSE;\n    P_p1 := TRUE;\n    fired := TRUE;\nEND_IF;"), "{body}");
+        assert!(body.contains("IF NOT fired AND P_p1 AND is_af THEN"), "t1 waits for af: {body}");
+        assert!(body.contains("IF P_p1 THEN\n    af := TRUE;\nEND_IF;"), "{body}");
+        assert_eq!(fb.var("e_sr").map(|(c, _)| c), Some(VarClass::Input), "sr is the SR block's name");
+        super::super::strict::check(&[], &[&fb]).unwrap();
+    }
+
+    #[test]
+    fn the_sfc_diverges_and_converges_where_the_net_does() {
+        let sfc = sfc_body(&net()).unwrap();
+        assert_eq!(sfc.matches("<step ").count(), 3);
+        assert_eq!(sfc.matches("<selectionDivergence ").count(), 1, "p0 has two ways out");
+        assert_eq!(sfc.matches("<selectionConvergence ").count(), 1, "p1 has two ways in");
+        assert_eq!(sfc.matches("<simultaneousDivergence ").count(), 1, "t2 marks two places");
+        assert!(sfc.contains("initialStep=\"true\"") && sfc.contains("af := TRUE;"));
+        let weighted = Interpretation {
+            net: Net { places: vec![Place { id: "p".into(), initial: 2 }], ..Net::default() },
+            ..net()
+        };
+        assert!(token_passing(&weighted, "w").unwrap_err().to_string().contains("only safe nets"));
+    }
+}
