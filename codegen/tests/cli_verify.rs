@@ -99,6 +99,7 @@ fn limits_and_bad_input_exit_2_with_a_message() {
         .replace("pnml = \"net3.pnml\"", "pnml = \"missing.pnml\"")
         .replace("t8 = \"sf\"", "t8 = \"sf AND sx\"");
     std::fs::write(&manifest, &bad).unwrap();
+    let _ = std::fs::remove_file(scratch("missing.pnml"));
     let out = codegen(&["verify", &manifest.display().to_string()]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);

@@ -86,15 +86,30 @@ pub fn verify(
     automata: &[&Automaton],
     limits: Limits,
 ) -> Result<Verification, NetError> {
-    let pnml = file.parent().unwrap_or(Path::new("")).join(spec.pnml.get_ref());
-    let net = read_pnml(&pnml)?;
-    let inputs = Inputs::new(automata.iter().copied())?;
+    let (net, inputs) = load(spec, file, automata)?;
     let reachable = Reachable::explore(&inputs.dfas.iter().collect::<Vec<_>>(), limits.state_limit)?;
     let admissible =
         Size { states: reachable.dfa().state_count(), transitions: reachable.dfa().transition_count() };
     let plant = Composition::new(automata, &inputs.table)?;
-    let net = Interpretation::bind(spec, file, net, &inputs.table)?;
     let graph = IoGraph::build(&net, &plant, limits)?;
     let verdict = Verdict::judge(&graph, &net, &plant, &inputs.table);
     Ok(Verification { net, table: inputs.table, plant, admissible, graph, verdict })
+}
+
+/// Reads the net of `spec` (a `[net]` section of the manifest `file`) and binds its interpretation to the
+/// events of `automata` (the plants and supervisors whose signals it reads and sets).
+pub fn interpretation(
+    spec: &NetSpec,
+    file: &Path,
+    automata: &[&Automaton],
+) -> Result<Interpretation, NetError> {
+    Ok(load(spec, file, automata)?.0)
+}
+
+fn load(spec: &NetSpec, file: &Path, automata: &[&Automaton]) -> Result<(Interpretation, Inputs), NetError> {
+    let pnml = file.parent().unwrap_or(Path::new("")).join(spec.pnml.get_ref());
+    let net = read_pnml(&pnml)?;
+    let inputs = Inputs::new(automata.iter().copied())?;
+    let net = Interpretation::bind(spec, file, net, &inputs.table)?;
+    Ok((net, inputs))
 }

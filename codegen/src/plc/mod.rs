@@ -16,6 +16,7 @@
 //!   `PROGRAM` instantiating it (the scan is described there).
 //! * [`strict`] — the IEC 61131-3 Ed. 3 rules every program is checked against before it is printed
 //!   (keywords, located variables, no implicit conversion), so a strict compiler takes it.
+//! * [`net_program`] — a sequence net ([`crate::net`]) as token-passing ST and as an SFC.
 //! * [`xml`] — the same POUs, and the configuration, as PLCopen XML with ST bodies.
 //! * [`report`] — what the program costs and how it solves each problem.
 //! * [`ld`] — Ladder Diagram rungs, their PLCopen `<LD>` body and instruction-list cost.
@@ -32,6 +33,7 @@ pub mod choice;
 pub mod io;
 pub mod ld;
 pub mod names;
+pub mod net_program;
 pub mod program;
 pub mod report;
 pub mod st;
@@ -276,7 +278,7 @@ fn header(set: &PackSet, opts: &PlcOptions, provenance: &Provenance) -> Vec<Stri
 }
 
 /// `lines` as one ST comment (any comment delimiter inside them broken up).
-fn comment(lines: &[String]) -> String {
+pub(crate) fn comment(lines: &[String]) -> String {
     let mut out = String::from("(*\n");
     for l in lines {
         let l = st::safe_comment(l);
