@@ -1,5 +1,5 @@
 """How fast the virtual plant's steering covers every controllable supervisor transition, per example: runs
-`codegen run EXAMPLE --events N --seed S --json` under QEMU for seeds 1..20 (two at a time) and prints, per
+`codegen run EXAMPLE --events N --seed S --timing realtime --json` under QEMU for seeds 1..20 (two at a time) and prints, per
 example, the median and worst event count at which coverage became full (`incomplete` when a run never got
 there) and the steering resets, as `docs/steering.md` records them.
 
@@ -27,10 +27,10 @@ EXAMPLES = {
 }
 
 
-def run(codegen, manifest, events, seed):
+def run(codegen, manifest, events, seed, timing):
     """One closed-loop run; its report as a dict."""
     out = subprocess.run(
-        [codegen, "run", manifest, "--events", str(events), "--seed", str(seed), "--json"],
+        [codegen, "run", manifest, "--events", str(events), "--seed", str(seed), "--timing", timing, "--json"],
         cwd=ROOT, capture_output=True, text=True, check=False)
     if out.returncode not in (0, 1):
         sys.exit(f"{manifest} seed {seed}: exit {out.returncode}\n{out.stderr}")
@@ -49,15 +49,16 @@ def main():
     parser.add_argument("--events", type=int, default=10_000)
     parser.add_argument("--seeds", type=int, default=20)
     parser.add_argument("--codegen", default=os.path.join(ROOT, "target", "debug", "codegen"))
+    parser.add_argument("--timing", default="realtime", choices=["realtime", "lockstep"])
     args = parser.parse_args()
     failed = False
     print(f"{'example':<10} {'full coverage at (median / worst)':>34} {'resets (median / worst)':>24}  incomplete")
     for name in args.examples:
         manifest = EXAMPLES.get(name, name)
         # The first run builds the firmware; the others find it built.
-        first = run(args.codegen, manifest, args.events, 1)
+        first = run(args.codegen, manifest, args.events, 1, args.timing)
         with ThreadPoolExecutor(max_workers=2) as pool:
-            rest = list(pool.map(lambda s: run(args.codegen, manifest, args.events, s),
+            rest = list(pool.map(lambda s: run(args.codegen, manifest, args.events, s, args.timing),
                                  range(2, args.seeds + 1)))
         reports = [first] + rest
         at = [r["full_coverage_at"] for r in reports]
