@@ -391,15 +391,21 @@ fn layout(components: &[&Dfa]) -> Vec<Field> {
 
 /// Name of a product state: the component state names in parentheses, or the one name for one component.
 pub(crate) fn tuple_name(x: &Exploration, sources: &[&Automaton], s: u32) -> String {
+    name_of_tuple(sources, |c| x.component_state(s, c))
+}
+
+/// Name of the tuple whose component `c` is in state `state_of(c)` of `sources[c]`: the names in
+/// parentheses, or the one name for one component.
+pub(crate) fn name_of_tuple(sources: &[&Automaton], state_of: impl Fn(usize) -> u32) -> String {
     if sources.len() == 1 {
-        return sources[0].states[x.component_state(s, 0) as usize].name.clone();
+        return sources[0].states[state_of(0) as usize].name.clone();
     }
     let mut name = String::from("(");
     for (c, a) in sources.iter().enumerate() {
         if c > 0 {
             name.push(',');
         }
-        name.push_str(&a.states[x.component_state(s, c) as usize].name);
+        name.push_str(&a.states[state_of(c) as usize].name);
     }
     name.push(')');
     name
