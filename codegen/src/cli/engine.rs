@@ -7,7 +7,8 @@ use std::sync::atomic::Ordering;
 use std::sync::Arc;
 
 use codegen::model::Automaton;
-use codegen::symbolic::{self, Check, SymbolicSupervisor};
+use codegen::symbolic::{self, Check, SymbolicSupervisor, AUTO_EXPLICIT_STATES};
+use codegen::synth::{self, Config, Supervisor, SynthError};
 use num_bigint::BigUint;
 use serde_json::json;
 
@@ -20,29 +21,62 @@ pub enum Engine {
     Explicit,
     /// Binary decision diagrams.
     Symbolic,
-    /// Symbolic when the product of the automata's state counts reaches 2^24, explicit below.
+    /// Explicit while the product stays below a million states (monolithic) or 2^24 possible states
+    /// (the conflict check), symbolic beyond.
     Auto,
 }
 
+/// The monolithic supervisor as the engine that ran gives it.
+pub enum Monolithic {
+    /// From the explicit engine.
+    Explicit(Supervisor),
+    /// From the symbolic engine (listed as an automaton when small enough).
+    Symbolic(SymbolicSupervisor),
+}
+
 impl Engine {
-    /// For monolithic synthesis: whether the symbolic engine runs on `automata`.
-    pub fn symbolic_for(self, automata: &[Automaton]) -> bool {
-        match self {
-            Engine::Explicit => false,
-            Engine::Symbolic => true,
-            Engine::Auto => symbolic::prefers_symbolic(automata),
-        }
+    /// Monolithic synthesis on this engine. `auto` runs the explicit engine until its product passes
+    /// [`AUTO_EXPLICIT_STATES`], then the symbolic one. Says on stderr which ran.
+    pub fn monolithic(
+        self,
+        plants: &[Automaton],
+        specs: &[Automaton],
+        cfg: &Config,
+    ) -> Result<Monolithic, Error> {
+        let explicit = match self {
+            Engine::Symbolic => false,
+            Engine::Explicit => true,
+            Engine::Auto => {
+                let capped = Config { state_limit: cfg.state_limit.min(AUTO_EXPLICIT_STATES), ..cfg.clone() };
+                match synth::monolithic(plants, specs, &capped) {
+                    Err(SynthError::StateLimit { .. }) if cfg.state_limit > AUTO_EXPLICIT_STATES => {
+                        eprintln!("engine: the explicit product passed {AUTO_EXPLICIT_STATES} states");
+                        false
+                    }
+                    r => {
+                        say("monolithic synthesis", false);
+                        return Ok(Monolithic::Explicit(r?));
+                    }
+                }
+            }
+        };
+        say("monolithic synthesis", !explicit);
+        Ok(if explicit {
+            Monolithic::Explicit(synth::monolithic(plants, specs, cfg)?)
+        } else {
+            Monolithic::Symbolic(symbolic::monolithic(plants, specs, cfg, &Default::default())?)
+        })
     }
 
     /// For modular synthesis: the symbolic conflict check, if this engine uses one (`auto`: only on
-    /// supervisor products from 2^24 states).
+    /// supervisor products from 2^[`AUTO_PRODUCT_BITS`](symbolic::AUTO_PRODUCT_BITS) states).
     pub fn conflict_check(self) -> Option<Arc<Check>> {
         (self != Engine::Explicit).then(|| Arc::new(Check { auto: self == Engine::Auto, ..Check::default() }))
     }
 }
 
 /// Says on stderr which engine ran.
-pub fn say(what: &str, symbolic: bool) {
+fn say(what: &str, symbolic: bool) {
     eprintln!("engine: {what} ran {}", if symbolic { "symbolic (BDD)" } else { "explicit" });
 }
 

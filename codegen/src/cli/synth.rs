@@ -10,7 +10,7 @@ use codegen::model::{resolve_controllability, Automaton, Kind};
 use codegen::synth::{self, Config, LocalModularResult, Supervisor};
 use serde_json::json;
 
-use super::engine::{self, Engine};
+use super::engine::{self, Engine, Monolithic};
 use super::{limits, Error};
 
 /// Version of the `--json` output; raised when a field changes meaning or disappears.
@@ -120,30 +120,27 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     let cfg = Config { nonblocking: check.clone().map(|c| c as _), ..cfg };
     let mut ran_symbolic = false;
     let result = if args.monolithic {
-        let all: Vec<Automaton> = plants.iter().chain(&specs).cloned().collect();
-        let symbolic = args.engine.symbolic_for(&all);
-        ran_symbolic = symbolic;
-        engine::say("monolithic synthesis", symbolic);
-        let s = if symbolic {
-            let r = codegen::symbolic::monolithic(&plants, &specs, &cfg, &Default::default())?;
-            match r.to_supervisor() {
-                Some(s) => s,
-                None if args.out.is_some() || args.reduce => {
-                    return Err(format!(
-                        "{}: {} states, more than the {} listed as an automaton: -o and --reduce need one",
-                        r.name,
-                        r.states,
-                        codegen::symbolic::EXPLICIT_LIMIT
-                    )
-                    .into())
-                }
-                None => {
-                    bar.inspect(|b| b.finish_and_clear());
-                    return engine::report_counts(&name, &r, args.json, JSON_SCHEMA);
+        let s = match args.engine.monolithic(&plants, &specs, &cfg)? {
+            Monolithic::Explicit(s) => s,
+            Monolithic::Symbolic(r) => {
+                ran_symbolic = true;
+                match r.to_supervisor() {
+                    Some(s) => s,
+                    None if args.out.is_some() || args.reduce => {
+                        return Err(format!(
+                            "{}: {} states, more than the {} listed as an automaton: -o and --reduce need one",
+                            r.name,
+                            r.states,
+                            codegen::symbolic::EXPLICIT_LIMIT
+                        )
+                        .into());
+                    }
+                    None => {
+                        bar.inspect(|b| b.finish_and_clear());
+                        return engine::report_counts(&name, &r, args.json, JSON_SCHEMA);
+                    }
                 }
             }
-        } else {
-            synth::monolithic(&plants, &specs, &cfg)?
         };
         LocalModularResult { supervisors: vec![s], nonconflicting: true, merged: Vec::new() }
     } else {

@@ -77,7 +77,12 @@ fn bits_for(states: usize) -> usize {
 impl Space {
     /// Encodes `dfas` (over one event table whose controllable events `controllable` marks), its bits in
     /// the order `order` gives; `what` names the product in errors.
-    pub(crate) fn new(dfas: &[&Dfa], controllable: &[bool], order: Order, what: &str) -> Result<Space, SynthError> {
+    pub(crate) fn new(
+        dfas: &[&Dfa],
+        controllable: &[bool],
+        order: Order,
+        what: &str,
+    ) -> Result<Space, SynthError> {
         let bits: usize = dfas.iter().map(|d| bits_for(d.state_count())).sum();
         if 2 * bits > MAX_VARIABLES {
             return Err(SynthError::TooManyBits { what: what.to_owned(), bits, max: MAX_VARIABLES });
@@ -165,7 +170,9 @@ impl Space {
         let comp = &self.components[c];
         (0..d.state_count() as u32)
             .filter_map(|s| d.step(s, e).map(|t| (s, t)))
-            .fold(self.vars.mk_false(), |acc, (s, t)| acc.or(&self.code(&comp.cur, s).and(&self.code(&comp.next, t))))
+            .fold(self.vars.mk_false(), |acc, (s, t)| {
+                acc.or(&self.code(&comp.cur, s).and(&self.code(&comp.next, t)))
+            })
     }
 
     /// The states reached from `set` by one `e` step.
@@ -201,16 +208,22 @@ impl Space {
         set.exact_cardinality() >> self.bits
     }
 
-    /// Whether the tuple `states` (one state per component) is in `set`.
-    pub(crate) fn contains(&self, set: &Bdd, states: &[u32]) -> bool {
+    /// The valuation of the current bits that encodes the tuple `states` (one state per component).
+    pub(crate) fn valuation(&self, states: &[u32]) -> BddValuation {
         let mut valuation = BddValuation::all_false(self.vars.num_vars());
-        for (comp, &s) in self.components.iter().zip(states) {
-            let width = comp.cur.len();
-            for (i, &v) in comp.cur.iter().enumerate() {
-                valuation.set_value(v, (s >> (width - 1 - i)) & 1 == 1);
-            }
+        for (c, &s) in states.iter().enumerate() {
+            self.set_state(&mut valuation, c, s);
         }
-        set.eval_in(&valuation)
+        valuation
+    }
+
+    /// Sets component `c`'s bits of `valuation` to the code of state `s`.
+    pub(crate) fn set_state(&self, valuation: &mut BddValuation, c: usize, s: u32) {
+        let cur = &self.components[c].cur;
+        let width = cur.len();
+        for (i, &v) in cur.iter().enumerate() {
+            valuation.set_value(v, (s >> (width - 1 - i)) & 1 == 1);
+        }
     }
 }
 

@@ -36,7 +36,12 @@ impl<'a> Walk<'a> {
         self.cfg.stage(&format!("{}: {phase}, round {round}: {nodes} BDD nodes", self.what));
         if let (Some(limit), Some(resident)) = (self.cfg.memory_limit, resident_bytes()) {
             if resident > limit {
-                return Err(SynthError::BddMemoryLimit { what: self.what.to_owned(), nodes, resident, limit });
+                return Err(SynthError::BddMemoryLimit {
+                    what: self.what.to_owned(),
+                    nodes,
+                    resident,
+                    limit,
+                });
             }
         }
         Ok(())
@@ -113,7 +118,8 @@ impl<'a> Walk<'a> {
         let mut good = space.valid.and_not(&self.bad(plants));
         loop {
             let outside = space.valid.and_not(&good);
-            let pushed = self.backward(&outside, &space.valid, &uncontrollable, "uncontrollable predecessors")?;
+            let pushed =
+                self.backward(&outside, &space.valid, &uncontrollable, "uncontrollable predecessors")?;
             let controllable = good.and_not(&pushed);
             let nonblocking = self.backward(&space.marked, &controllable, &all, "co-reachable")?;
             if good.and_not(&nonblocking).is_false() {

@@ -19,8 +19,8 @@
 //! beyond 2⁶⁴ included) and, when it is small enough, the supervisor itself — the same automaton as
 //! [`synth::monolithic`](crate::synth::monolithic) up to state numbering. [`Check`] plugs the symbolic
 //! nonblocking check into the conflict check of the modular architectures
-//! ([`Config::nonblocking`](crate::synth::Config::nonblocking)). [`prefers_symbolic`] is the `auto`
-//! engine's choice.
+//! ([`Config::nonblocking`](crate::synth::Config::nonblocking)). [`AUTO_EXPLICIT_STATES`] and
+//! [`AUTO_PRODUCT_BITS`] are the `auto` engine's thresholds.
 
 mod encoding;
 mod extract;
@@ -44,8 +44,13 @@ use fixpoint::Walk;
 pub const EXPLICIT_LIMIT: u64 = 1_000_000;
 
 /// Product size (states of the product of all components, an upper bound of the reachable part) from
-/// which the `auto` engine runs the symbolic engine: 2²⁴, about 1.7·10⁷.
+/// which the `auto` engine runs the conflict check symbolically: 2²⁴, about 1.7·10⁷.
 pub const AUTO_PRODUCT_BITS: f64 = 24.0;
+
+/// States the `auto` engine lets an explicit monolithic product reach before it stops it and runs the
+/// symbolic engine instead: below it the explicit engine is faster (listing a symbolic supervisor of
+/// this size as an automaton costs about as much as the explicit synthesis).
+pub const AUTO_EXPLICIT_STATES: usize = 1_000_000;
 
 /// Settings of the symbolic engine.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -168,11 +173,4 @@ impl NonblockingCheck for Check {
 /// log2 of the product of `sizes` (state counts).
 fn product_bits(sizes: impl Iterator<Item = usize>) -> f64 {
     sizes.map(|n| (n.max(1) as f64).log2()).sum()
-}
-
-/// Whether the `auto` engine runs the symbolic engine on `automata`: when the product of their state
-/// counts reaches 2^[`AUTO_PRODUCT_BITS`]. Below it the explicit engine is faster: it builds only the
-/// reachable part, which is then small.
-pub fn prefers_symbolic(automata: &[Automaton]) -> bool {
-    product_bits(automata.iter().map(|a| a.states.len())) >= AUTO_PRODUCT_BITS
 }

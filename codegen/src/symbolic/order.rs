@@ -38,7 +38,8 @@ pub(crate) fn component_order(dfas: &[&Dfa], how: Order) -> Vec<usize> {
         let mut head = order.len();
         order.push(start);
         while head < order.len() {
-            let mut next: Vec<usize> = neighbours[order[head]].iter().copied().filter(|&b| !placed[b]).collect();
+            let mut next: Vec<usize> =
+                neighbours[order[head]].iter().copied().filter(|&b| !placed[b]).collect();
             next.sort_by_key(|&b| (degree(b), b));
             for b in next {
                 placed[b] = true;

@@ -22,7 +22,12 @@ fn same_supervisor(plants: &[Automaton], specs: &[Automaton]) -> Result<(), Test
     for order in [Order::EventGraph, Order::Given] {
         let s = monolithic(plants, specs, &cfg, &Options { order, ..Options::default() }).unwrap();
         prop_assert_eq!(&s.states, &BigUint::from(explicit.states.len()), "states, {:?}", order);
-        prop_assert_eq!(&s.transitions, &BigUint::from(explicit.transitions.len()), "transitions, {:?}", order);
+        prop_assert_eq!(
+            &s.transitions,
+            &BigUint::from(explicit.transitions.len()),
+            "transitions, {:?}",
+            order
+        );
         let listed = s.automaton.as_ref().unwrap();
         listed.validate().unwrap();
         prop_assert_eq!(listed.states.len(), explicit.states.len());
@@ -76,13 +81,9 @@ proptest! {
 
 #[test]
 fn the_families_give_the_explicit_supervisors() {
-    for (family, n) in [
-        ("transfer-line", 4),
-        ("transfer-line-k3", 3),
-        ("factory", 3),
-        ("philosophers", 4),
-        ("cat-mouse", 1),
-    ] {
+    for (family, n) in
+        [("transfer-line", 4), ("transfer-line-k3", 3), ("factory", 3), ("philosophers", 4), ("cat-mouse", 1)]
+    {
         let inst = generate(family, n).unwrap();
         same_supervisor(&inst.plants, &inst.specs).unwrap_or_else(|e| panic!("{family}-{n}: {e}"));
         same_conflict_verdict(&inst.plants, &inst.specs).unwrap_or_else(|e| panic!("{family}-{n}: {e}"));

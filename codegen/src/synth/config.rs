@@ -44,7 +44,13 @@ pub struct Config {
 
 impl Default for Config {
     fn default() -> Self {
-        Config { state_limit: 100_000_000, memory_limit: None, merge_conflicting: true, observer: None, nonblocking: None }
+        Config {
+            state_limit: 100_000_000,
+            memory_limit: None,
+            merge_conflicting: true,
+            observer: None,
+            nonblocking: None,
+        }
     }
 }
 

@@ -335,7 +335,7 @@ impl Exploration {
                     if keys.len() > cfg.state_limit {
                         return Err(SynthError::StateLimit { what: what.to_owned(), limit: cfg.state_limit });
                     }
-                    if keys.len() % MEMORY_CHECK_EVERY == 0 {
+                    if keys.len().is_multiple_of(MEMORY_CHECK_EVERY) {
                         check_memory(cfg, what, keys.len())?;
                     }
                     marked.push(components.iter().enumerate().all(|(c, d)| {
@@ -345,7 +345,7 @@ impl Exploration {
                         parents.push((s, e));
                     }
                     if let Some(o) = &cfg.observer {
-                        if keys.len() % (1 << 16) == 0 {
+                        if keys.len().is_multiple_of(1 << 16) {
                             o.states(what, keys.len());
                         }
                     }
