@@ -7,7 +7,7 @@ use std::sync::atomic::Ordering;
 use std::sync::Arc;
 
 use codegen::model::Automaton;
-use codegen::symbolic::{self, Check, SymbolicSupervisor, AUTO_EXPLICIT_STATES};
+use codegen::symbolic::{self, Check, Options, Order, SymbolicSupervisor, AUTO_EXPLICIT_STATES};
 use codegen::synth::{self, Config, Supervisor, SynthError};
 use num_bigint::BigUint;
 use serde_json::json;
@@ -26,6 +26,26 @@ pub enum Engine {
     Auto,
 }
 
+/// The variable order `--bdd-order` names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum BddOrder {
+    /// Components sharing events placed together (Cuthill–McKee on the event graph).
+    EventGraph,
+    /// Plants then specifications, as given.
+    Given,
+}
+
+impl BddOrder {
+    /// The symbolic engine's options with this order.
+    pub fn options(self) -> Options {
+        let order = match self {
+            BddOrder::EventGraph => Order::EventGraph,
+            BddOrder::Given => Order::Given,
+        };
+        Options { order, ..Options::default() }
+    }
+}
+
 /// The monolithic supervisor as the engine that ran gives it.
 pub enum Monolithic {
     /// From the explicit engine.
@@ -36,12 +56,13 @@ pub enum Monolithic {
 
 impl Engine {
     /// Monolithic synthesis on this engine. `auto` runs the explicit engine until its product passes
-    /// [`AUTO_EXPLICIT_STATES`], then the symbolic one. Says on stderr which ran.
+    /// [`AUTO_EXPLICIT_STATES`], then the symbolic one (with `options`). Says on stderr which ran.
     pub fn monolithic(
         self,
         plants: &[Automaton],
         specs: &[Automaton],
         cfg: &Config,
+        options: &Options,
     ) -> Result<Monolithic, Error> {
         let explicit = match self {
             Engine::Symbolic => false,
@@ -64,14 +85,20 @@ impl Engine {
         Ok(if explicit {
             Monolithic::Explicit(synth::monolithic(plants, specs, cfg)?)
         } else {
-            Monolithic::Symbolic(symbolic::monolithic(plants, specs, cfg, &Default::default())?)
+            let r = symbolic::monolithic(plants, specs, cfg, options)?;
+            eprintln!(
+                "engine: the supervisor's BDD has {} nodes, the largest BDD {} nodes",
+                r.nodes, r.peak_nodes
+            );
+            Monolithic::Symbolic(r)
         })
     }
 
     /// For modular synthesis: the symbolic conflict check, if this engine uses one (`auto`: only on
     /// supervisor products from 2^[`AUTO_PRODUCT_BITS`](symbolic::AUTO_PRODUCT_BITS) states).
-    pub fn conflict_check(self) -> Option<Arc<Check>> {
-        (self != Engine::Explicit).then(|| Arc::new(Check { auto: self == Engine::Auto, ..Check::default() }))
+    pub fn conflict_check(self, options: Options) -> Option<Arc<Check>> {
+        (self != Engine::Explicit)
+            .then(|| Arc::new(Check { options, auto: self == Engine::Auto, ran: Default::default() }))
     }
 }
 

@@ -10,7 +10,7 @@ use codegen::model::{resolve_controllability, Automaton, Kind};
 use codegen::synth::{self, Config, LocalModularResult, Supervisor};
 use serde_json::json;
 
-use super::engine::{self, Engine, Monolithic};
+use super::engine::{self, BddOrder, Engine, Monolithic};
 use super::{limits, Error};
 
 /// Version of the `--json` output; raised when a field changes meaning or disappears.
@@ -54,6 +54,9 @@ pub struct Args {
     /// sets), or auto (symbolic from 2^24 product states). Stderr says which ran.
     #[arg(long, value_enum, default_value_t = Engine::Explicit)]
     engine: Engine,
+    /// The symbolic engine's variable order.
+    #[arg(long, value_enum, default_value_t = BddOrder::EventGraph)]
+    bdd_order: BddOrder,
     /// Print JSON: schema, supervisors (name, specs, plants, states, transitions), nonconflicting, merged,
     /// total_states, total_transitions.
     #[arg(long)]
@@ -116,11 +119,11 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
         observer: Some(observer),
         nonblocking: None,
     };
-    let check = if args.monolithic { None } else { args.engine.conflict_check() };
+    let check = if args.monolithic { None } else { args.engine.conflict_check(args.bdd_order.options()) };
     let cfg = Config { nonblocking: check.clone().map(|c| c as _), ..cfg };
     let mut ran_symbolic = false;
     let result = if args.monolithic {
-        let s = match args.engine.monolithic(&plants, &specs, &cfg)? {
+        let s = match args.engine.monolithic(&plants, &specs, &cfg, &args.bdd_order.options())? {
             Monolithic::Explicit(s) => s,
             Monolithic::Symbolic(r) => {
                 ran_symbolic = true;

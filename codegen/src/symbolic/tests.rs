@@ -115,3 +115,12 @@ fn counts_beyond_two_to_the_64_are_exact() {
     assert_eq!(s.states, states);
     assert!(s.automaton.is_none(), "2^70 states are not listed");
 }
+
+#[test]
+fn the_memory_limit_stops_a_fixed_point_naming_its_bdd() {
+    let inst = generate("transfer-line-k3", 3).unwrap();
+    let cfg = Config { memory_limit: Some(1), ..Config::default() };
+    let err = monolithic(&inst.plants, &inst.specs, &cfg, &Options::default()).unwrap_err();
+    assert!(matches!(err, SynthError::BddMemoryLimit { limit: 1, .. }), "{err:?}");
+    assert!(err.to_string().contains("BDDs of"), "{err}");
+}
