@@ -504,7 +504,9 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         }
         if self.layout == INDEXED {
             return match self.uniform(a) {
-                Some((unit, count, _)) => (handle as usize).is_multiple_of(unit) && (handle as usize) < count * unit,
+                Some((unit, count, _)) => {
+                    (handle as usize).is_multiple_of(unit) && (handle as usize) < count * unit
+                }
                 None => false,
             };
         }
