@@ -25,5 +25,6 @@ pub mod plant;
 pub mod plc;
 pub mod problems;
 pub mod project;
+pub mod symbolic;
 pub mod synth;
 pub mod target;

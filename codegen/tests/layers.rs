@@ -11,7 +11,7 @@ const CODEGEN: &[&[&str]] = &[
     &["model"],
     &["formats", "config", "link"],
     &["manifest", "synth", "plant", "target"],
-    &["problems", "pack", "monitor", "net"],
+    &["problems", "pack", "monitor", "net", "symbolic"],
     &["emit", "closed_loop"],
     &["plc"],
     &["project"],

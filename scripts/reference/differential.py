@@ -9,7 +9,8 @@ same generated language) as libFAUDES' SupCon and TCT's supcon (compared with La
 isomorph after minstate); each local modular supervisor's local plant must be the plants that share an
 event with its specifications (computed here), and the supervisor must equal libFAUDES' SupCon against
 that plant; the conflict verdict of the unmerged local modular set must agree with libFAUDES'
-IsNonblocking and TCT's nonconflict; the set `codegen synth` ships by default (conflicting supervisors
+IsNonblocking and TCT's nonconflict (and so must the symbolic engine's, `--engine symbolic`, whose
+monolithic supervisor must have the explicit one's counts and libFAUDES' language); the set `codegen synth` ships by default (conflicting supervisors
 merged) must give, with all the plants, the monolithic closed loop (marked and generated languages:
 libFAUDES); a reduced supervisor must give the same closed loop with its local plant (libFAUDES) and be no
 larger than TCT's supreduce. Besides the fixed instances, two random ones are drawn from fresh seeds each
@@ -88,6 +89,8 @@ def run_case(codegen, label, manifest, work):
               f"{label}: monolithic = TCT supcon {pitct.statenum('SUP')}/{pitct.transnum('SUP')} "
               f"(minimal forms isomorphic)")
 
+    symbolic_case(codegen, label, manifest, out, plants, specs, mono)
+
     raw = tools.codegen_json(codegen, ["--no-merge", "-o", out + "/raw", manifest])
     sups = [tools.read_xmd(os.path.join(out, "raw", s["name"] + ".xmd")) for s in raw["supervisors"]]
     spec_of = {a.name: a for a in specs}
@@ -143,6 +146,24 @@ def run_case(codegen, label, manifest, work):
         tct_states = pitct.statenum("RSIM")
         check(s["states"] <= tct_states,
               f"{label}: reduced {s['name']} {s['states']} states <= TCT supreduce {tct_states}")
+
+
+def symbolic_case(codegen, label, manifest, out, plants, specs, mono):
+    """The symbolic engine (issue 27) on the same instance: its monolithic supervisor has the explicit
+    engine's counts and libFAUDES' SupCon language, and its conflict check gives libFAUDES' verdict."""
+    sym = tools.codegen_json(codegen, ["--monolithic", "--engine", "symbolic", "-o", out + "/sym", manifest])
+    ours = tools.read_xmd(os.path.join(out, "sym", "S_monolithic.xmd"))
+    ref = tools.faudes_supc(plants, specs)
+    same = (sym["total_states"], sym["total_transitions"]) == (mono["total_states"], mono["total_transitions"])
+    check(same and faudes.LanguageEquality(tools.to_faudes(ours), ref)
+          and faudes.LanguageEquality(prefix(tools.to_faudes(ours)), prefix(ref)),
+          f"{label}: symbolic monolithic {sym['total_states']}/{sym['total_transitions']} = explicit and "
+          f"libFAUDES SupCon {ref.Size()}/{ref.TransRelSize()} (languages)")
+    raw = tools.codegen_json(codegen, ["--no-merge", "--engine", "symbolic", "-o", out + "/symraw", manifest])
+    sups = [tools.read_xmd(os.path.join(out, "symraw", s["name"] + ".xmd")) for s in raw["supervisors"]]
+    verdict = tools.faudes_nonconflicting(sups)
+    check(verdict == raw["nonconflicting"],
+          f"{label}: symbolic conflict verdict {raw['nonconflicting']} = libFAUDES IsNonblocking {verdict}")
 
 
 def closed_loop(automata):

@@ -2,16 +2,26 @@
 """Times `codegen synth` against libFAUDES and TCT on the same generated instances, in the same run.
 
 usage: timing.py SYNTH_TIME FAMILIES WORKDIR [TIMEOUT_SECONDS]
+       timing.py --engines CODEGEN FAMILIES WORKDIR [TIMEOUT_SECONDS]
 
 For each family and size it writes the instance (the `families` example), then times, each in a fresh
 process with a timeout and counting the synthesis calls only (not reading files or building models): our
 release build (the `synth_time` example, best of three), libFAUDES and TCT (one run each). Monolithic families time
 supC of the whole plant and specification; `cat-mouse` times the local modular supervisors plus the
 conflict check. Prints a Markdown table with the ratio of the faster reference tool to ours.
+
+With --engines (issue 27): the engines side by side on the instances that outgrow explicit states (the
+capacity-3 transfer line, the small factory, the philosophers, cat and mouse), each a whole process —
+`codegen synth --engine explicit|symbolic|auto` (the release binary CODEGEN, `--memory-limit 2G`),
+libFAUDES and TCT (a Python process reading the files, then synthesising) — with its wall time and peak
+resident size (the kernel's, from wait4). A tool that timed out or stopped at a limit on one size is not
+run on the larger ones of its family. Prints a Markdown table.
 """
+import json
 import os
 import subprocess
 import sys
+import tempfile
 import time
 
 PLAN = [
@@ -73,6 +83,80 @@ def child(tool, mode, manifest, work):
     print(f"{time.perf_counter() - start:.4f} {states}")
 
 
+ENGINES_PLAN = [
+    ("transfer-line-k3", [6, 8, 10, 20, 30], "monolithic"),
+    ("factory", [6, 8, 10, 15, 20], "monolithic"),
+    ("philosophers", [8, 10, 12, 16, 20, 30, 50], "monolithic"),
+    ("cat-mouse", [2, 3, 4, 5], "conflict"),
+]
+
+
+def measured(cmd, timeout):
+    """Runs `cmd` as a whole process: (seconds, peak resident MiB, stdout), stdout None when it exited
+    with 2 or more (a limit, an error), or (None, None, None) when it ran past `timeout`."""
+    start = time.perf_counter()
+    with tempfile.TemporaryFile() as out:
+        p = subprocess.Popen(cmd, stdout=out, stderr=subprocess.DEVNULL)
+        while True:
+            pid, status, usage = os.wait4(p.pid, os.WNOHANG)
+            if pid:
+                break
+            if time.perf_counter() - start > timeout:
+                p.kill()
+                os.wait4(p.pid, 0)
+                p.returncode = -9
+                return None, None, None
+            time.sleep(0.01)
+        seconds = time.perf_counter() - start
+        p.returncode = os.waitstatus_to_exitcode(status)
+        out.seek(0)
+        text = out.read().decode()
+    return seconds, usage.ru_maxrss / 1024, text if p.returncode in (0, 1) else None
+
+
+def engines(codegen, families, work, timeout):
+    """The --engines table."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    py = sys.executable
+    tools_ = ["explicit", "symbolic", "auto", "faudes", "tct"]
+    print(f"Whole process, wall seconds / peak MiB; codegen {2 * timeout:.0f} s, libFAUDES and TCT {timeout:.0f} s timeouts.")
+    print()
+    print("| instance | mode | supervisor states | explicit | symbolic | auto (ran) | libFAUDES | TCT |")
+    print("|---|---|---|---|---|---|---|---|")
+    for family, sizes, mode in ENGINES_PLAN:
+        given_up = {}
+        for n in sizes:
+            d = os.path.join(work, f"{family}-{n}")
+            manifest = subprocess.run([families, family, str(n), d], check=True, capture_output=True, text=True).stdout.strip()
+            cells, states = {}, "-"
+            for tool in tools_:
+                if tool in given_up:
+                    cells[tool] = f"not run ({given_up[tool]} at a smaller n)"
+                    continue
+                if tool in ("faudes", "tct"):
+                    cmd = [py, os.path.join(here, "timing.py"), "--child", tool, mode, manifest, os.path.join(d, tool)]
+                    limit = timeout
+                else:
+                    cmd = [codegen, "synth", "--engine", tool, "--json", "--memory-limit", "2G",
+                           "--monolithic" if mode == "monolithic" else "--no-merge", manifest]
+                    limit = 2 * timeout
+                seconds, mib, out = measured(cmd, limit)
+                if seconds is None:
+                    given_up[tool] = "timed out"
+                    cells[tool] = f"> {limit:.0f} s"
+                elif out is None:
+                    given_up[tool] = "stopped"
+                    cells[tool] = f"stopped at a limit ({seconds:.1f} s / {mib:.0f} MiB)"
+                else:
+                    cells[tool] = f"{seconds:.2f} / {mib:.0f}"
+                    if tool not in ("faudes", "tct"):
+                        j = json.loads(out)
+                        states = j["total_states"]
+                        if tool == "auto":
+                            cells[tool] += f" ({j.get('engine', '?')})"
+            print(f"| {family}-{n} | {mode} | {states} | " + " | ".join(cells[t] for t in tools_) + " |", flush=True)
+
+
 def timed(cmd, timeout):
     start = time.perf_counter()
     try:
@@ -116,5 +200,7 @@ if __name__ == "__main__":
     if sys.argv[1] == "--child":
         sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
         child(*sys.argv[2:6])
+    elif sys.argv[1] == "--engines":
+        engines(*sys.argv[2:5], float(sys.argv[5]) if len(sys.argv) > 5 else 60.0)
     else:
         main()

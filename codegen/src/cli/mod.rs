@@ -5,6 +5,7 @@ mod check;
 mod convert;
 mod dot;
 mod emit;
+mod engine;
 mod inspect;
 mod limits;
 mod pack;

@@ -10,6 +10,7 @@ use codegen::model::{resolve_controllability, Automaton, Kind};
 use codegen::synth::{self, Config, LocalModularResult, Supervisor};
 use serde_json::json;
 
+use super::engine::{self, BddOrder, Engine, Monolithic};
 use super::{limits, Error};
 
 /// Version of the `--json` output; raised when a field changes meaning or disappears.
@@ -49,6 +50,13 @@ pub struct Args {
     /// or none [default: three quarters of the machine's RAM].
     #[arg(long, value_name = "SIZE", value_parser = limits::parse_size)]
     memory_limit: Option<limits::MemoryLimit>,
+    /// Synthesis engine: explicit states, symbolic (BDDs: monolithic supC, the conflict check of modular
+    /// sets), or auto (symbolic from 2^24 product states). Stderr says which ran.
+    #[arg(long, value_enum, default_value_t = Engine::Explicit)]
+    engine: Engine,
+    /// The symbolic engine's variable order.
+    #[arg(long, value_enum, default_value_t = BddOrder::EventGraph)]
+    bdd_order: BddOrder,
     /// Print JSON: schema, supervisors (name, specs, plants, states, transitions), nonconflicting, merged,
     /// total_states, total_transitions.
     #[arg(long)]
@@ -109,12 +117,39 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
         memory_limit: limits::memory_limit(args.memory_limit),
         merge_conflicting: !args.no_merge,
         observer: Some(observer),
+        nonblocking: None,
     };
+    let check = if args.monolithic { None } else { args.engine.conflict_check(args.bdd_order.options()) };
+    let cfg = Config { nonblocking: check.clone().map(|c| c as _), ..cfg };
+    let mut ran_symbolic = false;
     let result = if args.monolithic {
-        let s = synth::monolithic(&plants, &specs, &cfg)?;
+        let s = match args.engine.monolithic(&plants, &specs, &cfg, &args.bdd_order.options())? {
+            Monolithic::Explicit(s) => s,
+            Monolithic::Symbolic(r) => {
+                ran_symbolic = true;
+                match r.to_supervisor() {
+                    Some(s) => s,
+                    None if args.out.is_some() || args.reduce => {
+                        return Err(format!(
+                            "{}: {} states, more than the {} listed as an automaton: -o and --reduce need one",
+                            r.name,
+                            r.states,
+                            codegen::symbolic::EXPLICIT_LIMIT
+                        )
+                        .into());
+                    }
+                    None => {
+                        bar.inspect(|b| b.finish_and_clear());
+                        return engine::report_counts(&name, &r, args.json, JSON_SCHEMA);
+                    }
+                }
+            }
+        };
         LocalModularResult { supervisors: vec![s], nonconflicting: true, merged: Vec::new() }
     } else {
-        synth::local_modular(&plants, &specs, &cfg)?
+        let r = synth::local_modular(&plants, &specs, &cfg)?;
+        ran_symbolic = engine::say_conflict_check(check.as_ref());
+        r
     };
     let (nonconflicting, merged) = (result.nonconflicting, result.merged);
     let mut rows = Vec::new();
@@ -141,7 +176,9 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     }
     let mut out = std::io::stdout().lock();
     if args.json {
-        let text = serde_json::to_string_pretty(&to_json(&name, &rows, nonconflicting, &merged))?;
+        let mut value = to_json(&name, &rows, nonconflicting, &merged);
+        value["engine"] = json!(if ran_symbolic { "symbolic" } else { "explicit" });
+        let text = serde_json::to_string_pretty(&value)?;
         writeln!(out, "{text}")?;
     } else {
         write_table(&mut out, &rows, nonconflicting, &merged)?;

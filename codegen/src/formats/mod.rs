@@ -24,7 +24,7 @@ pub mod dot;
 mod error;
 pub mod gen;
 mod gen_tokens;
-mod hash;
+pub(crate) mod hash;
 pub mod wmod;
 pub mod xmd;
 mod xml;

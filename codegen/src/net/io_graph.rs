@@ -162,7 +162,7 @@ fn overflowing(net: &Interpretation, t: usize, m: &[u32]) -> String {
 /// Stops the walk at `nodes` nodes when the process has grown past the memory limit.
 fn check_memory(limits: Limits, nodes: usize) -> Result<(), NetError> {
     let Some(limit) = limits.memory_limit else { return Ok(()) };
-    if nodes % MEMORY_CHECK_EVERY != 0 {
+    if !nodes.is_multiple_of(MEMORY_CHECK_EVERY) {
         return Ok(());
     }
     match crate::synth::memory::resident_bytes() {

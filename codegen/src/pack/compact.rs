@@ -112,7 +112,7 @@ pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
         let mut stream = Writer::default();
         let mut starts = Vec::with_capacity(s / STRIDE);
         for state in 0..s {
-            if state > 0 && state % STRIDE == 0 {
+            if state > 0 && state.is_multiple_of(STRIDE) {
                 starts.push(stream.bit_len());
             }
             // `out` is sorted by global id, the order that numbers local events: one pass merges them.
@@ -176,7 +176,7 @@ fn decode_block(
     let mut directory = Reader::new(&b.directory, 0);
     let mut edges = Vec::new();
     for state in 0..s {
-        if state > 0 && state % STRIDE == 0 {
+        if state > 0 && state.is_multiple_of(STRIDE) {
             let entry = directory.get(d).ok_or_else(|| truncated(&directory))?;
             if entry != stream.at {
                 return Err(DecodeError::Inconsistent {

@@ -123,6 +123,11 @@ impl Run<'_> {
 
     fn conflicting(&self, groups: &[&Vec<usize>]) -> Result<bool, SynthError> {
         let dfas: Vec<&Dfa> = groups.iter().map(|g| self.supervisor(g)).collect();
+        if let Some(check) = &self.cfg.nonblocking {
+            if let Some(nonblocking) = check.nonblocking(&dfas, self.cfg, "supervisor product")? {
+                return Ok(!nonblocking);
+            }
+        }
         Ok(first_blocking(&dfas, &self.inputs, self.cfg, "supervisor product")?.1.is_some())
     }
 

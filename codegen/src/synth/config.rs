@@ -3,12 +3,24 @@
 use std::fmt;
 use std::sync::Arc;
 
+use super::SynthError;
+use crate::model::Dfa;
+
 /// Receives progress reports of long walks (a CLI draws them as a progress bar).
 pub trait Observer: Send + Sync {
     /// `what` (an automaton being built) has reached `states` states so far.
     fn states(&self, what: &str, states: usize);
     /// A new stage starts (for example the supervisor of one specification).
     fn stage(&self, what: &str);
+}
+
+/// A nonblocking check of a synchronous product done by another engine (the symbolic one), so that the
+/// conflict check of a modular or local modular set need not build the product state by state.
+pub trait NonblockingCheck: Send + Sync {
+    /// Whether the synchronous product of `dfas` (over one event table) is nonblocking; `what` names
+    /// the product in progress reports and errors. `None`: this engine declines the product (it is small
+    /// enough for the explicit check, which then runs).
+    fn nonblocking(&self, dfas: &[&Dfa], cfg: &Config, what: &str) -> Result<Option<bool>, SynthError>;
 }
 
 /// Settings shared by every synthesis function.
@@ -26,11 +38,19 @@ pub struct Config {
     pub merge_conflicting: bool,
     /// Progress reports, if anyone listens.
     pub observer: Option<Arc<dyn Observer>>,
+    /// The engine of the conflict check of modular and local modular sets; `None`: the explicit product.
+    pub nonblocking: Option<Arc<dyn NonblockingCheck>>,
 }
 
 impl Default for Config {
     fn default() -> Self {
-        Config { state_limit: 100_000_000, memory_limit: None, merge_conflicting: true, observer: None }
+        Config {
+            state_limit: 100_000_000,
+            memory_limit: None,
+            merge_conflicting: true,
+            observer: None,
+            nonblocking: None,
+        }
     }
 }
 
@@ -49,6 +69,7 @@ impl fmt::Debug for Config {
             .field("memory_limit", &self.memory_limit)
             .field("merge_conflicting", &self.merge_conflicting)
             .field("observer", &self.observer.is_some())
+            .field("nonblocking", &self.nonblocking.is_some())
             .finish()
     }
 }

@@ -41,4 +41,31 @@ pub enum SynthError {
         /// The limit in force, bytes.
         limit: u64,
     },
+    /// A symbolic fixed point grew the process past [`Config::memory_limit`](super::Config::memory_limit).
+    #[error(
+        "{what}: BDDs of {nodes} nodes took the process to {} resident, past the memory limit of {} \
+         (--memory-limit)",
+        super::memory::human(*resident),
+        super::memory::human(*limit)
+    )]
+    BddMemoryLimit {
+        /// The fixed point being computed.
+        what: String,
+        /// BDD nodes held at the time.
+        nodes: usize,
+        /// The process's resident size, bytes.
+        resident: u64,
+        /// The limit in force, bytes.
+        limit: u64,
+    },
+    /// The automata need more state bits than the BDD library has variables.
+    #[error("{what}: {bits} state bits need {} BDD variables, more than the {max} the BDD library holds", 2 * bits)]
+    TooManyBits {
+        /// The product to encode.
+        what: String,
+        /// State bits of all components together.
+        bits: usize,
+        /// Most BDD variables the library holds.
+        max: usize,
+    },
 }

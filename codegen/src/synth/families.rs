@@ -19,12 +19,14 @@ pub struct Instance {
 }
 
 /// The families [`generate`] knows, by name.
-pub const FAMILIES: [&str; 5] = ["transfer-line", "factory", "cat-mouse", "philosophers", "random"];
+pub const FAMILIES: [&str; 6] =
+    ["transfer-line", "transfer-line-k3", "factory", "cat-mouse", "philosophers", "random"];
 
 /// The instance of `family` (one of [`FAMILIES`]) with size parameter `n`, or `None` for an unknown family.
 pub fn generate(family: &str, n: usize) -> Option<Instance> {
     let (plants, specs) = match family {
-        "transfer-line" => transfer_line(n),
+        "transfer-line" => transfer_line(n, 1),
+        "transfer-line-k3" => transfer_line(n, 3),
         "factory" => factory(n),
         "cat-mouse" => cat_mouse(n),
         "philosophers" => philosophers(n),
@@ -66,9 +68,10 @@ fn states(n: usize) -> Vec<(String, bool)> {
     (0..n).map(|i| (i.to_string(), i == 0)).collect()
 }
 
-/// `n` machines (start controllable, finish uncontrollable) in a line with a one-slot buffer between
-/// neighbours: no overflow, no underflow.
-fn transfer_line(n: usize) -> (Vec<Automaton>, Vec<Automaton>) {
+/// `n` machines (start controllable, finish uncontrollable) in a line with a buffer of `capacity` slots
+/// between neighbours: no overflow, no underflow. `transfer-line` has one slot, `transfer-line-k3`
+/// three (a product of 2^n·4^(n-1) states: the instance that outgrows explicit synthesis).
+fn transfer_line(n: usize, capacity: usize) -> (Vec<Automaton>, Vec<Automaton>) {
     let plants = (1..=n)
         .map(|i| {
             let ev = [(format!("s{i}"), true), (format!("f{i}"), false)];
@@ -78,10 +81,15 @@ fn transfer_line(n: usize) -> (Vec<Automaton>, Vec<Automaton>) {
     let specs = (1..n)
         .map(|i| {
             let ev = [(format!("f{i}"), false), (format!("s{}", i + 1), true)];
-            build(&format!("B{i}"), Kind::Spec, &states(2), &ev, &[(0, 0, 1), (1, 1, 0)])
+            build(&format!("B{i}"), Kind::Spec, &states(capacity + 1), &ev, &buffer(capacity))
         })
         .collect();
     (plants, specs)
+}
+
+/// A buffer of `capacity` slots over (put, take): state k holds k items.
+fn buffer(capacity: usize) -> Vec<(usize, usize, usize)> {
+    (0..capacity).flat_map(|k| [(k, 0, k + 1), (k + 1, 1, k)]).collect()
 }
 
 /// Capacity of each buffer of the small factory.
@@ -111,8 +119,7 @@ fn factory(n: usize) -> (Vec<Automaton>, Vec<Automaton>) {
     let mut specs: Vec<Automaton> = (1..n)
         .map(|i| {
             let ev = [(format!("f{i}"), false), (format!("s{}", i + 1), true)];
-            let delta: Vec<_> = (0..FACTORY_BUFFER).flat_map(|k| [(k, 0, k + 1), (k + 1, 1, k)]).collect();
-            build(&format!("B{i}"), Kind::Spec, &states(FACTORY_BUFFER + 1), &ev, &delta)
+            build(&format!("B{i}"), Kind::Spec, &states(FACTORY_BUFFER + 1), &ev, &buffer(FACTORY_BUFFER))
         })
         .collect();
     specs.extend((1..n).map(|i| {

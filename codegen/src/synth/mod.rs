@@ -36,9 +36,10 @@ pub mod trim;
 pub mod verify;
 
 pub use architecture::{local_modular, modular, monolithic, LocalModularResult, Supervisor};
-pub use config::{Config, Observer};
+pub use config::{Config, NonblockingCheck, Observer};
 pub use error::SynthError;
 pub use minimize::minimize;
+pub(crate) use product::name_of_tuple;
 pub use product::{product, Reachable};
 pub use reduce::reduce;
 pub use supc::supc;

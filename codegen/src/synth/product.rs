@@ -335,7 +335,7 @@ impl Exploration {
                     if keys.len() > cfg.state_limit {
                         return Err(SynthError::StateLimit { what: what.to_owned(), limit: cfg.state_limit });
                     }
-                    if keys.len() % MEMORY_CHECK_EVERY == 0 {
+                    if keys.len().is_multiple_of(MEMORY_CHECK_EVERY) {
                         check_memory(cfg, what, keys.len())?;
                     }
                     marked.push(components.iter().enumerate().all(|(c, d)| {
@@ -345,7 +345,7 @@ impl Exploration {
                         parents.push((s, e));
                     }
                     if let Some(o) = &cfg.observer {
-                        if keys.len() % (1 << 16) == 0 {
+                        if keys.len().is_multiple_of(1 << 16) {
                             o.states(what, keys.len());
                         }
                     }
@@ -391,15 +391,21 @@ fn layout(components: &[&Dfa]) -> Vec<Field> {
 
 /// Name of a product state: the component state names in parentheses, or the one name for one component.
 pub(crate) fn tuple_name(x: &Exploration, sources: &[&Automaton], s: u32) -> String {
+    name_of_tuple(sources, |c| x.component_state(s, c))
+}
+
+/// Name of the tuple whose component `c` is in state `state_of(c)` of `sources[c]`: the names in
+/// parentheses, or the one name for one component.
+pub(crate) fn name_of_tuple(sources: &[&Automaton], state_of: impl Fn(usize) -> u32) -> String {
     if sources.len() == 1 {
-        return sources[0].states[x.component_state(s, 0) as usize].name.clone();
+        return sources[0].states[state_of(0) as usize].name.clone();
     }
     let mut name = String::from("(");
     for (c, a) in sources.iter().enumerate() {
         if c > 0 {
             name.push(',');
         }
-        name.push_str(&a.states[x.component_state(s, c) as usize].name);
+        name.push_str(&a.states[state_of(c) as usize].name);
     }
     name.push(')');
     name

@@ -31,7 +31,7 @@ impl Writer {
     /// Appends the low `bits` bits of `value`.
     pub fn put(&mut self, value: usize, bits: u32) {
         for i in (0..bits).rev() {
-            if self.len % 8 == 0 {
+            if self.len.is_multiple_of(8) {
                 self.bytes.push(0);
             }
             if (value >> i) & 1 == 1 {

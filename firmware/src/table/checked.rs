@@ -128,7 +128,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     /// never names, read as safely as the others.
     pub const fn mask_count(&self) -> Option<usize> {
         let stride = self.mask_bytes as usize;
-        if stride == 0 || stride > 4 * W || (self.layout == INDEXED && stride % 4 != 0) {
+        if stride == 0 || stride > 4 * W || (self.layout == INDEXED && !stride.is_multiple_of(4)) {
             return None;
         }
         let (bytes, pad) = (4 * self.masks.len(), 4 * W - stride);
@@ -184,7 +184,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         }
         let width = holder_bytes(automata);
         let events = self.holders.len() / width;
-        if self.holders.len() % width != 0
+        if !self.holders.len().is_multiple_of(width)
             || events > MAX_EVENTS
             || events > 32 * W
             || self.plant_events.len() != plants
@@ -449,7 +449,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
             let mut r = 1;
             while r <= n {
                 let Some(t) = field(self.block, self.wide, at, r) else { return false };
-                if t as usize % unit != 0 || t as usize > last {
+                if !(t as usize).is_multiple_of(unit) || t as usize > last {
                     return false;
                 }
                 r += 1;
@@ -473,7 +473,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
             } else if start <= at && at < end {
                 let scale = self.automata[p].scale as usize;
                 return scale != 0
-                    && (at - start) % scale == 0
+                    && (at - start).is_multiple_of(scale)
                     && self.is_state(p, ((at - start) / scale) as u16);
             }
             p += 1;
@@ -504,7 +504,9 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         }
         if self.layout == INDEXED {
             return match self.uniform(a) {
-                Some((unit, count, _)) => handle as usize % unit == 0 && (handle as usize) < count * unit,
+                Some((unit, count, _)) => {
+                    (handle as usize).is_multiple_of(unit) && (handle as usize) < count * unit
+                }
                 None => false,
             };
         }

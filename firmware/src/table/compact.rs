@@ -163,7 +163,7 @@ impl<const W: usize> SupervisorSet<'_, W> {
         }
         let (mut p, mut k, mut initial) = (0, 0, false);
         while k < sh.states {
-            if k > 0 && k % STRIDE == 0 {
+            if k > 0 && k.is_multiple_of(STRIDE) {
                 let at = 8 * sh.directory + (k / STRIDE - 1) * sh.d as usize;
                 match bits_checked(self.block, at, sh.d) {
                     Some(entry) if entry == p => {}

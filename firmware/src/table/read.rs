@@ -144,7 +144,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         let mut allowed = unsafe {
             let id = usize::from(field_unchecked::<WIDE>(self.block, usize::from(at), 0));
             let mut mask = [0; W];
-            if MASK % 4 == 0 {
+            if MASK.is_multiple_of(4) {
                 // Masks of whole words: aligned loads.
                 let words = self.masks.get_unchecked(id * (MASK / 4)..);
                 for (w, word) in mask.iter_mut().enumerate() {
