@@ -5,6 +5,7 @@ mod check;
 mod convert;
 mod dot;
 mod emit;
+mod files;
 mod inspect;
 mod limits;
 mod pack;
