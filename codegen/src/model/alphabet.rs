@@ -102,7 +102,7 @@ mod tests {
         let mut sup = spec(&["zz", "ar"]);
         sup.name = "K".into();
         let (s, plants) = (spec(&["s11", "tick"]), [arm()]);
-        let found = plantless_events(&plants, &[s.clone()], &[sup], &BTreeSet::new());
+        let found = plantless_events(&plants, std::slice::from_ref(&s), &[sup], &BTreeSet::new());
         let names: Vec<(&str, &str)> =
             found.iter().map(|p| (p.automaton.as_str(), p.event.as_str())).collect();
         assert_eq!(names, [("S", "s11"), ("S", "tick"), ("K", "zz")]);
