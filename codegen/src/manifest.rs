@@ -8,6 +8,8 @@
 //!
 //! [events.e1_lig]                               # optional per-event override
 //! controllable = true
+//! [events.tick]                                 # an event no plant has, on purpose
+//! plantless = true
 //!
 //! [runtime]                                     # all optional: `config::RuntimeConfig`
 //! policy = "random-local-queue"                 # `config::ChoicePolicy`
@@ -19,23 +21,34 @@
 //!
 //! [board]                                       # optional: pins of a real board, `config::BoardSpec`
 //! name = "pico"
+//!
+//! [check]                                       # optional: which findings fail `codegen check`
+//! fail_on = ["avalanche"]                       # the default
 //! ```
 //!
 //! Paths are relative to the manifest file. Unknown keys are refused, so a typo is an error rather than a
 //! silently ignored setting. Every error names the manifest file and the key it is about.
 //!
+//! Wherever files are brought together (a manifest, or model files named one by one) every event of a
+//! specification or supervisor must be an event of some plant ([`plantless_events`]), unless the
+//! manifest declares it plant-less (`[events.NAME] plantless = true`): a typo is refused with the file,
+//! the line and the plant events closest in spelling, every such event of the set at once.
+//!
 //! This module reads and validates, nothing more: it reads the model files a manifest names into a
 //! [`ModelSet`] and checks that they agree; synthesising supervisors from them and everything after is
 //! the pipeline's ([`crate::project`]).
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
 use crate::config::{BoardSpec, NetSpec, PlcSpec, RuntimeConfig, StateSpec};
 use crate::formats::{read_path, ParseError};
-use crate::model::{resolve_controllability, Automaton, EventTable, Kind, ModelError};
+use crate::model::suggest::did_you_mean;
+use crate::model::{
+    plantless_events, resolve_controllability, Automaton, EventTable, Kind, ModelError, PlantlessEvent,
+};
 
 /// Why a manifest could not be loaded or its automata read.
 #[derive(Debug, thiserror::Error)]
@@ -68,14 +81,25 @@ pub enum ManifestError {
         /// The reader's error (it names the model file and line).
         source: ParseError,
     },
-    /// An `[events.NAME]` override names an event no automaton of the manifest has.
-    #[error("{}: events.{event}: no automaton of the manifest has this event", file.display())]
-    UnknownEvent {
+    /// `[events.NAME]` entries that do not fit the set: a name no automaton has, a plant-less
+    /// declaration of an event a plant has. Every one of the manifest is listed.
+    #[error("{}: [events] does not fit the automata:\n  {}", file.display(), problems.join("\n  "))]
+    Events {
         /// The manifest file.
         file: PathBuf,
-        /// The event named by the override.
-        event: String,
+        /// One line per entry: `LINE: events.NAME: what is wrong (did you mean …?)`.
+        problems: Vec<String>,
     },
+    /// Events of specifications or supervisors that no plant has.
+    #[error(transparent)]
+    Alphabet(#[from] AlphabetError),
+    /// A model file named on the command line could not be read.
+    #[error(transparent)]
+    File(#[from] ParseError),
+    /// The model files named on the command line do not agree on, or do not say, an event's
+    /// controllability.
+    #[error(transparent)]
+    Controllability(#[from] ModelError),
     /// A project was expected and the file is neither a manifest nor a module.
     #[error(
         "{}: not a project: expected a manifest (.toml) or a Supremica module (.wmod); give model files \
@@ -96,12 +120,35 @@ pub enum ManifestError {
     },
 }
 
-/// An `[events.NAME]` override.
+/// Every event of a set's specifications and supervisors that no plant has, each with the file and line
+/// that declares it: why the set is refused.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "{} in no plant (a typo? an event no plant has on purpose is declared in a manifest: \
+     [events.NAME] plantless = true):\n  {}",
+    if problems.len() == 1 {
+        "an event of a specification or supervisor is".to_owned()
+    } else {
+        format!("{} events of specifications or supervisors are", problems.len())
+    },
+    problems.iter().map(|(at, p)| format!("{at}: {}", p.describe())).collect::<Vec<_>>().join("\n  ")
+)]
+pub struct AlphabetError {
+    /// Each event with where it is declared (`file:line`, or the file alone when the line is unknown).
+    pub problems: Vec<(String, PlantlessEvent)>,
+}
+
+/// An `[events.NAME]` entry: settings of one event for the whole set.
 #[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct EventOverride {
-    /// Controllability to use in every automaton that has the event.
-    pub controllable: bool,
+    /// Controllability to use in every automaton that has the event (unset: as the files say).
+    #[serde(default)]
+    pub controllable: Option<bool>,
+    /// The event is in no plant on purpose (a specification's or supervisor's own event); without this
+    /// such an event is refused as a probable typo. Default false.
+    #[serde(default)]
+    pub plantless: bool,
 }
 
 /// A parsed manifest. Paths are kept as written; [`Manifest::resolve`] makes them usable.
@@ -141,9 +188,37 @@ pub struct Manifest {
     /// The plant's state vector for state-based programs (`[state]`, `config::StateSpec`).
     #[serde(default)]
     pub state: Option<StateSpec>,
+    /// What fails `codegen check` (`[check]`).
+    #[serde(default)]
+    pub check: CheckSpec,
     /// The manifest file itself (set by [`Manifest::load`]).
     #[serde(skip)]
     pub file: PathBuf,
+}
+
+/// The `[check]` section: which kinds of finding make `codegen check` fail (exit 1); the others are
+/// reported and pass.
+#[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CheckSpec {
+    /// Names of the failing problems (`avalanche`, `choice`, `inexact-synchronisation`,
+    /// `simultaneity`). Default: `["avalanche"]` — the one problem a concurrent model does not always
+    /// have, and the one no run-time measure answers (the choice policy answers choice, the guard
+    /// inexact synchronisation, and simultaneity is mostly sensors that exclude each other).
+    #[serde(default = "CheckSpec::default_fail_on")]
+    pub fail_on: Vec<String>,
+}
+
+impl CheckSpec {
+    fn default_fail_on() -> Vec<String> {
+        vec!["avalanche".to_owned()]
+    }
+}
+
+impl Default for CheckSpec {
+    fn default() -> Self {
+        CheckSpec { fail_on: CheckSpec::default_fail_on() }
+    }
 }
 
 /// The automata of a manifest, read, with their kinds set and the event overrides applied: the models
@@ -156,52 +231,130 @@ pub struct ModelSet {
     pub specs: Vec<Automaton>,
     /// Ready supervisors, in manifest order.
     pub supervisors: Vec<Automaton>,
+    /// The file each automaton was read from, by automaton name, in the order read (errors name it).
+    pub sources: Vec<(String, PathBuf)>,
 }
 
 /// The automata of `files`, given on the command line in the role `kind`: every automaton of a model
 /// file, and of a Supremica module only the components of that kind (a plant role takes PLANT
-/// components); returns them with the components left out, as `module: name (KIND)`.
-pub fn read_role(files: &[PathBuf], kind: Kind) -> Result<(Vec<Automaton>, Vec<String>), ParseError> {
-    let (mut kept, mut skipped) = (Vec::new(), Vec::new());
+/// components); adds the components left out to `skipped`, as `module: name (KIND)`, and each automaton
+/// kept with its file to `sources`.
+fn read_role(
+    files: &[PathBuf],
+    kind: Kind,
+    skipped: &mut Vec<String>,
+    sources: &mut Vec<(String, PathBuf)>,
+) -> Result<Vec<Automaton>, ParseError> {
+    let mut kept = Vec::new();
     for f in files {
         for a in read_path(f)? {
             let wanted = a.kind == kind || (kind == Kind::Plant && a.kind == Kind::Unknown);
             if has_extension(f, "wmod") && !wanted {
                 skipped.push(format!("{}: {} ({:?})", f.display(), a.name, a.kind));
             } else {
+                sources.push((a.name.clone(), f.clone()));
                 kept.push(a);
             }
         }
     }
-    Ok((kept, skipped))
+    Ok(kept)
+}
+
+/// The first line (1-based) of the file at `path` where `name` stands as a whole word (not inside a
+/// longer name): where a reader declares or first uses it. `None` when the file cannot be read or does
+/// not hold it as a word.
+fn line_of(path: &Path, name: &str) -> Option<usize> {
+    let text = std::fs::read_to_string(path).ok()?;
+    let word = |c: Option<char>| c.is_some_and(|c| c.is_alphanumeric() || c == '_');
+    text.lines()
+        .position(|line| {
+            line.match_indices(name).any(|(at, _)| {
+                !word(line[..at].chars().next_back()) && !word(line[at + name.len()..].chars().next())
+            })
+        })
+        .map(|i| i + 1)
+}
+
+/// Model files as a command line names them instead of a manifest: some read as their files say, the
+/// others in the role they are given in.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct FileRoles {
+    /// Files whose automata take the role their file gives them (a Supremica module's component kinds,
+    /// a model file's kind; plants when the file does not say), as a manifest's `modules`.
+    pub as_said: Vec<PathBuf>,
+    /// Plant files (`--plant`).
+    pub plants: Vec<PathBuf>,
+    /// Specification files (`--spec`).
+    pub specs: Vec<PathBuf>,
+    /// Supervisor files (`--sup`).
+    pub supervisors: Vec<PathBuf>,
 }
 
 impl ModelSet {
+    /// Puts `a` where its kind says: specifications, supervisors, else plants.
+    fn place(&mut self, a: Automaton) {
+        match a.kind {
+            Kind::Spec => self.specs.push(a),
+            Kind::Supervisor => self.supervisors.push(a),
+            Kind::Plant | Kind::Unknown => self.plants.push(a),
+        }
+    }
+
     /// Reads model files named one by one, as the command line names them instead of a manifest:
-    /// automata from `supervisors`, or from `plants` but marked as supervisors by their file, are
-    /// supervisors; those from `specs` specifications; all others plants. Kinds stay as the files say;
-    /// a Supremica module contributes only the components of the role it is given in ([`read_role`]).
-    /// Returns the set and the components left out.
-    pub fn from_files(
-        plants: &[PathBuf],
-        specs: &[PathBuf],
-        supervisors: &[PathBuf],
-    ) -> Result<(ModelSet, Vec<String>), ParseError> {
-        let (specs, mut skipped) = read_role(specs, Kind::Spec)?;
-        let mut set = ModelSet { plants: Vec::new(), specs, supervisors: Vec::new() };
-        let (plants, more) = read_role(plants, Kind::Plant)?;
-        skipped.extend(more);
-        for a in plants {
+    /// automata of `as_said` where their files put them ([`FileRoles::as_said`]); automata from
+    /// `supervisors`, or from `plants` but marked as supervisors by their file, are supervisors; those
+    /// from `specs` specifications; all others plants. Kinds stay as the files say; a Supremica module
+    /// in a role contributes only the components of that role ([`read_role`]). Returns the set and the
+    /// components left out.
+    /// The set is checked as a manifest's is: every event of a specification or supervisor in some plant
+    /// ([`ModelSet::check_alphabets`], none declared plant-less), controllability resolved
+    /// ([`ModelSet::resolve_controllability`]).
+    pub fn from_files(files: &FileRoles) -> Result<(ModelSet, Vec<String>), ManifestError> {
+        let (mut skipped, mut sources) = (Vec::new(), Vec::new());
+        let specs = read_role(&files.specs, Kind::Spec, &mut skipped, &mut sources)?;
+        let mut set = ModelSet { plants: Vec::new(), specs, supervisors: Vec::new(), sources: Vec::new() };
+        for f in &files.as_said {
+            for a in read_path(f)? {
+                sources.push((a.name.clone(), f.clone()));
+                set.place(a);
+            }
+        }
+        for a in read_role(&files.plants, Kind::Plant, &mut skipped, &mut sources)? {
             if a.kind == Kind::Supervisor {
                 set.supervisors.push(a);
             } else {
                 set.plants.push(a);
             }
         }
-        let (supervisors, more) = read_role(supervisors, Kind::Supervisor)?;
-        skipped.extend(more);
-        set.supervisors.extend(supervisors);
+        set.supervisors.extend(read_role(&files.supervisors, Kind::Supervisor, &mut skipped, &mut sources)?);
+        set.sources = sources;
+        set.check_alphabets(&BTreeSet::new())?;
+        set.resolve_controllability()?;
         Ok((set, skipped))
+    }
+
+    /// Refuses the set when an event of a specification or supervisor is in no plant and not in
+    /// `declared` ([`plantless_events`]), naming each such event with its file and line.
+    pub fn check_alphabets(&self, declared: &BTreeSet<String>) -> Result<(), AlphabetError> {
+        let problems = plantless_events(&self.plants, &self.specs, &self.supervisors, declared);
+        if problems.is_empty() {
+            return Ok(());
+        }
+        let problems = problems
+            .into_iter()
+            .map(|p| {
+                let file = self.sources.iter().find(|(name, _)| *name == p.automaton).map(|(_, f)| f);
+                let at = match file {
+                    Some(f) => match line_of(f, &p.event) {
+                        Some(line) => format!("{}:{line}", f.display()),
+                        None => f.display().to_string(),
+                    },
+                    None => format!("'{}'", p.automaton),
+                };
+                (at, p)
+            })
+            .collect();
+        Err(AlphabetError { problems })
     }
 
     /// Gives the automata whose files left controllability unsaid what the rest of the set says
@@ -217,7 +370,8 @@ pub fn is_manifest(path: &Path) -> bool {
     has_extension(path, "toml") || has_extension(path, "wmod")
 }
 
-fn has_extension(path: &Path, ext: &str) -> bool {
+/// Whether `path` ends in `.ext` (any case).
+pub fn has_extension(path: &Path, ext: &str) -> bool {
     path.extension().is_some_and(|e| e.eq_ignore_ascii_case(ext))
 }
 
@@ -285,6 +439,7 @@ impl Manifest {
             plc: None,
             net: None,
             state: None,
+            check: CheckSpec::default(),
             file: path.to_owned(),
         }
     }
@@ -297,15 +452,19 @@ impl Manifest {
     /// Reads every plant, specification and supervisor file, sets each automaton's kind, applies the
     /// event overrides and checks that every event has one controllability across the set.
     pub fn read_automata(&self) -> Result<ModelSet, ManifestError> {
+        let mut sources = Vec::new();
         // The automata of the files under `key`, each with the manifest key naming it in errors.
-        let read = |key: &str, files: &[PathBuf]| -> Result<Vec<Automaton>, ManifestError> {
+        let mut read = |key: &str, files: &[PathBuf]| -> Result<Vec<Automaton>, ManifestError> {
             let mut out = Vec::new();
             for (i, f) in files.iter().enumerate() {
-                out.extend(read_path(&self.resolve(f)).map_err(|source| ManifestError::Model {
+                let path = self.resolve(f);
+                let automata = read_path(&path).map_err(|source| ManifestError::Model {
                     file: self.file.clone(),
                     key: format!("{key}[{i}]"),
                     source,
-                })?);
+                })?;
+                sources.extend(automata.iter().map(|a| (a.name.clone(), path.clone())));
+                out.extend(automata);
             }
             Ok(out)
         };
@@ -316,31 +475,62 @@ impl Manifest {
             plants: as_kind(Kind::Plant, read("plants", &self.plants)?),
             specs: as_kind(Kind::Spec, read("specs", &self.specs)?),
             supervisors: as_kind(Kind::Supervisor, read("supervisors", &self.supervisors)?),
+            sources: Vec::new(),
         };
         for a in read("modules", &self.modules)? {
-            match a.kind {
-                Kind::Spec => set.specs.push(a),
-                Kind::Supervisor => set.supervisors.push(a),
-                Kind::Plant | Kind::Unknown => set.plants.push(a),
-            }
+            set.place(a);
         }
+        set.sources = sources;
+        self.check_events(&set)?;
+        let declared: BTreeSet<String> =
+            self.events.iter().filter(|(_, o)| o.plantless).map(|(name, _)| name.clone()).collect();
+        set.check_alphabets(&declared)?;
         set.resolve_controllability()
             .map_err(|source| ManifestError::Inconsistent { file: self.file.clone(), source })?;
         for (event, o) in &self.events {
-            let mut found = false;
+            let Some(controllable) = o.controllable else { continue };
             for a in set.plants.iter_mut().chain(&mut set.specs).chain(&mut set.supervisors) {
                 if let Some(id) = a.event_id(event) {
-                    a.events[id.index()].controllable = o.controllable;
-                    found = true;
+                    a.events[id.index()].controllable = controllable;
                 }
-            }
-            if !found {
-                return Err(ManifestError::UnknownEvent { file: self.file.clone(), event: event.clone() });
             }
         }
         EventTable::build(set.plants.iter().chain(&set.specs).chain(&set.supervisors))
             .map_err(|source| ManifestError::Inconsistent { file: self.file.clone(), source })?;
         Ok(set)
+    }
+
+    /// Refuses `[events.NAME]` entries that do not fit `set`: a name no automaton has (with the names
+    /// closest in spelling), a plant-less declaration of an event a plant has. Lists every one.
+    fn check_events(&self, set: &ModelSet) -> Result<(), ManifestError> {
+        let all: BTreeSet<&str> = set
+            .plants
+            .iter()
+            .chain(&set.specs)
+            .chain(&set.supervisors)
+            .flat_map(|a| &a.events)
+            .map(|e| e.name.as_str())
+            .collect();
+        let mut problems = Vec::new();
+        for (event, o) in &self.events {
+            let at =
+                line_of(&self.file, &format!("events.{event}")).map_or(String::new(), |l| format!("{l}: "));
+            if !all.contains(event.as_str()) {
+                let hint = did_you_mean(event, all.iter().copied());
+                problems.push(format!("{at}events.{event}: no automaton of the set has this event{hint}"));
+            } else if let Some(plant) = set.plants.iter().find(|p| o.plantless && p.event_id(event).is_some())
+            {
+                problems.push(format!(
+                    "{at}events.{event}: declared plant-less, but plant '{}' has it",
+                    plant.name
+                ));
+            }
+        }
+        if problems.is_empty() {
+            Ok(())
+        } else {
+            Err(ManifestError::Events { file: self.file.clone(), problems })
+        }
     }
 }
 
@@ -390,7 +580,7 @@ mod tests {
         )
         .unwrap();
         let err = m.read_automata().unwrap_err().to_string();
-        assert!(err.ends_with("cell.toml: events.zz: no automaton of the manifest has this event"), "{err}");
+        assert!(err.ends_with("events.zz: no automaton of the set has this event"), "{err}");
     }
 
     #[test]

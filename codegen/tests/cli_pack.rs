@@ -159,8 +159,10 @@ fn check_manifest_livelock_and_cell_summary() {
         "choice".into(),
     ]);
     assert_eq!(out.status.code(), Some(1));
+    // The cell has choice, inexact-synchronisation and simultaneity findings but no avalanche: by
+    // default (`[check] fail_on = ["avalanche"]`) it passes.
     let out = codegen(&["check".into(), repo("examples/cell/cell.toml"), "--json".into()]);
-    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(out.status.code(), Some(0));
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let closed = json["scopes"][0]["findings"].as_array().unwrap();
     let count = |p: &str, shape: Option<&str>| {

@@ -80,7 +80,8 @@ fn libfaudes_specifications_take_controllability_from_the_plant() {
 fn an_event_no_file_says_is_refused_with_exit_2() {
     let spec1 = repo("codegen/tests/data/libfaudes/wspec1.gen");
     let spec3 = repo("codegen/tests/data/libfaudes/wspec3.gen");
-    let out = codegen(&["synth", "--plant", &spec1, "--spec", &spec3]);
+    // Both as plants: the specification's events are the plants', and no file says controllability.
+    let out = codegen(&["synth", "--plant", &spec1, &spec3, "--spec", &spec1]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("no file of the set says whether event"), "{err}");

@@ -70,7 +70,8 @@ fn a_controllable_event_no_plant_generates_is_refused() {
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(stderr.contains("belongs to no plant"), "{stderr}");
+    // Refused where the files meet, every such event named with its file and line.
+    assert!(stderr.contains("S1.xmd:59: event 'e1_lig' of supervisor 'S1' is in no plant"), "{stderr}");
     assert!(!dir.join("x.rs").exists());
     std::fs::remove_dir_all(dir).ok();
 }

@@ -1,42 +1,45 @@
-//! `codegen check`: the implementation problems a supervisor set can still hit, each with a trace.
+//! `codegen check`: the implementation problems a supervised closed loop can still hit, each with a
+//! trace.
 
 use std::io::Write;
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 use serde_json::{json, Value};
 
-use codegen::manifest::{is_manifest, Manifest, ModelSet};
+use codegen::manifest::CheckSpec;
+use codegen::model::suggest::did_you_mean;
 use codegen::model::Automaton;
 use codegen::problems::{run as check, scopes, Finding, Problem, Shape};
-use codegen::project::supervisors;
+use codegen::project::synthesise;
 use codegen::synth::{product, Config};
 
+use super::files::Files;
 use super::{limits, Error};
 
 /// Check a closed loop for avalanche, choice, inexact synchronisation and simultaneity problems.
 ///
-/// The automata of the files are composed: those given with `--sup` or marked as supervisors by their
-/// file are supervisors, all others plants. The closed loop (everything together) is checked first, then
-/// each supervisor with its local plant. Every finding names the state, the events and a shortest trace
-/// from the initial state. Exit status 1 when a requested check finds something.
+/// The project is loaded as by every command (a manifest, modules and model files as one project, or
+/// --plant/--spec/--sup); where it has specifications their local modular supervisors are synthesised,
+/// so the loop checked is plants ‖ supervisors. The closed loop is checked first, then each supervisor
+/// with its local plant; the report names the automata of each and which position of a state tuple is
+/// which. Every finding names the state, the events and a shortest trace from the initial state.
+/// Exit status 1 when a failing kind of finding is found: those given with --check, else the
+/// manifest's `[check] fail_on`, else avalanche only; 2 on bad input.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// A project manifest (TOML; supervisors as listed, else synthesised local modular), or model files
-    /// (.xmd, .ads, .gen, .wmod).
-    #[arg(required_unless_present = "supervisors")]
-    files: Vec<PathBuf>,
-    /// Supervisor model files.
-    #[arg(long = "sup", num_args = 1..)]
-    supervisors: Vec<PathBuf>,
-    /// Run only this check (repeatable): avalanche, choice, inexact-synchronisation, simultaneity.
+    /// The project.
+    #[command(flatten)]
+    input: Files,
+    /// Run only this check (repeatable; each one run fails the command when it finds something):
+    /// avalanche, choice, inexact-synchronisation, simultaneity.
     #[arg(long = "check", value_parser = parse_problem)]
     checks: Vec<Problem>,
     /// Findings printed per check and scope (all of them go to --json).
     #[arg(long, default_value_t = 5)]
     max: usize,
-    /// Print JSON (schema 1): scopes (name, states, transitions, findings: problem, state, events, trace,
-    /// shape, detail), failed.
+    /// Print JSON (schema 2): closed_loop (plants, supervisors, states, transitions, legend), scopes
+    /// (name, members, states, transitions, findings: problem, state, events, trace, shape, detail),
+    /// fail_on, failed.
     #[arg(long)]
     json: bool,
     /// Stop when a closed loop grows the process past this resident size: bytes with K, M or G (512M,
@@ -52,31 +55,66 @@ fn parse_problem(name: &str) -> Result<Problem, String> {
     })
 }
 
+/// The problems `[check] fail_on` names; an unknown name is refused with the names closest to it.
+fn fail_on(spec: &CheckSpec, manifest: &str) -> Result<Vec<Problem>, Error> {
+    let names = || Problem::ALL.iter().map(|p| p.name());
+    spec.fail_on
+        .iter()
+        .map(|n| {
+            Problem::from_name(n).ok_or_else(|| {
+                let all: Vec<&str> = names().collect();
+                format!(
+                    "{manifest}: check.fail_on: unknown check '{n}'{} (one of: {})",
+                    did_you_mean(n, names()),
+                    all.join(", ")
+                )
+                .into()
+            })
+        })
+        .collect()
+}
+
 /// One scope's closed loop and what the checks found on it.
 struct Checked {
     name: String,
+    members: Vec<String>,
     automaton: Automaton,
     findings: Vec<Finding>,
 }
 
+/// What the closed loop is made of: its plants and supervisors, and for each synthesised supervisor the
+/// automata whose states its own state tuples hold.
+struct Loop {
+    plants: Vec<String>,
+    supervisors: Vec<String>,
+    legend: Vec<(String, Vec<String>)>,
+}
+
 /// Runs `check`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
-    let problems = if args.checks.is_empty() { Problem::ALL.to_vec() } else { args.checks.clone() };
-    let closed = match args.files.as_slice() {
-        [one] if is_manifest(one) => supervisors(Manifest::load(one)?.read_automata()?)?,
-        files => {
-            let (mut set, skipped) = ModelSet::from_files(files, &[], &args.supervisors)?;
-            super::say_skipped(&skipped);
-            set.resolve_controllability()?;
-            set
-        }
+    let loaded = args.input.load()?;
+    let failing = match (&args.checks, &loaded.manifest) {
+        (given, _) if !given.is_empty() => given.clone(),
+        (_, Some(m)) => fail_on(&m.check, &m.file.display().to_string())?,
+        (_, None) => fail_on(&CheckSpec::default(), "")?,
     };
-    let (plants, supervisors) = (closed.plants, closed.supervisors);
+    let problems = if args.checks.is_empty() { Problem::ALL.to_vec() } else { args.checks.clone() };
     let (observer, bar) = limits::progress();
     let cfg = Config {
         memory_limit: limits::memory_limit(args.memory_limit),
         observer: Some(observer),
         ..Config::default()
+    };
+    let (models, synthesised) = synthesise(loaded.models, &cfg)?;
+    let (plants, supervisors) = (models.plants, models.supervisors);
+    let names = |v: &[Automaton]| v.iter().map(|a| a.name.clone()).collect::<Vec<_>>();
+    let closed = Loop {
+        plants: names(&plants),
+        supervisors: names(&supervisors),
+        legend: synthesised
+            .iter()
+            .map(|s| (s.automaton.name.clone(), s.plants.iter().chain(&s.specs).cloned().collect()))
+            .collect(),
     };
     let mut checked = Vec::new();
     for scope in scopes(&plants, &supervisors) {
@@ -85,31 +123,54 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
             many => product(&many.iter().map(|a| (*a).clone()).collect::<Vec<_>>(), &cfg)?,
         };
         let findings = check(&automaton, &problems);
-        checked.push(Checked { name: scope.name, automaton, findings });
+        let members = scope.members.iter().map(|a| a.name.clone()).collect();
+        checked.push(Checked { name: scope.name, members, automaton, findings });
     }
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    let failed = checked.iter().any(|c| !c.findings.is_empty());
+    let failed = checked.iter().any(|c| c.findings.iter().any(|f| failing.contains(&f.problem)));
     let mut out = std::io::stdout().lock();
     if args.json {
-        writeln!(out, "{}", serde_json::to_string_pretty(&to_json(&checked, failed))?)?;
+        writeln!(out, "{}", serde_json::to_string_pretty(&to_json(&closed, &checked, &failing, failed))?)?;
     } else {
+        write_loop(&mut out, &closed)?;
         for c in &checked {
             write_text(&mut out, c, &problems, args.max)?;
         }
+        let names: Vec<&str> = failing.iter().map(|p| p.name()).collect();
+        let verdict = if failed { "failed" } else { "passed" };
+        writeln!(out, "{verdict} (failing kinds: {})", names.join(", "))?;
     }
     out.flush()?;
     Ok(if failed { ExitCode::from(1) } else { ExitCode::SUCCESS })
 }
 
+/// The closed loop's make-up and the legend of its state tuples.
+fn write_loop(out: &mut impl Write, l: &Loop) -> std::io::Result<()> {
+    let list = |v: &[String]| if v.is_empty() { "none".to_owned() } else { v.join(", ") };
+    writeln!(out, "checked: plants {} with supervisors {}", list(&l.plants), list(&l.supervisors))?;
+    writeln!(out, "legend: a state is a tuple of one state per automaton, in the order after 'a state is'")?;
+    if !l.legend.is_empty() {
+        writeln!(
+            out,
+            "  a synthesised supervisor's own state is a tuple of its plants' and specifications':"
+        )?;
+    }
+    for (name, of) in &l.legend {
+        writeln!(out, "  {name} = ({})", of.join(", "))?;
+    }
+    Ok(())
+}
+
 fn write_text(out: &mut impl Write, c: &Checked, problems: &[Problem], max: usize) -> std::io::Result<()> {
     writeln!(
         out,
-        "{}: {} states, {} transitions",
+        "{}: {} states, {} transitions; a state is ({})",
         c.name,
         c.automaton.states.len(),
-        c.automaton.transitions.len()
+        c.automaton.transitions.len(),
+        c.members.join(", ")
     )?;
     for &p in problems {
         let of: Vec<&Finding> = c.findings.iter().filter(|f| f.problem == p).collect();
@@ -147,7 +208,7 @@ fn write_text(out: &mut impl Write, c: &Checked, problems: &[Problem], max: usiz
     Ok(())
 }
 
-fn to_json(checked: &[Checked], failed: bool) -> Value {
+fn to_json(l: &Loop, checked: &[Checked], failing: &[Problem], failed: bool) -> Value {
     let scopes: Vec<Value> = checked
         .iter()
         .map(|c| {
@@ -167,11 +228,27 @@ fn to_json(checked: &[Checked], failed: bool) -> Value {
                 .collect();
             json!({
                 "name": c.name,
+                "members": c.members,
                 "states": c.automaton.states.len(),
                 "transitions": c.automaton.transitions.len(),
                 "findings": findings,
             })
         })
         .collect();
-    json!({"schema": 1, "scopes": scopes, "failed": failed})
+    let closed = &checked[0];
+    let legend: Vec<Value> =
+        l.legend.iter().map(|(name, of)| json!({"supervisor": name, "state": of})).collect();
+    json!({
+        "schema": 2,
+        "closed_loop": {
+            "plants": l.plants,
+            "supervisors": l.supervisors,
+            "states": closed.automaton.states.len(),
+            "transitions": closed.automaton.transitions.len(),
+            "legend": legend,
+        },
+        "scopes": scopes,
+        "fail_on": failing.iter().map(|p| p.name()).collect::<Vec<_>>(),
+        "failed": failed,
+    })
 }

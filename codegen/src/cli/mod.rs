@@ -6,6 +6,7 @@ mod convert;
 mod dot;
 mod emit;
 mod engine;
+mod files;
 mod inspect;
 mod limits;
 mod pack;
@@ -19,6 +20,8 @@ use std::error::Error as StdError;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+use codegen::synth::verify::NoSupervisor;
+use codegen::synth::SynthError;
 
 /// Any error a subcommand reports; `main` prints it with its causes and exits 2.
 pub type Error = Box<dyn StdError + Send + Sync>;
@@ -49,8 +52,33 @@ enum Command {
     Verify(verify::Args),
 }
 
-/// Runs the chosen subcommand; `Ok` carries its exit status (0, or 1 when a check failed).
+/// Runs the chosen subcommand; `Ok` carries its exit status (0, or 1 when a check failed). That no
+/// supervisor exists for a specification is a verdict, not bad input: said on stderr, exit 1, whichever
+/// command synthesised.
 pub fn run(cli: Cli) -> Result<ExitCode, Error> {
+    let result = subcommand(cli);
+    if let Err(e) = &result {
+        if let Some(verdict) = no_supervisor(e.as_ref()) {
+            eprintln!("{verdict}");
+            return Ok(ExitCode::from(1));
+        }
+    }
+    result
+}
+
+/// The no-supervisor verdict among `e` and its causes.
+fn no_supervisor<'a>(e: &'a (dyn StdError + 'static)) -> Option<&'a NoSupervisor> {
+    let mut cur = Some(e);
+    while let Some(err) = cur {
+        if let Some(SynthError::NoSupervisor(verdict)) = err.downcast_ref::<SynthError>() {
+            return Some(verdict);
+        }
+        cur = err.source();
+    }
+    None
+}
+
+fn subcommand(cli: Cli) -> Result<ExitCode, Error> {
     match cli.command {
         Command::Inspect(args) => inspect::run(args),
         Command::Convert(args) => convert::run(args),

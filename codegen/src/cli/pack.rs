@@ -5,10 +5,9 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use codegen::config::RuntimeConfig;
-use codegen::manifest::{Manifest, ModelSet};
 use codegen::pack::{report::Report, Layout, PackSet};
 use codegen::project::comparison::modular_and_monolithic;
-use codegen::project::supervisors;
+use codegen::project::{supervisors, Sources};
 use codegen::synth::Config;
 
 use super::Error;
@@ -55,20 +54,19 @@ fn parse_layout(name: &str) -> Result<Layout, String> {
 
 /// Runs `pack`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
-    let mut targets = RuntimeConfig::default().layouts();
-    let closed = match &args.manifest {
-        Some(path) => {
-            let manifest = Manifest::load(path)?;
-            targets = manifest.runtime.layouts();
-            supervisors(manifest.read_automata()?)?
-        }
-        None => {
-            let (mut set, skipped) = ModelSet::from_files(&args.plants, &args.specs, &args.supervisors)?;
-            super::say_skipped(&skipped);
-            set.resolve_controllability()?;
-            set
-        }
+    let sources = Sources {
+        files: args.manifest.iter().cloned().collect(),
+        plants: args.plants.clone(),
+        specs: args.specs.clone(),
+        supervisors: args.supervisors.clone(),
     };
+    let loaded = sources.load()?;
+    super::say_skipped(&loaded.left_out);
+    let targets =
+        loaded.manifest.as_ref().map_or_else(|| RuntimeConfig::default().layouts(), |m| m.runtime.layouts());
+    // A manifest's supervisors are synthesised from its specifications; given files, the specifications
+    // only add the comparison rows.
+    let closed = if loaded.manifest.is_some() { supervisors(loaded.models)? } else { loaded.models };
     let set = PackSet::new(closed.plants.clone(), closed.supervisors)?;
     let comparisons = if closed.specs.is_empty() {
         Vec::new()

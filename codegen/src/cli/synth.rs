@@ -5,12 +5,12 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use codegen::formats::write_path;
-use codegen::manifest::{read_role, Manifest};
-use codegen::model::{resolve_controllability, Automaton, Kind};
+use codegen::model::{Automaton, Kind};
 use codegen::synth::{self, Config, LocalModularResult, Supervisor};
 use serde_json::json;
 
 use super::engine::{self, BddOrder, Engine, Monolithic};
+use super::files::Files;
 use super::{limits, Error};
 
 /// Version of the `--json` output; raised when a field changes meaning or disappears.
@@ -22,18 +22,15 @@ const JSON_SCHEMA: u32 = 1;
 /// that share events with it), the conflict check, and the merge of conflicting specifications until the
 /// set is nonconflicting. Prints a table of supervisor, specifications, local plant, states and
 /// transitions with the totals and the conflict verdict. Exit status 1 when the set is left conflicting
-/// (only with --no-merge).
+/// (only with --no-merge). The files are loaded as by every command (a manifest, modules and model
+/// files as one project, or --plant/--spec); a specification event no plant has is refused (exit 2).
+/// When no supervisor exists for a specification, says so with a shortest trace of uncontrollable
+/// events into what it forbids (exit 1).
 #[derive(Debug, clap::Args)]
-#[command(group = clap::ArgGroup::new("input").required(true).args(["manifest", "plants"]))]
 pub struct Args {
-    /// Project manifest (TOML) naming the plants and specifications.
-    manifest: Option<PathBuf>,
-    /// Plant subsystem files (instead of a manifest).
-    #[arg(long = "plant", num_args = 1.., requires = "specs")]
-    plants: Vec<PathBuf>,
-    /// Specification files (with --plant).
-    #[arg(long = "spec", num_args = 1..)]
-    specs: Vec<PathBuf>,
+    /// The project.
+    #[command(flatten)]
+    input: Files,
     /// Synthesise the one monolithic supervisor instead.
     #[arg(long)]
     monolithic: bool,
@@ -79,14 +76,6 @@ enum OutFormat {
     Wmod,
 }
 
-/// Every automaton of `files`, as `kind`.
-fn read_all(files: &[PathBuf], kind: Kind) -> Result<Vec<Automaton>, Error> {
-    let (mut automata, skipped) = read_role(files, kind)?;
-    super::say_skipped(&skipped);
-    automata.iter_mut().for_each(|a| a.kind = kind);
-    Ok(automata)
-}
-
 /// One row of the report, with the size before reduction when reduced.
 struct Row {
     supervisor: Supervisor,
@@ -95,19 +84,8 @@ struct Row {
 
 /// Runs `synth`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
-    let (name, plants, specs) = match &args.manifest {
-        Some(path) => {
-            let m = Manifest::load(path)?;
-            let set = m.read_automata()?;
-            (m.name, set.plants, set.specs)
-        }
-        None => {
-            let (mut plants, mut specs) =
-                (read_all(&args.plants, Kind::Plant)?, read_all(&args.specs, Kind::Spec)?);
-            resolve_controllability(plants.iter_mut().chain(&mut specs))?;
-            ("synth".to_owned(), plants, specs)
-        }
-    };
+    let loaded = args.input.load()?;
+    let (name, plants, specs) = (loaded.name, loaded.models.plants, loaded.models.specs);
     if specs.is_empty() {
         return Err("no specification to synthesise a supervisor for".into());
     }

@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 use crate::config::{BoardSpec, SamplingSpec};
+use crate::model::suggest::did_you_mean;
 use crate::pack::ranked::Packed;
 
 /// Highest GPIO number a board table may name (one bit per pin in a `u32` sample).
@@ -14,9 +15,10 @@ pub const MAX_PIN: u8 = 31;
 /// A `[board]` section that does not fit the set.
 #[derive(Debug, thiserror::Error, PartialEq, Eq)]
 pub enum BoardError {
-    /// An event name the set does not have.
-    #[error("board: event '{0}' is not an event of the set")]
-    UnknownEvent(String),
+    /// Event names the set does not have: every one of the section, each with the event names closest
+    /// in spelling ("did you mean …?").
+    #[error("board: {}", .0.join("; "))]
+    UnknownEvents(Vec<String>),
     /// An input mapped to a controllable event, or an output to an uncontrollable one.
     #[error("board: event '{event}' is {what}")]
     WrongKind {
@@ -38,8 +40,24 @@ pub enum BoardError {
 
 /// Rust source for `BOARD`, `INPUT_PINS`, `INPUT_PULLS` and `OUTPUT_PINS`: `spec` over `packed`'s events.
 pub fn rust(spec: &BoardSpec, packed: &Packed) -> Result<String, BoardError> {
+    let known = || packed.event_names.iter().map(String::as_str);
+    let unknown: Vec<String> = spec
+        .inputs
+        .iter()
+        .map(|i| &i.event)
+        .chain(spec.outputs.iter().map(|o| &o.event))
+        .filter(|name| !known().any(|k| k == name.as_str()))
+        .map(|name| format!("event '{name}' is not an event of the set{}", did_you_mean(name, known())))
+        .collect();
+    if !unknown.is_empty() {
+        return Err(BoardError::UnknownEvents(unknown));
+    }
     let id = |name: &str| -> Result<usize, BoardError> {
-        packed.event_names.iter().position(|n| n == name).ok_or_else(|| BoardError::UnknownEvent(name.into()))
+        packed
+            .event_names
+            .iter()
+            .position(|n| n == name)
+            .ok_or_else(|| BoardError::UnknownEvents(vec![name.into()]))
     };
     let controllable = |e: usize| packed.controllable.get(e / 32).is_some_and(|w| w & (1 << (e % 32)) != 0);
     let pin = |p: u8| if p > MAX_PIN { Err(BoardError::Pin(p)) } else { Ok(p) };
@@ -193,7 +211,13 @@ mod tests {
     #[test]
     fn refuses_what_does_not_fit() {
         let cases = [
-            (OK.replace("\"done\"", "\"nope\""), BoardError::UnknownEvent("nope".into())),
+            (
+                OK.replace("\"done\"", "\"dome\"").replace("\"go\"", "\"og\""),
+                BoardError::UnknownEvents(vec![
+                    "event 'dome' is not an event of the set (did you mean 'done'?)".into(),
+                    "event 'og' is not an event of the set (did you mean 'go'?)".into(),
+                ]),
+            ),
             (
                 OK.replace("event = \"done\"", "event = \"go\""),
                 BoardError::WrongKind { event: "go".into(), what: "controllable: it cannot be an input" },

@@ -14,6 +14,7 @@
 //! Everything here is ordered deterministically: the same input gives the same ids and so byte-identical
 //! output downstream.
 
+mod alphabet;
 mod automaton;
 mod composition;
 mod controllability;
@@ -25,6 +26,7 @@ pub mod suggest;
 #[cfg(test)]
 pub(crate) mod testing;
 
+pub use alphabet::{plantless_events, PlantlessEvent};
 pub use automaton::{Automaton, Event, Kind, State, Transition};
 pub use composition::Composition;
 pub use controllability::resolve_controllability;

@@ -5,7 +5,7 @@
 //! deletions, substitutions and swaps of two neighbours) of the names in lower case, taken twice: once
 //! on the names with the characters a reader confuses folded together (`1`, `l`, `i`, `|` and `0`, `o`),
 //! once as written. A name is suggested when it is within a third of the unknown name's length (at least
-//! one edit); of those, only the ones at the smallest distance are given, at most [`MAX`], in order of
+//! one edit, but never all of it: any one-letter name is one edit from any other); of those, only the ones at the smallest distance are given, at most [`MAX`], in order of
 //! the names, so the same input gives the same words.
 //!
 //! ```
@@ -43,12 +43,13 @@ fn distance(name: &str, candidate: &str) -> (usize, usize) {
 /// The names of `known` closest in spelling to `name`, at most [`MAX`], sorted; empty when none is
 /// close enough (see the module documentation). `name` itself, if known, is not suggested.
 pub fn closest<'a>(name: &str, known: impl IntoIterator<Item = &'a str>) -> Vec<&'a str> {
-    let limit = (name.chars().count() / 3).max(1);
+    let length = name.chars().count();
+    let limit = (length / 3).max(1);
     let mut near: Vec<((usize, usize), &str)> = known
         .into_iter()
         .filter(|k| *k != name)
         .map(|k| (distance(name, k), k))
-        .filter(|((folded, plain), _)| *folded == 0 || *plain <= limit)
+        .filter(|((folded, plain), _)| *folded == 0 || (*plain <= limit && *plain < length))
         .collect();
     near.sort_unstable();
     near.dedup_by_key(|(_, k)| *k);
@@ -105,6 +106,8 @@ mod tests {
         assert!(closest("conveyor", station()).is_empty());
         assert!(closest("sl1", ["sl1"]).is_empty());
         assert!(closest("", station()).is_empty());
+        assert!(closest("f", ["a", "b"]).is_empty(), "a one-letter name is one edit from any other");
+        assert_eq!(closest("I", ["l", "b"]), ["l"]);
         assert_eq!(did_you_mean("emergency_stop", station()), "");
     }
 

@@ -17,19 +17,21 @@
 //! command). [`comparison`] runs the other two architectures of the same problem for the size report.
 
 pub mod comparison;
+mod sources;
+
+pub use sources::{Loaded, Sources};
 
 use std::path::{Path, PathBuf};
 
 use crate::config::{BoardSpec, PlcSpec, RuntimeConfig, ScanPolicy, StateSpec};
 use crate::emit::{self, EmitError, Input, Provenance};
-use crate::formats::ParseError;
-use crate::manifest::{read_board, read_role, Manifest, ManifestError, ModelSet};
-use crate::model::{resolve_controllability, Automaton, Kind, ModelError};
+use crate::manifest::{is_manifest, read_board, ManifestError, ModelSet};
+use crate::model::Automaton;
 use crate::pack::ranked::{self, Packed};
 use crate::pack::{PackError, PackSet};
 use crate::plc::state_based::{self, StateError};
 use crate::plc::{self, Avalanche, Encoding, PlcError, PlcOptions};
-use crate::synth::{local_modular, Config, SynthError};
+use crate::synth::{local_modular, Config, Supervisor, SynthError};
 use crate::target::image::{build_pico_image, build_qemu_image, ImageError};
 
 /// A supervisor set with everything the tables, the firmware build and the closed loop need.
@@ -68,15 +70,16 @@ enum Origin {
 /// A project could not be put together or carried through a stage.
 #[derive(Debug, thiserror::Error)]
 pub enum ProjectError {
-    /// The manifest or a model file it names is bad.
+    /// The manifest, a model file it names or one named on the command line is bad, or the files do
+    /// not fit together.
     #[error(transparent)]
     Manifest(#[from] ManifestError),
-    /// A model file named on the command line is bad.
-    #[error(transparent)]
-    Model(#[from] ParseError),
-    /// The files named on the command line do not agree on, or do not say, an event's controllability.
-    #[error(transparent)]
-    Controllability(#[from] ModelError),
+    /// A manifest given together with other files: a manifest is a whole project.
+    #[error("{}: a manifest is a whole project: give it alone, or name its model files instead", file.display())]
+    ManifestAmongFiles {
+        /// The manifest.
+        file: PathBuf,
+    },
     /// An input file could not be read to hash it, or the emitted tables could not be written.
     #[error("{}: {source}", path.display())]
     File {
@@ -116,20 +119,28 @@ pub enum ProjectError {
 /// The supervisors stage: `models` with every supervisor its set runs — the ready supervisors first,
 /// then the local modular supervisors synthesised from its specifications (none without
 /// specifications).
-pub fn supervisors(mut models: ModelSet) -> Result<ModelSet, SynthError> {
-    if !models.specs.is_empty() {
-        let result = local_modular(&models.plants, &models.specs, &Config::default())?;
-        models.supervisors.extend(result.supervisors.into_iter().map(|s| s.automaton));
-    }
-    Ok(models)
+pub fn supervisors(models: ModelSet) -> Result<ModelSet, ProjectError> {
+    Ok(synthesise(models, &Config::default())?.0)
 }
 
-/// Manifest → supervisor set: the manifest's models with their supervisors, plants first, over one
-/// event numbering.
-pub fn supervisor_set(manifest: &Manifest) -> Result<PackSet, ProjectError> {
-    let models = supervisors(manifest.read_automata()?)?;
+/// The supervisors stage under `cfg`, with the synthesised supervisors as synthesis gave them (each
+/// with the plants and specifications it was built from, which name its states' positions).
+pub fn synthesise(mut models: ModelSet, cfg: &Config) -> Result<(ModelSet, Vec<Supervisor>), ProjectError> {
+    if models.specs.is_empty() {
+        return Ok((models, Vec::new()));
+    }
+    let result = local_modular(&models.plants, &models.specs, cfg)?;
+    models.supervisors.extend(result.supervisors.iter().map(|s| s.automaton.clone()));
+    Ok((models, result.supervisors))
+}
+
+/// Loaded models → supervisor set: the models with their supervisors ([`supervisors`]), plants first,
+/// over one event numbering.
+pub fn supervisor_set(loaded: &Loaded) -> Result<PackSet, ProjectError> {
+    let models = supervisors(loaded.models.clone())?;
     if models.supervisors.is_empty() && models.plants.is_empty() {
-        return Err(ProjectError::Nothing { file: manifest.file.clone() });
+        let file = loaded.inputs.first().cloned().unwrap_or_default();
+        return Err(ProjectError::Nothing { file });
     }
     Ok(PackSet::new(models.plants, models.supervisors)?)
 }
@@ -143,13 +154,15 @@ impl Project {
     /// The project of the manifest at `path`: its supervisor set ([`supervisor_set`]), `[runtime]` and
     /// `[board]`, and the hashes of the manifest and every model file it names.
     pub fn load(path: &Path) -> Result<Project, ProjectError> {
-        let m = Manifest::load(path)?;
-        let set = supervisor_set(&m)?;
-        // A module loaded as a project is its own manifest: hashed once.
-        let named = m.plants.iter().chain(&m.specs).chain(&m.supervisors).chain(&m.modules);
-        let files =
-            std::iter::once(m.file.clone()).chain(named.map(|p| m.resolve(p)).filter(|p| *p != m.file));
-        let inputs = files.map(|f| hash(&f)).collect::<Result<_, _>>()?;
+        if !is_manifest(path) {
+            return Err(ManifestError::NotAProject { file: path.to_owned() }.into());
+        }
+        let loaded = Sources::project(&[path.to_owned()]).load()?;
+        let set = supervisor_set(&loaded)?;
+        let inputs = loaded.inputs.iter().map(|f| hash(f)).collect::<Result<_, _>>()?;
+        let Some(m) = loaded.manifest else {
+            return Err(ManifestError::NotAProject { file: path.to_owned() }.into());
+        };
         Ok(Project {
             set,
             origin: Origin::Manifest { path: path.to_owned(), runtime: m.runtime.clone() },
@@ -164,9 +177,9 @@ impl Project {
     }
 
     /// The project of plant and supervisor files given one by one (plants first in the tables, each
-    /// group in this order), with `runtime` and the `[board]` of the TOML file `board`. A Supremica
-    /// module contributes only the components of the role it is given in ([`read_role`]); those it left
-    /// out are in [`Project::left_out`].
+    /// group in this order), with `runtime` and the `[board]` of the TOML file `board`, loaded as every
+    /// command loads files ([`Sources::load`]). A Supremica module contributes only the components of
+    /// the role it is given in; those it left out are in [`Project::left_out`].
     pub fn from_files(
         name: &str,
         plants: &[PathBuf],
@@ -174,18 +187,11 @@ impl Project {
         board: Option<&Path>,
         runtime: RuntimeConfig,
     ) -> Result<Project, ProjectError> {
-        let (mut inputs, mut left_out) = (Vec::new(), Vec::new());
-        let mut read = |paths: &[PathBuf], kind: Kind| -> Result<Vec<Automaton>, ProjectError> {
-            let (out, skipped) = read_role(paths, kind)?;
-            left_out.extend(skipped);
-            for p in paths {
-                inputs.push(hash(p)?);
-            }
-            Ok(out)
-        };
-        let mut plant_automata = read(plants, Kind::Plant)?;
-        let mut supervisor_automata = read(supervisors, Kind::Supervisor)?;
-        resolve_controllability(plant_automata.iter_mut().chain(&mut supervisor_automata))?;
+        let sources =
+            Sources { plants: plants.to_vec(), supervisors: supervisors.to_vec(), ..Sources::default() };
+        let loaded = sources.load()?;
+        let set = supervisor_set(&loaded)?;
+        let mut inputs: Vec<Input> = loaded.inputs.iter().map(|f| hash(f)).collect::<Result<_, _>>()?;
         let board_spec = match board {
             Some(path) => {
                 inputs.push(hash(path)?);
@@ -195,12 +201,12 @@ impl Project {
         };
         Ok(Project {
             name: name.to_owned(),
-            set: PackSet::new(plant_automata, supervisor_automata)?,
+            set,
             runtime,
             board: board_spec,
             plc: None,
             state: None,
-            left_out,
+            left_out: loaded.left_out,
             origin: Origin::Files {
                 plants: plants.to_vec(),
                 supervisors: supervisors.to_vec(),
@@ -424,6 +430,6 @@ mod tests {
         let err = hash(&missing).unwrap_err().to_string();
         assert!(err.starts_with(&missing.display().to_string()), "{err}");
         let err = Project::from_files("x", &[missing], &[], None, RuntimeConfig::default()).unwrap_err();
-        assert!(matches!(err, ProjectError::Model(_)), "{err}");
+        assert!(matches!(err, ProjectError::Manifest(ManifestError::File(_))), "{err}");
     }
 }

@@ -117,6 +117,17 @@ impl Run<'_> {
         Ok(())
     }
 
+    /// The verdict when the group's supervisor is empty: no supervisor exists, and why.
+    fn exists(&self, group: &[usize]) -> Result<(), SynthError> {
+        let (plants, r) = &self.cache[group];
+        let sources: Vec<&Automaton> =
+            plants.iter().map(|&i| &self.plants[i]).chain(group.iter().map(|&j| &self.specs[j])).collect();
+        match r.no_supervisor(&self.inputs, &sources, plants.len()) {
+            Some(verdict) => Err(SynthError::NoSupervisor(Box::new(verdict))),
+            None => Ok(()),
+        }
+    }
+
     fn supervisor(&self, group: &[usize]) -> &Dfa {
         &self.cache[group].1.dfa
     }
@@ -235,6 +246,7 @@ fn run(
     loop {
         for g in &groups {
             run.synthesise(g)?;
+            run.exists(g)?;
         }
         let all: Vec<&Vec<usize>> = groups.iter().collect();
         cfg.stage("conflict check");
@@ -257,7 +269,8 @@ fn run(
 
 /// Local modular synthesis: one supervisor per specification against its local plant (the plant
 /// subsystems sharing an event with it), then the conflict check, merging conflicting specifications until
-/// the set is nonconflicting (see [`Config::merge_conflicting`]).
+/// the set is nonconflicting (see [`Config::merge_conflicting`]). Stops with
+/// [`SynthError::NoSupervisor`] when a specification (or a merged group) has none.
 pub fn local_modular(
     plants: &[Automaton],
     specs: &[Automaton],
@@ -276,7 +289,8 @@ pub fn modular(
     run(plants, specs, false, cfg)
 }
 
-/// Monolithic synthesis: one supervisor, supC of the product of all plants and all specifications.
+/// Monolithic synthesis: one supervisor, supC of the product of all plants and all specifications;
+/// [`SynthError::NoSupervisor`] when it is empty.
 pub fn monolithic(plants: &[Automaton], specs: &[Automaton], cfg: &Config) -> Result<Supervisor, SynthError> {
     let inputs = Inputs::new(plants.iter().chain(specs))?;
     let (p, s) = inputs.dfas.split_at(plants.len());
@@ -284,6 +298,9 @@ pub fn monolithic(plants: &[Automaton], specs: &[Automaton], cfg: &Config) -> Re
     let name = "S_monolithic";
     let r = supc_dfa(&p.iter().collect::<Vec<_>>(), &s.iter().collect::<Vec<_>>(), &inputs, cfg, name)?;
     let sources: Vec<&Automaton> = plants.iter().chain(specs).collect();
+    if let Some(verdict) = r.no_supervisor(&inputs, &sources, plants.len()) {
+        return Err(SynthError::NoSupervisor(Box::new(verdict)));
+    }
     let automaton = r.dfa.to_automaton(name, Kind::Supervisor, &inputs.table, |q| {
         tuple_name(&r.walk, &sources, r.product_ids[q as usize])
     });

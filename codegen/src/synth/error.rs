@@ -24,6 +24,9 @@ pub enum SynthError {
         /// The limit in force.
         limit: usize,
     },
+    /// No supervisor exists for a specification (supC is empty): a verdict, not bad input.
+    #[error(transparent)]
+    NoSupervisor(Box<super::verify::NoSupervisor>),
     /// A product grew the process past [`Config::memory_limit`](super::Config::memory_limit).
     #[error(
         "{what}: {states} states so far took the process to {} resident, past the memory limit of {} \

@@ -7,20 +7,81 @@
 //! along uncontrollable transitions (a state that can be pushed into a removed state by the plant is
 //! removed), and states that can no longer reach a marked state are removed. What stays, restricted to its
 //! accessible part, is the supervisor: controllable with respect to G, nonblocking and maximally permissive.
+//!
+//! When the initial state itself is removed no supervisor exists; [`Synthesised::no_supervisor`] says
+//! why, with a shortest string of uncontrollable events from the initial state into a state the fixpoint
+//! removed for a reason of its own (bad, or blocking) rather than for being pushed there.
 
-use crate::model::{Automaton, Kind};
+use crate::model::{Automaton, EventId, Kind};
 
 use super::product::{tuple_name, Exploration, Options};
 use super::reverse::Reverse;
 use super::trim::{coaccessible_mask, restrict};
+use super::verify::{uncontrollable_path, Forbidden, NoSupervisor};
 use super::{Config, Inputs, SynthError};
 use crate::model::Dfa;
 
-/// A supervisor as product states: the walk, the trim controllable part and each state's product id.
+/// What the fixpoint did with a product state.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Fate {
+    /// Kept: part of the supervisor (when accessible).
+    Kept,
+    /// Removed: the plant generates an uncontrollable event there that the specification refuses.
+    Bad,
+    /// Removed: an uncontrollable event leads from it to a removed state.
+    Pushed,
+    /// Removed: no marked state can be reached from it through kept states.
+    Blocking,
+}
+
+/// A supervisor as product states: the walk, the trim controllable part, each state's product id and
+/// what the fixpoint did with every product state.
 pub(crate) struct Synthesised {
     pub walk: Exploration,
     pub dfa: Dfa,
     pub product_ids: Vec<u32>,
+    pub fate: Vec<Fate>,
+}
+
+impl Synthesised {
+    /// When the supervisor is empty, why: a shortest string of uncontrollable events from the initial
+    /// product state into a state removed as bad or blocking. `sources` are the plant then the
+    /// specification components of the walk, named in the state tuple.
+    pub(crate) fn no_supervisor(
+        &self,
+        inputs: &Inputs,
+        sources: &[&Automaton],
+        plants: usize,
+    ) -> Option<NoSupervisor> {
+        if self.dfa.state_count() > 0 {
+            return None;
+        }
+        let names = |v: &[&Automaton]| v.iter().map(|a| a.name.clone()).collect::<Vec<_>>();
+        let (plant_names, spec_names) = (names(&sources[..plants]), names(&sources[plants..]));
+        let event = |e: u32| inputs.table.name(EventId::from_u32(e)).to_owned();
+        let roots: Vec<bool> = self.fate.iter().map(|f| matches!(f, Fate::Bad | Fate::Blocking)).collect();
+        let Some((path, end)) = uncontrollable_path(&self.walk.dfa, &inputs.controllable, &roots) else {
+            // No initial state: an automaton of the set has no state at all.
+            return Some(NoSupervisor {
+                specs: spec_names,
+                plants: plant_names,
+                trace: Vec::new(),
+                state: String::new(),
+                forbidden: Forbidden::NoInitialState,
+            });
+        };
+        let forbidden = match self.walk.bad.binary_search_by_key(&end, |&(s, _)| s) {
+            Ok(i) => Forbidden::Refused { event: event(self.walk.bad[i].1) },
+            Err(_) => Forbidden::Blocking,
+        };
+        Some(NoSupervisor {
+            specs: spec_names,
+            plants: plant_names,
+            trace: path.into_iter().map(event).collect(),
+            state: tuple_name(&self.walk, sources, end),
+            forbidden,
+        })
+    }
 }
 
 /// supC of the plant components `plants` and the specification components `specs`.
@@ -39,23 +100,27 @@ pub(crate) fn supc_dfa(
         cfg,
         what,
     )?;
-    let alive = controllable_nonblocking(&walk.dfa, walk.bad.iter().map(|&(s, _)| s), &inputs.controllable);
+    let fate = controllable_nonblocking(&walk.dfa, walk.bad.iter().map(|&(s, _)| s), &inputs.controllable);
+    let alive: Vec<bool> = fate.iter().map(|&f| f == Fate::Kept).collect();
     let (dfa, product_ids) = restrict(&walk.dfa, &alive);
-    Ok(Synthesised { walk, dfa, product_ids })
+    Ok(Synthesised { walk, dfa, product_ids, fate })
 }
 
 /// The largest set of states without `bad` states that is closed under uncontrollable transitions
-/// (no uncontrollable transition leaves it) and in which every state reaches a marked state.
+/// (no uncontrollable transition leaves it) and in which every state reaches a marked state: the states
+/// whose fate is [`Fate::Kept`]; every other state says why it was removed.
 pub(crate) fn controllable_nonblocking(
     d: &Dfa,
     bad: impl Iterator<Item = u32>,
     controllable: &[bool],
-) -> Vec<bool> {
+) -> Vec<Fate> {
     let rev = Reverse::new(d);
     let mut alive = vec![true; d.state_count()];
+    let mut fate = vec![Fate::Kept; d.state_count()];
     let mut work: Vec<u32> = Vec::new();
     for s in bad {
         alive[s as usize] = false;
+        fate[s as usize] = Fate::Bad;
         work.push(s);
     }
     loop {
@@ -63,6 +128,7 @@ pub(crate) fn controllable_nonblocking(
             for (p, e) in rev.preds(s) {
                 if alive[p as usize] && !controllable[e as usize] {
                     alive[p as usize] = false;
+                    fate[p as usize] = Fate::Pushed;
                     work.push(p);
                 }
             }
@@ -71,11 +137,12 @@ pub(crate) fn controllable_nonblocking(
         for s in 0..d.state_count() {
             if alive[s] && !co[s] {
                 alive[s] = false;
+                fate[s] = Fate::Blocking;
                 work.push(s as u32);
             }
         }
         if work.is_empty() {
-            return alive;
+            return fate;
         }
     }
 }
