@@ -1,45 +1,8 @@
 //! Bit streams, most significant bit first, for the layouts that pack fields narrower than a byte.
 
-/// Bits needed to write every value in `0..n` (0 when `n` ≤ 1: a single value needs no bits).
-pub fn width(n: usize) -> u32 {
-    match n {
-        0 | 1 => 0,
-        _ => usize::BITS - (n - 1).leading_zeros(),
-    }
-}
-
-/// Appends fields to a byte vector, most significant bit first.
-#[derive(Default)]
-pub struct Writer {
-    bytes: Vec<u8>,
-    len: usize,
-}
-
-impl Writer {
-    /// Appends the low `bits` bits of `value`.
-    pub fn put(&mut self, value: usize, bits: u32) {
-        for i in (0..bits).rev() {
-            if self.len.is_multiple_of(8) {
-                self.bytes.push(0);
-            }
-            if (value >> i) & 1 == 1 {
-                let last = self.bytes.len() - 1;
-                self.bytes[last] |= 0x80 >> (self.len % 8);
-            }
-            self.len += 1;
-        }
-    }
-
-    /// Bits written so far.
-    pub fn bit_len(&self) -> usize {
-        self.len
-    }
-
-    /// The bytes, the last one padded with zero bits.
-    pub fn into_bytes(self) -> Vec<u8> {
-        self.bytes
-    }
-}
+// The writer is the firmware encoder's own (the `compact` tables it builds are these bit streams), so the
+// size report and the firmware pack the same bits.
+pub use firmware::build::compact::{width, Writer};
 
 /// Reads fields written by [`Writer`]; `None` past the end.
 pub struct Reader<'a> {
