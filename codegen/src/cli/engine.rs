@@ -86,6 +86,21 @@ impl Engine {
             Monolithic::Explicit(synth::monolithic(plants, specs, cfg)?)
         } else {
             let r = symbolic::monolithic(plants, specs, cfg, options)?;
+            if r.states == BigUint::ZERO {
+                // No supervisor exists: the explicit engine says so with a shortest uncontrollable trace,
+                // when the product is small enough for it to build.
+                let capped = Config { state_limit: cfg.state_limit.min(AUTO_EXPLICIT_STATES), ..cfg.clone() };
+                return match synth::monolithic(plants, specs, &capped) {
+                    Err(verdict @ SynthError::NoSupervisor(_)) => Err(verdict.into()),
+                    _ => Err(format!(
+                        "no supervisor exists for {}: the symbolic engine found no state of the supervised \
+                         plant that is controllable and nonblocking (the product is too large for the \
+                         explicit engine to give a shortest trace)",
+                        r.name
+                    )
+                    .into()),
+                };
+            }
             eprintln!(
                 "engine: the supervisor's BDD has {} nodes, the largest BDD {} nodes",
                 r.nodes, r.peak_nodes
