@@ -10,12 +10,8 @@
 //! `wait` the expectation over the enabled commands (zero for a command that takes a new transition),
 //! with each uncontrollable `u` the value after `u`, each plus one event; the state's value is the best
 //! of them. Who has the initiative matters: right after a command, a controller with another command
-//! enabled decides again at once, and the plant's answer races that decision; so a state has a second
-//! value, reached by a command, in which the controller moves — unless the plant's event gets in first,
-//! which it does with the chance [`PLANT_GETS_IN`]. A controller that never runs out of commands (actuators
-//! it may switch at will, as the distribution station's) would otherwise never leave the plant a turn in
-//! the model, every target behind one of the plant's events would look unreachable, and the plant,
-//! waiting for a controller that cannot get there, would never move.
+//! enabled fires it at once, before the plant can answer; so a state has a second value, reached by a
+//! command, in which only the controller moves while it can.
 //!
 //! A local queue's choice depends on its history: a command already taken in the current round of its
 //! choice site is not taken again before the round is over, so a plant that brings the closed loop to a
@@ -51,10 +47,6 @@ const TARGET_FLOOR: f32 = 0.5;
 const MAX_FOCUS_EVENTS: usize = 6;
 /// Fixed-point scale of [`Steering::rank_after`]: ranks in sixteenths of an event.
 const RANK_SCALE: f32 = 16.0;
-/// Chance that, right after a command, the plant's event reaches the controller before its next
-/// decision: the plant answers after a short delay (at once in a race) while the controller decides
-/// again as soon as its command is out, so either may be first.
-const PLANT_GETS_IN: f32 = 0.5;
 
 /// A choice site: a plant (member index) in one of its local states.
 pub type Site = (usize, u32);
@@ -281,7 +273,7 @@ impl Steering {
                 for r in 0..m as u64 {
                     let (wait, own) = self.options(graph, s, r);
                     let best = wait.map_or(own, |w| w.min(own)).min(UNREACHABLE);
-                    let forced = wait.map_or(own, |w| w + PLANT_GETS_IN * (best - w)).min(UNREACHABLE);
+                    let forced = wait.unwrap_or(own).min(UNREACHABLE);
                     let i = s as usize * m + r as usize;
                     change =
                         change.max((best - self.values[i]).abs()).max((forced - self.after_command[i]).abs());
@@ -342,8 +334,7 @@ impl Steering {
             return Move::Plant;
         }
         match self.options(graph, s, self.round) {
-            // Where nothing leads to a target, holding the plant back would only starve it.
-            (Some(wait), own) if wait <= own && wait < UNREACHABLE => Move::Controller,
+            (Some(wait), own) if wait <= own => Move::Controller,
             (Some(_), _) => Move::PlantFirst,
             (None, _) => Move::Plant,
         }
@@ -457,36 +448,6 @@ mod tests {
         assert!((value(0.5) - 3.0).abs() < 0.05, "{}", value(0.5));
         // A round that excludes the target still leaves it a floor (it comes back with the next round).
         assert!(value(0.0) < UNREACHABLE);
-    }
-
-    #[test]
-    fn a_controller_that_never_runs_out_of_commands_still_leaves_the_plant_its_turn() {
-        // A piston the controller switches at will: `on` at rest, `off` while pushed; only the plant's
-        // `arrive`, while pushed, brings it to the front, where `back` is the target. Had the controller
-        // always the initiative after a command, `on off on off …` would never let `arrive` in: the
-        // target would look unreachable and the plant would wait for ever.
-        let m = automaton(
-            "Piston",
-            Kind::Plant,
-            3,
-            &[0],
-            &["on", "off", "back"],
-            &[(0, "on", 1), (1, "off", 0), (1, "arrive", 2), (2, "back", 0)],
-        );
-        let table = EventTable::build([&m]).unwrap();
-        let closed = Composition::new(&[&m], &table).unwrap();
-        let controllable: Vec<bool> = table.ids().map(|e| table.is_controllable(e)).collect();
-        let g = Graph::explore(&closed, 10).unwrap();
-        let back = table.id("back").unwrap().as_u32();
-        let mut steering = Steering::new();
-        refresh(&mut steering, &g, &controllable, |e| e == back, uniform);
-        let pushed = g.next(0, table.id("on").unwrap()).unwrap();
-        assert_eq!(steering.next_move(&g, pushed), Move::PlantFirst, "arrive beats switching off");
-        assert_eq!(steering.next_move(&g, 0), Move::Controller, "at rest only the controller can move");
-        // From rest: on, then every other time arrive gets in first and back follows (2 events), else
-        // off comes back to rest: x = 1 + (1/2)(2) + (1/2)(1 + x), x = 5.
-        let rest = steering.after_command[0];
-        assert!((rest - 5.0).abs() < 0.1, "{rest}");
     }
 
     #[test]
