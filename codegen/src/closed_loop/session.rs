@@ -204,7 +204,11 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             if self.next_emit.is_some_and(|t| t <= now) {
                 self.emit()?;
             }
-            let wait = self.next_emit.map_or(POLL, |t| t.saturating_duration_since(Instant::now()).min(POLL));
+            let wait = match self.next_emit {
+                _ if !self.inbox.is_empty() => Duration::ZERO,
+                Some(t) => t.saturating_duration_since(Instant::now()).min(POLL),
+                None => POLL,
+            };
             let n = self.link.recv(&mut buf, wait)?;
             for &b in &buf[..n] {
                 if let Some(frame) = self.decoder.push(b) {
@@ -213,6 +217,11 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             }
             while let Some(frame) = self.inbox.pop_front() {
                 self.handle(frame)?;
+                // A steering plant looks after every command, before the next is judged.
+                let due = self.next_emit.is_some_and(|t| t <= Instant::now());
+                if due && self.plant.steers() && self.monitor.is_steering() {
+                    break;
+                }
             }
             if self.next_emit.is_none() && self.last_activity.elapsed() > self.config.stall_timeout {
                 self.monitor.report_mut().stalls += 1;
@@ -344,20 +353,40 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
     /// The plant's next emission: one event or a burst, sent as one write. When the plant steers (see
     /// [`Move`]), it first lets the controller choose if that is better, and goes on past the drawn
     /// length, holding the controller, while its own next event beats the controller's choice.
+    ///
+    /// While it steers, the plant first stops the controller ([`Session::pause`]) and decides on the
+    /// state the controller really is in: a controller that never runs out of commands (actuators it may
+    /// switch at will) fires faster than the plant reads, and an event chosen on the commands read so far
+    /// would reach it hundreds of commands late, in a state it was not chosen for.
     fn emit(&mut self) -> Result<(), SessionError> {
         let steers = self.plant.steers();
+        let paused = steers && self.monitor.is_steering();
+        if paused {
+            self.pause()?;
+            if !self.in_step {
+                return self.out_of_step();
+            }
+        }
         if steers && !self.waited && self.monitor.next_move() == Move::Controller {
+            if paused {
+                self.link.send(&[GO])?;
+            }
             self.waited = true;
             self.next_emit = Some(Instant::now() + PATIENCE);
             return Ok(());
         }
         let (mut bytes, held, violated) = self.draw(self.micros());
         if bytes.is_empty() {
+            if paused {
+                self.link.send(&[GO])?;
+            }
             self.next_emit = None;
             return Ok(());
         }
-        if held {
-            bytes.insert(0, HOLD);
+        if held || paused {
+            if !paused {
+                bytes.insert(0, HOLD);
+            }
             bytes.push(GO);
         }
         self.link.send(&bytes)?;
@@ -394,6 +423,17 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         (bytes, held, violated)
     }
 
+    /// Stops the controller deciding and judges every command it fired until then (HOLD, then STATUS,
+    /// whose answer comes after the last of them; its counters are not added, for the firmware's
+    /// counters since its reset are collected once, at the next reset or the end). The controller stays
+    /// on hold until the caller sends GO.
+    fn pause(&mut self) -> Result<(), SessionError> {
+        self.link.send(&[HOLD, STATUS])?;
+        self.await_frame("STATUS", true, |f| matches!(f, Frame::Status(_)))?;
+        self.last_activity = Instant::now();
+        Ok(())
+    }
+
     /// Lets the plant mix its own timing into the steering while no new transition is taken, and
     /// restarts the closed loop when that goes on for long.
     fn explore_when_stuck(&mut self) -> Result<(), SessionError> {
@@ -420,7 +460,11 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
                 self.waited = false;
                 match self.judge(c, self.micros()) {
                     Verdict::Ok | Verdict::Desync { resolved: true } => {
-                        let delay = Duration::from_micros(self.plant.next_delay_us(true));
+                        let mut delay = Duration::from_micros(self.plant.next_delay_us(true));
+                        // While it steers, the plant looks at every command (see `emit`).
+                        if self.plant.steers() && self.monitor.is_steering() {
+                            delay = Duration::ZERO;
+                        }
                         let due = Instant::now() + delay;
                         self.next_emit = Some(self.next_emit.map_or(due, |t| t.min(due)));
                     }
