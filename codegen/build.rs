@@ -1,11 +1,11 @@
 //! Embeds the sources `codegen run` builds its firmware from into the binary, so that an installed
 //! `codegen` runs a user's project from any directory (`codegen::target::sources` unpacks them).
 //!
-//! What travels: the firmware crate (`firmware/Cargo.toml`, `build.rs`, `src/`, `boards/` with each
-//! board's `memory.x`), the workspace's `Cargo.lock` (the dependencies' versions), `rust-toolchain.toml`,
+//! What travels: the runtime crate (`firmware/Cargo.toml`, `src/`), the cell applications (`apps/cell/`:
+//! `Cargo.toml`, `build.rs`, `src/`, `boards/` with each board's `memory.x`), the workspace's `Cargo.lock` (the dependencies' versions), `rust-toolchain.toml`,
 //! `.cargo/config.toml` (the Cortex-M link flags) and the RP2040 harness (`harness/rp2040/`: its
 //! `package.json`, `package-lock.json` and `src/`). The workspace manifest travels rewritten to hold the
-//! firmware crate alone, with the same profiles. The generated file `$OUT_DIR/embedded_sources.rs` lists
+//! runtime and the applications alone, with the same profiles. The generated file `$OUT_DIR/embedded_sources.rs` lists
 //! every file with its bytes, in path order, so that the same checkout gives the same binary.
 
 use std::env;
@@ -18,13 +18,17 @@ const FILES: &[&str] = &[
     "rust-toolchain.toml",
     ".cargo/config.toml",
     "firmware/Cargo.toml",
-    "firmware/build.rs",
+    "apps/cell/Cargo.toml",
+    "apps/cell/build.rs",
     "harness/rp2040/package.json",
     "harness/rp2040/package-lock.json",
 ];
 
 /// Directories embedded whole, relative to the workspace root.
-const DIRS: &[&str] = &["firmware/src", "firmware/boards", "harness/rp2040/src"];
+const DIRS: &[&str] = &["firmware/src", "apps/cell/src", "apps/cell/boards", "harness/rp2040/src"];
+
+/// The workspace members that travel: the runtime and the applications built on it.
+const MEMBERS: &[&str] = &["firmware", "apps/cell"];
 
 fn main() {
     let crate_dir = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
@@ -71,13 +75,14 @@ fn walk(root: &Path, dir: &Path, files: &mut Vec<String>) {
     }
 }
 
-/// The workspace's `Cargo.toml` with the firmware crate as its only member: the same `[workspace.package]`
-/// and profiles, so the firmware builds exactly as `cargo qemu-build` builds it in the checkout.
+/// The workspace's `Cargo.toml` with the runtime and the cell applications as its only members: the same
+/// `[workspace.package]` and profiles, so the firmware builds exactly as `cargo qemu-build` builds it in the
+/// checkout.
 fn workspace_manifest(root: &Path) -> String {
     let text = std::fs::read_to_string(root.join("Cargo.toml")).expect("read the workspace Cargo.toml");
     let mut manifest: toml::Table = text.parse().expect("the workspace Cargo.toml is TOML");
     let workspace = manifest.get_mut("workspace").and_then(toml::Value::as_table_mut).expect("[workspace]");
-    let members = toml::Value::Array(vec![toml::Value::String("firmware".into())]);
+    let members = toml::Value::Array(MEMBERS.iter().map(|m| toml::Value::String((*m).into())).collect());
     workspace.insert("members".into(), members.clone());
     workspace.insert("default-members".into(), members);
     if let Some(profiles) = manifest.get_mut("profile").and_then(toml::Value::as_table_mut) {
@@ -87,7 +92,7 @@ fn workspace_manifest(root: &Path) -> String {
         }
     }
     format!(
-        "# Written by codegen (codegen/build.rs): the firmware crate alone, with the workspace's profiles.\n{}",
+        "# Written by codegen (codegen/build.rs): the runtime and the cell applications, with the workspace's profiles.\n{}",
         toml::to_string(&manifest).expect("serialise the workspace manifest")
     )
 }

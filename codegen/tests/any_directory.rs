@@ -53,7 +53,7 @@ fn an_installed_codegen_runs_a_project_outside_the_checkout() {
         .collect();
     assert_eq!(unpacked.len(), 1, "{unpacked:?}");
     assert!(unpacked[0].starts_with(&format!("firmware-{}-", env!("CARGO_PKG_VERSION"))), "{unpacked:?}");
-    assert!(cache.join(&unpacked[0]).join("firmware/src/bin/cell_qemu/main.rs").is_file());
+    assert!(cache.join(&unpacked[0]).join("apps/cell/src/bin/cell_qemu/main.rs").is_file());
     let listed: Vec<_> = std::fs::read_dir(&project).unwrap().map(|e| e.unwrap().file_name()).collect();
     assert_eq!(listed.len(), 2, "the project directory is left as it was: {listed:?}");
 }

@@ -1,4 +1,4 @@
-//! The emitted tables of the manufacturing cell: the committed `firmware/src/generated/cell.rs` is what
+//! The emitted tables of the manufacturing cell: the committed `apps/cell/src/generated/cell.rs` is what
 //! `codegen emit examples/cell/cell.toml` (local modular synthesis, the manifest's `[runtime]` and
 //! `[board]`) writes today, byte for byte, and emitting is deterministic.
 
@@ -34,10 +34,10 @@ fn committed_cell_tables_are_fresh_and_emission_is_deterministic() {
     emit_to(&b);
     let (a, b) = (std::fs::read(a).unwrap(), std::fs::read(b).unwrap());
     assert_eq!(a, b, "two runs differ");
-    let committed = std::fs::read(root().join("firmware/src/generated/cell.rs")).unwrap();
+    let committed = std::fs::read(root().join("apps/cell/src/generated/cell.rs")).unwrap();
     assert!(
         a == committed,
-        "firmware/src/generated/cell.rs is stale: regenerate it with `cargo run -p codegen -- {} -o firmware/src/generated/cell.rs`",
+        "apps/cell/src/generated/cell.rs is stale: regenerate it with `cargo run -p codegen -- {} -o apps/cell/src/generated/cell.rs`",
         cell_args().join(" ")
     );
     // The command the header records reproduces the file.
@@ -79,7 +79,7 @@ fn a_controllable_event_no_plant_generates_is_refused() {
 /// The committed tables, compiled as the firmware's applications include them.
 #[allow(dead_code)]
 mod cell {
-    include!("../../firmware/src/generated/cell.rs");
+    include!("../../apps/cell/src/generated/cell.rs");
 }
 
 #[test]

@@ -2,8 +2,9 @@
 //! interface in one event-driven loop over tables packed by `codegen`.
 //!
 //! The library is `no_std`, allocates nothing and touches no hardware, so the exact code that ships also
-//! runs on the host, where the virtual plant, property tests and benchmarks exercise it. The Cortex-M
-//! applications (`src/bin/`) only wire it to interrupts and pins. With the host-only feature `build`, the
+//! runs on the host, where the virtual plant, property tests and benchmarks exercise it. The crate holds no
+//! application and has no build script: the Cortex-M applications (the cell's in `apps/cell/`, a user's
+//! project) depend on it and only wire it to interrupts and pins. With the host-only feature `build`, the
 //! crate also builds the tables it reads ([`build`]).
 #![cfg_attr(not(test), no_std)]
 #![deny(missing_docs)]

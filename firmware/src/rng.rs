@@ -99,8 +99,9 @@ impl<E: Entropy> Rng<E> {
 #[inline(always)]
 pub(crate) fn widening_mul(x: u32, n: u32) -> (u32, u32) {
     // The Cortex-M0/M0+ has no 32 × 32 → 64-bit multiply: the product would be a call to the
-    // compiler's 64 × 64 routine. The ranges drawn from (events, plants) all fit 16 bits.
-    #[cfg(armv6m)]
+    // compiler's 64 × 64 routine. The ranges drawn from (events, plants) all fit 16 bits. Among the ARM
+    // targets, the cores without compare-and-swap are the ARMv6-M ones (no build script needed to tell).
+    #[cfg(all(target_arch = "arm", not(target_has_atomic = "32")))]
     if let Ok(n) = u16::try_from(n) {
         return by_halves(x, n);
     }
@@ -111,7 +112,7 @@ pub(crate) fn widening_mul(x: u32, n: u32) -> (u32, u32) {
 /// `x · n` as its high and low words, from 32-bit products only: `x`'s high half times `n`, plus the
 /// carry of its low half times `n`. Exact for every `x` and `n`; no sum overflows, as
 /// `(2¹⁶ − 1)² + 2¹⁶ − 2 < 2³²`.
-#[cfg(any(armv6m, test))]
+#[cfg(any(all(target_arch = "arm", not(target_has_atomic = "32")), test))]
 #[inline(always)]
 fn by_halves(x: u32, n: u16) -> (u32, u32) {
     let n = u32::from(n);

@@ -1,6 +1,6 @@
 """Instructions the runtime spends per uncontrollable event and per controllable decision on the cell's
 tables, on a Cortex-M3 under `qemu-system-arm -icount shift=7,sleep=off` (`cargo qemu-cost`; the binary,
-firmware/src/bin/cost_qemu.rs, says how it measures). Every line the figures come from must be present and
+apps/cell/src/bin/cost_qemu.rs, says how it measures). Every line the figures come from must be present and
 the calibration must hold, or the run fails; the figures are compared with `.ci/expected/cell-qemu.cost`.
 
     python3 scripts/measure/cost.py

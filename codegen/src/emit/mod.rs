@@ -20,7 +20,7 @@
 //!
 //! Why a `codegen emit` subcommand rather than a `build.rs` calling this library: `codegen` depends on the
 //! firmware's runtime (the virtual plant and the host tests run the very code that ships), so the
-//! firmware cannot depend on `codegen` without a cycle. The committed `firmware/src/generated/cell.rs` is
+//! firmware cannot depend on `codegen` without a cycle. The committed `apps/cell/src/generated/cell.rs` is
 //! kept fresh by a test that emits it again and compares the bytes.
 
 pub mod board;

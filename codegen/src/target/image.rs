@@ -1,6 +1,6 @@
 //! Builds the firmware images QEMU boots and the RP2040 harness loads, for a given tables file.
 //!
-//! The applications (`firmware`, binaries `cell-qemu` and `cell-pico`) include the tables named by the
+//! The applications (package `cell` in `apps/cell`, binaries `cell-qemu` and `cell-pico`) include the tables named by the
 //! `SCT_TABLES` environment variable. Building it is one `cargo build` in the root of the sources this
 //! binary carries ([`super::sources`]: unpacked into a cache directory, with the `.cargo/config.toml`
 //! that holds the Cortex-M link flags), whatever the current directory. Cargo writes the ELF to one
@@ -61,7 +61,7 @@ pub fn build_pico_image(tables: &Path, out: &Path) -> Result<PathBuf, ImageError
     build_image(tables, out, "pico", PICO_TARGET, PICO_BINARY)
 }
 
-/// `cargo build -p firmware --release --features FEATURE --target TARGET --bin BINARY` on `tables`.
+/// `cargo build -p cell --release --features FEATURE --target TARGET --bin BINARY` on `tables`.
 fn build_image(
     tables: &Path,
     out: &Path,
@@ -83,7 +83,7 @@ fn build_image(
         .args([
             "build",
             "-p",
-            "firmware",
+            "cell",
             "--release",
             "--features",
             feature,

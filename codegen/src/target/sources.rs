@@ -2,8 +2,8 @@
 //! directory on first use, so that an installed `codegen` runs a project from any directory: nothing is
 //! looked up in the checkout the binary was built in.
 //!
-//! `codegen/build.rs` embeds the firmware crate, the workspace's `Cargo.lock`, `rust-toolchain.toml`,
-//! `.cargo/config.toml`, a workspace manifest holding the firmware alone, and the RP2040 harness. They
+//! `codegen/build.rs` embeds the runtime crate and the cell applications, the workspace's `Cargo.lock`, `rust-toolchain.toml`,
+//! `.cargo/config.toml`, a workspace manifest holding those two alone, and the RP2040 harness. They
 //! are unpacked into `CACHE/firmware-VERSION-DIGEST/`, where `DIGEST` is the first 16 hex digits of the
 //! SHA-256 of every embedded path and its bytes: a binary with other sources unpacks beside, never over,
 //! another's. `CACHE` is `$SCT_CODEGEN_CACHE`, else `$XDG_CACHE_HOME/sct-codegen`, else
@@ -91,7 +91,7 @@ pub fn digest() -> &'static str {
     })
 }
 
-/// The root of the unpacked sources (a workspace whose one member is `firmware`), unpacked now if this
+/// The root of the unpacked sources (a workspace of `firmware` and `apps/cell`), unpacked now if this
 /// binary's sources are not in the cache yet.
 pub fn unpacked() -> Result<PathBuf, SourcesError> {
     unpack_into(&cache_dir()?)
@@ -168,11 +168,12 @@ mod tests {
             "rust-toolchain.toml",
             ".cargo/config.toml",
             "firmware/Cargo.toml",
-            "firmware/build.rs",
-            "firmware/boards/lm3s6965/memory.x",
-            "firmware/boards/pico/memory.x",
             "firmware/src/lib.rs",
-            "firmware/src/bin/cell_qemu/main.rs",
+            "apps/cell/Cargo.toml",
+            "apps/cell/build.rs",
+            "apps/cell/boards/lm3s6965/memory.x",
+            "apps/cell/boards/pico/memory.x",
+            "apps/cell/src/bin/cell_qemu/main.rs",
             "harness/rp2040/package-lock.json",
             "harness/rp2040/src/main.js",
         ] {
@@ -185,13 +186,15 @@ mod tests {
         assert_eq!(sorted.len(), paths.len(), "each file once");
     }
 
-    /// The workspace manifest that travels holds the firmware alone, with the checkout's release profile.
+    /// The workspace manifest that travels holds the runtime and the applications alone, with the
+    /// checkout's release profile.
     #[test]
     fn the_embedded_workspace_is_the_firmware_alone() {
         let (_, bytes) = embedded::FILES.iter().find(|(p, _)| *p == "Cargo.toml").unwrap();
         let manifest: toml::Table = std::str::from_utf8(bytes).unwrap().parse().unwrap();
-        assert_eq!(manifest["workspace"]["members"].as_array().unwrap().len(), 1);
-        assert_eq!(manifest["workspace"]["members"][0].as_str(), Some("firmware"));
+        let members: Vec<&str> =
+            manifest["workspace"]["members"].as_array().unwrap().iter().filter_map(|m| m.as_str()).collect();
+        assert_eq!(members, ["firmware", "apps/cell"]);
         assert_eq!(manifest["profile"]["release"]["opt-level"].as_str(), Some("s"));
         assert_eq!(manifest["profile"]["release"]["lto"].as_bool(), Some(true));
     }

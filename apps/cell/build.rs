@@ -1,5 +1,4 @@
-//! Chooses the tables the Cortex-M applications include and the memory layout they link with, and
-//! says which core the runtime is compiled for where that changes its code.
+//! Chooses the tables the cell applications include and the memory layout they link with.
 //!
 //! Tables: the file named by the `SCT_TABLES` environment variable (absolute, or relative to the
 //! workspace root), else the committed `src/generated/cell.rs` (which a codegen test keeps
@@ -7,15 +6,15 @@
 //! `SCT_TABLES_FILE`. Memory layout: `boards/lm3s6965/memory.x` for thumbv7m, `boards/pico/memory.x` for
 //! the RP2040 (thumbv6m). Neither may sit at the workspace root: the linker looks for `memory.x` in its
 //! working directory (where cargo runs rustc) before the search paths, so a root file would be linked
-//! into every target's image. Core: `cfg(armv6m)` on thumbv6m (Cortex-M0/M0+, as the `cortex-m` crate
-//! names it), for the code that works around that core's missing instructions.
+//! into every target's image.
 
 use std::env;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 fn main() {
     let crate_dir = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").unwrap_or_default());
-    let root = crate_dir.parent().map(PathBuf::from).unwrap_or_default();
+    // apps/cell → the workspace root.
+    let root = crate_dir.ancestors().nth(2).map(Path::to_path_buf).unwrap_or_default();
     println!("cargo:rerun-if-env-changed=SCT_TABLES");
     let tables = match env::var_os("SCT_TABLES") {
         Some(p) => root.join(PathBuf::from(p)),
@@ -25,10 +24,6 @@ fn main() {
     println!("cargo:rustc-env=SCT_TABLES_FILE={}", tables.display());
 
     let target = env::var("TARGET").unwrap_or_default();
-    println!("cargo:rustc-check-cfg=cfg(armv6m)");
-    if target.starts_with("thumbv6m") {
-        println!("cargo:rustc-cfg=armv6m");
-    }
     let board = if target.starts_with("thumbv6m") { "boards/pico" } else { "boards/lm3s6965" };
     let memory_dir = crate_dir.join(board);
     if target.starts_with("thumb") {
