@@ -97,6 +97,10 @@ pub struct PlcOptions {
     /// the manifest's `[plc]` gives an I/O map — any input, output or internal entry; a program without
     /// one drives no outputs by design).
     pub require_outputs: bool,
+    /// Whether a controllable event also needs its caller's request (a `req_<event>` input per
+    /// controllable event): a sequence beside the interlocks asks for a command, the supervisors allow
+    /// it ([`net_program`]). Off, the block chooses among every allowed event.
+    pub requests: bool,
 }
 
 impl Default for PlcOptions {
@@ -112,6 +116,7 @@ impl Default for PlcOptions {
             cycle_ms: 10,
             spec: PlcSpec::default(),
             require_outputs: false,
+            requests: false,
         }
     }
 }
@@ -232,17 +237,70 @@ pub struct Output {
 
 /// Writes the program for `set` with `opts`; `provenance` goes into every file's header.
 pub fn generate(set: &PackSet, opts: &PlcOptions, provenance: &Provenance) -> Result<Output, PlcError> {
-    let program = program::build(set, opts)?;
-    strict::check(program.events_type.as_slice(), &[&program.fb, &program.main])?;
+    assemble(set, opts, provenance, None)
+}
+
+/// Writes the interlocks' program for `set` with the sequence `net` beside it in one PLC program
+/// ([`net_program::beside`]): the sequence requests commands, the supervisors allow them. `net` must be
+/// bound to `set`'s event table. The same three files as [`generate`]: the ST file holds the interlocks'
+/// block, the sequence's token-passing block and the one `PROGRAM`; the XML the same POUs with the
+/// sequence as an SFC.
+pub fn generate_with_sequence(
+    set: &PackSet,
+    opts: &PlcOptions,
+    provenance: &Provenance,
+    net: &crate::net::Interpretation,
+) -> Result<Output, PlcError> {
+    assemble(set, &PlcOptions { requests: true, ..opts.clone() }, provenance, Some(net))
+}
+
+/// [`generate`], with the sequence `net` beside the interlocks when given.
+fn assemble(
+    set: &PackSet,
+    opts: &PlcOptions,
+    provenance: &Provenance,
+    net: Option<&crate::net::Interpretation>,
+) -> Result<Output, PlcError> {
+    let mut program = program::build(set, opts)?;
     let base = names::stem(&opts.name);
-    let header = header(set, opts, provenance);
+    let sequence = net.map(|n| net_program::beside(n, &program, &base)).transpose()?;
+    let mut header = header(set, opts, provenance);
+    let (st_pous, xml_bodies) = match &sequence {
+        Some(s) => {
+            program.main = s.main.clone();
+            header.push(format!(
+                "Sequence: a net of {} places and {} transitions in {} (token passing in ST, an SFC in the XML), requesting the interlocks' commands.",
+                net.map_or(0, |n| n.net.places.len()),
+                net.map_or(0, |n| n.net.transitions.len()),
+                s.block.name
+            ));
+            (
+                vec![&program.fb, &s.block, &program.main],
+                vec![
+                    (&program.fb, Vec::new()),
+                    (&s.sfc.0, vec![s.sfc.1.clone()]),
+                    (&program.main, Vec::new()),
+                ],
+            )
+        }
+        None => {
+            (vec![&program.fb, &program.main], vec![(&program.fb, Vec::new()), (&program.main, Vec::new())])
+        }
+    };
+    strict::check(program.events_type.as_slice(), &st_pous)?;
+    if let Some(s) = &sequence {
+        strict::check(program.events_type.as_slice(), &[&program.fb, &s.sfc.0, &program.main])?;
+    }
     let mut st = comment(&header);
     if let Some((name, members)) = &program.events_type {
         let _ = write!(st, "\n{}", st::struct_type(name, members));
     }
-    let _ = write!(st, "\n{}\n{}", program.fb.text(), program.main.text());
+    for pou in &st_pous {
+        let _ = write!(st, "\n{}", pou.text());
+    }
     let config = format!("{}\n{}", comment(&header), xml::configuration_text(&base, opts.cycle_ms));
-    let xml = xml::project(&program, &base, opts.cycle_ms, &header);
+    let pous: Vec<(&st::Pou, &[String])> = xml_bodies.iter().map(|(p, b)| (*p, b.as_slice())).collect();
+    let xml = xml::document(program.events_type.as_ref(), &pous, &base, opts.cycle_ms, &header);
     let files =
         vec![(format!("{base}.st"), st), (format!("{base}_config.st"), config), (format!("{base}.xml"), xml)];
     let report = Report::new(set, opts, &program, &files)?;

@@ -1,29 +1,38 @@
-//! A sequence net as PLC code: token passing in Structured Text (a function block) and a Sequential
-//! Function Chart in PLCopen TC6 XML (DESIGN §11, "Code").
+//! A sequence net as PLC code beside the interlocks, in one program (DESIGN §11, "Code"): token
+//! passing in Structured Text, a Sequential Function Chart in PLCopen TC6 XML, and the `PROGRAM` that
+//! calls the sequence and then the interlocks' block.
 //!
-//! **Token passing** (`<name>_net`, a `FUNCTION_BLOCK`): a `BOOL` per place, initialised to its marking;
+//! **Token passing** (`<name>_seq`, a `FUNCTION_BLOCK`): a `BOOL` per place, initialised to its marking;
 //! per transition, in net order, one statement — `IF NOT fired AND` its input places `AND NOT` its
 //! inhibitor places `AND` its condition `AND` every carried action of its input places already holding
-//! (the RTPN's output enabling, read from the actuators' feedback inputs `<signal>_is`) `THEN` clear the
+//! (the RTPN's output enabling, read from the actuators' feedback inputs `is_<signal>`) `THEN` clear the
 //! input places, set the output places, `fired := TRUE`. At most one transition fires per scan, as the
 //! firing rule has it, so a token never runs through two transitions in one scan. Then the place
 //! actions: each output signal set to the value of a marked place that names it (the outputs keep their
-//! value when no marked place names them). The interlocks' program runs beside it and turns a demanded
-//! value into its event when the supervisors allow it.
+//! value when no marked place names them).
 //!
-//! **SFC** (`<name>_main`, a `PROGRAM` with an SFC body): a step per place, a transition per net
+//! **SFC** (the same block in the XML, its body an `<SFC>`): a step per place, a transition per net
 //! transition with its condition (and the output enabling) inline in ST, selection divergences and
 //! convergences where a place has several transitions out or in, simultaneous ones where a transition
 //! has several places in or out, an action block per step setting its outputs (qualifier N).
 //!
+//! **One program** ([`beside`]): the sequence *requests*, the interlocks *allow* — the seed paper's
+//! structure. The interlocks' block is built with a `req_<event>` input per controllable event
+//! ([`super::PlcOptions::requests`]): an event is enabled when every supervisor allows it *and* it is
+//! requested. The `PROGRAM` calls the sequence (sensors from their input variables, actuators' feedback
+//! from their output variables, free inputs from variables of its own), then the interlocks' block with
+//! `req_<s>1 := seq.<s> AND NOT <s>` and `req_<s>0 := NOT seq.<s> AND <s>` per demanded actuator, then
+//! copies the outputs. A demanded command the supervisors disable waits, requested, until they allow it.
+//!
 //! Only safe nets are written (initial markings and arc weights of at most 1): a place is a `BOOL`.
-//! Delays are not written: as in the seed paper, timeouts are input signals of their own.
 
 use std::fmt::Write as _;
 
+use super::io::Source;
 use super::names::Names;
 use super::st::{Expr, Op, Pou, Section, SectionKind, Stmt, Type, Var, VarClass};
-use super::PlcError;
+use super::{PlcError, Program};
+use crate::config::{Action, Edge};
 use crate::formats::xml_escape;
 use crate::net::condition;
 use crate::net::interpretation::{Direction, Interpretation};
@@ -174,7 +183,7 @@ pub fn token_passing(net: &Interpretation, name: &str) -> Result<Pou, PlcError> 
     }
     Ok(Pou {
         program: false,
-        name: format!("{name}_net"),
+        name: format!("{name}_seq"),
         vars: vec![(VarClass::Input, inputs), (VarClass::Output, outputs), (VarClass::Local, locals)],
         sections: vec![
             Section {
@@ -346,46 +355,157 @@ pub fn sfc_body(net: &Interpretation) -> Result<String, PlcError> {
     Ok(out)
 }
 
-/// The SFC program `<name>_main`: its signals (and the actuators' feedback) as local variables; its
-/// body, the `<SFC>` of [`sfc_body`], is written beside an ST body that only says so.
-pub fn sfc_program(net: &Interpretation, name: &str) -> Result<(Pou, String), PlcError> {
+/// The sequence as a function block with an SFC body: the interface of [`token_passing`]'s block (so
+/// the program calls either form alike), no statements, and the `<SFC>` of [`sfc_body`].
+pub fn sfc_block(net: &Interpretation, name: &str) -> Result<(Pou, String), PlcError> {
     let body = sfc_body(net)?;
-    let id = Idents::new(net);
-    let mut vars = Vec::new();
-    for (k, s) in net.signals.iter().enumerate() {
-        vars.push(Var::new(&id.signal[k], Type::Bool, format!("signal {}", s.name)));
-        if s.direction == Direction::Output && s.carried {
-            vars.push(Var::new(&id.feedback[k], Type::Bool, format!("the actuator {} now", s.name)));
-        }
-    }
-    let pou = Pou {
-        program: true,
-        name: format!("{name}_main"),
-        vars: vec![(VarClass::Local, vars)],
-        sections: vec![Section {
-            kind: SectionKind::Run,
-            title: "the net runs as the SFC body".into(),
-            stmts: Vec::new(),
-        }],
-    };
+    let mut pou = token_passing(net, name)?;
+    pou.vars.retain(|(class, _)| *class != VarClass::Local);
+    pou.sections.clear();
     Ok((pou, format!("<SFC>\n{body}        </SFC>")))
 }
 
-/// The net's files: `<name>_net.st` (the token-passing function block) and `<name>_net.xml` (a PLCopen
-/// project holding the function block and the SFC program, run by a cyclic task every `cycle_ms`);
-/// `header` goes into both.
-pub fn files(
-    net: &Interpretation,
-    name: &str,
-    cycle_ms: u32,
-    header: &[String],
-) -> Result<Vec<(String, String)>, PlcError> {
-    let fb = token_passing(net, name)?;
-    let (sfc, body) = sfc_program(net, name)?;
-    super::strict::check(&[], &[&fb, &sfc])?;
-    let st = format!("{}\n{}", super::comment(header), fb.text());
-    let xml = super::xml::document(None, &[(&fb, &[]), (&sfc, &[body])], name, cycle_ms, header);
-    Ok(vec![(format!("{name}_net.st"), st), (format!("{name}_net.xml"), xml)])
+/// The sequence beside the interlocks in one PLC program ([`super::generate_with_sequence`]).
+pub struct Sequence {
+    /// The token-passing function block (`<name>_seq`), for the ST file.
+    pub block: Pou,
+    /// The same block with an SFC body (its interface, no statements) and that body, for the XML.
+    pub sfc: (Pou, String),
+    /// The one `PROGRAM`: the sequence called, then the interlocks' block with the sequence's requests,
+    /// then the outputs.
+    pub main: Pou,
+}
+
+/// Where a signal the automata carry lives in the interlocks' program: a sensor's level is its input
+/// variable (negated where the variable's rising edge is the signal's falling one); an actuator's value
+/// is the output variable its events set and clear. Both edges must meet in one variable.
+fn level(net: &Interpretation, program: &Program, k: usize) -> Result<Expr, PlcError> {
+    let signal = &net.signals[k];
+    let missing = || {
+        let wanted = match signal.direction {
+            Direction::Input => "a sensor: map its events to one input variable in [[plc.inputs]]",
+            Direction::Output => {
+                "an actuator: map its events to one output variable, set and clear, in [[plc.outputs]]"
+            }
+        };
+        PlcError::Value(format!("net: signal '{}' has no variable in [plc]; it is {wanted}", signal.name))
+    };
+    let mut found: Option<(&str, bool)> = None;
+    for value in [true, false] {
+        let Some(e) = net.event_for(k, value) else { continue };
+        let here = match signal.direction {
+            Direction::Input => match program.io.sources.get(&e) {
+                Some(Source::Input { variable, edge, .. }) => {
+                    (variable.as_str(), (*edge == Edge::Falling) == value)
+                }
+                _ => return Err(missing()),
+            },
+            Direction::Output => {
+                let act = if value { Action::Set } else { Action::Clear };
+                let o =
+                    program.io.outputs.iter().find(|o| o.actions.iter().any(|&(x, a, _)| x == e && a == act));
+                (o.ok_or_else(missing)?.variable.as_str(), false)
+            }
+        };
+        if found.is_some_and(|(v, _)| v != here.0) {
+            return Err(missing());
+        }
+        found = Some(here);
+    }
+    let (variable, negated) = found.ok_or_else(missing)?;
+    Ok(if negated { !Expr::var(variable) } else { Expr::var(variable) })
+}
+
+/// The sequence and the interlocks' `program` (built with requests) as one PLC program: see
+/// [`Sequence`]. Each scan the `PROGRAM` calls the sequence with the sensors' input variables, the
+/// actuators' output variables as feedback and the free inputs; then the interlocks' block, whose
+/// `req_<event>` is the sequence's demand: an actuator's event is requested while the sequence demands
+/// the value it gives and the output does not have it yet (an event of an actuator no place action
+/// names is always requested: the interlocks alone decide it, as the verification lets it happen);
+/// then the outputs, and the lamps from the sequence.
+pub fn beside(net: &Interpretation, program: &Program, name: &str) -> Result<Sequence, PlcError> {
+    let block = token_passing(net, name)?;
+    let sfc = sfc_block(net, name)?;
+    let id = Idents::new(net);
+    let mut main = program.main.clone();
+    let taken: Vec<String> =
+        main.vars.iter().flat_map(|(_, vs)| vs.iter().map(|v| v.name.to_ascii_uppercase())).collect();
+    let mut own = Vec::new();
+    let declare = |own: &mut Vec<Var>, v: Var| -> Result<(), PlcError> {
+        if taken.contains(&v.name.to_ascii_uppercase())
+            || own.iter().any(|w: &Var| w.name.eq_ignore_ascii_case(&v.name))
+        {
+            return Err(PlcError::Duplicate(v.name));
+        }
+        own.push(v);
+        Ok(())
+    };
+    declare(&mut own, Var::new("seq", Type::Named(block.name.clone()), "the sequence net"))?;
+    let mut args = Vec::new();
+    let mut lamps = Vec::new();
+    for (k, s) in net.signals.iter().enumerate() {
+        match (s.direction, s.carried) {
+            (Direction::Input, true) => args.push((id.signal[k].clone(), level(net, program, k)?)),
+            (Direction::Output, true) => args.push((id.feedback[k].clone(), level(net, program, k)?)),
+            (Direction::Input, false) => {
+                let mut v = Var::new(
+                    &id.signal[k],
+                    Type::Bool,
+                    format!("input {} (no automaton carries it)", s.name),
+                );
+                if let crate::net::condition::Value::Is(b) = s.initial {
+                    v = v.init(Expr::Bool(b));
+                }
+                declare(&mut own, v)?;
+                args.push((id.signal[k].clone(), Expr::var(&id.signal[k])));
+            }
+            (Direction::Output, false) => {
+                declare(
+                    &mut own,
+                    Var::new(&id.signal[k], Type::Bool, format!("lamp {}, set by the sequence", s.name)),
+                )?;
+                lamps.push(Stmt::set(&id.signal[k], Expr::var(format!("seq.{}", id.signal[k]))));
+            }
+        }
+    }
+    let demanded: Vec<usize> = (0..net.signals.len())
+        .filter(|&k| net.actions.iter().any(|a| a.iter().any(|&(s, _)| s == k)))
+        .collect();
+    let mut requests = Vec::new();
+    for (e, req) in &program.requests {
+        let (k, value) = net.edges[e.index()];
+        let ask = if demanded.contains(&k) {
+            let out = level(net, program, k)?;
+            let want = Expr::var(format!("seq.{}", id.signal[k]));
+            if value {
+                want.op(Op::And, !out)
+            } else {
+                (!want).op(Op::And, out)
+            }
+        } else {
+            Expr::Bool(true)
+        };
+        requests.push((req.clone(), ask));
+    }
+    let names: Vec<&str> = requests.iter().map(|(r, _)| r.as_str()).collect();
+    for (_, vars) in &mut main.vars {
+        vars.retain(|v| !names.contains(&v.name.as_str()));
+    }
+    let run = &mut main.sections[0].stmts;
+    for stmt in run.iter_mut() {
+        if let Stmt::Call(_, call) = stmt {
+            for (arg, value) in call.iter_mut() {
+                if let Some((_, ask)) = requests.iter().find(|(r, _)| r == arg) {
+                    *value = ask.clone();
+                }
+            }
+        }
+    }
+    run.insert(0, Stmt::Call("seq".into(), args));
+    run.extend(lamps);
+    main.sections[0].title = "the sequence, the interlocks with its requests, the outputs".into();
+    main.vars.push((VarClass::Local, own));
+    Ok(Sequence { block, sfc, main })
 }
 
 #[cfg(test)]
@@ -396,6 +516,17 @@ mod tests {
     use crate::model::EventTable;
     use crate::net::model::{Net, Place, Transition};
     use std::path::Path;
+
+    /// The manifest of the tests: the net's interpretation and a `[plc]` section (`plc` appended).
+    fn manifest(plc: &str) -> Manifest {
+        let text = format!("name = \"x\"\n[net]\npnml = \"n.pnml\"\n[net.conditions]\nt0 = \"sr\"\n[net.actions]\np1 = {{ af = 1 }}\n{plc}");
+        Manifest::parse(Path::new("m.toml"), &text).unwrap()
+    }
+
+    /// The plant of the tests: an actuator `af` and a sensor edge `sr1`.
+    fn plant() -> crate::model::Automaton {
+        build("A", &["0", "1"], &["af1", "af0"], &[("0", "af1", "1"), ("1", "af0", "0"), ("0", "sr1", "0")])
+    }
 
     /// p0 –t0 (sr)→ p1 –t1→ p0, with a second way out of p0 (t2 into p1 and p2): p1 demands `af`.
     fn net() -> Interpretation {
@@ -414,15 +545,9 @@ mod tests {
                 t("t2", vec![(0, 1)], vec![(1, 1), (2, 1)]),
             ],
         };
-        let a = build(
-            "A",
-            &["0", "1"],
-            &["af1", "af0"],
-            &[("0", "af1", "1"), ("1", "af0", "0"), ("0", "sr1", "0")],
-        );
+        let a = plant();
         let table = EventTable::build([&a]).unwrap();
-        let text = "name = \"x\"\n[net]\npnml = \"n.pnml\"\n[net.conditions]\nt0 = \"sr\"\n[net.actions]\np1 = { af = 1 }\n";
-        let m = Manifest::parse(Path::new("m.toml"), text).unwrap();
+        let m = manifest("");
         Interpretation::bind(m.net.as_ref().unwrap(), &m.file, n, &table).unwrap()
     }
 
@@ -450,5 +575,37 @@ mod tests {
             ..net()
         };
         assert!(token_passing(&weighted, "w").unwrap_err().to_string().contains("only safe nets"));
+    }
+
+    /// The one program: the sequence first, its demand as the interlocks' requests, the sensor's input
+    /// variable as the sequence's input and the actuator's output as its feedback; a sensor reaching the
+    /// interlocks only as an `EVENTS` member has no level the sequence could read, and is refused.
+    #[test]
+    fn the_sequence_requests_and_the_interlocks_allow_in_one_program() {
+        let outputs = "[[plc.outputs]]\nevent = \"af1\"\nvariable = \"af\"\naction = \"set\"\n[[plc.outputs]]\nevent = \"af0\"\nvariable = \"af\"\naction = \"clear\"\n";
+        let input = "[[plc.inputs]]\nevent = \"sr1\"\nvariable = \"x_sr\"\nedge = \"falling\"\n";
+        let set = crate::pack::PackSet::new(vec![plant()], Vec::new()).unwrap();
+        let generate = |plc: &str| {
+            let m = manifest(&format!("[plc]\npolicy = \"first\"\n{plc}"));
+            let opts = crate::plc::PlcOptions::new("x", &Default::default(), m.plc.as_ref(), None).unwrap();
+            let net =
+                Interpretation::bind(m.net.as_ref().unwrap(), &m.file, net().net, set.events()).unwrap();
+            crate::plc::generate_with_sequence(&set, &opts, &Default::default(), &net)
+        };
+        let out = generate(&format!("{outputs}{input}")).unwrap();
+        let main = out.program.main.body();
+        let seq = main.find("seq(is_af := af, e_sr := NOT x_sr);").expect(&main);
+        let sct = main
+            .find("sct(x_sr := x_sr, req_af1 := seq.af AND NOT af, req_af0 := NOT seq.af AND af")
+            .expect(&main);
+        assert!(seq < sct, "the sequence decides before the interlocks: {main}");
+        assert!(
+            out.program.fb.body().contains("enabled[0] := st_A = 0 AND req_af1;"),
+            "{}",
+            out.program.fb.body()
+        );
+        assert!(out.files[0].1.contains("FUNCTION_BLOCK x_seq") && out.files[2].1.contains("<SFC>"));
+        let err = generate(outputs).unwrap_err().to_string();
+        assert!(err.contains("net: signal 'sr' has no variable in [plc]; it is a sensor"), "{err}");
     }
 }

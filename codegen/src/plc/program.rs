@@ -54,6 +54,8 @@ pub struct Program {
     pub memory_bits: Vec<String>,
     /// Choice sites with a cursor (local queue).
     pub sites: usize,
+    /// Per controllable event, its request input (`req_<event>`), when the options ask for requests.
+    pub requests: Vec<(EventId, String)>,
 }
 
 /// Identifiers of one automaton.
@@ -80,6 +82,8 @@ struct Builder<'a> {
     bits: Vec<(String, usize, EventId)>,
     /// Pulse counters per pulsed output (by output index).
     pulse: Vec<Option<String>>,
+    /// Per controllable event, its request input when the options ask for requests.
+    req: Vec<(EventId, String)>,
 }
 
 /// Builds the program for `set` with `opts`.
@@ -159,7 +163,16 @@ pub fn build(set: &PackSet, opts: &PlcOptions) -> Result<Program, PlcError> {
         auts.push(Aut { name, out, alphabet: m.alphabet(), plans });
     }
     let pulse = io.outputs.iter().map(|o| o.pulsed().then(|| names.fresh("pt", &o.variable))).collect();
-    let b = Builder { set, opts, io, ev, pend, prev, auts, bits, pulse };
+    let req = if opts.requests {
+        events
+            .ids()
+            .filter(|&e| events.is_controllable(e))
+            .map(|e| (e, names.fresh("req", events.name(e))))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let b = Builder { set, opts, io, ev, pend, prev, auts, bits, pulse, req };
     b.check_owned()?;
     Ok(b.finish())
 }
@@ -441,6 +454,9 @@ impl Builder<'_> {
                         terms.push(Expr::var(&o.variable).not());
                     }
                 }
+                if let Some((_, req)) = self.req.iter().find(|(e, _)| *e == c) {
+                    terms.push(Expr::var(req));
+                }
                 let value = Expr::fold(terms, Op::And, Expr::Bool(true));
                 Stmt::Assign(Expr::at(choice::ENABLED, Expr::Int(c.index() as i64)), value)
             })
@@ -592,6 +608,10 @@ impl Builder<'_> {
                 "internal uncontrollable events (tests)",
             ));
         }
+        for (e, req) in &self.req {
+            let what = format!("'{}' requested (the sequence asks, the supervisors allow)", events.name(*e));
+            inputs.push(Var::new(req, Type::Bool, what).init(Expr::Bool(false)));
+        }
         inputs.push(Var::new("hold", Type::Bool, "no command while TRUE").init(Expr::Bool(false)));
         inputs.push(
             Var::new("guard", Type::Bool, "inexact-synchronisation guard").init(Expr::Bool(self.opts.guard)),
@@ -738,7 +758,8 @@ impl Builder<'_> {
             ));
             args.push(("EVENTS".into(), Expr::var("EVENTS")));
         }
-        for v in ["hold", "guard", "reset"] {
+        let passed = self.req.iter().map(|(_, r)| r.as_str()).chain(["hold", "guard", "reset"]);
+        for v in passed {
             let input = fb.vars[0].1.iter().find(|x| x.name == v).cloned();
             if let Some(x) = input {
                 main_vars.push(x);
@@ -773,6 +794,7 @@ impl Builder<'_> {
         let rank = |name: &str| self.set.members().iter().position(|m| m.name() == name);
         avalanche.sort_by_key(|(a, e, _)| (rank(a), *e));
         let memory_bits = std::mem::take(&mut self.bits).into_iter().map(|(b, ..)| b).collect();
-        Program { events_type, fb, main, io: self.io, avalanche, memory_bits, sites }
+        let requests = std::mem::take(&mut self.req);
+        Program { events_type, fb, main, io: self.io, avalanche, memory_bits, sites, requests }
     }
 }

@@ -9,7 +9,6 @@
 use std::fmt::Write as _;
 
 use super::st::{Pou, Type, Var, VarClass};
-use super::Program;
 use crate::formats::xml_escape;
 
 /// Schema namespace.
@@ -52,7 +51,8 @@ fn variable(out: &mut String, v: &Var, indent: &str) {
     out.push_str("</variable>\n");
 }
 
-/// `p` as a `<pou>`, its ST body followed by `extra` bodies (their contents, such as an `<LD>`).
+/// `p` as a `<pou>`, its ST body followed by `extra` bodies (their contents, such as an `<LD>` or an
+/// `<SFC>`); a POU without statements has the extra bodies only.
 fn pou(out: &mut String, p: &Pou, extra: &[String]) {
     let kind = if p.program { "program" } else { "functionBlock" };
     let _ = writeln!(out, "      <pou name=\"{}\" pouType=\"{kind}\">", xml_escape(&p.name));
@@ -70,22 +70,13 @@ fn pou(out: &mut String, p: &Pou, extra: &[String]) {
         let _ = writeln!(out, "          </{tag}>");
     }
     out.push_str("        </interface>\n");
-    let _ = writeln!(out, "        <body><ST><xhtml:p><![CDATA[{}]]></xhtml:p></ST></body>", p.body());
+    if !p.sections.is_empty() || extra.is_empty() {
+        let _ = writeln!(out, "        <body><ST><xhtml:p><![CDATA[{}]]></xhtml:p></ST></body>", p.body());
+    }
     for body in extra {
         let _ = writeln!(out, "        <body>{body}</body>");
     }
     out.push_str("      </pou>\n");
-}
-
-/// The whole project file.
-pub fn project(program: &Program, base: &str, cycle_ms: u32, header: &[String]) -> String {
-    document(
-        program.events_type.as_ref(),
-        &[(&program.fb, &[]), (&program.main, &[])],
-        base,
-        cycle_ms,
-        header,
-    )
 }
 
 /// A project file of `pous`, each with its extra bodies, and the structure type `events` if any; the

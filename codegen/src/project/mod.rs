@@ -306,6 +306,18 @@ impl Project {
         avalanche: Avalanche,
         policy: Option<ScanPolicy>,
     ) -> Result<plc::Output, PlcError> {
+        self.plc_beside(encoding, avalanche, policy, None)
+    }
+
+    /// [`Project::plc`], with the sequence `net` (bound to the set's events) beside the interlocks in
+    /// one program when given ([`plc::generate_with_sequence`]).
+    pub fn plc_beside(
+        &self,
+        encoding: Encoding,
+        avalanche: Avalanche,
+        policy: Option<ScanPolicy>,
+        net: Option<&crate::net::Interpretation>,
+    ) -> Result<plc::Output, PlcError> {
         let fallback = match self.origin {
             Origin::Manifest { .. } => None,
             Origin::Files { .. } | Origin::Code => Some(ScanPolicy::LocalQueue),
@@ -316,7 +328,10 @@ impl Project {
             ..PlcOptions::new(&self.name, &self.runtime, self.plc.as_ref(), policy.or(fallback))?
         };
         let provenance = Provenance { inputs: self.inputs.clone(), command: self.plc_command(&opts) };
-        plc::generate(&self.set, &opts, &provenance)
+        match net {
+            Some(net) => plc::generate_with_sequence(&self.set, &opts, &provenance, net),
+            None => plc::generate(&self.set, &opts, &provenance),
+        }
     }
 
     /// The state-based PLC program of the set (`--encoding state`): its `[state]` section's state
