@@ -38,8 +38,11 @@ impl Rng {
     }
 }
 
-/// Scans without an event or a firing after which a run counts as stalled.
+/// Scans without an event or a firing after which a run counts as stalled (longer than any delay).
 const STALL: u64 = 1_000;
+
+/// Milliseconds of plant time per interpreted scan.
+const SCAN_MS: u32 = 100;
 
 /// What a run measured.
 #[derive(Debug, Default)]
@@ -71,6 +74,9 @@ fn program(project: &str) -> (Project, Interpretation, codegen::plc::Output) {
 fn run(project: &str, seed: u64) -> Result<Run, Run> {
     let (p, net, out) = program(project);
     let mut plc = Plc::load(&out.files[0].1).unwrap();
+    // The scan clock (the sequence's delays): each interpreted scan stands for 100 ms, a PLC task whose
+    // plant (pneumatic cylinders) makes a sensor edge about every 200 ms.
+    plc.set_cycle_ms(SCAN_MS);
     let table = p.set.events();
     let role = |r: Role| p.set.members().iter().filter(move |m| m.role == r).map(|m| &m.automaton);
     let (plants, sups): (Vec<_>, Vec<_>) = (role(Role::Plant).collect(), role(Role::Supervisor).collect());
@@ -93,7 +99,7 @@ fn run(project: &str, seed: u64) -> Result<Run, Run> {
     let mut r = Run::default();
     let (mut carrying, mut idle) = (false, 0);
     while r.events < EVENTS {
-        let t_us = r.scans * 10_000;
+        let t_us = r.scans * u64::from(SCAN_MS) * 1_000;
         let mut moved = false;
         // The plant: one sensor edge it can make, now and then, on its input variable.
         let sensors: Vec<EventId> =
@@ -223,4 +229,41 @@ fn the_one_program_validates_with_its_sfc_and_its_st_parses() {
     assert_eq!(xml.matches("<selectionDivergence ").count(), 6, "p2, p5, p6, p7, p8 and p10 choose");
     assert_eq!(xml.matches("<pou ").count(), 3, "the interlocks, the sequence, the program");
     assert_eq!(xml.matches("<task ").count(), 1, "one task runs the one program");
+}
+
+/// A delay in code: p0 –t0 (50 ms)→ p1 –t1 (30 ms)→ p0 as the token-passing block, scanned every 10 ms
+/// by the interpreter's scan clock. A timer starts in the first scan that sees its input place marked,
+/// so t0 fires in scan 6 (its timer started in scan 1 and reaches 50 ms in scan 6) and t1, whose place
+/// scan 7 first sees marked, in scan 10.
+#[test]
+fn a_delayed_transition_fires_when_its_timer_runs_out() {
+    use codegen::net::model::{Net, Place, Transition};
+    let (p, ..) = program("station-rtpn/net3.toml");
+    let t = |id: &str, from: usize, to: usize| Transition {
+        id: id.into(),
+        inputs: vec![(from, 1)],
+        outputs: vec![(to, 1)],
+        ..Transition::default()
+    };
+    let net = Net {
+        name: "d".into(),
+        places: vec![Place { id: "p0".into(), initial: 1 }, Place { id: "p1".into(), initial: 0 }],
+        transitions: vec![t("t0", 0, 1), t("t1", 1, 0)],
+    };
+    let text = "name = \"d\"\n[net]\npnml = \"d.pnml\"\n[net.delays]\nt0 = 50\nt1 = 30\n";
+    let m = Manifest::parse(std::path::Path::new("d.toml"), text).unwrap();
+    let net = Interpretation::bind(m.net.as_ref().unwrap(), &m.file, net, p.set.events()).unwrap();
+    let fb = codegen::plc::net_program::token_passing(&net, "d").unwrap();
+    assert!(fb.text().contains("T_t0(IN := P_p0, PT := T#50ms);"), "{}", fb.text());
+    let text = format!("{}\nPROGRAM main\nVAR\n    seq : d_seq;\nEND_VAR\nseq();\nEND_PROGRAM\n", fb.text());
+    let mut plc = Plc::load(&text).unwrap();
+    plc.set_cycle_ms(10);
+    let mut marked = Vec::new();
+    for _ in 0..12 {
+        plc.scan().unwrap();
+        marked.push(plc.get_bool("seq.P_p1").unwrap());
+    }
+    let first = |v: bool, from: usize| marked[from..].iter().position(|&m| m == v).map(|k| k + from + 1);
+    assert_eq!(first(true, 0), Some(6), "{marked:?}");
+    assert_eq!(first(false, 6), Some(10), "{marked:?}");
 }

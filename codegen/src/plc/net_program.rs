@@ -24,6 +24,11 @@
 //! `req_<s>1 := seq.<s> AND NOT <s>` and `req_<s>0 := NOT seq.<s> AND <s>` per demanded actuator, then
 //! copies the outputs. A demanded command the supervisors disable waits, requested, until they allow it.
 //!
+//! **Delays** (`[net.delays]`): a transition with a delay D also waits until its input places have been
+//! marked for D — in the ST an on-delay timer per such transition (`T_<id> : TON`, called each scan
+//! with `IN :=` its input places, `PT := T#<D>ms`; its `Q` joins the enabling), in the SFC the steps'
+//! elapsed time (`step_<p>.T >= T#<D>ms` per input place).
+//!
 //! Only safe nets are written (initial markings and arc weights of at most 1): a place is a `BOOL`.
 
 use std::fmt::Write as _;
@@ -49,6 +54,8 @@ pub struct Idents {
     pub feedback: Vec<String>,
     /// Per place, its SFC step name.
     pub step: Vec<String>,
+    /// Per transition, the name of its on-delay timer (`T_<id>`; declared where it has a delay).
+    pub timer: Vec<String>,
 }
 
 impl Idents {
@@ -60,7 +67,8 @@ impl Idents {
         let signal = net.signals.iter().map(|s| names.plain(&s.name)).collect();
         let feedback = net.signals.iter().map(|s| names.fresh("is", &s.name)).collect();
         let step = net.net.places.iter().map(|p| names.fresh("step", &p.id)).collect();
-        Idents { place, signal, feedback, step }
+        let timer = net.net.transitions.iter().map(|t| names.fresh("T", &t.id)).collect();
+        Idents { place, signal, feedback, step, timer }
     }
 }
 
@@ -116,8 +124,36 @@ fn enabling(net: &Interpretation, id: &Idents, t: usize, with_places: bool) -> E
             }
         }
     }
+    let delay = net.delays[t];
+    if delay > 0 {
+        if with_places {
+            terms.push(Expr::var(format!("{}.Q", id.timer[t])));
+        } else {
+            let elapsed = |p: usize| Expr::var(format!("{}.T", id.step[p])).op(Op::Ge, Expr::Time(delay));
+            terms.extend(tr.inputs.iter().map(|&(p, _)| elapsed(p)));
+        }
+    }
     terms.retain(|e| *e != Expr::Bool(true));
     Expr::fold(terms, Op::And, Expr::Bool(true))
+}
+
+/// The on-delay timers' calls: per transition with a delay, `T_<id>(IN := <its input places>, PT := …)`.
+/// A delay counts from the moment every input place is marked, as an SFC step's elapsed time `.T` does.
+fn timers(net: &Interpretation, id: &Idents) -> Vec<Stmt> {
+    let delayed = net.net.transitions.iter().enumerate().filter(|&(t, _)| net.delays[t] > 0);
+    delayed
+        .map(|(t, tr)| {
+            let marked = Expr::fold(
+                tr.inputs.iter().map(|&(p, _)| Expr::var(&id.place[p])),
+                Op::And,
+                Expr::Bool(true),
+            );
+            Stmt::Call(
+                id.timer[t].clone(),
+                vec![("IN".into(), marked), ("PT".into(), Expr::Time(net.delays[t]))],
+            )
+        })
+        .collect()
 }
 
 /// The token-passing function block `<name>_net`.
@@ -157,7 +193,12 @@ pub fn token_passing(net: &Interpretation, name: &str) -> Result<Pou, PlcError> 
         })
         .collect();
     locals.push(Var::new("fired", Type::Bool, "a transition fired this scan"));
-    let mut passing = vec![Stmt::set("fired", Expr::Bool(false))];
+    for (t, tr) in net.net.transitions.iter().enumerate().filter(|&(t, _)| net.delays[t] > 0) {
+        let what = format!("transition {}: its input places marked for {} ms", tr.id, net.delays[t]);
+        locals.push(Var::new(&id.timer[t], Type::Named("TON".into()), what));
+    }
+    let mut passing = timers(net, &id);
+    passing.push(Stmt::set("fired", Expr::Bool(false)));
     for (t, tr) in net.net.transitions.iter().enumerate() {
         let mut body: Vec<Stmt> =
             tr.inputs.iter().map(|&(p, _)| Stmt::set(&id.place[p], Expr::Bool(false))).collect();

@@ -21,6 +21,8 @@ pub enum Expr {
     Bool(bool),
     /// An integer literal.
     Int(i64),
+    /// A duration literal in milliseconds, `T#<n>ms` (6.3.4).
+    Time(u32),
     /// A variable, possibly a member path (`EVENTS.s_c1`).
     Var(String),
     /// An array element `name[index]`.
@@ -149,6 +151,9 @@ impl Expr {
             Expr::Bool(b) => out.push_str(if *b { "TRUE" } else { "FALSE" }),
             Expr::Int(i) => {
                 let _ = write!(out, "{i}");
+            }
+            Expr::Time(ms) => {
+                let _ = write!(out, "T#{ms}ms");
             }
             Expr::Var(v) => out.push_str(v),
             Expr::Index(v, i) => {
@@ -398,7 +403,8 @@ pub struct Section {
 }
 
 /// An IEC 61131-3 data type as the writer declares it (6.4): the elementary types the program uses,
-/// one-dimensional arrays from 0, and derived types (a structure or a function block) by name.
+/// one-dimensional arrays from 0, and derived types (a structure or a function block, the standard's
+/// `TON` included) by name.
 #[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Type {
     /// `BOOL`
@@ -409,6 +415,8 @@ pub enum Type {
     Dint,
     /// `UDINT` (32-bit unsigned)
     Udint,
+    /// `TIME` (a duration)
+    Time,
     /// `ARRAY[0..upper] OF T`
     Array(i64, Box<Type>),
     /// A structure or function block type by name.
@@ -428,6 +436,7 @@ impl Type {
             Type::Int => Some("INT"),
             Type::Dint => Some("DINT"),
             Type::Udint => Some("UDINT"),
+            Type::Time => Some("TIME"),
             Type::Array(..) | Type::Named(_) => None,
         }
     }

@@ -46,6 +46,28 @@ struct Scope<'a> {
     pous: &'a [&'a Pou],
 }
 
+impl Scope<'_> {
+    /// The function block named `n`: one of the program's, or the standard's on-delay timer `TON`.
+    fn block(&self, n: &str) -> Option<&Pou> {
+        if n == TON.name {
+            return Some(&TON);
+        }
+        self.pous.iter().copied().find(|p| !p.program && p.name == n)
+    }
+}
+
+/// The standard on-delay timer's interface (IEC 61131-3 6.6.3.5.4, Table 46): `Q` rises once `IN` has
+/// been high for `PT`; `ET` the time elapsed.
+static TON: std::sync::LazyLock<Pou> = std::sync::LazyLock::new(|| Pou {
+    program: false,
+    name: "TON".into(),
+    vars: vec![
+        (VarClass::Input, vec![Var::new("IN", Type::Bool, ""), Var::new("PT", Type::Time, "")]),
+        (VarClass::Output, vec![Var::new("Q", Type::Bool, ""), Var::new("ET", Type::Time, "")]),
+    ],
+    sections: Vec::new(),
+});
+
 /// Checks the structure types and POUs of one program (see the module documentation for the rules).
 pub fn check(structs: &[(String, Vec<Var>)], pous: &[&Pou]) -> Result<(), Violation> {
     let scope = Scope { structs, pous };
@@ -153,7 +175,7 @@ impl Body<'_> {
             };
             let found = if let Some((_, ms)) = self.scope.structs.iter().find(|(s, _)| s == n) {
                 ms.iter().find(|m| m.name.eq_ignore_ascii_case(member)).map(|m| m.ty.clone())
-            } else if let Some(b) = self.scope.pous.iter().find(|p| !p.program && &p.name == n) {
+            } else if let Some(b) = self.scope.block(n) {
                 instance = true;
                 // From outside, an instance shows its inputs and outputs only (6.6.3).
                 b.var(member).filter(|(c, _)| *c != VarClass::Local).map(|(_, v)| v.ty.clone())
@@ -172,6 +194,7 @@ impl Body<'_> {
         Ok(match e {
             Expr::Bool(_) => Ty::Is(Type::Bool),
             Expr::Int(i) => Ty::Literal(Some(*i)),
+            Expr::Time(_) => Ty::Is(Type::Time),
             Expr::Var(p) => Ty::Is(self.path(p)?.0),
             Expr::Index(a, i) => {
                 let Type::Array(upper, of) = self.path(a)?.0 else {
@@ -313,7 +336,7 @@ impl Body<'_> {
                 let Some((_, Var { ty: Type::Named(n), .. })) = self.own(inst) else {
                     return Err((format!("'{inst}' is no block instance"), "6.6.3"));
                 };
-                let block = self.scope.pous.iter().find(|p| !p.program && &p.name == n);
+                let block = self.scope.block(n);
                 let block = block.ok_or_else(|| (format!("'{inst}' is no block instance"), "6.6.3"))?;
                 for (name, value) in args {
                     match block.var(name) {

@@ -38,6 +38,29 @@ fn integer(name: &str) -> Option<(u32, bool)> {
     })
 }
 
+/// The standard on-delay timer's name (IEC 61131-3 6.6.3.5.4, Table 46).
+pub const TON: &str = "TON";
+
+/// The standard on-delay timer's declarations: `IN`, `PT` in; `Q`, `ET` out; and the local state the
+/// harness keeps for it (`RUNNING`, `START`: the clock when `IN` rose), which no caller sees.
+pub fn ton() -> Vec<Decl> {
+    let d = |class: &str, name: &str, ty: Type| Decl {
+        class: class.into(),
+        name: name.into(),
+        ty,
+        init: None,
+        address: None,
+    };
+    vec![
+        d("VAR_INPUT", "IN", Type::Bool),
+        d("VAR_INPUT", "PT", Type::Time),
+        d("VAR_OUTPUT", "Q", Type::Bool),
+        d("VAR_OUTPUT", "ET", Type::Time),
+        d("VAR", "RUNNING", Type::Bool),
+        d("VAR", "START", Type::Time),
+    ]
+}
+
 /// The range of an integer type.
 pub fn range(name: &str) -> Option<(i64, i64)> {
     let (bits, signed) = integer(name)?;
@@ -65,6 +88,7 @@ fn show(t: &Ty) -> String {
         Ty::Is(Type::Int(n)) => n.clone(),
         Ty::Is(Type::Array(lo, hi, of)) => format!("ARRAY[{lo}..{hi}] OF {}", show(&Ty::Is((**of).clone()))),
         Ty::Is(Type::Named(n)) => n.clone(),
+        Ty::Is(Type::Time) => "TIME".into(),
         Ty::Literal(_) => "an integer literal".into(),
     }
 }
@@ -77,7 +101,9 @@ struct Program<'a> {
 
 /// Checks every POU of `units` (see the module documentation).
 pub fn check(units: &[Unit]) -> Result<(), String> {
-    let mut program = Program { structs: BTreeMap::new(), blocks: BTreeMap::new() };
+    let ton = ton();
+    let mut program =
+        Program { structs: BTreeMap::new(), blocks: BTreeMap::from([(TON, (false, ton.as_slice()))]) };
     for u in units {
         match u {
             Unit::Struct(name, fields) => {
@@ -157,6 +183,7 @@ impl Pou<'_> {
         Ok(match e {
             Expr::Bool(_) => Ty::Is(Type::Bool),
             Expr::Int(i) => Ty::Literal(Some(*i)),
+            Expr::Time(_) => Ty::Is(Type::Time),
             Expr::Var(p) => Ty::Is(self.path(p)?.0),
             Expr::Not(x) => match self.expr(x)? {
                 Ty::Is(Type::Bool) => Ty::Is(Type::Bool),

@@ -1,9 +1,9 @@
 //! A parser for the subset of IEC 61131-3 Structured Text that `codegen plc` writes: `TYPE … STRUCT`,
 //! `FUNCTION_BLOCK` and `PROGRAM` with `VAR_INPUT`/`VAR_OUTPUT`/`VAR` blocks (types `BOOL`, `INT`,
-//! `DINT`, `UDINT`, `ARRAY[a..b] OF T`, named structs and blocks; initial values; `AT` addresses),
+//! `DINT`, `UDINT`, `TIME`, `ARRAY[a..b] OF T`, named structs and blocks; initial values; `AT` addresses),
 //! statements (assignment, `IF`/`ELSIF`/`ELSE`, `CASE` with integer labels and `ELSE`, `FOR … TO … DO`,
 //! `EXIT`, block calls with named inputs), expressions (`OR`, `XOR`, `AND`, comparisons, `+ - * /
-//! MOD`, `NOT`, unary minus, `TRUE`/`FALSE`, integers, member and index access), comments, and
+//! MOD`, `NOT`, unary minus, `TRUE`/`FALSE`, integers, durations `T#…ms`, member and index access), comments, and
 //! `CONFIGURATION`/`RESOURCE`/`TASK`/`PROGRAM … WITH`. Written from the standard's grammar for the
 //! harness; it reads the emitted text itself, never codegen's syntax tree.
 //!
@@ -100,6 +100,18 @@ fn lex(text: &str) -> Result<Vec<(Tok, usize)>, String> {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Path(pub Vec<(String, Option<Expr>)>);
 
+/// The milliseconds of a duration literal `T#<n>ms` or `T#<n>s` (`TIME#` too, any case), as the
+/// writer prints them.
+fn duration(word: &str) -> Option<i64> {
+    let upper = word.to_ascii_uppercase();
+    let body = upper.strip_prefix("T#").or_else(|| upper.strip_prefix("TIME#"))?;
+    let (digits, scale) = match body.strip_suffix("MS") {
+        Some(d) => (d, 1),
+        None => (body.strip_suffix('S')?, 1000),
+    };
+    digits.replace('_', "").parse::<i64>().ok().map(|n| n * scale)
+}
+
 /// An expression.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Expr {
@@ -107,6 +119,8 @@ pub enum Expr {
     Bool(bool),
     /// Integer literal.
     Int(i64),
+    /// A duration literal (`T#500ms`, `T#4s`), in milliseconds.
+    Time(i64),
     /// A variable.
     Var(Path),
     /// `NOT e`.
@@ -147,6 +161,8 @@ pub enum Type {
     Int(String),
     /// `ARRAY[lo..hi] OF T`
     Array(i64, i64, Box<Type>),
+    /// `TIME`, in milliseconds.
+    Time,
     /// A struct or function block by name.
     Named(String),
 }
@@ -376,6 +392,7 @@ impl Parser {
         let name = self.ident()?;
         Ok(match name.as_str() {
             "BOOL" => Type::Bool,
+            "TIME" => Type::Time,
             "SINT" | "INT" | "DINT" | "LINT" | "USINT" | "UINT" | "UDINT" => Type::Int(name),
             "ARRAY" => {
                 self.sym("[")?;
@@ -618,6 +635,12 @@ impl Parser {
                 let e = self.expr()?;
                 self.sym(")")?;
                 Ok(e)
+            }
+            Some(Tok::Word(w)) => {
+                self.at += 1;
+                duration(&w)
+                    .map(Expr::Time)
+                    .ok_or_else(|| format!("line {}: '{w}' is no duration this harness reads", self.line()))
             }
             Some(Tok::Ident(k)) if k == "TRUE" || k == "FALSE" => {
                 self.at += 1;

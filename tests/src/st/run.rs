@@ -12,7 +12,7 @@
 
 use std::collections::BTreeMap;
 
-use super::check::{check, range};
+use super::check::{check, range, ton, TON};
 use super::parse::{parse, Decl, Expr, Path, Stmt, Type, Unit};
 
 /// A value.
@@ -42,6 +42,10 @@ pub struct Plc {
     program: String,
     vars: BTreeMap<String, Value>,
     executed: u64,
+    /// The scan clock: the time of the current scan, in milliseconds.
+    now_ms: i64,
+    /// The time between two scans (the task's interval), in milliseconds.
+    cycle_ms: i64,
 }
 
 enum Flow {
@@ -58,7 +62,10 @@ impl Plc {
             program: String::new(),
             vars: BTreeMap::new(),
             executed: 0,
+            now_ms: 0,
+            cycle_ms: 10,
         };
+        plc.blocks.insert(TON.into(), (ton(), Block { body: std::sync::Arc::new(Vec::new()) }));
         let units = parse(text)?;
         check(&units)?;
         for unit in units {
@@ -103,6 +110,7 @@ impl Plc {
     fn zero(&self, ty: &Type) -> Result<Value, String> {
         Ok(match ty {
             Type::Bool => Value::Bool(false),
+            Type::Time => Value::Int(0, i64::MIN, i64::MAX),
             Type::Int(n) => {
                 let (lo, hi) = range(n).ok_or_else(|| format!("no integer type {n}"))?;
                 Value::Int(0, lo, hi)
@@ -129,9 +137,15 @@ impl Plc {
         Ok(v)
     }
 
-    /// Runs one scan; returns the statements it executed.
+    /// Sets the time between two scans, which drives the timers (`TON`); 10 ms unless set.
+    pub fn set_cycle_ms(&mut self, ms: u32) {
+        self.cycle_ms = i64::from(ms);
+    }
+
+    /// Runs one scan, `cycle_ms` after the previous one; returns the statements it executed.
     pub fn scan(&mut self) -> Result<u64, String> {
         self.executed = 0;
+        self.now_ms += self.cycle_ms;
         let program = self.program.clone();
         let mut vars = std::mem::take(&mut self.vars);
         let r = self.run_block(&program, &mut vars);
@@ -142,10 +156,36 @@ impl Plc {
     fn run_block(&mut self, name: &str, vars: &mut BTreeMap<String, Value>) -> Result<(), String> {
         let body =
             std::sync::Arc::clone(&self.blocks.get(name).ok_or_else(|| format!("no block {name}"))?.1.body);
-        self.exec(&body, vars).map(|_| ())
+        self.exec(name, &body, vars).map(|_| ())
     }
 
-    fn exec(&mut self, stmts: &[Stmt], vars: &mut BTreeMap<String, Value>) -> Result<Flow, String> {
+    /// A call of a `TON` instance (IEC 61131-3 6.6.3.5.4): while `IN`, `ET` counts the scan clock from
+    /// the call `IN` rose in, up to `PT`, and `Q` is `ET >= PT`; `IN` low resets both.
+    fn ton(&self, vars: &mut BTreeMap<String, Value>) -> Result<(), String> {
+        let get =
+            |vars: &BTreeMap<String, Value>, n: &str| vars.get(n).cloned().ok_or(format!("TON has no {n}"));
+        let input = as_bool(&get(vars, "IN")?)?;
+        let (pt, running, start) =
+            (as_int(&get(vars, "PT")?)?, as_bool(&get(vars, "RUNNING")?)?, as_int(&get(vars, "START")?)?);
+        let start = if input && !running { self.now_ms } else { start };
+        let et = if input { (self.now_ms - start).min(pt) } else { 0 };
+        for (n, v) in [
+            ("RUNNING", Value::Bool(input)),
+            ("START", int(start)),
+            ("ET", int(et)),
+            ("Q", Value::Bool(input && et >= pt)),
+        ] {
+            vars.insert(n.into(), v);
+        }
+        Ok(())
+    }
+
+    fn exec(
+        &mut self,
+        block: &str,
+        stmts: &[Stmt],
+        vars: &mut BTreeMap<String, Value>,
+    ) -> Result<Flow, String> {
         for s in stmts {
             if !matches!(s, Stmt::Section(_)) {
                 self.executed += 1;
@@ -165,14 +205,14 @@ impl Plc {
                             break;
                         }
                     }
-                    if let Flow::Exit = self.exec(taken.unwrap_or(els), vars)? {
+                    if let Flow::Exit = self.exec(block, taken.unwrap_or(els), vars)? {
                         return Ok(Flow::Exit);
                     }
                 }
                 Stmt::Case(e, arms, els) => {
                     let x = as_int(&eval(e, vars)?)?;
                     let body = arms.iter().find(|(l, _)| l.contains(&x)).map_or(els, |(_, b)| b);
-                    if let Flow::Exit = self.exec(body, vars)? {
+                    if let Flow::Exit = self.exec(block, body, vars)? {
                         return Ok(Flow::Exit);
                     }
                 }
@@ -181,7 +221,7 @@ impl Plc {
                     let path = Path(vec![(v.clone(), None)]);
                     for i in from..=to {
                         assign(lookup_mut(vars, &path)?, Value::Int(i, i, i))?;
-                        if let Flow::Exit = self.exec(body, vars)? {
+                        if let Flow::Exit = self.exec(block, body, vars)? {
                             break;
                         }
                     }
@@ -195,12 +235,12 @@ impl Plc {
                     let Some(Value::Struct(mut inner)) = vars.remove(inst) else {
                         return Err(format!("{inst} is no block instance"));
                     };
-                    let ty = self.type_of_instance(inst)?;
+                    let ty = self.type_of_instance(block, inst)?;
                     for (n, v) in values {
                         let place = inner.get_mut(&n).ok_or_else(|| format!("{inst} has no input {n}"))?;
                         assign(place, v).map_err(|e| format!("{inst}.{n}: {e}"))?;
                     }
-                    let r = self.run_block(&ty, &mut inner);
+                    let r = if ty == TON { self.ton(&mut inner) } else { self.run_block(&ty, &mut inner) };
                     vars.insert(inst.clone(), Value::Struct(inner));
                     r?;
                 }
@@ -209,9 +249,11 @@ impl Plc {
         Ok(Flow::Next)
     }
 
-    /// The block type of instance `inst` of the program (blocks are instantiated by the program only).
-    fn type_of_instance(&self, inst: &str) -> Result<String, String> {
-        self.blocks[&self.program]
+    /// The block type of instance `inst` declared in `block`.
+    fn type_of_instance(&self, block: &str, inst: &str) -> Result<String, String> {
+        self.blocks
+            .get(block)
+            .ok_or_else(|| format!("no block {block}"))?
             .0
             .iter()
             .find(|d| d.name == inst)
@@ -219,7 +261,7 @@ impl Plc {
                 Type::Named(n) if self.blocks.contains_key(n) => Some(n.clone()),
                 _ => None,
             })
-            .ok_or_else(|| format!("{inst} is no block instance of the program"))
+            .ok_or_else(|| format!("{inst} is no block instance of {block}"))
     }
 
     fn path(&self, name: &str) -> Result<&Value, String> {
@@ -345,7 +387,7 @@ fn int(i: i64) -> Value {
 fn eval(e: &Expr, vars: &BTreeMap<String, Value>) -> Result<Value, String> {
     Ok(match e {
         Expr::Bool(b) => Value::Bool(*b),
-        Expr::Int(i) => int(*i),
+        Expr::Int(i) | Expr::Time(i) => int(*i),
         Expr::Var(p) => lookup(vars, p)?.clone(),
         Expr::Not(x) => Value::Bool(!as_bool(&eval(x, vars)?)?),
         Expr::Neg(x) => int(-as_int(&eval(x, vars)?)?),
