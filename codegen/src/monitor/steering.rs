@@ -238,9 +238,16 @@ impl Steering {
                             here.candidates |= 1 << b;
                             here.share += c.chance;
                         }
-                        // A target the controller's round excludes now comes back when the round is over;
-                        // without a chance it would look unreachable and the plant would stop steering.
-                        let chance = if c.target && bit.is_none() { c.chance.max(floor) } else { c.chance };
+                        // A command the controller's round excludes now comes back when the round is over
+                        // (the values are not recomputed when a round outside the focus moves unless it
+                        // holds a target): a target keeps a floor, and so does any other command the
+                        // round excludes, or every target behind it would look unreachable and the plant
+                        // would stop steering.
+                        let chance = match (bit, c.target) {
+                            (None, true) => c.chance.max(floor),
+                            (None, false) if c.chance == 0.0 => floor,
+                            _ => c.chance,
+                        };
                         Step { command: true, target: c.target, chance, bit }
                     })
                     .collect();
