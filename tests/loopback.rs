@@ -90,7 +90,7 @@ fn a_burst_up_to_the_buffer_loses_nothing_and_beyond_it_the_overflow_is_reported
 }
 
 /// A firmware whose choices can never cover the cell (`first` takes the lowest enabled command, so a
-/// choice site's other commands never come): the steering, stuck, restarts the closed loop every 2 000
+/// choice site's other commands never come): the steering, stuck, restarts the closed loop after 2 000
 /// events without a new transition — and that is neither a violation nor a link resync.
 #[test]
 fn a_stuck_steering_restarts_the_closed_loop() {
@@ -99,11 +99,14 @@ fn a_stuck_steering_restarts_the_closed_loop() {
     let (mut host, target) = memory::pair();
     let firmware =
         spawn_host_firmware::<_, 1, 10, false, 3, { layout::RANKED }, 33>(tables, CONFIG, First, 7, target);
-    let options = Options { events: 12_000, ..Options::default() };
+    // Without steps: in steps the plant's answers after every command find new transitions under
+    // `first` too (339 of 365 in 12 000 events), too slowly for a test to wait for the plateaus.
+    let session = SessionConfig { step: false, ..SessionConfig::default() };
+    let options = Options { events: 12_000, session, ..Options::default() };
     let report = attach(&mut host, &set, "cell", &options, &mut |_| {}).unwrap();
     host.send(&[EXIT]).unwrap();
     assert_eq!(firmware.join().unwrap(), Some(0));
     assert!(!report.full_coverage(), "first cannot cover the cell: {report}");
-    assert!(report.steering_resets >= 2, "{report}");
+    assert!(report.steering_resets >= 1, "{report}");
     assert_eq!((report.violations, report.resyncs, report.stalls), (0, 0, 0), "{report}");
 }

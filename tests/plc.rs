@@ -7,7 +7,7 @@
 use std::path::Path;
 use std::process::Command;
 
-use codegen::closed_loop::{attach, Options};
+use codegen::closed_loop::{attach, Options, SessionConfig};
 use codegen::config::ScanPolicy;
 use codegen::emit::Provenance;
 use codegen::link::memory;
@@ -241,7 +241,9 @@ fn every_system_runs_closed_loop_safe_live_and_covering_in_both_encodings() {
             let scan_us = u64::try_from((t.elapsed() / 200).as_micros()).unwrap().max(1);
             let (mut host, target) = memory::pair();
             let plc = spawn_plc(driver, target);
-            let mut options = Options { events: EVENTS, ..Options::default() };
+            // The scan-cycle driver speaks no STEP: the plant steers in its own timing.
+            let session = SessionConfig { step: false, ..SessionConfig::default() };
+            let mut options = Options { events: EVENTS, session, ..Options::default() };
             options.plant.delay_us = (2 * scan_us, 6 * scan_us);
             let report = attach(&mut host, &set, &opts.name, &options, &mut |_| {}).unwrap();
             host.send(&[EXIT]).unwrap();

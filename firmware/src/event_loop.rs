@@ -5,7 +5,7 @@
 
 use crate::choice::Choose;
 use crate::input_queue::InputConsumer;
-use crate::link::{Hold, EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, SYNC};
+use crate::link::{Hold, EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, STEP, SYNC};
 use crate::rng::Entropy;
 use crate::runtime::{Applied, Decision, Runtime};
 
@@ -71,12 +71,14 @@ pub struct EventLoop {
     safe_announced: bool,
     /// A SYNC came in and waits for the runtime to be idle.
     sync_asked: bool,
+    /// A STEP came in: the next decision is the last before the loop holds again.
+    step: bool,
 }
 
 impl EventLoop {
     /// A loop that has not announced anything yet (the caller sends READY at boot).
     pub const fn new() -> Self {
-        Self { safe_announced: false, sync_asked: false }
+        Self { safe_announced: false, sync_asked: false, step: false }
     }
 
     /// One turn of the loop: drains the input buffer into the runtime, then takes at most one decision
@@ -120,6 +122,10 @@ impl EventLoop {
                 }
                 EXIT => return Poll::Exit(u8::from(rt.is_safe())),
                 SYNC => self.sync_asked = true,
+                STEP => {
+                    hold.release();
+                    self.step = true;
+                }
                 HOLD | GO => {
                     hold.filter(byte);
                 }
@@ -141,6 +147,7 @@ impl EventLoop {
         match rt.decide(|| !rx.is_empty()) {
             Decision::Fired(c) => {
                 port.send(c);
+                self.end_step(hold, port);
                 Poll::Busy
             }
             Decision::Redecide => {
@@ -148,11 +155,22 @@ impl EventLoop {
                 Poll::Busy
             }
             Decision::Idle | Decision::Halted => {
-                if core::mem::take(&mut self.sync_asked) {
+                if core::mem::take(&mut self.sync_asked) && !self.step {
                     port.send(SYNC);
                 }
+                self.end_step(hold, port);
                 Poll::Idle
             }
+        }
+    }
+
+    /// After a decision (a command, or none to take): a STEP's one decision is taken, so the loop holds
+    /// again and answers SYNC.
+    fn end_step(&mut self, hold: &Hold, port: &mut impl Port) {
+        if core::mem::take(&mut self.step) {
+            hold.hold();
+            self.sync_asked = false;
+            port.send(SYNC);
         }
     }
 }

@@ -14,11 +14,12 @@
 //! | `0xF4` SAFE | fw → host | a fault put the firmware in the safe state; it stopped deciding |
 //! | `0xF5` HOLD, `0xF6` GO | host → fw | stop / resume deciding; handled in the receive interrupt ([`Hold`]) so that a burst can be queued between two decisions |
 //! | `0xF7` SYNC | both | request: answer SYNC once nothing is enabled (or in the safe state) and deciding is not on hold; so a host can run the loop in lock-step, every round's decisions taken on every input it sent |
+//! | `0xF8` STEP | host → fw | decide once on every input sent before it (fire at most one command), then hold again and answer SYNC; so a host can take its turn between any two decisions of a controller that never runs out of commands |
 //!
 //! Any other byte from `0xF0` up, an event id beyond the set, and a *controllable* event id sent by the
 //! host (only the firmware generates those) count as `unknown_bytes` and are faults. Control bytes go
 //! through the input buffer in order with the events (so a RESET or STATUS sees every event sent before
-//! it), except HOLD and GO.
+//! it), except HOLD and GO. STEP goes through the buffer, so its decision sees every event before it.
 
 use crate::runtime::Counters;
 use core::sync::atomic::{AtomicBool, Ordering};
@@ -39,6 +40,8 @@ pub const HOLD: u8 = 0xF5;
 pub const GO: u8 = 0xF6;
 /// Host → firmware: answer SYNC once idle; firmware → host: idle (the answer).
 pub const SYNC: u8 = 0xF7;
+/// Host → firmware: take one decision, then hold and answer [`SYNC`].
+pub const STEP: u8 = 0xF8;
 /// Highest event id the link can carry.
 pub const MAX_EVENT: u8 = 0xEF;
 /// Bytes of a STATUS answer after its leading [`STATUS`]: the six counters of
@@ -77,11 +80,21 @@ impl Hold {
     /// for the input buffer.
     pub fn filter(&self, byte: u8) -> Option<u8> {
         match byte {
-            HOLD => self.0.store(true, Ordering::Relaxed),
-            GO => self.0.store(false, Ordering::Relaxed),
+            HOLD => self.hold(),
+            GO => self.release(),
             other => return Some(other),
         }
         None
+    }
+
+    /// Puts deciding on hold, as HOLD does (the end of a STEP).
+    pub fn hold(&self) {
+        self.0.store(true, Ordering::Relaxed);
+    }
+
+    /// Lets deciding go on, as GO does (a STEP's start).
+    pub fn release(&self) {
+        self.0.store(false, Ordering::Relaxed);
     }
 
     /// Whether deciding is on hold.

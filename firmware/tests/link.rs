@@ -216,7 +216,7 @@ fn each_fault_enters_the_safe_state_which_reset_leaves() {
     type Inject = fn(&mut InputProducer<'_>);
     let faults: [(&str, Inject); 4] = [
         ("unexpected", |tx| tx.push(TO4).unwrap()),
-        ("unknown control byte", |tx| tx.push(0xF8).unwrap()),
+        ("unknown control byte", |tx| tx.push(0xF9).unwrap()),
         ("event beyond the set", |tx| tx.push(77).unwrap()),
         ("overflow", |tx| tx.count_overflow()),
     ];
@@ -284,6 +284,43 @@ fn sync_is_answered_once_idle_and_not_held() {
     assert_eq!(b.wire.sent, [link::SYNC]);
 }
 
+/// STEP: one decision on every byte before it, then held again, answered by SYNC — a command and SYNC
+/// while the controller has one, SYNC alone once it has none; GO lets it go on freely.
+#[test]
+fn step_decides_once_then_holds() {
+    let mut b = Bench::new::<8>(FaultPolicy::Continue);
+    b.send(&[link::HOLD, link::STEP]);
+    assert_eq!(b.settle(), Poll::Held);
+    let first = std::mem::take(&mut b.wire.sent);
+    assert!(matches!(first[..], [A | B, link::SYNC]), "{first:?}");
+    assert!(b.hold.is_held());
+    // Step on until the livelock plant has only its uncontrollable move left: one command per STEP.
+    let mut steps = 1;
+    loop {
+        b.send(&[link::STEP]);
+        b.settle();
+        let sent = std::mem::take(&mut b.wire.sent);
+        assert!(b.hold.is_held(), "{sent:?}");
+        match sent[..] {
+            [A | B, link::SYNC] => steps += 1,
+            [link::SYNC] => break,
+            _ => panic!("{sent:?}"),
+        }
+        assert!(steps < 50, "never idle");
+    }
+    assert_eq!(b.rt.counters().commands_out, steps);
+    // A SYNC request under a STEP is answered once, by the step's answer.
+    b.send(&[link::SYNC, link::STEP]);
+    b.settle();
+    assert_eq!(b.wire.sent, [link::SYNC]);
+    // GO releases the hold; the loop reads and decides freely again.
+    b.wire.sent.clear();
+    b.send(&[TO1, link::GO]);
+    assert_eq!(b.settle(), Poll::Idle);
+    assert!(!b.hold.is_held());
+    assert_eq!(b.rt.counters().events_in, 1);
+}
+
 proptest::proptest! {
     #![proptest_config(proptest::prelude::ProptestConfig::with_cases(common::cases(256)))]
 
@@ -303,7 +340,7 @@ proptest::proptest! {
             for &b in &chunk {
                 match b {
                     TO4 | TO1 => events += 1,
-                    link::STATUS | link::HOLD | link::GO | link::SYNC => {}
+                    link::STATUS | link::HOLD | link::GO | link::SYNC | link::STEP => {}
                     _ => unknown += 1,
                 }
             }

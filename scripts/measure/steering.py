@@ -1,13 +1,15 @@
 """How fast the virtual plant's steering covers every controllable supervisor transition, per example: runs
-`codegen run EXAMPLE --events N --seed S --timing realtime --json` under QEMU for seeds 1..20 (two at a time) and prints, per
-example, the median and worst event count at which coverage became full (`incomplete` when a run never got
-there) and the steering resets, as `docs/steering.md` records them.
+`codegen run EXAMPLE --events N --seed S --timing T --json` under QEMU for seeds 1..20 (two at a time) and
+prints, per example, the median and worst event count at which coverage became full (`incomplete` when a run
+never got there) and the steering resets, as `docs/steering.md` records them.
 
-    python3 scripts/measure/steering.py [--events 10000] [--seeds 20] [EXAMPLE ...]
+    python3 scripts/measure/steering.py [--events 10000] [--seeds 20] [--timing lockstep] [EXAMPLE ...]
 
-EXAMPLE is a manifest under examples/ (default: cell, factory, livelock, station). The codegen binary is
-target/debug/codegen (build it first: `cargo build -p codegen`). Exit status 1 when a run did not reach
-full coverage.
+EXAMPLE is a name below or a manifest path (default: every name below). T is `codegen run`'s default,
+lockstep, unless told. The codegen binary is target/debug/codegen (build it first: `cargo build -p codegen`).
+Exit status 1 when a run did not reach full coverage, or when nothing was measured: no example, no seed,
+or no example with a supervisor transition to cover (one without, as livelock, has no supervisor, and
+prints `nothing to cover`).
 """
 
 import argparse
@@ -24,6 +26,7 @@ EXAMPLES = {
     "factory": "examples/factory/factory.toml",
     "livelock": "examples/livelock/livelock.toml",
     "station": "examples/station/station.toml",
+    "distribution": "examples/distribution/distribution.toml",
 }
 
 
@@ -49,9 +52,12 @@ def main():
     parser.add_argument("--events", type=int, default=10_000)
     parser.add_argument("--seeds", type=int, default=20)
     parser.add_argument("--codegen", default=os.path.join(ROOT, "target", "debug", "codegen"))
-    parser.add_argument("--timing", default="realtime", choices=["realtime", "lockstep"])
+    parser.add_argument("--timing", default="lockstep", choices=["realtime", "lockstep"])
     args = parser.parse_args()
+    if not args.examples or args.seeds < 1:
+        sys.exit("steering.py: nothing to measure (no example or no seed)")
     failed = False
+    measured = 0
     print(f"{'example':<10} {'full coverage at (median / worst)':>34} {'resets (median / worst)':>24}  incomplete")
     for name in args.examples:
         manifest = EXAMPLES.get(name, name)
@@ -61,6 +67,10 @@ def main():
             rest = list(pool.map(lambda s: run(args.codegen, manifest, args.events, s, args.timing),
                                  range(2, args.seeds + 1)))
         reports = [first] + rest
+        if not any(sum(c["reachable"] or 0 for c in r["coverage"]) for r in reports):
+            print(f"{name:<10} {'nothing to cover (no supervisor transition)':>34}")
+            continue
+        measured += 1
         at = [r["full_coverage_at"] for r in reports]
         resets = [r["steering_resets"] for r in reports]
         missing = [r["seed"] for r in reports if r["full_coverage_at"] is None]
@@ -76,6 +86,8 @@ def main():
               f"{str(statistics.median_low(resets)) + ' / ' + str(max(resets)):>24}  "
               f"{'seeds ' + str(missing) + ', least taken ' + taken(least) if missing else '-'}")
         failed |= bool(missing)
+    if not measured:
+        sys.exit("steering.py: nothing measured (no example has a supervisor transition to cover)")
     sys.exit(1 if failed else 0)
 
 

@@ -7,7 +7,8 @@
 //! level the edge starts from when it is not there. Changes of the output variables after a scan become
 //! command bytes (a rising edge: the variable's `set` or `pulse` event, a falling edge: its `clear`
 //! event; where a variable has several, the block's `fired` output names it); `fired` alone gives the
-//! controllable events that drive no output. HOLD and GO drive the `hold` input at once; RESET,
+//! controllable events that drive no output. HOLD and GO drive the `hold` input at once (STEP, SYNC: not
+//! spoken here; a session with it runs with `SessionConfig::step` off); RESET,
 //! STATUS and EXIT are answered in order, once the events before them have been applied (no edge
 //! waiting, `pending` low): RESET by a scan with `reset` (and `hold`) set, then READY; STATUS from the
 //! block's counters. A rise of `safe` sends SAFE.

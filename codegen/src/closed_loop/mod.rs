@@ -110,6 +110,7 @@ pub fn parts(set: &PackSet, options: &Options) -> Result<(VirtualPlant, Monitor)
     let plant = VirtualPlant::new(&plants, set.events(), options.plant.clone())?;
     let mut monitor = Monitor::new(&plants, &supervisors, set.events(), options.window_us)?;
     monitor.model_choices(options.choices);
+    monitor.plant_answers_commands(options.session.step && plant.steers());
     Ok((plant, monitor))
 }
 
@@ -165,7 +166,8 @@ pub fn run_under_qemu(
 /// Runs the Pico image `elf` on the RP2040 harness with the pin map file `pins`
 /// ([`crate::target::rp2040::pin_map`]), runs the closed loop through its pins, ends the run and adds the
 /// harness's figures (what only pins show, the runtime's cost on the M0+) to the report.
-/// The harness has no lock-step rounds: the run takes the plant's realtime timing whatever `options` say.
+/// The harness has no lock-step rounds nor steps: the run takes the plant's realtime timing whatever
+/// `options` say.
 pub fn run_on_rp2040(
     elf: &Path,
     pins: &Path,
@@ -175,9 +177,11 @@ pub fn run_on_rp2040(
     progress: &mut dyn FnMut(&Report),
 ) -> Result<Report, ClosedLoopError> {
     let (mut harness, mut link) = Harness::start(elf, pins, &options.rp2040)?;
-    // The harness speaks the protocol for the board's pins, without lock-step rounds.
-    let options =
-        &Options { session: SessionConfig { lockstep: false, ..options.session.clone() }, ..options.clone() };
+    // The harness speaks the protocol for the board's pins, without lock-step rounds or STEP.
+    let options = &Options {
+        session: SessionConfig { lockstep: false, step: false, ..options.session.clone() },
+        ..options.clone()
+    };
     let mut report = attach(&mut link, set, name, options, progress).map_err(|e| match e {
         ClosedLoopError::Session { source, .. } => {
             ClosedLoopError::Session { source, stderr: harness.stderr() }

@@ -12,10 +12,21 @@
 //! the firmware answers SYNC (it decided until nothing was enabled). So every decision is taken on every
 //! event sent before it, and the trace is a function of the seeds alone — the same whatever the table
 //! layout or the machine's load. Commands are judged as taken after the round's events were read.
+//!
+//! In steps ([`SessionConfig::step`]), while the plant steers towards transitions not taken yet and
+//! whatever the timing, the firmware stays on hold and the plant takes a turn before each of its
+//! decisions: it sends the events the steering prefers to the controller's choice (none when the
+//! controller's is better), then STEP, and the firmware decides once on all of them, answers SYNC and
+//! holds again. A controller that never runs out of commands (actuators it may switch at will) would
+//! otherwise fire hundreds of commands between two looks of the plant, and every target behind one of
+//! the plant's events would stay out of reach. Once coverage is full, the run goes on in its timing —
+//! unless the controller never ran out of commands in a step: lock-step rounds would never end, and
+//! in realtime it would outrun the plant, which would decide on states long left. Such a run stays in
+//! steps to its end, the plant taking its turn in its own measure (a drawn burst length per step).
 
 use std::time::{Duration, Instant};
 
-use crate::link::protocol::{Decoder, Frame, GO, HOLD, RESET, STATUS, SYNC};
+use crate::link::protocol::{Decoder, Frame, GO, HOLD, RESET, STATUS, STEP, SYNC};
 use crate::link::ByteLink;
 use crate::model::EventId;
 use crate::monitor::{FirmwareCounters, Monitor, Move, Report, Verdict};
@@ -42,6 +53,8 @@ const STEERING_RESET: u64 = 2_000;
 const TICK_US: u64 = 1 << 32;
 /// Most commands in one lock-step round: a controller that never goes idle is a stall.
 const MAX_ROUND_COMMANDS: usize = 4096;
+/// The time a step's command is judged at: after every event sent before its STEP, all of them read.
+const READ_ALL: u64 = u64::MAX;
 
 /// Timing of a session.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -53,6 +66,9 @@ pub struct SessionConfig {
     /// Lock-step rounds instead of the plant's timing (see the module documentation): a reproducible
     /// trace, without races or stale decisions.
     pub lockstep: bool,
+    /// While the plant steers, run in steps (see the module documentation): the firmware understands
+    /// STEP — the QEMU and host-compiled firmware do; the RP2040 harness and the PLC driver do not.
+    pub step: bool,
 }
 
 impl Default for SessionConfig {
@@ -61,6 +77,7 @@ impl Default for SessionConfig {
             answer_timeout: Duration::from_secs(10),
             stall_timeout: Duration::from_secs(2),
             lockstep: false,
+            step: true,
         }
     }
 }
@@ -107,6 +124,10 @@ pub struct Session<'a, L: ByteLink + ?Sized> {
     settle: bool,
     /// Lock-step: the rounds run so far (the clock).
     round: u64,
+    /// The run goes in steps: the firmware holds between decisions (see the module documentation).
+    stepping: bool,
+    /// A step found the controller without a command: it may run freely once coverage is full.
+    idle_seen: bool,
 }
 
 impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
@@ -134,6 +155,8 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             in_step: true,
             settle: false,
             round: 0,
+            stepping: false,
+            idle_seen: false,
         }
     }
 
@@ -162,8 +185,22 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         self.plant.reset();
         self.monitor.reset();
         self.in_step = true;
-        // Lock-step: the decisions from the initial state end with a SYNC answer, awaited by the next
-        // round; the request goes before GO so that nothing reaches the firmware while it decides.
+        let steps_on = self.monitor.is_steering() || (self.stepping && !self.idle_seen);
+        self.stepping = self.config.step && self.plant.steers() && steps_on;
+        if self.stepping {
+            // On hold (the RESET kept it) until the first step.
+            self.settle = false;
+            self.last_activity = Instant::now();
+            return Ok(());
+        }
+        self.release()
+    }
+
+    /// Lets the firmware decide freely in the session's timing. Lock-step: the decisions from here end
+    /// with a SYNC answer, awaited by the next round; the request goes before GO so that nothing reaches
+    /// the firmware while it decides.
+    fn release(&mut self) -> Result<(), SessionError> {
+        self.stepping = false;
         self.settle = self.config.lockstep;
         self.link.send(if self.settle { &[SYNC, GO][..] } else { &[GO][..] })?;
         self.next_emit = Some(Instant::now());
@@ -193,6 +230,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
     /// Runs the closed loop until the monitor has seen `events` events in all, calling `progress` now
     /// and then.
     pub fn run(&mut self, events: u64, progress: &mut dyn FnMut(&Report)) -> Result<(), SessionError> {
+        self.run_steps(events, progress)?;
         if self.config.lockstep {
             return self.run_lockstep(events, progress);
         }
@@ -235,12 +273,63 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         Ok(())
     }
 
+    /// [`Session::run`] in steps while the plant steers (see the module documentation); the firmware is
+    /// released when coverage is full, unless it never ran out of commands.
+    fn run_steps(&mut self, events: u64, progress: &mut dyn FnMut(&Report)) -> Result<(), SessionError> {
+        let mut last_progress = Instant::now();
+        while self.stepping && self.monitor.report().events < events {
+            self.explore_when_stuck()?;
+            if !self.stepping {
+                break;
+            }
+            self.step()?;
+            if self.stepping && self.idle_seen && !self.monitor.is_steering() {
+                self.release()?;
+            }
+            if last_progress.elapsed() >= PROGRESS_EVERY {
+                last_progress = Instant::now();
+                progress(self.monitor.report());
+            }
+        }
+        Ok(())
+    }
+
+    /// One step: the plant's events while the steering prefers them to the controller's choice (at most
+    /// [`MAX_STEERED_BURST`]; after full coverage, a drawn burst length), then STEP, and the firmware's
+    /// one decision judged. Neither moving is a stall.
+    fn step(&mut self) -> Result<(), SessionError> {
+        let t = self.micros();
+        let most = if self.monitor.is_steering() { MAX_STEERED_BURST } else { self.plant.burst_len() };
+        let mut bytes = Vec::with_capacity(most + 1);
+        while bytes.len() < most && self.monitor.next_move() != Move::Controller {
+            let monitor = &mut *self.monitor;
+            let Some(e) = self.plant.emit_one(|e| monitor.rank_after(e)) else { break };
+            bytes.push(e.as_u32() as u8);
+            if self.monitor.uncontrollable(e, t) == Verdict::Violation {
+                self.link.send(&bytes)?;
+                return self.out_of_step();
+            }
+        }
+        let sent = bytes.len();
+        bytes.push(STEP);
+        self.link.send(&bytes)?;
+        self.last_activity = Instant::now();
+        let commands = self.await_round(READ_ALL)?;
+        self.idle_seen |= commands == Some(0);
+        if commands == Some(0) && sent == 0 {
+            self.monitor.report_mut().stalls += 1;
+            self.sync(true)?;
+        }
+        Ok(())
+    }
+
     /// [`Session::run`] in lock-step rounds (see the module documentation).
     fn run_lockstep(&mut self, events: u64, progress: &mut dyn FnMut(&Report)) -> Result<(), SessionError> {
         let mut last_progress = Instant::now();
         while self.monitor.report().events < events {
             self.explore_when_stuck()?;
-            if std::mem::take(&mut self.settle) && self.await_round()?.is_none() {
+            if std::mem::take(&mut self.settle) && self.await_round((2 * self.round + 1) * TICK_US)?.is_none()
+            {
                 continue;
             }
             self.round += 1;
@@ -253,7 +342,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
                 self.out_of_step()?;
                 continue;
             }
-            match self.await_round()? {
+            match self.await_round((2 * self.round + 1) * TICK_US)? {
                 Some(0) if sent == 0 => {
                     self.monitor.report_mut().stalls += 1;
                     self.sync(true)?;
@@ -268,10 +357,10 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         Ok(())
     }
 
-    /// Judges the firmware's commands until it answers SYNC: how many there were, or `None` when the
-    /// round ended in a restart (a violation, a fault, a reboot, a controller that does not go idle).
-    fn await_round(&mut self) -> Result<Option<usize>, SessionError> {
-        let t = (2 * self.round + 1) * TICK_US;
+    /// Judges the firmware's commands, at time `t`, until it answers SYNC: how many there were, or
+    /// `None` when the round ended in a restart (a violation, a fault, a reboot, a controller that does
+    /// not go idle).
+    fn await_round(&mut self, t: u64) -> Result<Option<usize>, SessionError> {
         let mut commands = 0;
         let mut buf = [0u8; 256];
         let mut deadline = Instant::now() + self.config.answer_timeout;

@@ -3,11 +3,11 @@
 //!
 //! Bytes `0x00..=0xEF` are event ids: host → firmware an uncontrollable event the plant produced,
 //! firmware → host a command the firmware fired. Control bytes: [`RESET`], [`STATUS`], [`EXIT`],
-//! [`READY`], [`SAFE`], [`HOLD`], [`GO`], [`SYNC`] (see each). The firmware's side is in `firmware/src/link.rs`.
+//! [`READY`], [`SAFE`], [`HOLD`], [`GO`], [`SYNC`], [`STEP`] (see each). The firmware's side is in `firmware/src/link.rs`.
 
 // The byte values and the STATUS answer's format are the firmware's own (`firmware::link`), so the two
 // ends cannot drift apart.
-pub use firmware::link::{EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, STATUS_BYTES, SYNC};
+pub use firmware::link::{EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, STATUS_BYTES, STEP, SYNC};
 pub use firmware::runtime::Counters;
 
 /// One message from the firmware.

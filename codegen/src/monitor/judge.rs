@@ -274,6 +274,13 @@ impl Monitor {
         self.steering.invalidate();
     }
 
+    /// Tells the steering whether the plant answers every command before the controller decides again
+    /// (a session in steps, [`SessionConfig::step`](crate::closed_loop::SessionConfig::step)) or the
+    /// controller goes on while it has commands (the firmware deciding freely).
+    pub fn plant_answers_commands(&mut self, answers: bool) {
+        self.steering.plant_answers_commands(answers);
+    }
+
     /// The link was reset: plant, controller and monitor are back in the initial state.
     pub fn reset(&mut self) {
         self.choices.reset();

@@ -9,9 +9,13 @@
 //! whole), or, where only uncontrollable events are possible, must. So each state has a value: with
 //! `wait` the expectation over the enabled commands (zero for a command that takes a new transition),
 //! with each uncontrollable `u` the value after `u`, each plus one event; the state's value is the best
-//! of them. Who has the initiative matters: right after a command, a controller with another command
-//! enabled fires it at once, before the plant can answer; so a state has a second value, reached by a
-//! command, in which only the controller moves while it can.
+//! of them. Who has the initiative matters: right after a command, a controller deciding freely with
+//! another command enabled fires it at once, before the plant can answer; so a state has a second value,
+//! reached by a command, in which only the controller moves while it can. A session in steps (the
+//! firmware decides once per STEP, [`Steering::plant_answers_commands`]) gives the plant its turn after
+//! every command, and the two values are one: against a controller that never runs out of commands the
+//! other model would never let the plant move, and every target behind one of its events would look
+//! unreachable.
 //!
 //! A local queue's choice depends on its history: a command already taken in the current round of its
 //! choice site is not taken again before the round is over, so a plant that brings the closed loop to a
@@ -127,6 +131,8 @@ pub struct Steering {
     target_sites: Vec<Site>,
     /// Whether any target is left (false: coverage is complete and the plant is left to itself).
     targets_left: bool,
+    /// The plant answers every command before the controller decides again (a session in steps).
+    answers: bool,
     fresh: bool,
 }
 
@@ -134,6 +140,13 @@ impl Steering {
     /// Values to be computed on first use.
     pub fn new() -> Self {
         Steering { rounds: 1, ..Steering::default() }
+    }
+
+    /// Whether the plant gets its turn after every command (a session in steps) rather than the
+    /// controller going on while it has commands; see the module docs.
+    pub fn plant_answers_commands(&mut self, answers: bool) {
+        self.answers = answers;
+        self.fresh = false;
     }
 
     /// The targets or the controller's chances changed: recompute before the next use.
@@ -225,9 +238,16 @@ impl Steering {
                             here.candidates |= 1 << b;
                             here.share += c.chance;
                         }
-                        // A target the controller's round excludes now comes back when the round is over;
-                        // without a chance it would look unreachable and the plant would stop steering.
-                        let chance = if c.target && bit.is_none() { c.chance.max(floor) } else { c.chance };
+                        // A command the controller's round excludes now comes back when the round is over
+                        // (the values are not recomputed when a round outside the focus moves unless it
+                        // holds a target): a target keeps a floor, and so does any other command the
+                        // round excludes, or every target behind it would look unreachable and the plant
+                        // would stop steering.
+                        let chance = match (bit, c.target) {
+                            (None, true) => c.chance.max(floor),
+                            (None, false) if c.chance == 0.0 => floor,
+                            _ => c.chance,
+                        };
                         Step { command: true, target: c.target, chance, bit }
                     })
                     .collect();
@@ -273,7 +293,7 @@ impl Steering {
                 for r in 0..m as u64 {
                     let (wait, own) = self.options(graph, s, r);
                     let best = wait.map_or(own, |w| w.min(own)).min(UNREACHABLE);
-                    let forced = wait.unwrap_or(own).min(UNREACHABLE);
+                    let forced = if self.answers { best } else { wait.unwrap_or(own).min(UNREACHABLE) };
                     let i = s as usize * m + r as usize;
                     change =
                         change.max((best - self.values[i]).abs()).max((forced - self.after_command[i]).abs());
@@ -334,7 +354,8 @@ impl Steering {
             return Move::Plant;
         }
         match self.options(graph, s, self.round) {
-            (Some(wait), own) if wait <= own => Move::Controller,
+            // Where the controller's choice leads to no target, holding the plant back would only starve it.
+            (Some(wait), own) if wait <= own && wait < UNREACHABLE => Move::Controller,
             (Some(_), _) => Move::PlantFirst,
             (None, _) => Move::Plant,
         }
@@ -448,6 +469,43 @@ mod tests {
         assert!((value(0.5) - 3.0).abs() < 0.05, "{}", value(0.5));
         // A round that excludes the target still leaves it a floor (it comes back with the next round).
         assert!(value(0.0) < UNREACHABLE);
+    }
+
+    #[test]
+    fn in_steps_the_plant_answers_a_controller_that_never_runs_out_of_commands() {
+        // A piston the controller switches at will: `on` at rest, `off` while pushed; only the plant's
+        // `arrive`, while pushed, brings it to the front, where `back` is the target. A controller that
+        // decides again at once after `on` fires `off` before `arrive` can get in: the target is out of
+        // reach. In steps the plant answers `on` with `arrive`, and `back` follows.
+        let m = automaton(
+            "Piston",
+            Kind::Plant,
+            3,
+            &[0],
+            &["on", "off", "back"],
+            &[(0, "on", 1), (1, "off", 0), (1, "arrive", 2), (2, "back", 0)],
+        );
+        let table = EventTable::build([&m]).unwrap();
+        let closed = Composition::new(&[&m], &table).unwrap();
+        let controllable: Vec<bool> = table.ids().map(|e| table.is_controllable(e)).collect();
+        let g = Graph::explore(&closed, 10).unwrap();
+        let back = table.id("back").unwrap().as_u32();
+        let pushed = g.next(0, table.id("on").unwrap()).unwrap();
+        for answers in [false, true] {
+            let mut steering = Steering::new();
+            steering.plant_answers_commands(answers);
+            refresh(&mut steering, &g, &controllable, |e| e == back, uniform);
+            let rest = steering.after_command[0];
+            if answers {
+                assert_eq!(steering.next_move(&g, pushed), Move::PlantFirst, "arrive beats switching off");
+                assert_eq!(steering.next_move(&g, 0), Move::Controller, "at rest only the controller moves");
+                // on, arrive, back: 3 events from rest.
+                assert!((rest - 3.0).abs() < 0.05, "{rest}");
+            } else {
+                // Value iteration climbs without bound (on, off, on, off …), stopped by the sweep limit.
+                assert!(rest > 100.0, "{rest}");
+            }
+        }
     }
 
     #[test]
