@@ -24,7 +24,7 @@ pub enum BuildScriptError {
     NoOutDir,
     /// The project could not be loaded or emitted.
     #[error(transparent)]
-    Project(#[from] ProjectError),
+    Project(Box<ProjectError>),
     /// The tables could not be written.
     #[error("{}: {source}", path.display())]
     Write {
@@ -33,6 +33,12 @@ pub enum BuildScriptError {
         /// Why.
         source: std::io::Error,
     },
+}
+
+impl From<ProjectError> for BuildScriptError {
+    fn from(e: ProjectError) -> Self {
+        BuildScriptError::Project(Box::new(e))
+    }
 }
 
 /// Emits the tables of the manifest at `manifest` into `out_dir/tables.rs`; returns that path and the

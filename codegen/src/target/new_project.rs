@@ -73,7 +73,7 @@ pub enum NewError {
     NotEmpty(PathBuf),
     /// The manifest or a model file could not be read.
     #[error(transparent)]
-    Project(#[from] ProjectError),
+    Project(Box<ProjectError>),
     /// A model file is not inside the manifest's directory, so it cannot be copied beside it.
     #[error("{manifest}: names {file}, outside the manifest's directory: put the model files beside or below the manifest")]
     Outside {
@@ -101,6 +101,12 @@ pub enum NewError {
         /// Why.
         source: std::io::Error,
     },
+}
+
+impl From<ProjectError> for NewError {
+    fn from(e: ProjectError) -> Self {
+        NewError::Project(Box::new(e))
+    }
 }
 
 /// What `codegen new` wrote.
