@@ -2,10 +2,13 @@
 //! `codegen` runs a user's project from any directory (`codegen::target::sources` unpacks them).
 //!
 //! What travels: the runtime crate (`firmware/Cargo.toml`, `src/`), the cell applications (`apps/cell/`:
-//! `Cargo.toml`, `build.rs`, `src/`, `boards/` with each board's `memory.x`), the workspace's `Cargo.lock` (the dependencies' versions), `rust-toolchain.toml`,
+//! `Cargo.toml`, `build.rs`, `src/`, `boards/` with each board's `memory.x`), codegen itself
+//! (`codegen/Cargo.toml`, `build.rs`, `src/`, `benches/`: the library a firmware project's `build.rs`
+//! calls, and whose own build embeds these same files again), the cell's manifest and models (`examples/cell/`:
+//! the starter project of `codegen new`), the workspace's `Cargo.lock` (the dependencies' versions), `rust-toolchain.toml`,
 //! `.cargo/config.toml` (the Cortex-M link flags) and the RP2040 harness (`harness/rp2040/`: its
 //! `package.json`, `package-lock.json` and `src/`). The workspace manifest travels rewritten to hold the
-//! runtime and the applications alone, with the same profiles. The generated file `$OUT_DIR/embedded_sources.rs` lists
+//! runtime, the applications and codegen alone, with the same profiles. The generated file `$OUT_DIR/embedded_sources.rs` lists
 //! every file with its bytes, in path order, so that the same checkout gives the same binary.
 
 use std::env;
@@ -20,15 +23,28 @@ const FILES: &[&str] = &[
     "firmware/Cargo.toml",
     "apps/cell/Cargo.toml",
     "apps/cell/build.rs",
+    "codegen/Cargo.toml",
+    "codegen/build.rs",
+    "examples/cell/cell.toml",
     "harness/rp2040/package.json",
     "harness/rp2040/package-lock.json",
 ];
 
 /// Directories embedded whole, relative to the workspace root.
-const DIRS: &[&str] = &["firmware/src", "apps/cell/src", "apps/cell/boards", "harness/rp2040/src"];
+const DIRS: &[&str] = &[
+    "firmware/src",
+    "apps/cell/src",
+    "apps/cell/boards",
+    "codegen/src",
+    "codegen/benches",
+    "examples/cell/plants",
+    "examples/cell/specs",
+    "harness/rp2040/src",
+];
 
-/// The workspace members that travel: the runtime and the applications built on it.
-const MEMBERS: &[&str] = &["firmware", "apps/cell"];
+/// The workspace members that travel: the runtime, the applications built on it, and codegen's library
+/// (a firmware project's build-dependency: it emits the tables at build time).
+const MEMBERS: &[&str] = &["firmware", "apps/cell", "codegen"];
 
 fn main() {
     let crate_dir = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
@@ -75,7 +91,7 @@ fn walk(root: &Path, dir: &Path, files: &mut Vec<String>) {
     }
 }
 
-/// The workspace's `Cargo.toml` with the runtime and the cell applications as its only members: the same
+/// The workspace's `Cargo.toml` with [`MEMBERS`] as its only members: the same
 /// `[workspace.package]` and profiles, so the firmware builds exactly as `cargo qemu-build` builds it in the
 /// checkout.
 fn workspace_manifest(root: &Path) -> String {
@@ -92,7 +108,7 @@ fn workspace_manifest(root: &Path) -> String {
         }
     }
     format!(
-        "# Written by codegen (codegen/build.rs): the runtime and the cell applications, with the workspace's profiles.\n{}",
+        "# Written by codegen (codegen/build.rs): the runtime, the cell applications and codegen, with the workspace's profiles.\n{}",
         toml::to_string(&manifest).expect("serialise the workspace manifest")
     )
 }

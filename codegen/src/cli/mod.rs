@@ -9,6 +9,7 @@ mod engine;
 mod files;
 mod inspect;
 mod limits;
+mod new;
 mod pack;
 mod plant;
 mod plc;
@@ -45,6 +46,7 @@ enum Command {
     Pack(pack::Args),
     Check(check::Args),
     Emit(emit::Args),
+    New(new::Args),
     Synth(synth::Args),
     Plant(plant::Args),
     Plc(plc::Args),
@@ -86,6 +88,7 @@ fn subcommand(cli: Cli) -> Result<ExitCode, Error> {
         Command::Pack(args) => pack::run(args),
         Command::Check(args) => check::run(args),
         Command::Emit(args) => emit::run(args),
+        Command::New(args) => new::run(args),
         Command::Synth(args) => synth::run(args),
         Command::Plant(args) => plant::run(args),
         Command::Plc(args) => plc::run(args),
@@ -115,17 +118,4 @@ pub fn is_broken_pipe(e: &(dyn StdError + 'static)) -> bool {
     false
 }
 
-/// `e` followed by each of its causes, separated by `: `.
-pub fn chain(e: &(dyn StdError + 'static)) -> String {
-    let mut out = e.to_string();
-    let mut cur = e.source();
-    while let Some(cause) = cur {
-        let text = cause.to_string();
-        if !out.ends_with(&text) {
-            out.push_str(": ");
-            out.push_str(&text);
-        }
-        cur = cause.source();
-    }
-    out
-}
+pub use codegen::project::build_script::chain;

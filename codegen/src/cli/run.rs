@@ -16,7 +16,7 @@ use super::Error;
 /// it, attach the virtual plant and run the closed loop; print the report (safety, liveness, coverage
 /// per supervisor, link). With `--target rp2040`, build the Pico firmware instead and run it on an
 /// emulated RP2040, the plant on its pins (`[board]`). Exit status 1 when the run saw a safety
-/// violation.
+/// violation. With `--elf`, run that firmware (a project of your own) instead of building one.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The project manifest (plants, specifications or supervisors, `[runtime]`, `[board]`) or a
@@ -37,6 +37,10 @@ pub struct Args {
     /// target: `ranked` on QEMU's Cortex-M3, `indexed` on the RP2040].
     #[arg(long, value_enum)]
     layout: Option<Layout>,
+    /// Run this firmware ELF instead of building one: a project of your own (`codegen new`, then
+    /// `cargo build --release`), built from the same manifest.
+    #[arg(long, value_name = "ELF")]
+    elf: Option<PathBuf>,
     /// Save the raw defmt frames the Pico firmware writes over RTT to FILE (`defmt-print -e ELF < FILE`).
     #[arg(long, value_name = "FILE")]
     rtt: Option<PathBuf>,
@@ -85,8 +89,13 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     }
     let options = args.run.options(&project.runtime);
     let scratch = Scratch::new()?;
-    eprintln!("codegen run: building the {} firmware for QEMU", project.name);
-    let elf = project.image(&scratch.0)?;
+    let elf = match &args.elf {
+        Some(elf) => elf.clone(),
+        None => {
+            eprintln!("codegen run: building the {} firmware for QEMU", project.name);
+            project.image(&scratch.0)?
+        }
+    };
     eprintln!(
         "codegen run: closed loop under QEMU for {} events, plant seed {}",
         options.events, options.plant.seed
@@ -120,8 +129,13 @@ fn run_rp2040(args: Args, mut project: Project) -> Result<ExitCode, Error> {
     let scratch = Scratch::new()?;
     let pins_file = scratch.0.join("pins.json");
     std::fs::write(&pins_file, pins).map_err(|e| format!("{}: {e}", pins_file.display()))?;
-    eprintln!("codegen run: building the {} firmware for the Pico", project.name);
-    let elf = project.pico_image(&scratch.0)?;
+    let elf = match &args.elf {
+        Some(elf) => elf.clone(),
+        None => {
+            eprintln!("codegen run: building the {} firmware for the Pico", project.name);
+            project.pico_image(&scratch.0)?
+        }
+    };
     eprintln!(
         "codegen run: closed loop on an emulated RP2040 for {} events, plant seed {}",
         options.events, options.plant.seed

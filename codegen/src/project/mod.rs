@@ -11,11 +11,13 @@
 //! | tables | [`Packed`] (`ranked`) | [`Project::tables`] |
 //! | emitted source | `String` | [`Project::emit`] |
 //! | firmware image | an ELF | [`Project::image`] (QEMU), [`Project::pico_image`] |
+//! | tables at build time | `$OUT_DIR/tables.rs` | [`build_script::main`] (a project's `build.rs`) |
 //!
 //! A [`Project`] carries a supervisor set with what the later stages need besides it: its name, the
 //! run-time configuration, the board's pin map and where it came from (the emitted header's inputs and
 //! command). [`comparison`] runs the other two architectures of the same problem for the size report.
 
+pub mod build_script;
 pub mod comparison;
 mod sources;
 
@@ -273,6 +275,11 @@ impl Project {
             Origin::Code => format!("closed loop of '{}' (automata built in code)", self.name),
         };
         words.replace('\\', "/")
+    }
+
+    /// Every input file as given (the manifest first, then the model files it names), in the order read.
+    pub fn input_paths(&self) -> Vec<String> {
+        self.inputs.iter().map(|i| i.path.clone()).collect()
     }
 
     /// The tables stage: the set in the firmware's `ranked` layout.

@@ -2,8 +2,8 @@
 //! directory on first use, so that an installed `codegen` runs a project from any directory: nothing is
 //! looked up in the checkout the binary was built in.
 //!
-//! `codegen/build.rs` embeds the runtime crate and the cell applications, the workspace's `Cargo.lock`, `rust-toolchain.toml`,
-//! `.cargo/config.toml`, a workspace manifest holding those two alone, and the RP2040 harness. They
+//! `codegen/build.rs` embeds the runtime crate, the cell applications, codegen's own crate, the workspace's `Cargo.lock`, `rust-toolchain.toml`,
+//! `.cargo/config.toml`, a workspace manifest holding those three alone, and the RP2040 harness. They
 //! are unpacked into `CACHE/firmware-VERSION-DIGEST/`, where `DIGEST` is the first 16 hex digits of the
 //! SHA-256 of every embedded path and its bytes: a binary with other sources unpacks beside, never over,
 //! another's. `CACHE` is `$SCT_CODEGEN_CACHE`, else `$XDG_CACHE_HOME/sct-codegen`, else
@@ -91,7 +91,7 @@ pub fn digest() -> &'static str {
     })
 }
 
-/// The root of the unpacked sources (a workspace of `firmware` and `apps/cell`), unpacked now if this
+/// The root of the unpacked sources (a workspace of `firmware`, `apps/cell` and `codegen`), unpacked now if this
 /// binary's sources are not in the cache yet.
 pub fn unpacked() -> Result<PathBuf, SourcesError> {
     unpack_into(&cache_dir()?)
@@ -158,9 +158,10 @@ pub fn harness_script() -> Result<PathBuf, SourcesError> {
 mod tests {
     use super::*;
 
-    /// The files the firmware build and the harness need are carried, and nothing of the host crates.
+    /// The files the firmware build, a project's build script and the harness need are carried, and
+    /// nothing of the end-to-end tests.
     #[test]
-    fn the_firmware_build_travels_and_the_host_crates_do_not() {
+    fn the_firmware_build_travels_and_the_tests_do_not() {
         let paths: Vec<&str> = embedded::FILES.iter().map(|(p, _)| *p).collect();
         for needed in [
             "Cargo.toml",
@@ -174,19 +175,25 @@ mod tests {
             "apps/cell/boards/lm3s6965/memory.x",
             "apps/cell/boards/pico/memory.x",
             "apps/cell/src/bin/cell_qemu/main.rs",
+            "codegen/Cargo.toml",
+            "codegen/build.rs",
+            "codegen/src/project/build_script.rs",
             "harness/rp2040/package-lock.json",
             "harness/rp2040/src/main.js",
         ] {
             assert!(paths.contains(&needed), "{needed} is not embedded");
         }
-        assert!(paths.iter().all(|p| !p.starts_with("codegen/") && !p.starts_with("tests/")), "{paths:?}");
+        assert!(
+            paths.iter().all(|p| !p.starts_with("codegen/tests/") && !p.starts_with("tests/")),
+            "{paths:?}"
+        );
         let mut sorted = paths.clone();
         sorted.sort_unstable();
         sorted.dedup();
         assert_eq!(sorted.len(), paths.len(), "each file once");
     }
 
-    /// The workspace manifest that travels holds the runtime and the applications alone, with the
+    /// The workspace manifest that travels holds the runtime, the applications and codegen alone, with the
     /// checkout's release profile.
     #[test]
     fn the_embedded_workspace_is_the_firmware_alone() {
@@ -194,7 +201,7 @@ mod tests {
         let manifest: toml::Table = std::str::from_utf8(bytes).unwrap().parse().unwrap();
         let members: Vec<&str> =
             manifest["workspace"]["members"].as_array().unwrap().iter().filter_map(|m| m.as_str()).collect();
-        assert_eq!(members, ["firmware", "apps/cell"]);
+        assert_eq!(members, ["firmware", "apps/cell", "codegen"]);
         assert_eq!(manifest["profile"]["release"]["opt-level"].as_str(), Some("s"));
         assert_eq!(manifest["profile"]["release"]["lto"].as_bool(), Some(true));
     }

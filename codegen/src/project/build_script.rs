@@ -1,0 +1,137 @@
+//! Tables at build time: what a firmware project's `build.rs` calls, with `codegen` as a
+//! build-dependency, so that editing the manifest or a model and running `cargo build` is the whole
+//! step from model to image (as prost-build or defmt generate their code).
+//!
+//! [`main`] loads the project's manifest (paths relative to the package, where cargo runs build
+//! scripts), emits its tables into `$OUT_DIR/tables.rs`, tells cargo to run it again when the manifest or
+//! any model file it names changes, and hands the file to the application as `SCT_TABLES_FILE` (the name
+//! the cell's applications in `apps/cell/` read, so one `main.rs` serves both). A bad manifest or model
+//! fails the build with the message the CLI prints, file and line included.
+
+use std::error::Error as StdError;
+use std::path::{Path, PathBuf};
+
+use super::{Project, ProjectError};
+
+/// Name of the emitted file in `$OUT_DIR`.
+pub const TABLES_FILE: &str = "tables.rs";
+
+/// The build-script step failed.
+#[derive(Debug, thiserror::Error)]
+pub enum BuildScriptError {
+    /// Cargo did not set `OUT_DIR`: the function runs outside a build script.
+    #[error("OUT_DIR is not set: call this from a build script")]
+    NoOutDir,
+    /// The project could not be loaded or emitted.
+    #[error(transparent)]
+    Project(Box<ProjectError>),
+    /// The tables could not be written.
+    #[error("{}: {source}", path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+}
+
+impl From<ProjectError> for BuildScriptError {
+    fn from(e: ProjectError) -> Self {
+        BuildScriptError::Project(Box::new(e))
+    }
+}
+
+/// Emits the tables of the manifest at `manifest` into `out_dir/tables.rs`; returns that path and the
+/// files cargo must watch (the manifest and every model file it names).
+pub fn emit_into(manifest: &Path, out_dir: &Path) -> Result<(PathBuf, Vec<String>), BuildScriptError> {
+    let project = Project::load(manifest)?;
+    let text = project.emit().map_err(ProjectError::from)?;
+    let path = out_dir.join(TABLES_FILE);
+    // Written only when changed, so a build that changed nothing recompiles nothing.
+    if std::fs::read_to_string(&path).ok().as_deref() != Some(text.as_str()) {
+        std::fs::write(&path, &text)
+            .map_err(|source| BuildScriptError::Write { path: path.clone(), source })?;
+    }
+    Ok((path, project.input_paths()))
+}
+
+/// A firmware project's whole `build.rs`: emits the tables of `manifest` into `$OUT_DIR`, prints the
+/// cargo directives (watch the inputs, `SCT_TABLES_FILE`), and on error prints `error: …` with its
+/// causes, as the CLI does, and fails the build (exit status 2).
+pub fn main(manifest: &str) {
+    let out_dir = std::env::var_os("OUT_DIR").map(PathBuf::from).ok_or(BuildScriptError::NoOutDir);
+    match out_dir.and_then(|dir| emit_into(Path::new(manifest), &dir)) {
+        Ok((tables, inputs)) => {
+            println!("cargo:rerun-if-changed={manifest}");
+            for input in inputs {
+                println!("cargo:rerun-if-changed={input}");
+            }
+            println!("cargo:rustc-env=SCT_TABLES_FILE={}", tables.display());
+        }
+        Err(e) => {
+            // Watch the manifest even now: fixing it must rerun the script.
+            println!("cargo:rerun-if-changed={manifest}");
+            eprintln!("error: {}", chain(&e));
+            std::process::exit(2);
+        }
+    }
+}
+
+/// `e` followed by each of its causes, separated by `: ` (a cause its parent's text already ends with
+/// is not repeated): the one form in which the CLI and build scripts print errors.
+pub fn chain(e: &(dyn StdError + 'static)) -> String {
+    let mut out = e.to_string();
+    let mut cur = e.source();
+    while let Some(cause) = cur {
+        let text = cause.to_string();
+        if !out.ends_with(&text) {
+            out.push_str(": ");
+            out.push_str(&text);
+        }
+        cur = cause.source();
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scratch(tag: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("build-script-{tag}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    fn cell() -> PathBuf {
+        [env!("CARGO_MANIFEST_DIR"), "..", "examples", "cell", "cell.toml"].iter().collect()
+    }
+
+    /// The file written is what `codegen emit` writes for the same manifest, and the inputs to watch are
+    /// the manifest and its model files.
+    #[test]
+    fn writes_the_emitted_tables_and_names_every_input() {
+        let out = scratch("ok");
+        let (path, inputs) = emit_into(&cell(), &out).unwrap();
+        assert_eq!(path, out.join(TABLES_FILE));
+        let expected = Project::load(&cell()).unwrap().emit().unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), expected);
+        assert!(inputs[0].ends_with("cell/cell.toml"), "{inputs:?}");
+        assert!(inputs.len() > 1 && inputs[1..].iter().all(|i| !i.ends_with(".toml")), "{inputs:?}");
+        std::fs::remove_dir_all(out).unwrap();
+    }
+
+    /// A model error names the file and line, as the CLI's message does.
+    #[test]
+    fn a_bad_model_fails_with_its_file_and_line() {
+        let dir = scratch("bad");
+        std::fs::write(dir.join("p.gen"), "not an automaton\n").unwrap();
+        std::fs::write(dir.join("sct.toml"), "name = \"x\"\nplants = [\"p.gen\"]\n").unwrap();
+        let e = emit_into(&dir.join("sct.toml"), &dir).unwrap_err();
+        let text = chain(&e);
+        assert!(text.contains("p.gen"), "{text}");
+        assert!(!dir.join(TABLES_FILE).exists());
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+}

@@ -1,0 +1,141 @@
+//! A firmware project of the user's own: `codegen new DIR --board pico` with DIR outside the checkout,
+//! `cargo build --release` inside it (the tables emitted by its build script, codegen a
+//! build-dependency), the ELF run closed loop on the emulated RP2040 by `codegen run --elf`; then the
+//! manifest edited (a specification dropped) and the project built again with no other step changes
+//! its tables and its image; and a broken model fails the build with the file named.
+//!
+//! The projects build into one target directory under the checkout's (`target/new-project`), with the
+//! carried sources unpacked beside it, so the dependencies compile once across runs.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// A directory removed when dropped.
+struct Temp(PathBuf);
+
+impl Drop for Temp {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn repo(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(rel)
+}
+
+/// The shared target directory and cache of the generated projects.
+fn shared() -> (PathBuf, PathBuf) {
+    let dir = repo("target/new-project");
+    (dir.join("target"), dir.join("cache"))
+}
+
+/// `codegen ARGS` in `dir`, with the shared cache.
+fn codegen(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_codegen"))
+        .args(args)
+        .current_dir(dir)
+        .env("SCT_CODEGEN_CACHE", shared().1)
+        .output()
+        .unwrap()
+}
+
+/// `cargo build --release` in the project `dir`, as a user runs it (the cargo on `PATH`).
+fn cargo_build(dir: &Path) -> Output {
+    Command::new("cargo")
+        .args(["build", "--release"])
+        .current_dir(dir)
+        .env_remove("CARGO")
+        .env_remove("RUSTFLAGS")
+        .env_remove("CARGO_BUILD_TARGET")
+        .env("CARGO_TARGET_DIR", shared().0)
+        .output()
+        .unwrap()
+}
+
+/// The emitted tables of the newest build of package `name` (its build script's `OUT_DIR`).
+fn tables(target: &Path, name: &str) -> String {
+    let build = target.join("thumbv6m-none-eabi/release/build");
+    let newest = std::fs::read_dir(&build)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.file_name().is_some_and(|n| n.to_string_lossy().starts_with(&format!("{name}-"))))
+        .map(|p| p.join("out/tables.rs"))
+        .filter(|p| p.is_file())
+        .max_by_key(|p| std::fs::metadata(p).and_then(|m| m.modified()).unwrap())
+        .expect("the build script wrote its tables");
+    std::fs::read_to_string(newest).unwrap()
+}
+
+fn text(out: &Output) -> String {
+    format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr))
+}
+
+#[test]
+fn a_new_pico_project_builds_outside_the_checkout_runs_closed_loop_and_follows_its_manifest() {
+    let temp = Temp(std::env::temp_dir().join(format!("codegen-new-project-{}", std::process::id())));
+    std::fs::create_dir_all(&temp.0).unwrap();
+    let dir = temp.0.join("cell-pico");
+    let out = codegen(&temp.0, &["new", "cell-pico", "--board", "pico"]);
+    assert!(out.status.success(), "{}", text(&out));
+    for file in
+        ["Cargo.toml", "Cargo.lock", "memory.x", ".cargo/config.toml", "build.rs", "src/main.rs", "README.md"]
+    {
+        assert!(dir.join(file).is_file(), "{file} missing");
+    }
+    let config = std::fs::read_to_string(dir.join(".cargo/config.toml")).unwrap();
+    assert!(
+        config.contains("probe-rs run --chip RP2040") && config.contains("thumbv6m-none-eabi"),
+        "{config}"
+    );
+    assert!(
+        !codegen(&temp.0, &["new", "cell-pico", "--board", "pico"]).status.success(),
+        "a second new over it"
+    );
+
+    let built = cargo_build(&dir);
+    assert!(built.status.success(), "{}", text(&built));
+    let target = shared().0;
+    let elf = target.join("thumbv6m-none-eabi/release/cell-pico");
+    let image = std::fs::read(&elf).unwrap();
+    let before = tables(&target, "cell-pico");
+
+    let ran = codegen(
+        &dir,
+        &[
+            "run",
+            "--target",
+            "rp2040",
+            "--elf",
+            elf.to_str().unwrap(),
+            "model/cell.toml",
+            "--events",
+            "5000",
+            "--json",
+        ],
+    );
+    assert_eq!(ran.status.code(), Some(0), "{}", text(&ran));
+    let json: serde_json::Value = serde_json::from_slice(&ran.stdout).unwrap();
+    assert_eq!(json["violations"].as_u64(), Some(0), "{json}");
+    assert!(json["full_coverage_at"].is_u64(), "coverage not complete: {}", json["coverage"]);
+
+    // Edit the manifest (E7 dropped), build again: new tables, new image, no other step.
+    let manifest = dir.join("model/cell.toml");
+    let edited = std::fs::read_to_string(&manifest).unwrap().replace("  \"specs/E7.xmd\",\n", "");
+    std::fs::write(&manifest, edited).unwrap();
+    let rebuilt = cargo_build(&dir);
+    assert!(rebuilt.status.success(), "{}", text(&rebuilt));
+    let after = tables(&target, "cell-pico");
+    assert_ne!(before, after, "the tables follow the manifest");
+    assert!(!after.contains("E7") && before.contains("E7"));
+    assert_ne!(std::fs::read(&elf).unwrap(), image, "the image follows the tables");
+
+    // A broken model fails the build, naming the file as the CLI does.
+    std::fs::write(dir.join("model/plants/G1.xmd"), "<Automaton broken").unwrap();
+    let failed = cargo_build(&dir);
+    assert!(!failed.status.success());
+    assert!(
+        text(&failed).contains("error: model/cell.toml: plants[0]: model/plants/G1.xmd: line 1"),
+        "{}",
+        text(&failed)
+    );
+}
