@@ -131,7 +131,7 @@ pub fn say_conflict_check(check: Option<&Arc<Check>>) -> bool {
 }
 
 /// A count as JSON: a number while it fits in 64 bits, else its decimal string.
-fn count(n: &BigUint) -> serde_json::Value {
+pub fn count(n: &BigUint) -> serde_json::Value {
     u64::try_from(n).map_or_else(|_| json!(n.to_string()), |v| json!(v))
 }
 

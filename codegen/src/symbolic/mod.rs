@@ -13,7 +13,9 @@
 //!   transition relation partitioned per event over the components holding it;
 //! - `fixpoint`: reachability, co-reachability and supC as the greatest fixed point, with progress and
 //!   the memory limit;
-//! - `extract`: the explicit automaton of a result small enough to list ([`Options::explicit_limit`]).
+//! - `extract`: the explicit automaton of a result small enough to list ([`Options::explicit_limit`]);
+//! - [`Guards`]: the state feedback of the monolithic supervisor read off its BDDs, a guard per
+//!   controllable event over the plants' state bits, and rewritten over the plants' signals.
 //!
 //! [`monolithic`] gives the exact state and transition counts of the monolithic supervisor (numbers
 //! beyond 2⁶⁴ included) and, when it is small enough, the supervisor itself — the same automaton as
@@ -25,6 +27,7 @@
 mod encoding;
 mod extract;
 mod fixpoint;
+mod guard;
 mod order;
 #[cfg(test)]
 mod tests;
@@ -33,6 +36,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use num_bigint::BigUint;
 
+pub use guard::{Guard, Guards};
 pub use order::Order;
 
 use crate::model::{Automaton, Dfa};
