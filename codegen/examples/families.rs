@@ -7,7 +7,7 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use codegen::formats::write_path;
-use codegen::synth::families::{generate, random_seeded, FAMILIES};
+use codegen::synth::families::{generate, random_seeded, state_section, FAMILIES};
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -48,6 +48,9 @@ fn main() -> ExitCode {
                 return ExitCode::from(2);
             }
         }
+    }
+    if let Some(state) = state_section(family, n) {
+        manifest.push_str(&state);
     }
     let path = dir.join(format!("{}.toml", inst.name));
     if let Err(e) = std::fs::write(&path, manifest) {

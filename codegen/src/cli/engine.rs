@@ -21,8 +21,8 @@ pub enum Engine {
     Explicit,
     /// Binary decision diagrams.
     Symbolic,
-    /// Explicit while the product stays below a million states (monolithic) or 2^24 possible states
-    /// (the conflict check), symbolic beyond.
+    /// Explicit while the product (monolithic, or the supervisors' product of the conflict check) stays
+    /// below a million states, symbolic beyond.
     Auto,
 }
 
@@ -110,10 +110,11 @@ impl Engine {
     }
 
     /// For modular synthesis: the symbolic conflict check, if this engine uses one (`auto`: only on
-    /// supervisor products from 2^[`AUTO_PRODUCT_BITS`](symbolic::AUTO_PRODUCT_BITS) states).
+    /// supervisor products the explicit check stopped at [`AUTO_EXPLICIT_STATES`]).
     pub fn conflict_check(self, options: Options) -> Option<Arc<Check>> {
+        let explicit_states = if self == Engine::Auto { AUTO_EXPLICIT_STATES } else { 0 };
         (self != Engine::Explicit)
-            .then(|| Arc::new(Check { options, auto: self == Engine::Auto, ran: Default::default() }))
+            .then(|| Arc::new(Check { options, explicit_states, ran: Default::default() }))
     }
 }
 
@@ -130,7 +131,7 @@ pub fn say_conflict_check(check: Option<&Arc<Check>>) -> bool {
 }
 
 /// A count as JSON: a number while it fits in 64 bits, else its decimal string.
-fn count(n: &BigUint) -> serde_json::Value {
+pub fn count(n: &BigUint) -> serde_json::Value {
     u64::try_from(n).map_or_else(|_| json!(n.to_string()), |v| json!(v))
 }
 

@@ -9,8 +9,10 @@ use codegen::net::{interpretation, Interpretation};
 use codegen::plc::state_based::StateError;
 use codegen::plc::{Avalanche, Encoding};
 use codegen::project::{Project, ProjectError};
+use codegen::symbolic::Options;
+use codegen::synth::Config;
 
-use super::Error;
+use super::{engine, limits, Error};
 
 /// The sequence net of the manifest `path` when it has a `[net]` section, bound to the project's
 /// events: it runs beside the interlocks in the one program ([`codegen::plc::net_program`]).
@@ -61,6 +63,16 @@ pub struct Args {
     /// `[state] exact = true`).
     #[arg(long)]
     exact: bool,
+    /// `--encoding state`: where f comes from — `explicit` (the closed loop of the local modular set,
+    /// listed state by state) or `symbolic` (a guard per controllable event read off the BDDs of the
+    /// monolithic supervisor of the manifest's specifications: for plants whose closed loop is too large
+    /// to list).
+    #[arg(long, value_enum, default_value_t = StateEngine::Explicit)]
+    engine: StateEngine,
+    /// `--encoding state --engine symbolic`: stop when the BDDs grow the process past this resident
+    /// size (512M, 2G, none) [default: three quarters of the machine's RAM].
+    #[arg(long, value_name = "SIZE", value_parser = limits::parse_size)]
+    memory_limit: Option<limits::MemoryLimit>,
     /// Avalanche elimination in the bits encoding.
     #[arg(long, value_enum, default_value_t = Avalanche::Auto)]
     avalanche: Avalanche,
@@ -73,6 +85,15 @@ pub struct Args {
     /// The directory to write to (created if missing).
     #[arg(short, long, value_name = "DIR")]
     output: PathBuf,
+}
+
+/// `--engine`: where the state-based program's feedback comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum StateEngine {
+    /// The explicit closed loop.
+    Explicit,
+    /// Guards off the symbolic engine's BDDs.
+    Symbolic,
 }
 
 /// `--encoding`: the event-based encodings, or the state-based program.
@@ -99,10 +120,12 @@ fn write(dir: &Path, files: &[(String, String)]) -> Result<(), Error> {
 /// The state-based program: files, then the report (JSON under `sfbc`). Memory deciding where memory is
 /// not allowed is a finding (exit 1, the plant states with their traces on stderr).
 fn state(project: &Project, args: &Args) -> Result<ExitCode, Error> {
+    if args.engine == StateEngine::Symbolic {
+        return state_symbolic(project, args);
+    }
     let out = match project.state_plc(args.memory, args.exact) {
         Ok(out) => out,
-        Err(e @ ProjectError::State { .. }) if matches!(&e, ProjectError::State { source, .. } if matches!(**source, StateError::Memory(_))) =>
-        {
+        Err(e) if memory_decides(&e) => {
             eprintln!("{e}");
             return Ok(ExitCode::from(1));
         }
@@ -126,11 +149,87 @@ fn state(project: &Project, args: &Args) -> Result<ExitCode, Error> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// Whether `e` is the supervisors' memory deciding an event (a finding, not bad input).
+fn memory_decides(e: &ProjectError) -> bool {
+    matches!(e, ProjectError::State { source, .. } if matches!(**source, StateError::Memory(_)))
+}
+
+/// The state-based program from guards off the BDDs: files, then the figures (reachable plant states,
+/// exact; per rung its products, literals and the guard's BDD nodes), JSON with `--json`.
+fn state_symbolic(project: &Project, args: &Args) -> Result<ExitCode, Error> {
+    if args.memory {
+        return Err("--memory keeps supervisors as memory: it needs --engine explicit".into());
+    }
+    let (observer, bar) = limits::progress();
+    let cfg = Config {
+        memory_limit: limits::memory_limit(args.memory_limit),
+        observer: Some(observer),
+        ..Config::default()
+    };
+    let result = project.state_plc_guards(args.exact, &cfg, &Options::default());
+    bar.inspect(|b| b.finish_and_clear());
+    let (program, guards) = match result {
+        Ok(r) => r,
+        Err(e) if memory_decides(&e) => {
+            eprintln!("{e}");
+            return Ok(ExitCode::from(1));
+        }
+        Err(e) => return Err(e.into()),
+    };
+    eprintln!("engine: the guards were read off the symbolic supervisor's BDDs");
+    write(&args.output, &program.files)?;
+    let reachable = guards.count(&guards.reachable);
+    let rows: Vec<(String, usize, usize, usize)> = program
+        .rungs
+        .iter()
+        .map(|r| {
+            let nodes = guards.guards.iter().find(|g| g.event == r.event).map_or(0, |g| g.allowed.size());
+            (r.event.clone(), r.cubes.len(), r.cubes.iter().map(|c| c.len()).sum(), nodes)
+        })
+        .collect();
+    if args.json {
+        let files: Vec<&str> = program.files.iter().map(|(n, _)| n.as_str()).collect();
+        let rungs: Vec<_> = rows
+            .iter()
+            .map(|(e, p, l, n)| serde_json::json!({ "event": e, "products": p, "literals": l, "bdd_nodes": n }))
+            .collect();
+        let json = serde_json::json!({
+            "schema": 1,
+            "name": project.name,
+            "encoding": "state",
+            "engine": "symbolic",
+            "files": files,
+            "reachable_plant_states": engine::count(&reachable),
+            "rungs": rungs,
+        });
+        println!("{}", serde_json::to_string_pretty(&json)?);
+    } else {
+        println!("reachable plant states: {reachable}");
+        println!("rung  products  literals  guard BDD nodes");
+        for (e, p, l, n) in &rows {
+            println!("{e}  {p}  {l}  {n}");
+        }
+        println!("written to {}", args.output.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
 /// Runs `plc`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
     let project = match args.files.as_slice() {
+        // Guards off the BDDs are for sets too large to list: the local modular set's conflict check
+        // runs on BDDs too.
         [one] if is_manifest(one) && args.plants.is_empty() && args.supervisors.is_empty() => {
-            Project::load(one)?
+            match (args.encoding, args.engine) {
+                (EncodingArg::State, StateEngine::Symbolic) => {
+                    let check = engine::Engine::Symbolic.conflict_check(Options::default());
+                    Project::load_with(
+                        one,
+                        &Config { nonblocking: check.map(|c| c as _), ..Config::default() },
+                    )?
+                }
+                _ => Project::load(one)?,
+            }
         }
         files => {
             let plants: Vec<PathBuf> = files.iter().chain(&args.plants).cloned().collect();

@@ -48,7 +48,7 @@ pub struct Args {
     #[arg(long, value_name = "SIZE", value_parser = limits::parse_size)]
     memory_limit: Option<limits::MemoryLimit>,
     /// Synthesis engine: explicit states, symbolic (BDDs: monolithic supC, the conflict check of modular
-    /// sets), or auto (symbolic from 2^24 product states). Stderr says which ran.
+    /// sets), or auto (explicit first, symbolic once a product passes a million states). Stderr says which ran.
     #[arg(long, value_enum, default_value_t = Engine::Explicit)]
     engine: Engine,
     /// The symbolic engine's variable order.

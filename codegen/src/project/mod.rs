@@ -25,14 +25,16 @@ pub use sources::{Loaded, Sources};
 
 use std::path::{Path, PathBuf};
 
-use crate::config::{BoardSpec, PlcSpec, RuntimeConfig, ScanPolicy, StateSpec};
+use crate::config::{BoardSpec, PlcSpec, RuntimeConfig, ScanPolicy, Signals, StateSpec};
 use crate::emit::{self, EmitError, Input, Provenance};
 use crate::manifest::{is_manifest, read_board, ManifestError, ModelSet};
 use crate::model::Automaton;
 use crate::pack::ranked::{self, Packed};
 use crate::pack::{PackError, PackSet};
+use crate::plc::state_based::guards::GuardProgram;
 use crate::plc::state_based::{self, StateError};
 use crate::plc::{self, Avalanche, Encoding, PlcError, PlcOptions};
+use crate::symbolic::{self, Guards};
 use crate::synth::{local_modular, Config, Supervisor, SynthError};
 use crate::target::image::{build_pico_image, build_qemu_image, ImageError};
 
@@ -139,7 +141,12 @@ pub fn synthesise(mut models: ModelSet, cfg: &Config) -> Result<(ModelSet, Vec<S
 /// Loaded models → supervisor set: the models with their supervisors ([`supervisors`]), plants first,
 /// over one event numbering.
 pub fn supervisor_set(loaded: &Loaded) -> Result<PackSet, ProjectError> {
-    let models = supervisors(loaded.models.clone())?;
+    supervisor_set_with(loaded, &Config::default())
+}
+
+/// [`supervisor_set`] with the supervisors synthesised under `cfg` (its limits, its conflict check).
+pub fn supervisor_set_with(loaded: &Loaded, cfg: &Config) -> Result<PackSet, ProjectError> {
+    let models = synthesise(loaded.models.clone(), cfg)?.0;
     if models.supervisors.is_empty() && models.plants.is_empty() {
         let file = loaded.inputs.first().cloned().unwrap_or_default();
         return Err(ProjectError::Nothing { file });
@@ -156,11 +163,17 @@ impl Project {
     /// The project of the manifest at `path`: its supervisor set ([`supervisor_set`]), `[runtime]` and
     /// `[board]`, and the hashes of the manifest and every model file it names.
     pub fn load(path: &Path) -> Result<Project, ProjectError> {
+        Project::load_with(path, &Config::default())
+    }
+
+    /// [`Project::load`] with the supervisors synthesised under `cfg` (for example with the symbolic
+    /// conflict check, when the supervisors' product is too large to build state by state).
+    pub fn load_with(path: &Path, cfg: &Config) -> Result<Project, ProjectError> {
         if !is_manifest(path) {
             return Err(ManifestError::NotAProject { file: path.to_owned() }.into());
         }
         let loaded = Sources::project(&[path.to_owned()]).load()?;
-        let set = supervisor_set(&loaded)?;
+        let set = supervisor_set_with(&loaded, cfg)?;
         let inputs = loaded.inputs.iter().map(|f| hash(f)).collect::<Result<_, _>>()?;
         let Some(m) = loaded.manifest else {
             return Err(ManifestError::NotAProject { file: path.to_owned() }.into());
@@ -345,29 +358,61 @@ impl Project {
     /// vectors, memory allowed with `memory` (or `[state] memory`), F_σ exact with `exact` (or
     /// `[state] exact`), the event-based program's figures beside. Errors name the manifest.
     pub fn state_plc(&self, memory: bool, exact: bool) -> Result<state_based::Output, ProjectError> {
+        let flags = [(memory, " --memory"), (exact, " --exact")];
+        let (signals, opts, provenance) = self.state_setup(&flags).map_err(|e| self.in_file(e))?;
+        let event_based = self.plc(Encoding::Int, Avalanche::Auto, None).ok();
+        let report = event_based.as_ref().map(|o| &o.report);
+        state_based::generate(&self.set, signals, &opts, memory, exact, &provenance, report)
+            .map_err(|e| self.in_file(e))
+    }
+
+    /// The state-based program from guards read off the symbolic engine's BDDs (`--engine symbolic`):
+    /// the monolithic supervisor of the manifest's plants and specifications synthesised on BDDs
+    /// ([`Guards`]), F_σ per controllable event rewritten over the `[state]` signals. Needs a manifest
+    /// with specifications; the supervisor's memory deciding somewhere is [`StateError::Memory`].
+    pub fn state_plc_guards(
+        &self,
+        exact: bool,
+        cfg: &Config,
+        options: &symbolic::Options,
+    ) -> Result<(GuardProgram, Guards), ProjectError> {
+        let Origin::Manifest { path, .. } = &self.origin else {
+            return Err(ManifestError::NotAProject { file: PathBuf::from(&self.name) }.into());
+        };
+        let models = Sources::project(std::slice::from_ref(path)).load()?.models;
+        if models.specs.is_empty() {
+            return Err(ProjectError::Nothing { file: path.clone() });
+        }
+        let flags = [(exact, " --exact"), (true, " --engine symbolic")];
+        let (signals, opts, provenance) = self.state_setup(&flags).map_err(|e| self.in_file(e))?;
+        let guards = Guards::compute(&models.plants, &models.specs, cfg, options)?;
+        let program = state_based::guards::generate(&self.set, signals, &guards, &opts, exact, &provenance)
+            .map_err(|e| self.in_file(e))?;
+        Ok((program, guards))
+    }
+
+    /// A state-based program's error, in the manifest (or the set's name without one).
+    fn in_file(&self, source: StateError) -> ProjectError {
         let file = match &self.origin {
             Origin::Manifest { path, .. } => path.clone(),
             Origin::Files { .. } | Origin::Code => PathBuf::from(&self.name),
         };
-        let in_file =
-            |source: StateError| ProjectError::State { file: file.clone(), source: Box::new(source) };
-        let signals =
-            self.state.as_ref().ok_or(StateError::Missing).and_then(|s| Ok(s.check()?)).map_err(in_file)?;
+        ProjectError::State { file, source: Box::new(source) }
+    }
+
+    /// The checked `[state]` signals, the PLC options and the provenance of a state-based program whose
+    /// command adds the words of the `flags` that are set.
+    fn state_setup(&self, flags: &[(bool, &str)]) -> Result<(Signals, PlcOptions, Provenance), StateError> {
+        let signals = self.state.as_ref().ok_or(StateError::Missing).and_then(|s| Ok(s.check()?))?;
         let opts = PlcOptions::new(&self.name, &self.runtime, self.plc.as_ref(), Some(ScanPolicy::First))
-            .map_err(|e| in_file(StateError::Vector { key: "plc".into(), message: e.to_string() }))?;
+            .map_err(|e| StateError::Vector { key: "plc".into(), message: e.to_string() })?;
         let mut words = self.plc_command(&opts);
         words.truncate(words.find(" --encoding").unwrap_or(words.len()));
         words.push_str(" --encoding state");
-        if memory {
-            words.push_str(" --memory");
+        for (_, word) in flags.iter().filter(|(on, _)| *on) {
+            words.push_str(word);
         }
-        if exact {
-            words.push_str(" --exact");
-        }
-        let provenance = Provenance { inputs: self.inputs.clone(), command: words };
-        let event_based = self.plc(Encoding::Int, Avalanche::Auto, None).ok();
-        let report = event_based.as_ref().map(|o| &o.report);
-        state_based::generate(&self.set, signals, &opts, memory, exact, &provenance, report).map_err(in_file)
+        Ok((signals, opts, Provenance { inputs: self.inputs.clone(), command: words }))
     }
 
     /// The command that reproduces a PLC program, paths as given, every option spelt out.

@@ -13,18 +13,21 @@
 //!   transition relation partitioned per event over the components holding it;
 //! - `fixpoint`: reachability, co-reachability and supC as the greatest fixed point, with progress and
 //!   the memory limit;
-//! - `extract`: the explicit automaton of a result small enough to list ([`Options::explicit_limit`]).
+//! - `extract`: the explicit automaton of a result small enough to list ([`Options::explicit_limit`]);
+//! - [`Guards`]: the state feedback of the monolithic supervisor read off its BDDs, a guard per
+//!   controllable event over the plants' state bits, and rewritten over the plants' signals.
 //!
 //! [`monolithic`] gives the exact state and transition counts of the monolithic supervisor (numbers
 //! beyond 2⁶⁴ included) and, when it is small enough, the supervisor itself — the same automaton as
 //! [`synth::monolithic`](crate::synth::monolithic) up to state numbering. [`Check`] plugs the symbolic
 //! nonblocking check into the conflict check of the modular architectures
-//! ([`Config::nonblocking`](crate::synth::Config::nonblocking)). [`AUTO_EXPLICIT_STATES`] and
-//! [`AUTO_PRODUCT_BITS`] are the `auto` engine's thresholds.
+//! ([`Config::nonblocking`](crate::synth::Config::nonblocking)). [`AUTO_EXPLICIT_STATES`] is the `auto`
+//! engine's threshold: the explicit engine runs first, the symbolic one when its product passes it.
 
 mod encoding;
 mod extract;
 mod fixpoint;
+mod guard;
 mod order;
 #[cfg(test)]
 mod tests;
@@ -33,6 +36,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use num_bigint::BigUint;
 
+pub use guard::{Guard, Guards};
 pub use order::Order;
 
 use crate::model::{Automaton, Dfa};
@@ -43,13 +47,11 @@ use fixpoint::Walk;
 /// Largest supervisor (states) [`monolithic`] lists as an explicit automaton by default.
 pub const EXPLICIT_LIMIT: u64 = 1_000_000;
 
-/// Product size (states of the product of all components, an upper bound of the reachable part) from
-/// which the `auto` engine runs the conflict check symbolically: 2²⁴, about 1.7·10⁷.
-pub const AUTO_PRODUCT_BITS: f64 = 24.0;
-
-/// States the `auto` engine lets an explicit monolithic product reach before it stops it and runs the
-/// symbolic engine instead: below it the explicit engine is faster (listing a symbolic supervisor of
-/// this size as an automaton costs about as much as the explicit synthesis).
+/// States the `auto` engine lets an explicit product (the monolithic one, or the supervisors' product of
+/// a conflict check) reach before it stops it and runs the symbolic engine instead: below it the
+/// explicit engine is faster (listing a symbolic supervisor of this size as an automaton costs about as
+/// much as the explicit synthesis, and a conflict check's reachable product is often tiny where its
+/// BDD relations are not). Measured in `docs/symbolic.md`.
 pub const AUTO_EXPLICIT_STATES: usize = 1_000_000;
 
 /// Settings of the symbolic engine.
@@ -152,25 +154,21 @@ fn nonblocking_dfas(
 pub struct Check {
     /// Settings of the symbolic engine.
     pub options: Options,
-    /// Whether to decline products below 2^[`AUTO_PRODUCT_BITS`] states (the `auto` engine), leaving
-    /// them to the explicit check.
-    pub auto: bool,
+    /// States the explicit check may build before this one runs: [`AUTO_EXPLICIT_STATES`] for the
+    /// `auto` engine, `0` (symbolic right away) for the symbolic one.
+    pub explicit_states: usize,
     /// Whether a check ran symbolically (for the CLI to say which engine ran).
     pub ran: AtomicBool,
 }
 
 impl NonblockingCheck for Check {
-    fn nonblocking(&self, dfas: &[&Dfa], cfg: &Config, what: &str) -> Result<Option<bool>, SynthError> {
-        if self.auto && product_bits(dfas.iter().map(|d| d.state_count())) < AUTO_PRODUCT_BITS {
-            return Ok(None);
-        }
+    fn explicit_states(&self) -> usize {
+        self.explicit_states
+    }
+
+    fn nonblocking(&self, dfas: &[&Dfa], cfg: &Config, what: &str) -> Result<bool, SynthError> {
         self.ran.store(true, Ordering::Relaxed);
         // Nonblocking does not depend on controllability: every event counts as controllable.
-        nonblocking_dfas(dfas, &[], cfg, &self.options, what).map(Some)
+        nonblocking_dfas(dfas, &[], cfg, &self.options, what)
     }
-}
-
-/// log2 of the product of `sizes` (state counts).
-fn product_bits(sizes: impl Iterator<Item = usize>) -> f64 {
-    sizes.map(|n| (n.max(1) as f64).log2()).sum()
 }

@@ -50,15 +50,29 @@ fn same_supervisor(plants: &[Automaton], specs: &[Automaton]) -> Result<(), Test
     Ok(())
 }
 
-/// The symbolic conflict check of the unmerged local modular set agrees with the explicit one.
-fn same_conflict_verdict(plants: &[Automaton], specs: &[Automaton]) -> Result<(), TestCaseError> {
-    let hooked = Config { nonblocking: Some(std::sync::Arc::new(Check::default())), ..no_merge() };
+/// A configuration whose conflict check lets the explicit engine build `explicit_states` states first
+/// (`0`: the symbolic engine; a small number: `auto` switching to the symbolic engine mid-way).
+fn hooked(explicit_states: usize) -> (Config, std::sync::Arc<Check>) {
+    let check = std::sync::Arc::new(Check { explicit_states, ..Check::default() });
+    (Config { nonblocking: Some(check.clone()), ..no_merge() }, check)
+}
+
+/// The symbolic conflict check of the unmerged local modular set agrees with the explicit one, and so
+/// does the `auto` check whether it stays explicit (a cap above the product) or switches to the symbolic
+/// engine mid-way (a cap of `auto_cap` states, below it).
+fn same_conflict_verdict(
+    plants: &[Automaton],
+    specs: &[Automaton],
+    auto_cap: usize,
+) -> Result<(), TestCaseError> {
     let set = match local_modular(plants, specs, &no_merge()) {
         Ok(set) => set,
         // A specification with no supervisor: no set to check for conflict, with either check.
         Err(crate::synth::SynthError::NoSupervisor(_)) => {
-            let symbolic = local_modular(plants, specs, &hooked);
-            prop_assert!(matches!(symbolic, Err(crate::synth::SynthError::NoSupervisor(_))));
+            for explicit_states in [0, auto_cap, AUTO_EXPLICIT_STATES] {
+                let hooked = local_modular(plants, specs, &hooked(explicit_states).0);
+                prop_assert!(matches!(hooked, Err(crate::synth::SynthError::NoSupervisor(_))));
+            }
             return Ok(());
         }
         Err(e) => return Err(TestCaseError::fail(e.to_string())),
@@ -66,7 +80,19 @@ fn same_conflict_verdict(plants: &[Automaton], specs: &[Automaton]) -> Result<()
     let sups: Vec<Automaton> = set.supervisors.into_iter().map(|s| s.automaton).collect();
     let explicit = verify::nonblocking(&sups, &Config::default()).unwrap().is_none();
     prop_assert_eq!(nonblocking(&sups, &Config::default(), &Options::default()).unwrap(), explicit);
-    prop_assert_eq!(local_modular(plants, specs, &hooked).unwrap().nonconflicting, explicit);
+    let product = crate::synth::product(&sups, &Config::default()).unwrap().states.len();
+    for explicit_states in [0, auto_cap, AUTO_EXPLICIT_STATES] {
+        let (cfg, check) = hooked(explicit_states);
+        prop_assert_eq!(
+            local_modular(plants, specs, &cfg).unwrap().nonconflicting,
+            explicit,
+            "cap {}",
+            explicit_states
+        );
+        // The symbolic engine ran exactly when the explicit product passed the cap (or there was none).
+        let symbolic = check.ran.load(Ordering::Relaxed);
+        prop_assert_eq!(symbolic, product > explicit_states, "cap {}", explicit_states);
+    }
     Ok(())
 }
 
@@ -88,14 +114,14 @@ proptest! {
         let plants = [with_kind(g0, Kind::Plant), with_kind(g1, Kind::Plant)];
         let specs = [with_kind(e0, Kind::Spec), with_kind(e1, Kind::Spec)];
         same_supervisor(&plants, &specs)?;
-        same_conflict_verdict(&plants, &specs)?;
+        same_conflict_verdict(&plants, &specs, 3)?;
     }
 
     #[test]
     fn random_families_give_the_explicit_supervisor(n in 2usize..=4, seed in 1u64..u64::MAX) {
         let inst = random_seeded(n, seed);
         same_supervisor(&inst.plants, &inst.specs)?;
-        same_conflict_verdict(&inst.plants, &inst.specs)?;
+        same_conflict_verdict(&inst.plants, &inst.specs, 3)?;
     }
 }
 
@@ -106,7 +132,7 @@ fn the_families_give_the_explicit_supervisors() {
     {
         let inst = generate(family, n).unwrap();
         same_supervisor(&inst.plants, &inst.specs).unwrap_or_else(|e| panic!("{family}-{n}: {e}"));
-        same_conflict_verdict(&inst.plants, &inst.specs).unwrap_or_else(|e| panic!("{family}-{n}: {e}"));
+        same_conflict_verdict(&inst.plants, &inst.specs, 10).unwrap_or_else(|e| panic!("{family}-{n}: {e}"));
     }
 }
 

@@ -134,12 +134,18 @@ impl Run<'_> {
 
     fn conflicting(&self, groups: &[&Vec<usize>]) -> Result<bool, SynthError> {
         let dfas: Vec<&Dfa> = groups.iter().map(|g| self.supervisor(g)).collect();
-        if let Some(check) = &self.cfg.nonblocking {
-            if let Some(nonblocking) = check.nonblocking(&dfas, self.cfg, "supervisor product")? {
-                return Ok(!nonblocking);
+        let what = "supervisor product";
+        let explicit =
+            |cfg: &Config| first_blocking(&dfas, &self.inputs, cfg, what).map(|(_, b)| b.is_some());
+        let Some(check) = &self.cfg.nonblocking else { return explicit(self.cfg) };
+        let first = check.explicit_states().min(self.cfg.state_limit);
+        if first > 0 {
+            match explicit(&Config { state_limit: first, ..self.cfg.clone() }) {
+                Err(SynthError::StateLimit { .. }) => {}
+                decided => return decided,
             }
         }
-        Ok(first_blocking(&dfas, &self.inputs, self.cfg, "supervisor product")?.1.is_some())
+        check.nonblocking(&dfas, self.cfg, what).map(|nonblocking| !nonblocking)
     }
 
     /// The smallest conflicting group of supervisors, searched by size (sets whose supervisors are not

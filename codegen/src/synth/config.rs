@@ -17,10 +17,12 @@ pub trait Observer: Send + Sync {
 /// A nonblocking check of a synchronous product done by another engine (the symbolic one), so that the
 /// conflict check of a modular or local modular set need not build the product state by state.
 pub trait NonblockingCheck: Send + Sync {
+    /// States the explicit check may build first (the `auto` engine: small products are decided faster
+    /// explicitly); only when the product passes them does this engine run. `0`: it runs right away.
+    fn explicit_states(&self) -> usize;
     /// Whether the synchronous product of `dfas` (over one event table) is nonblocking; `what` names
-    /// the product in progress reports and errors. `None`: this engine declines the product (it is small
-    /// enough for the explicit check, which then runs).
-    fn nonblocking(&self, dfas: &[&Dfa], cfg: &Config, what: &str) -> Result<Option<bool>, SynthError>;
+    /// the product in progress reports and errors.
+    fn nonblocking(&self, dfas: &[&Dfa], cfg: &Config, what: &str) -> Result<bool, SynthError>;
 }
 
 /// Settings shared by every synthesis function.

@@ -19,8 +19,8 @@ pub struct Instance {
 }
 
 /// The families [`generate`] knows, by name.
-pub const FAMILIES: [&str; 6] =
-    ["transfer-line", "transfer-line-k3", "factory", "cat-mouse", "philosophers", "random"];
+pub const FAMILIES: [&str; 7] =
+    ["transfer-line", "transfer-line-k3", "factory", "cat-mouse", "philosophers", "random", "interlock"];
 
 /// The instance of `family` (one of [`FAMILIES`]) with size parameter `n`, or `None` for an unknown family.
 pub fn generate(family: &str, n: usize) -> Option<Instance> {
@@ -31,6 +31,7 @@ pub fn generate(family: &str, n: usize) -> Option<Instance> {
         "cat-mouse" => cat_mouse(n),
         "philosophers" => philosophers(n),
         "random" => random(n),
+        "interlock" => interlock(n),
         _ => return None,
     };
     Some(Instance { name: format!("{family}-{n}"), plants, specs })
@@ -66,6 +67,69 @@ fn build(
 
 fn states(n: usize) -> Vec<(String, bool)> {
     (0..n).map(|i| (i.to_string(), i == 0)).collect()
+}
+
+/// `n` stations in a row, each a cycle go (controllable, the output on) → done (uncontrollable, the
+/// sensor on) → ret (controllable, the output off) → back (uncontrollable, the sensor off) like the
+/// distribution station's injector, and between neighbours an interlock: never both busy (between go
+/// and back). The interlock's state is a function of the stations' states, so its state feedback needs
+/// no memory; with [`state_section`] it is the state-based program's instance whose closed loop
+/// (about 2.3^n plant states) outgrows explicit listing.
+fn interlock(n: usize) -> (Vec<Automaton>, Vec<Automaton>) {
+    let plants = (1..=n)
+        .map(|i| {
+            let ev = [
+                (format!("go{i}"), true),
+                (format!("done{i}"), false),
+                (format!("ret{i}"), true),
+                (format!("back{i}"), false),
+            ];
+            build(
+                &format!("S{i}"),
+                Kind::Plant,
+                &states(4),
+                &ev,
+                &[(0, 0, 1), (1, 1, 2), (2, 2, 3), (3, 3, 0)],
+            )
+        })
+        .collect();
+    let specs = (1..n)
+        .map(|i| {
+            let j = i + 1;
+            let ev = [
+                (format!("go{i}"), true),
+                (format!("back{i}"), false),
+                (format!("go{j}"), true),
+                (format!("back{j}"), false),
+            ];
+            build(
+                &format!("E{i}"),
+                Kind::Spec,
+                &states(3),
+                &ev,
+                &[(0, 0, 1), (1, 1, 0), (0, 2, 2), (2, 3, 0)],
+            )
+        })
+        .collect();
+    (plants, specs)
+}
+
+/// The manifest's `[state]` section of `family`'s instance of size `n`, for the families whose plants
+/// have state vectors (`interlock`: station i's output `Yi` and sensor `Xi`; at most 32 stations, the
+/// 64 signals of a state-based program); `None` for the others.
+pub fn state_section(family: &str, n: usize) -> Option<String> {
+    if family != "interlock" || n > crate::config::MAX_SIGNALS / 2 {
+        return None;
+    }
+    let mut toml = String::new();
+    for i in 1..=n {
+        toml.push_str(&format!(
+            "\n[state.components.S{i}]\ninputs = [{{ name = \"X{i}\" }}]\noutputs = [{{ name = \"Y{i}\" }}]\n\
+             states = {{ 0 = [\"!Y{i}\", \"!X{i}\"], 1 = [\"Y{i}\", \"!X{i}\"], 2 = [\"Y{i}\", \"X{i}\"], \
+             3 = [\"!Y{i}\", \"X{i}\"] }}\ncommands = {{ go{i} = [\"Y{i}\"], ret{i} = [\"!Y{i}\"] }}\n"
+        ));
+    }
+    Some(toml)
 }
 
 /// `n` machines (start controllable, finish uncontrollable) in a line with a buffer of `capacity` slots

@@ -7,6 +7,8 @@
 //! * [`vector`] — the manifest's `[state]` section bound to the set's plants and checked against them.
 //! * [`sfbc`] — f from the reachable closed loop plants ‖ supervisors; where the supervisors' memory
 //!   decides, the plant states with two traces, or the supervisors kept as memory.
+//! * [`guards`] — the rungs from guards read off the symbolic engine's BDDs (`--engine symbolic`), for
+//!   plants whose closed loop is too large to list.
 //! * [`minimise`] — F_σ as a prime, irredundant sum of products (BDDs), don't-cares only where no
 //!   reachable state's signals are.
 //! * [`program`] — the rungs (shared literals in series, products in parallel, SET/RESET coils), the ST
@@ -18,6 +20,7 @@
 //! [`validate`] is the translation validation: for every reachable state x and every valuation of the
 //! signals that reads as x, each rung conducts exactly when f_σ(x) = 1.
 
+pub mod guards;
 pub mod memory;
 pub mod minimise;
 pub mod program;
@@ -197,8 +200,27 @@ pub fn generate(
         None => memory::Memory::default(),
     };
     let rungs = self::rungs(set, &vector, &f, &memory, exact);
+    let files = program_files(set, &vector, &rungs, &memory, opts, exact, provenance)?;
+    let ns = opts.spec.instruction_ns.unwrap_or(1000);
+    let plants: Vec<_> = set.members()[..f.plants].iter().map(|m| &m.dfa).collect();
+    let g = product_size(&plants)?;
+    let report = Report::new(set, &vector, &f, &rungs, g, ns, event_based);
+    Ok(Output { files, report, rungs, vector, sfbc: f, memory })
+}
+
+/// The program's files from its rungs: `<name>.st` (the `PROGRAM`), `<name>_config.st` and
+/// `<name>.xml` (PLCopen XML with the Ladder Diagram body when no memory is kept), each with the header.
+pub fn program_files(
+    set: &PackSet,
+    vector: &Vector,
+    rungs: &[EventRung],
+    memory: &memory::Memory,
+    opts: &PlcOptions,
+    exact: bool,
+    provenance: &Provenance,
+) -> Result<Vec<(String, String)>, StateError> {
     let base = sanitize(&opts.name);
-    let pou = program::pou(&vector.signals, &base, &rungs, &memory)?;
+    let pou = program::pou(&vector.signals, &base, rungs, memory)?;
     crate::plc::strict::check(&[], &[&pou])?;
     let ns = opts.spec.instruction_ns.unwrap_or(1000);
     let options = format!(
@@ -216,10 +238,5 @@ pub fn generate(
     let ladder: Vec<ld::Rung> = rungs.iter().map(|r| r.rung.clone()).collect();
     let bodies = if memory.kept.is_empty() { vec![ld::body(&ladder)] } else { Vec::new() };
     let xml = xml::document(None, &[(&pou, &bodies)], &base, opts.cycle_ms, &header);
-    let files =
-        vec![(format!("{base}.st"), st), (format!("{base}_config.st"), config), (format!("{base}.xml"), xml)];
-    let plants: Vec<_> = set.members()[..f.plants].iter().map(|m| &m.dfa).collect();
-    let g = product_size(&plants)?;
-    let report = Report::new(set, &vector, &f, &rungs, g, ns, event_based);
-    Ok(Output { files, report, rungs, vector, sfbc: f, memory })
+    Ok(vec![(format!("{base}.st"), st), (format!("{base}_config.st"), config), (format!("{base}.xml"), xml)])
 }
