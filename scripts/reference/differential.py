@@ -13,7 +13,8 @@ IsNonblocking and TCT's nonconflict (and so must the symbolic engine's, `--engin
 monolithic supervisor must have the explicit one's counts and libFAUDES' language); the set `codegen synth` ships by default (conflicting supervisors
 merged) must give, with all the plants, the monolithic closed loop (marked and generated languages:
 libFAUDES); a reduced supervisor must give the same closed loop with its local plant (libFAUDES) and be no
-larger than TCT's supreduce. Besides the fixed instances, two random ones are drawn from fresh seeds each
+larger than TCT's supreduce; the control data (`--condat`) of every full and reduced supervisor must be TCT's
+condat against the local plant. Besides the fixed instances, two random ones are drawn from fresh seeds each
 run (the seed is in the label; `SCT_DIFFERENTIAL_SEEDS=S3,S4` replays them, and `families random N DIR
 SEED` writes one). The readers: libFAUDES
 reads the `.gen` files codegen writes, codegen the ones libFAUDES writes, each the same automaton as the
@@ -120,8 +121,8 @@ def run_case(codegen, label, manifest, work):
         tct_verdict = pitct.nonconflict("REST", "LAST")
         check(tct_verdict == raw["nonconflicting"], f"{label}: conflict verdict = TCT nonconflict {tct_verdict}")
 
-    red = tools.codegen_json(codegen, ["--reduce", "-o", out + "/red", manifest])
-    full = tools.codegen_json(codegen, ["-o", out + "/full", manifest])
+    red = tools.codegen_json(codegen, ["--reduce", "--condat", "-o", out + "/red", manifest])
+    full = tools.codegen_json(codegen, ["--condat", "-o", out + "/full", manifest])
     shipped = [tools.read_xmd(os.path.join(out, "full", s["name"] + ".xmd")) for s in full["supervisors"]]
     loop = tools.faudes_product(plants + shipped)
     mono = tools.faudes_supc(plants, specs)
@@ -139,8 +140,14 @@ def run_case(codegen, label, manifest, work):
         tct.create("R_" + s["name"], o, universe)
         everything = tools.Fsa("all", [("0", True)], 0, {e: False for e in universe}, [(0, e, 0) for e in universe])
         tct.product("RG", local + [everything])
-        pitct.condat("RDAT", "RG", "R_" + s["name"])
-        pitct.supreduce("RSIM", "RG", "R_" + s["name"], "RDAT")
+        tct_full = tct.condat("R_" + s["name"], "RG", o)
+        check(full["condat"][s["name"]] == tct_full,
+              f"{label}: condat of {s['name']} ({len(tct_full)} of {f['states']} states disable) = TCT condat")
+        tct.create("Q_" + s["name"], r, universe)
+        tct_red = tct.condat("Q_" + s["name"], "RG", r)
+        check(red["condat"][s["name"]] == tct_red,
+              f"{label}: condat of reduced {s['name']} ({len(tct_red)} of {s['states']} states disable) = TCT condat")
+        pitct.supreduce("RSIM", "RG", "R_" + s["name"], "R_" + s["name"] + "_DAT")
         check(closed_loop_equal(local, r, o),
               f"{label}: reduced {s['name']} {f['states']} -> {s['states']} states keeps the closed loop")
         tct_states = pitct.statenum("RSIM")

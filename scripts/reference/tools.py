@@ -162,6 +162,25 @@ class Tct:
             pitct.selfloop(name, raw, extra)
         return name
 
+    def condat(self, name, plant, sup):
+        """TCT's condat of the `Fsa` `sup` (created as `name` by `create`, so TCT's state i is `sup`'s state
+        i with the initial one swapped to 0) against the TCT DES `plant`: {state name: sorted event names}
+        of the states that disable something. Parsed from printdat's text (pitct's own parser keeps only
+        two events per state)."""
+        pitct.condat(name + "_DAT", plant, name)
+        text = pitct.printdat(name + "_TXT", name + "_DAT", convert=False).text.split("control data:")[1]
+        decode = {c: e for e, c in self.code.items()}
+        init = sup.initial or 0
+        swap = lambda x: init if x == 0 else (0 if x == init else x)
+        out, state = {}, None
+        for token in text.split():
+            if token.endswith(":"):
+                state = sup.states[swap(int(token[:-1]))][0]
+                out[state] = []
+            else:
+                out[state].append(decode[int(token)])
+        return {k: sorted(v) for k, v in out.items() if v}
+
     def product(self, name, automata):
         """The synchronous product of the `Fsa`s `automata`, as `name`."""
         universe = {e for a in automata for e in a.events}

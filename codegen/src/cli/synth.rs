@@ -37,6 +37,10 @@ pub struct Args {
     /// Reduce each supervisor against its (local) plant (Su–Wonham, as TCT supreduce).
     #[arg(long)]
     reduce: bool,
+    /// Print each supervisor's control data (TCT condat): per state, the controllable events it
+    /// disables against its (local) plant; with --json, the object `condat`.
+    #[arg(long)]
+    condat: bool,
     /// Report conflicting supervisors instead of merging their specifications.
     #[arg(long)]
     no_merge: bool,
@@ -55,7 +59,7 @@ pub struct Args {
     #[arg(long, value_enum, default_value_t = BddOrder::EventGraph)]
     bdd_order: BddOrder,
     /// Print JSON: schema, supervisors (name, specs, plants, states, transitions), nonconflicting, merged,
-    /// total_states, total_transitions.
+    /// total_states, total_transitions (and with --condat, condat: supervisor → state → disabled events).
     #[arg(long)]
     json: bool,
     /// Write every supervisor to DIR/<name>.xmd (or, with --format wmod, all to one module).
@@ -80,6 +84,8 @@ enum OutFormat {
 struct Row {
     supervisor: Supervisor,
     unreduced: Option<(usize, usize)>,
+    /// The control data, per state of the supervisor (with --condat).
+    condat: Option<Vec<Vec<String>>>,
 }
 
 /// Runs `synth`.
@@ -133,15 +139,15 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     let mut rows = Vec::new();
     for mut s in result.supervisors {
         let mut unreduced = None;
+        let local: Vec<Automaton> = plants.iter().filter(|p| s.plants.contains(&p.name)).cloned().collect();
         if args.reduce {
-            let local: Vec<Automaton> =
-                plants.iter().filter(|p| s.plants.contains(&p.name)).cloned().collect();
             cfg.observer.as_ref().inspect(|o| o.stage(&format!("reducing {}", s.automaton.name)));
             let r = synth::reduce(&local, &s.automaton, &cfg)?;
             unreduced = Some((s.automaton.states.len(), s.automaton.transitions.len()));
             s.automaton = r;
         }
-        rows.push(Row { supervisor: s, unreduced });
+        let condat = if args.condat { Some(synth::condat(&local, &s.automaton, &cfg)?) } else { None };
+        rows.push(Row { supervisor: s, unreduced, condat });
     }
     if let Some(b) = bar {
         b.finish_and_clear();
@@ -160,6 +166,11 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
         writeln!(out, "{text}")?;
     } else {
         write_table(&mut out, &rows, nonconflicting, &merged)?;
+        for r in &rows {
+            if let Some(data) = &r.condat {
+                write_condat(&mut out, &r.supervisor.automaton, data)?;
+            }
+        }
     }
     out.flush()?;
     Ok(if nonconflicting { ExitCode::SUCCESS } else { ExitCode::from(1) })
@@ -215,7 +226,7 @@ fn to_json(name: &str, rows: &[Row], nonconflicting: bool, merged: &[Vec<String>
             o
         })
         .collect();
-    json!({
+    let mut value = json!({
         "schema": JSON_SCHEMA,
         "name": name,
         "supervisors": supervisors,
@@ -223,7 +234,45 @@ fn to_json(name: &str, rows: &[Row], nonconflicting: bool, merged: &[Vec<String>
         "merged": merged,
         "total_states": states,
         "total_transitions": transitions,
-    })
+    });
+    if rows.iter().any(|r| r.condat.is_some()) {
+        let per_supervisor: serde_json::Map<String, serde_json::Value> = rows
+            .iter()
+            .filter_map(|r| {
+                let a = &r.supervisor.automaton;
+                let states: serde_json::Map<String, serde_json::Value> = a
+                    .states
+                    .iter()
+                    .zip(r.condat.as_ref()?)
+                    .filter(|(_, d)| !d.is_empty())
+                    .map(|(s, d)| (s.name.clone(), json!(d)))
+                    .collect();
+                Some((a.name.clone(), serde_json::Value::Object(states)))
+            })
+            .collect();
+        value["condat"] = serde_json::Value::Object(per_supervisor);
+    }
+    value
+}
+
+/// The control data in TCT's form: `condat S:` then `state: events` for every state that disables
+/// something, four to a line, two spaces apart (`0: 61 71  1: 71 …` when names are TCT's numbers).
+fn write_condat(out: &mut impl Write, sup: &Automaton, data: &[Vec<String>]) -> std::io::Result<()> {
+    writeln!(out, "condat {}:", sup.name)?;
+    let entries: Vec<String> = sup
+        .states
+        .iter()
+        .zip(data)
+        .filter(|(_, d)| !d.is_empty())
+        .map(|(s, d)| format!("{}: {}", s.name, d.join(" ")))
+        .collect();
+    if entries.is_empty() {
+        writeln!(out, "  (disables nothing)")?;
+    }
+    for line in entries.chunks(4) {
+        writeln!(out, "  {}", line.join("  "))?;
+    }
+    Ok(())
 }
 
 fn write_table(

@@ -17,11 +17,13 @@
 //! - [`local_modular()`], [`modular()`] and [`monolithic()`]: the three architectures of the paper,
 //!   with the conflict check and the merge of conflicting specifications.
 //! - [`reduce()`]: supervisor reduction (Su–Wonham control congruence, as TCT `supreduce`).
+//! - [`condat()`]: the control data (TCT `condat`): per supervisor state, the controllable events it disables.
 //!
 //! The worst case is the product: `n` components of `k` states can reach `k^n` states. [`Config::state_limit`]
 //! bounds it and the walk stops with [`SynthError::StateLimit`] naming the limit.
 
 mod architecture;
+mod condat;
 mod config;
 mod error;
 pub mod families;
@@ -36,6 +38,7 @@ pub mod trim;
 pub mod verify;
 
 pub use architecture::{local_modular, modular, monolithic, LocalModularResult, Supervisor};
+pub use condat::condat;
 pub use config::{Config, NonblockingCheck, Observer};
 pub use error::SynthError;
 pub use minimize::minimize;

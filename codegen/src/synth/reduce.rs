@@ -14,70 +14,9 @@
 
 use crate::model::Automaton;
 
-use super::product::{Exploration, Options};
+use super::condat::ControlData;
 use super::{Config, Inputs, SynthError};
 use crate::model::{Dfa, DfaBuilder, NONE};
-
-/// The control data of every supervisor state, as event bitsets.
-struct ControlData {
-    words: usize,
-    enabled: Vec<u64>,
-    disabled: Vec<u64>,
-    marked: Vec<bool>,
-    plant_marked: Vec<bool>,
-}
-
-impl ControlData {
-    fn new(plants: &[&Dfa], sup: &Dfa, inputs: &Inputs, cfg: &Config) -> Result<Self, SynthError> {
-        let n = sup.state_count();
-        let words = inputs.table.len().div_ceil(64).max(1);
-        let mut enabled = vec![0u64; n * words];
-        let mut disabled = vec![0u64; n * words];
-        for x in 0..n as u32 {
-            for (e, _) in sup.edges(x) {
-                enabled[x as usize * words + e as usize / 64] |= 1 << (e % 64);
-            }
-        }
-        let mut components: Vec<&Dfa> = plants.to_vec();
-        components.push(sup);
-        let walk = Exploration::run(
-            &components,
-            &inputs.controllable,
-            Options { plants: components.len(), parents: false },
-            cfg,
-            "plant || supervisor",
-        )?;
-        let mut plant_marked = vec![false; n];
-        let mut g = vec![0u32; plants.len()];
-        for s in 0..walk.dfa.state_count() as u32 {
-            for (c, gc) in g.iter_mut().enumerate() {
-                *gc = walk.component_state(s, c);
-            }
-            let x = walk.component_state(s, plants.len());
-            if plants.iter().zip(&g).all(|(d, &q)| d.marked[q as usize]) {
-                plant_marked[x as usize] = true;
-            }
-            for &e in &sup.alphabet {
-                let plant_enables =
-                    plants.iter().zip(&g).all(|(d, &q)| !d.has_event(e) || d.step(q, e).is_some());
-                if plant_enables && sup.step(x, e).is_none() {
-                    disabled[x as usize * words + e as usize / 64] |= 1 << (e % 64);
-                }
-            }
-        }
-        Ok(ControlData { words, enabled, disabled, marked: sup.marked.clone(), plant_marked })
-    }
-
-    fn consistent(&self, x: u32, y: u32) -> bool {
-        let (x, y) = (x as usize, y as usize);
-        let w = self.words;
-        let clash = (0..w).any(|i| {
-            self.enabled[x * w + i] & self.disabled[y * w + i] != 0
-                || self.enabled[y * w + i] & self.disabled[x * w + i] != 0
-        });
-        !clash && (self.plant_marked[x] != self.plant_marked[y] || self.marked[x] == self.marked[y])
-    }
-}
 
 /// A partition of the supervisor states with undoable merges.
 struct Partition {

@@ -153,6 +153,53 @@ fn can_mark(parts: &[&Automaton], sigma: &[String], w: &[String]) -> bool {
     false
 }
 
+/// Every state tuple of the product of `parts` reachable over `sigma`: a search one event at a time.
+fn reachable_tuples(parts: &[&Automaton], sigma: &[String]) -> BTreeSet<Vec<StateId>> {
+    let Some(start) = tuple_after(parts, &[]) else { return BTreeSet::new() };
+    let mut seen = BTreeSet::from([start.clone()]);
+    let mut stack = vec![start];
+    while let Some(cur) = stack.pop() {
+        for e in sigma {
+            if let Some(next) = step_tuple(parts, &cur, e) {
+                if seen.insert(next.clone()) {
+                    stack.push(next);
+                }
+            }
+        }
+    }
+    seen
+}
+
+/// The tuple after `e` from `cur` (each part without `e` stays), or None when some part blocks it.
+fn step_tuple(parts: &[&Automaton], cur: &[StateId], e: &str) -> Option<Vec<StateId>> {
+    let mut next = cur.to_vec();
+    for (c, a) in parts.iter().enumerate() {
+        if let Some(id) = a.event_id(e) {
+            next[c] = a.transitions.iter().find(|t| t.source == cur[c] && t.event == id)?.target;
+        }
+    }
+    Some(next)
+}
+
+/// TCT's condat by brute force: per supervisor state, the controllable supervisor events it lacks in a
+/// reachable closed-loop tuple where every plant allows them.
+fn naive_condat(plants: &[&Automaton], sup: &Automaton) -> Vec<BTreeSet<String>> {
+    let mut parts = plants.to_vec();
+    parts.push(sup);
+    let sigma = alphabet(&parts);
+    let mut out = vec![BTreeSet::new(); sup.states.len()];
+    for tuple in reachable_tuples(&parts, &sigma) {
+        let x = tuple[plants.len()];
+        for e in sup.events.iter().filter(|e| e.controllable) {
+            let plant_allows = step_tuple(plants, &tuple[..plants.len()], &e.name).is_some();
+            if plant_allows && step_tuple(&[sup], &[x], &e.name).is_none() {
+                out[x.index()].insert(e.name.clone());
+            }
+        }
+    }
+    out
+}
+
 fn cfg() -> Config {
     Config::default()
 }
@@ -303,6 +350,22 @@ proptest! {
         prop_assert_eq!(language(&sigma, 6, &|w| run_all(&[&g1, &g2, &r], w)), original);
         let closed = |sup: &Automaton| product(&[g1.clone(), g2.clone(), sup.clone()], &cfg()).unwrap();
         prop_assert!(language::equal(&closed(&s), &closed(&r)).unwrap().is_none());
+    }
+
+    #[test]
+    fn condat_lists_what_each_state_disables(
+        g1 in automaton("G1", Kind::Plant, vec![0, 2], 3),
+        g2 in automaton("G2", Kind::Plant, vec![1, 3], 3),
+        e in automaton("E", Kind::Spec, vec![0, 1, 2, 3], 3),
+    ) {
+        let plants = [g1.clone(), g2.clone()];
+        let s = supc(&plants, std::slice::from_ref(&e), &cfg()).unwrap();
+        let r = reduce(&plants, &s, &cfg()).unwrap();
+        for sup in [&s, &r] {
+            let ours: Vec<BTreeSet<String>> =
+                condat(&plants, sup, &cfg()).unwrap().into_iter().map(|d| d.into_iter().collect()).collect();
+            prop_assert_eq!(ours, naive_condat(&[&g1, &g2], sup));
+        }
     }
 
     #[test]
