@@ -43,7 +43,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
-use crate::config::{BoardSpec, NetSpec, PlcSpec, RuntimeConfig, StateSpec};
+use crate::config::{BoardSpec, HybridSpec, NetSpec, PlcSpec, RuntimeConfig, StateSpec};
 use crate::formats::{read_path, ParseError};
 use crate::model::suggest::did_you_mean;
 use crate::model::{
@@ -185,6 +185,10 @@ pub struct Manifest {
     /// A sequence as a Petri net and its interpretation (`[net]`).
     #[serde(default)]
     pub net: Option<NetSpec>,
+    /// The events of the `[net]`'s transitions when that net is the plant of a hybrid controller
+    /// (`[hybrid]`, `plc::hybrid`).
+    #[serde(default)]
+    pub hybrid: Option<HybridSpec>,
     /// The plant's state vector for state-based programs (`[state]`, `config::StateSpec`).
     #[serde(default)]
     pub state: Option<StateSpec>,
@@ -438,6 +442,7 @@ impl Manifest {
             board: None,
             plc: None,
             net: None,
+            hybrid: None,
             state: None,
             check: CheckSpec::default(),
             file: path.to_owned(),

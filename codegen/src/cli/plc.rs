@@ -34,7 +34,10 @@ fn sequence(path: &Path, project: &Project) -> Result<Option<Interpretation>, Er
 /// a bound on the statements per scan, memory bits, the avalanche method per event, simultaneity.
 /// I/O and policy come from the manifest's `[plc]` section; events it does not map are internal. With
 /// a `[net]` section the sequence net runs beside the interlocks in the same program: a token-passing
-/// block in the ST, an SFC in the XML, requesting the commands the supervisors allow.
+/// block in the ST, an SFC in the XML, requesting the commands the supervisors allow. A manifest with a
+/// `[hybrid]` section is a hybrid controller instead (docs/hybrid.md): its automation net is the plant,
+/// and `DIR/<name>_hybrid.{st,xml}` (reduced supervisor) and `DIR/<name>_hybrid_full.{st,xml}`
+/// (unreduced) are written, the XML with a Ladder Diagram body, and the two compared in the report.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// A project: a manifest (TOML; supervisors as listed, else synthesised local modular) or a Supremica
@@ -214,8 +217,39 @@ fn state_symbolic(project: &Project, args: &Args) -> Result<ExitCode, Error> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// The hybrid controller of a manifest with a `[hybrid]` section ([`codegen::plc::hybrid`]): both
+/// controllers' files, then the report (JSON under `hybrid`).
+fn hybrid(manifest: &Manifest, args: &Args) -> Result<ExitCode, Error> {
+    let cycle = manifest.plc.as_ref().and_then(|p| p.cycle_ms).unwrap_or(10);
+    let out = codegen::plc::hybrid::generate(manifest, &Config::default(), cycle)?;
+    write(&args.output, &out.files)?;
+    if args.json {
+        let files: Vec<&str> = out.files.iter().map(|(n, _)| n.as_str()).collect();
+        let json = serde_json::json!({
+            "schema": 1,
+            "name": manifest.name,
+            "encoding": "hybrid",
+            "files": files,
+            "hybrid": out.report,
+        });
+        println!("{}", serde_json::to_string_pretty(&json)?);
+    } else {
+        print!("{}", out.report.text());
+        println!("written to {}", args.output.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
 /// Runs `plc`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
+    if let [one] = args.files.as_slice() {
+        if is_manifest(one) && args.plants.is_empty() && args.supervisors.is_empty() {
+            let manifest = Manifest::load(one)?;
+            if manifest.hybrid.is_some() {
+                return hybrid(&manifest, &args);
+            }
+        }
+    }
     let project = match args.files.as_slice() {
         // Guards off the BDDs are for sets too large to list: the local modular set's conflict check
         // runs on BDDs too.

@@ -52,4 +52,17 @@ pub enum NetError {
         /// The place's id.
         place: String,
     },
+    /// An event labels two transitions enabled together that lead to different markings: the net's
+    /// language is no deterministic automaton.
+    #[error("event '{event}' labels transitions '{first}' and '{second}', enabled together at marking {marking} with different results")]
+    Nondeterministic {
+        /// The event.
+        event: String,
+        /// The first transition.
+        first: String,
+        /// The second transition.
+        second: String,
+        /// The marking, as its state name.
+        marking: String,
+    },
 }

@@ -8,6 +8,7 @@
 //! | transition conditions Y(t) | [`condition`] |
 //! | the interpretation (Y, Z, D) bound to the plant's signals | [`interpretation`] |
 //! | the IO-reachability graph | [`io_graph`] |
+//! | the reachability graph of an event-labelled net, as a plant automaton | [`reachability`] |
 //! | Definition 2's verdict, the trace and the diagnosis | [`verdict`] |
 //! | the graph in Graphviz | [`dot`] |
 //!
@@ -21,6 +22,7 @@ pub mod interpretation;
 pub mod io_graph;
 pub mod model;
 pub mod pnml;
+pub mod reachability;
 pub mod verdict;
 
 #[cfg(test)]

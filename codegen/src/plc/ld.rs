@@ -45,6 +45,20 @@ pub enum CoilKind {
     Set,
     /// The variable is reset and stays reset (`RST`, storage `reset`).
     Reset,
+    /// The variable is an on-delay timer (`TON`) the rung starts: its `Q` turns TRUE once the rung has
+    /// conducted for this many milliseconds, and FALSE when the rung stops conducting. Written as the
+    /// standard block with its preset time, read elsewhere by a contact on `<variable>.Q`.
+    OnDelay(u32),
+}
+
+impl CoilKind {
+    /// Instructions under the cost model: one, and two for a timer (its preset loaded, the block called).
+    fn instructions(self) -> usize {
+        match self {
+            CoilKind::OnDelay(_) => 2,
+            _ => 1,
+        }
+    }
 }
 
 /// A coil.
@@ -145,7 +159,8 @@ impl Rung {
     /// The rung's instruction list: its condition and one instruction per coil.
     pub fn il(&self) -> IlCost {
         let c = if self.condition.contacts() == 0 { IlCost::default() } else { self.condition.il() };
-        IlCost { instructions: c.instructions + self.coils.len(), stack_depth: c.stack_depth }
+        let coils: usize = self.coils.iter().map(|c| c.kind.instructions()).sum();
+        IlCost { instructions: c.instructions + coils, stack_depth: c.stack_depth }
     }
 }
 
@@ -222,27 +237,28 @@ impl Writer {
         let (feed, col) = self.element(&r.condition, &[left], 40, y);
         let mut coils = Vec::new();
         for (i, c) in r.coils.iter().enumerate() {
-            let id = self.id();
+            let (x, cy) = (col + 40, y + 40 * i as u64);
+            let ins = inputs(&feed);
             let storage = match c.kind {
                 CoilKind::Out => "none",
                 CoilKind::Set => "set",
                 CoilKind::Reset => "reset",
+                CoilKind::OnDelay(ms) => {
+                    coils.push(self.timer(&c.variable, ms, &ins, x, cy));
+                    continue;
+                }
             };
-            let ins = inputs(&feed);
+            let id = self.id();
             let _ = writeln!(
                 self.out,
-                "          <coil localId=\"{id}\" storage=\"{storage}\" height=\"20\" width=\"20\"><position x=\"{}\" y=\"{}\"/>{ins}<connectionPointOut/><variable>{}</variable></coil>",
-                col + 40,
-                y + 40 * i as u64,
+                "          <coil localId=\"{id}\" storage=\"{storage}\" height=\"20\" width=\"20\"><position x=\"{x}\" y=\"{cy}\"/>{ins}<connectionPointOut/><variable>{}</variable></coil>",
                 xml_escape(&c.variable)
             );
-            coils.push(id);
+            coils.push(format!("<connection refLocalId=\"{id}\"/>"));
         }
         let right = self.id();
-        let ins: String = coils
-            .iter()
-            .map(|c| format!("<connectionPointIn><connection refLocalId=\"{c}\"/></connectionPointIn>"))
-            .collect();
+        let ins: String =
+            coils.iter().map(|c| format!("<connectionPointIn>{c}</connectionPointIn>")).collect();
         let _ = writeln!(
             self.out,
             "          <rightPowerRail localId=\"{right}\" height=\"40\" width=\"10\"><position x=\"{}\" y=\"{y}\"/>{ins}</rightPowerRail>",
@@ -256,6 +272,27 @@ impl Writer {
             Element::Contact { .. } => 1,
         };
         self.row = y + 40 * branches.max(r.coils.len()).max(1) as u64 + 20;
+    }
+}
+
+impl Writer {
+    /// A `TON` block `instance` with `IN` wired as `ins` and `PT` from a literal of `ms`; returns the
+    /// connection of its `Q` to the right rail.
+    fn timer(&mut self, instance: &str, ms: u32, ins: &str, x: u64, y: u64) -> String {
+        let pt = self.id();
+        let _ = writeln!(
+            self.out,
+            "          <inVariable localId=\"{pt}\" height=\"20\" width=\"80\"><position x=\"{x}\" y=\"{}\"/><connectionPointOut/><expression>T#{ms}ms</expression></inVariable>",
+            y + 30
+        );
+        let id = self.id();
+        let _ = writeln!(
+            self.out,
+            "          <block localId=\"{id}\" typeName=\"TON\" instanceName=\"{}\" height=\"60\" width=\"60\"><position x=\"{}\" y=\"{y}\"/><inputVariables><variable formalParameter=\"IN\">{ins}</variable><variable formalParameter=\"PT\"><connectionPointIn><connection refLocalId=\"{pt}\"/></connectionPointIn></variable></inputVariables><inOutVariables/><outputVariables><variable formalParameter=\"Q\"><connectionPointOut/></variable><variable formalParameter=\"ET\"><connectionPointOut/></variable></outputVariables></block>",
+            xml_escape(instance),
+            x + 100
+        );
+        format!("<connection refLocalId=\"{id}\" formalParameter=\"Q\"/>")
     }
 }
 

@@ -16,6 +16,8 @@
 //!   `PROGRAM` instantiating it (the scan is described there).
 //! * [`strict`] — the IEC 61131-3 Ed. 3 rules every program is checked against before it is printed
 //!   (keywords, located variables, no implicit conversion), so a strict compiler takes it.
+//! * [`hybrid`] — an automation net as the plant, coupled to its reduced supervisor by inhibitor arcs, in
+//!   Ladder Diagram and ST (Uzam & Gelen 2013).
 //! * [`net_program`] — a sequence net ([`crate::net`]) as token-passing ST and as an SFC.
 //! * [`xml`] — the same POUs, and the configuration, as PLCopen XML with ST bodies.
 //! * [`report`] — what the program costs and how it solves each problem.
@@ -30,6 +32,7 @@
 
 pub mod avalanche;
 pub mod choice;
+pub mod hybrid;
 pub mod io;
 pub mod ld;
 pub mod names;
