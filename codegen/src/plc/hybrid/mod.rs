@@ -260,3 +260,6 @@ fn statements(r: &Rung) -> Vec<Stmt> {
     }
     out
 }
+
+#[cfg(test)]
+mod tests;
