@@ -355,4 +355,36 @@ mod tests {
         assert!(xml.contains("storage=\"reset\"") && xml.contains("negated=\"true\""));
         assert_eq!(body(&[seed_rung()]), xml, "deterministic");
     }
+
+    #[test]
+    fn a_timer_is_the_standard_block_with_its_preset_and_costs_two() {
+        let r = Rung {
+            comment: "t2".into(),
+            condition: c("P_p2"),
+            coils: vec![Coil { variable: "T_t2".into(), kind: CoilKind::OnDelay(1500) }],
+        };
+        assert_eq!(r.il(), IlCost { instructions: 3, stack_depth: 1 });
+        let xml = body(&[r]);
+        // Objects: comment 1, rail 2, contact 3, the preset 4, the block 5 fed by the contact.
+        assert!(xml.contains("<expression>T#1500ms</expression>"), "{xml}");
+        assert!(xml.contains("typeName=\"TON\" instanceName=\"T_t2\""), "{xml}");
+        assert!(
+            xml.contains(
+                "<variable formalParameter=\"IN\"><connectionPointIn><connection refLocalId=\"3\"/>"
+            ),
+            "{xml}"
+        );
+        assert!(
+            xml.contains(
+                "<variable formalParameter=\"PT\"><connectionPointIn><connection refLocalId=\"4\"/>"
+            ),
+            "{xml}"
+        );
+        assert!(
+            xml.contains(
+                "<connection refLocalId=\"5\" formalParameter=\"Q\"/></connectionPointIn></rightPowerRail>"
+            ),
+            "{xml}"
+        );
+    }
 }

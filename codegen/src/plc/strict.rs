@@ -443,4 +443,16 @@ mod tests {
         let wrong = pou(true, vars, vec![Stmt::Call("b".into(), vec![("i".into(), Expr::Int(1))])]);
         assert!(check(&[], &[&fb, &wrong]).is_err(), "an INT literal into a BOOL input");
     }
+
+    #[test]
+    fn the_standard_on_delay_timer_is_known_with_its_types() {
+        let vars = locals(vec![Var::new("t", Type::Named("TON".into()), ""), Var::new("v", Type::Bool, "")]);
+        let call = |pt: Expr| Stmt::Call("t".into(), vec![("IN".into(), Expr::var("v")), ("PT".into(), pt)]);
+        let read = Stmt::set("v", Expr::var("t.Q"));
+        assert_eq!(check(&[], &[&pou(true, vars.clone(), vec![call(Expr::Time(700)), read])]), Ok(()));
+        let wrong = check(&[], &[&pou(true, vars.clone(), vec![call(Expr::Int(700))])]).unwrap_err();
+        assert_eq!(wrong.clause, "6.6.1.6");
+        let write = check(&[], &[&pou(true, vars, vec![Stmt::set("t.Q", Expr::Bool(true))])]).unwrap_err();
+        assert_eq!(write.clause, "6.6.3");
+    }
 }

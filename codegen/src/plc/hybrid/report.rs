@@ -8,6 +8,7 @@
 //! 380 and 422 bytes are Siemens S7-300 load memory of its own net, which this model does not
 //! reproduce; the comparison between the two supervisors is what it shows.
 
+use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 use serde::Serialize;
@@ -49,6 +50,24 @@ pub struct Figures {
 }
 
 impl Figures {
+    /// The figures with their names, in the report's order.
+    fn rows(&self) -> [(&'static str, usize); 12] {
+        [
+            ("supervisor states", self.supervisor_states),
+            ("places", self.places),
+            ("transitions", self.transitions),
+            ("places + transitions", self.places_and_transitions),
+            ("inhibitor arcs", self.inhibitor_arcs),
+            ("memory bits", self.memory_bits),
+            ("AEEM events", self.aeem_events),
+            ("timers", self.timers),
+            ("networks", self.networks),
+            ("IL instructions", self.instructions),
+            ("program bytes", self.program_bytes),
+            ("data bytes", self.data_bytes),
+        ]
+    }
+
     /// The figures of `side` on the plant net `net`.
     pub fn new(net: &Interpretation, side: &Side) -> Figures {
         let c = &side.controller;
@@ -83,10 +102,13 @@ pub struct Report {
     pub reduced: Figures,
     /// The controller with the unreduced supervisor.
     pub full: Figures,
-    /// The AEEM events of the reduced and of the full supervisor.
-    pub aeem: (Vec<String>, Vec<String>),
-    /// The control data of the reduced supervisor in TCT's form, state name → disabled events.
-    pub condat: Vec<(String, Vec<String>)>,
+    /// The AEEM events of the reduced supervisor.
+    pub aeem_reduced: Vec<String>,
+    /// The AEEM events of the full supervisor.
+    pub aeem_full: Vec<String>,
+    /// The control data of the reduced supervisor: state name → disabled events (states disabling
+    /// nothing left out).
+    pub condat: BTreeMap<String, Vec<String>>,
 }
 
 impl Report {
@@ -105,7 +127,8 @@ impl Report {
             plant: (plant.states.len(), plant.transitions.len()),
             reduced: Figures::new(net, reduced),
             full: Figures::new(net, full),
-            aeem: (reduced.controller.aeem.clone(), full.controller.aeem.clone()),
+            aeem_reduced: reduced.controller.aeem.clone(),
+            aeem_full: full.controller.aeem.clone(),
             condat,
         }
     }
@@ -118,23 +141,9 @@ impl Report {
             "hybrid controller: net {} places / {} transitions, reachability graph (the plant) {} states / {} transitions",
             self.net.0, self.net.1, self.plant.0, self.plant.1
         );
-        let rows: [(&str, fn(&Figures) -> usize); 12] = [
-            ("supervisor states", |f| f.supervisor_states),
-            ("places", |f| f.places),
-            ("transitions", |f| f.transitions),
-            ("places + transitions", |f| f.places_and_transitions),
-            ("inhibitor arcs", |f| f.inhibitor_arcs),
-            ("memory bits", |f| f.memory_bits),
-            ("AEEM events", |f| f.aeem_events),
-            ("timers", |f| f.timers),
-            ("networks", |f| f.networks),
-            ("IL instructions", |f| f.instructions),
-            ("program bytes", |f| f.program_bytes),
-            ("data bytes", |f| f.data_bytes),
-        ];
         let _ = writeln!(s, "  {:<22}{:>10}{:>10}", "", "reduced", "full");
-        for (what, get) in rows {
-            let _ = writeln!(s, "  {what:<22}{:>10}{:>10}", get(&self.reduced), get(&self.full));
+        for ((what, r), (_, f)) in self.reduced.rows().into_iter().zip(self.full.rows()) {
+            let _ = writeln!(s, "  {what:<22}{r:>10}{f:>10}");
         }
         let _ = writeln!(
             s,
@@ -144,8 +153,8 @@ impl Report {
         let _ = writeln!(
             s,
             "  AEEM events: reduced [{}], full [{}]",
-            self.aeem.0.join(" "),
-            self.aeem.1.join(" ")
+            self.aeem_reduced.join(" "),
+            self.aeem_full.join(" ")
         );
         let entries: Vec<String> = self.condat.iter().map(|(k, d)| format!("{k}: {}", d.join(" "))).collect();
         let _ = writeln!(s, "  condat (reduced): {}", entries.join("  "));
