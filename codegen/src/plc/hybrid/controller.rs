@@ -6,7 +6,8 @@
 //! - **inhibitor arcs**: from the auto-net place of each supervisor state to every net transition whose
 //!   controllable event that state disables (the control data, `synth::condat`);
 //! - **rungs**, in order: the initial marking (network 0, on the first scan), the plant net's
-//!   transitions in net order — each preceded, when it has a delay, by its on-delay timer — then the
+//!   transitions in net order — each followed, when it has a delay, by its on-delay timer (so that the
+//!   scan that fires it turns the timer off before the place can be marked again) — then the
 //!   auto-net's transitions, the place actions, and the end of the scan. A plant transition fires when
 //!   its input places are marked, no inhibiting place is, its condition holds and its timer (if any) has
 //!   run out; firing it moves the tokens and sets the memory bit of its event (`E_<event>`). An
@@ -166,14 +167,17 @@ impl Controller {
                 Element::Series(es) if es.is_empty() => {}
                 c => enabled.push(c),
             }
-            if let Some(timer) = &id.timer[t] {
-                rungs.push(Rung {
+            // The timer's rung comes after its transition's: the scan that fires the transition calls
+            // it with its input off, so the next occupation of the place starts it afresh.
+            let timer = id.timer[t].as_ref().map(|timer| {
+                let rung = Rung {
                     comment: format!("{}: on-delay of {} ms", tr.id, net.delays[t]),
                     condition: Element::Series(enabled.clone()),
                     coils: vec![coil(timer, CoilKind::OnDelay(net.delays[t]))],
-                });
+                };
                 enabled.push(Element::contact(format!("{timer}.Q"), false));
-            }
+                rung
+            });
             let mut condition = vec![Element::contact(id.fired.clone(), true)];
             condition.extend(enabled);
             let mut coils: Vec<Coil> =
@@ -188,6 +192,7 @@ impl Controller {
                 condition: Element::Series(condition),
                 coils,
             });
+            rungs.extend(timer);
         }
         for (s, e, target) in &auto_transitions {
             let bit = event_var(e).cloned().unwrap_or_default();
