@@ -1,9 +1,9 @@
 //! `codegen new`: a firmware project of the user's own for one board — `Cargo.toml`, `memory.x`,
 //! `.cargo/config.toml` (the target, a probe-rs runner with the chip), `build.rs` (the tables emitted at
-//! build time, [`crate::project::build_script`]), `src/main.rs`, the manifest with its model files, and a
+//! build time, [`super::build_script`]), `src/main.rs`, the manifest with its model files, and a
 //! README with the flash command.
 //!
-//! Nothing is written twice: every piece comes from the sources this binary carries ([`super::sources`],
+//! Nothing is written twice: every piece comes from the sources this binary carries ([`crate::target::sources`],
 //! unpacked into the cache). The application is the cell's for the board (`apps/cell/src/bin/`), which
 //! reads its tables from `SCT_TABLES_FILE` as the build script sets it; the dependencies are those the
 //! board's feature of `apps/cell/Cargo.toml` enables, at the same versions (the carried `Cargo.lock`
@@ -14,9 +14,9 @@
 
 use std::path::{Component, Path, PathBuf};
 
-use crate::project::{Project, ProjectError};
+use crate::target::sources::{self, SourcesError};
 
-use super::sources::{self, SourcesError};
+use super::{Project, ProjectError};
 
 /// A board `codegen new` writes a project for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
