@@ -281,20 +281,29 @@ fn cargo_toml(
         ("test".to_owned(), toml::Value::Boolean(false)),
         ("bench".to_owned(), toml::Value::Boolean(false)),
     ]);
-    let mut manifest = toml::Table::new();
-    manifest.insert("package".into(), toml::Value::Table(package));
-    manifest.insert("bin".into(), toml::Value::Array(vec![toml::Value::Table(bin)]));
-    manifest.insert("dependencies".into(), toml::Value::Table(out));
-    manifest.insert(
-        "build-dependencies".into(),
-        toml::Value::Table(toml::Table::from_iter([("codegen".to_owned(), path_dep("codegen"))])),
-    );
+    // One table per section, in the order a reader expects (a TOML table alone sorts its keys).
+    let mut sections: Vec<(&str, toml::Value)> = vec![
+        ("package", toml::Value::Table(package)),
+        ("bin", toml::Value::Array(vec![toml::Value::Table(bin)])),
+        ("dependencies", toml::Value::Table(out)),
+        (
+            "build-dependencies",
+            toml::Value::Table(toml::Table::from_iter([("codegen".to_owned(), path_dep("codegen"))])),
+        ),
+    ];
     if let Some(profile) = workspace.get("profile") {
-        manifest.insert("profile".into(), profile.clone());
+        sections.push(("profile", profile.clone()));
     }
-    manifest.insert("workspace".into(), toml::Value::Table(toml::Table::new()));
-    let text = toml::to_string(&manifest).map_err(|e| bad("Cargo.toml")(e.to_string()))?;
-    Ok(format!("# Written by `codegen new`: the runtime and codegen are the sources `codegen` carries, unpacked in its cache.\n{text}"))
+    sections.push(("workspace", toml::Value::Table(toml::Table::new())));
+    let mut text = String::from(
+        "# Written by `codegen new`: the runtime and codegen are the sources `codegen` carries, unpacked in its cache.\n",
+    );
+    for (key, value) in sections {
+        let one = toml::Table::from_iter([(key.to_owned(), value)]);
+        text.push_str(&toml::to_string(&one).map_err(|e| bad("Cargo.toml")(e.to_string()))?);
+        text.push('\n');
+    }
+    Ok(text)
 }
 
 /// The project's `.cargo/config.toml`: the board's target by default, its link flags as the checkout
