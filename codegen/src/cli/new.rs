@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use codegen::target::new_project::{new_project, Board};
+use codegen::project::new_project::{new_project, Board};
 
 use super::Error;
 

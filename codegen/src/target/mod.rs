@@ -8,12 +8,11 @@
 //!
 //! What the firmware and the harness are built from travels inside the binary ([`sources`]), so an
 //! installed `codegen` builds and runs them from any directory, and writes a firmware project of the user's
-//! own on them ([`new_project`]); [`lock`] serialises what processes share.
+//! own on them ([`crate::project::new_project`]); [`lock`] serialises what processes share.
 
 pub mod child;
 pub mod image;
 pub mod lock;
-pub mod new_project;
 pub mod qemu;
 pub mod rp2040;
 pub mod sources;

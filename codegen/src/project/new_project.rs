@@ -1,9 +1,9 @@
 //! `codegen new`: a firmware project of the user's own for one board — `Cargo.toml`, `memory.x`,
 //! `.cargo/config.toml` (the target, a probe-rs runner with the chip), `build.rs` (the tables emitted at
-//! build time, [`crate::project::build_script`]), `src/main.rs`, the manifest with its model files, and a
+//! build time, [`super::build_script`]), `src/main.rs`, the manifest with its model files, and a
 //! README with the flash command.
 //!
-//! Nothing is written twice: every piece comes from the sources this binary carries ([`super::sources`],
+//! Nothing is written twice: every piece comes from the sources this binary carries ([`crate::target::sources`],
 //! unpacked into the cache). The application is the cell's for the board (`apps/cell/src/bin/`), which
 //! reads its tables from `SCT_TABLES_FILE` as the build script sets it; the dependencies are those the
 //! board's feature of `apps/cell/Cargo.toml` enables, at the same versions (the carried `Cargo.lock`
@@ -14,9 +14,9 @@
 
 use std::path::{Component, Path, PathBuf};
 
-use crate::project::{Project, ProjectError};
+use crate::target::sources::{self, SourcesError};
 
-use super::sources::{self, SourcesError};
+use super::{Project, ProjectError};
 
 /// A board `codegen new` writes a project for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -281,20 +281,29 @@ fn cargo_toml(
         ("test".to_owned(), toml::Value::Boolean(false)),
         ("bench".to_owned(), toml::Value::Boolean(false)),
     ]);
-    let mut manifest = toml::Table::new();
-    manifest.insert("package".into(), toml::Value::Table(package));
-    manifest.insert("bin".into(), toml::Value::Array(vec![toml::Value::Table(bin)]));
-    manifest.insert("dependencies".into(), toml::Value::Table(out));
-    manifest.insert(
-        "build-dependencies".into(),
-        toml::Value::Table(toml::Table::from_iter([("codegen".to_owned(), path_dep("codegen"))])),
-    );
+    // One table per section, in the order a reader expects (a TOML table alone sorts its keys).
+    let mut sections: Vec<(&str, toml::Value)> = vec![
+        ("package", toml::Value::Table(package)),
+        ("bin", toml::Value::Array(vec![toml::Value::Table(bin)])),
+        ("dependencies", toml::Value::Table(out)),
+        (
+            "build-dependencies",
+            toml::Value::Table(toml::Table::from_iter([("codegen".to_owned(), path_dep("codegen"))])),
+        ),
+    ];
     if let Some(profile) = workspace.get("profile") {
-        manifest.insert("profile".into(), profile.clone());
+        sections.push(("profile", profile.clone()));
     }
-    manifest.insert("workspace".into(), toml::Value::Table(toml::Table::new()));
-    let text = toml::to_string(&manifest).map_err(|e| bad("Cargo.toml")(e.to_string()))?;
-    Ok(format!("# Written by `codegen new`: the runtime and codegen are the sources `codegen` carries, unpacked in its cache.\n{text}"))
+    sections.push(("workspace", toml::Value::Table(toml::Table::new())));
+    let mut text = String::from(
+        "# Written by `codegen new`: the runtime and codegen are the sources `codegen` carries, unpacked in its cache.\n",
+    );
+    for (key, value) in sections {
+        let one = toml::Table::from_iter([(key.to_owned(), value)]);
+        text.push_str(&toml::to_string(&one).map_err(|e| bad("Cargo.toml")(e.to_string()))?);
+        text.push('\n');
+    }
+    Ok(text)
 }
 
 /// The project's `.cargo/config.toml`: the board's target by default, its link flags as the checkout
