@@ -180,3 +180,22 @@ fn check_manifest_livelock_and_cell_summary() {
         (217, 2624, 2280)
     );
 }
+
+/// The cell's model files without a manifest (issue 22: one project loader for every command): plants
+/// given without a role and `--spec` synthesise the manifest's supervisors and the same rows.
+#[test]
+fn pack_model_files_with_specifications_synthesise_as_the_manifest_does() {
+    let mut args = vec!["pack".to_owned()];
+    args.extend((1..=4).map(|k| repo(&format!("examples/cell/plants/G{k}.xmd"))));
+    for k in 1..=7 {
+        args.extend(["--spec".to_owned(), repo(&format!("examples/cell/specs/E{k}.xmd"))]);
+    }
+    args.push("--json".into());
+    let out = codegen(&args);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["paper"]["memory_safe"], 2347, "the local modular supervisors, synthesised");
+    let states: Vec<u64> =
+        json["comparisons"].as_array().unwrap().iter().map(|c| c["states"].as_u64().unwrap()).collect();
+    assert_eq!(states, [233, 1072, 3420]);
+}

@@ -91,3 +91,40 @@ fn a_controllable_event_without_output_exits_2_unless_internal() {
     let out = codegen(&["plc", &manifest.display().to_string(), "-o", &dir]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
+
+/// The station's models as files (issue 22: one project loader for every command): plants given
+/// without a role and specifications with `--spec` give the program a manifest of the same models gives
+/// — the same local modular supervisors synthesised — and say so in the command they record.
+#[test]
+fn model_files_with_specifications_give_the_manifests_supervisors() {
+    let rtpn = |f: &str| repo(&format!("examples/station-rtpn/{f}"));
+    let header = |dir: &Path, name: &str| {
+        let st = std::fs::read_to_string(dir.join(format!("{name}.st"))).unwrap();
+        st.lines().find(|l| l.contains("Set '")).unwrap().trim().to_owned()
+    };
+    let (a, b) = (scratch("manifest"), scratch("files"));
+    let out = codegen(&["plc", &rtpn("net3.toml"), "-o", &a.display().to_string()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let specs = ["arm_exclusive", "valve_exclusive", "grip_at_left", "still_while_switching"]
+        .into_iter()
+        .chain(["hold_while_moving", "piston_out_arm_away", "arm_left_piston_in"])
+        .map(|s| rtpn(&format!("specs/{s}.gen")));
+    let mut args: Vec<String> = ["plc", "--name", "net3"].map(String::from).to_vec();
+    args.extend(["piston", "arm", "gripper"].map(|p| rtpn(&format!("plants/{p}.gen"))));
+    for s in specs {
+        args.extend(["--spec".to_owned(), s]);
+    }
+    args.extend(["-o".to_owned(), b.display().to_string()]);
+    let out = Command::new(env!("CARGO_BIN_EXE_codegen")).args(&args).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(header(&a, "net3"), "Set 'net3': 3 plants, 7 supervisors, 20 events.");
+    assert_eq!(header(&b, "net3"), header(&a, "net3"));
+    let st = std::fs::read_to_string(b.join("net3.st")).unwrap();
+    assert!(
+        st.contains("--spec ") && st.contains("plants/gripper.gen --spec"),
+        "the command names the roles"
+    );
+    let none = codegen(&["plc", "-o", &scratch("none").display().to_string()]);
+    assert_eq!(none.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&none.stderr).contains("no input"));
+}

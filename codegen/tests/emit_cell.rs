@@ -95,3 +95,35 @@ fn committed_cell_tables_compile_and_pass_the_check() {
     // In the initial state only the conveyor can start.
     assert_eq!(rt.decide(|| false), Decision::Fired(cell::event::E1_LIG));
 }
+
+/// The cell's model files without a manifest (issue 22: one project loader for every command): plants
+/// without a role and `--spec` give the committed tables' supervisors (6 local modular, 1 028 bytes); a manifest with a run-time
+/// option exits 2 (its `[runtime]` holds them).
+#[test]
+fn model_files_with_specifications_emit_the_synthesised_supervisors() {
+    let out = std::env::temp_dir().join(format!("emit-files-{}.rs", std::process::id()));
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_codegen"));
+    cmd.current_dir(root()).args(["emit", "--name", "cell"]);
+    cmd.args((1..=4).map(|k| format!("examples/cell/plants/G{k}.xmd")));
+    for k in 1..=7 {
+        cmd.args(["--spec".to_owned(), format!("examples/cell/specs/E{k}.xmd")]);
+    }
+    let run = cmd.arg("-o").arg(&out).output().unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let text = std::fs::read_to_string(&out).unwrap();
+    let _ = std::fs::remove_file(&out);
+    assert!(
+        text.contains("Set 'cell': 4 plants, 6 supervisors, 23 events; layout ranked, 1028 bytes"),
+        "{}",
+        &text[..text.len().min(2000)]
+    );
+    assert!(text.contains("--spec examples/cell/specs/E7.xmd"), "the command names the roles");
+    let refused = Command::new(env!("CARGO_BIN_EXE_codegen"))
+        .current_dir(root())
+        .args(["emit", "examples/cell/cell.toml", "--policy", "first", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("[runtime]"));
+}

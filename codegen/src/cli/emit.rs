@@ -6,6 +6,7 @@ use std::process::ExitCode;
 use codegen::config::{ChoicePolicy, Layout, OnFault, RuntimeConfig};
 use codegen::project::Project;
 
+use super::files::{Files, NO_INPUT};
 use super::Error;
 
 /// Emit the Rust tables (in their layout, with side tables, policy, configuration, board pins) the
@@ -17,33 +18,29 @@ use super::Error;
 /// Build the QEMU firmware on it with `SCT_TABLES=FILE cargo qemu-build`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// The project manifest (then no --plant, --sup or run-time options).
-    #[arg(conflicts_with_all = ["plants", "supervisors", "board", "policy", "seed", "guard", "on_fault", "input_buffer"])]
-    manifest: Option<PathBuf>,
-    /// A plant model file (repeat; plants come first in the tables, in this order).
-    #[arg(long = "plant", value_name = "FILE", required_unless_present = "manifest")]
-    plants: Vec<PathBuf>,
-    /// A supervisor model file (repeat).
-    #[arg(long = "sup", value_name = "FILE")]
-    supervisors: Vec<PathBuf>,
-    /// Name of the set.
+    /// The project: a manifest (then no run-time options or --board: its `[runtime]` and `[board]`
+    /// hold them), or modules and model files (one project, loaded as by every command; supervisors
+    /// synthesised local modular where it has specifications), or files in roles.
+    #[command(flatten)]
+    input: Files,
+    /// Name of the set, without a manifest.
     #[arg(long, default_value = "set")]
     name: String,
-    /// Choice policy.
-    #[arg(long, value_enum, default_value_t = RuntimeConfig::default().policy)]
-    policy: ChoicePolicy,
-    /// Seed of the random policies (QEMU; a board reseeds from its own entropy).
-    #[arg(long, default_value_t = RuntimeConfig::default().seed)]
-    seed: u64,
-    /// Inexact-synchronisation guard.
-    #[arg(long, default_value_t = RuntimeConfig::default().guard, action = clap::ArgAction::Set)]
-    guard: bool,
-    /// Reaction to a fault.
-    #[arg(long, value_enum, default_value_t = RuntimeConfig::default().on_fault)]
-    on_fault: OnFault,
-    /// Input buffer capacity in events.
-    #[arg(long, default_value_t = RuntimeConfig::default().input_buffer)]
-    input_buffer: usize,
+    /// Choice policy [default: random-local-queue].
+    #[arg(long, value_enum)]
+    policy: Option<ChoicePolicy>,
+    /// Seed of the random policies (QEMU; a board reseeds from its own entropy) [default: 0].
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Inexact-synchronisation guard [default: true].
+    #[arg(long, action = clap::ArgAction::Set)]
+    guard: Option<bool>,
+    /// Reaction to a fault [default: continue].
+    #[arg(long, value_enum)]
+    on_fault: Option<OnFault>,
+    /// Input buffer capacity in events [default: 32].
+    #[arg(long)]
+    input_buffer: Option<usize>,
     /// Random draws between two reseeds (0: never) [default: the manifest's `reseed_every`, else 1024].
     #[arg(long)]
     reseed_every: Option<u16>,
@@ -61,20 +58,33 @@ pub struct Args {
 
 /// Runs `emit`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
-    let mut project = match &args.manifest {
-        Some(path) => Project::load(path)?,
-        None => {
-            let runtime = RuntimeConfig {
-                policy: args.policy,
-                seed: args.seed,
-                guard: args.guard,
-                on_fault: args.on_fault,
-                input_buffer: args.input_buffer,
-                ..RuntimeConfig::default()
-            };
-            Project::from_files(&args.name, &args.plants, &args.supervisors, args.board.as_deref(), runtime)?
-        }
+    let sources = args.input.sources();
+    if sources.is_empty() {
+        return Err(NO_INPUT.into());
+    }
+    let given = args.policy.is_some()
+        || args.seed.is_some()
+        || args.guard.is_some()
+        || args.on_fault.is_some()
+        || args.input_buffer.is_some()
+        || args.board.is_some();
+    if let (Some(manifest), true) = (sources.manifest(), given) {
+        return Err(format!(
+            "{}: a manifest's [runtime] and [board] set the run-time options; --policy, --seed, --guard, --on-fault, --input-buffer and --board are for model files",
+            manifest.display()
+        )
+        .into());
+    }
+    let d = RuntimeConfig::default();
+    let runtime = RuntimeConfig {
+        policy: args.policy.unwrap_or(d.policy),
+        seed: args.seed.unwrap_or(d.seed),
+        guard: args.guard.unwrap_or(d.guard),
+        on_fault: args.on_fault.unwrap_or(d.on_fault),
+        input_buffer: args.input_buffer.unwrap_or(d.input_buffer),
+        ..d
     };
+    let mut project = Project::from_sources(&args.name, &sources, args.board.as_deref(), runtime)?;
     super::say_skipped(&project.left_out);
     if let Some(n) = args.reseed_every {
         project.runtime.reseed_every = n;

@@ -7,6 +7,9 @@ use codegen::project::{Loaded, Sources};
 
 use super::Error;
 
+/// The error of a command given no files.
+pub const NO_INPUT: &str = "no input: give a manifest, modules or model files, or --plant/--spec/--sup";
+
 /// A project (manifest, modules, model files) and model files in roles; loaded by
 /// [`Sources::load`], the one loader of every command.
 #[derive(Debug, clap::Args)]
@@ -40,7 +43,7 @@ impl Files {
     pub fn load(&self) -> Result<Loaded, Error> {
         let sources = self.sources();
         if sources.is_empty() {
-            return Err("no input: give a manifest, modules or model files, or --plant/--spec/--sup".into());
+            return Err(NO_INPUT.into());
         }
         let loaded = sources.load()?;
         super::say_skipped(&loaded.left_out);

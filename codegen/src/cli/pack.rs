@@ -1,15 +1,15 @@
 //! `codegen pack`: the bytes every layout takes for a supervisor set, against the floor and the paper.
 
 use std::io::Write;
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 use codegen::config::RuntimeConfig;
 use codegen::pack::{report::Report, Layout, PackSet};
 use codegen::project::comparison::modular_and_monolithic;
-use codegen::project::{supervisors, Sources};
+use codegen::project::supervisors;
 use codegen::synth::Config;
 
+use super::files::Files;
 use super::Error;
 
 /// Report the size of a supervisor set in every table layout.
@@ -20,20 +20,12 @@ use super::Error;
 /// memory-safe columns.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Project manifest (TOML): its plants and its supervisors (listed, else synthesised local modular
-    /// from its specifications, which also give the modular and monolithic rows).
-    #[arg(required_unless_present = "plants", conflicts_with_all = ["plants", "supervisors", "specs"])]
-    manifest: Option<PathBuf>,
-    /// Plant model files, in order (their events are numbered first).
-    #[arg(long = "plant", num_args = 1..)]
-    plants: Vec<PathBuf>,
-    /// Supervisor model files, in order.
-    #[arg(long = "sup", num_args = 1..)]
-    supervisors: Vec<PathBuf>,
-    /// Specification model files: with them the report adds the paper's columns for the modular and
-    /// monolithic supervisors, synthesised from the plants and these specifications.
-    #[arg(long = "spec", num_args = 1..)]
-    specs: Vec<PathBuf>,
+    /// The project: a manifest, or modules and model files (one project, loaded as by every command),
+    /// or files in roles (plants first in the event numbering). Its supervisors are the ready ones and
+    /// the local modular ones synthesised from its specifications, which also give the modular and
+    /// monolithic rows.
+    #[command(flatten)]
+    input: Files,
     /// Report only this layout (memory-safe, offset, ranked, indexed or compact). The layouts the
     /// firmware runs — the manifest's `[runtime] layout`, else ranked on the Cortex-M3 and indexed on
     /// the Cortex-M0+ — are marked.
@@ -54,19 +46,10 @@ fn parse_layout(name: &str) -> Result<Layout, String> {
 
 /// Runs `pack`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
-    let sources = Sources {
-        files: args.manifest.iter().cloned().collect(),
-        plants: args.plants.clone(),
-        specs: args.specs.clone(),
-        supervisors: args.supervisors.clone(),
-    };
-    let loaded = sources.load()?;
-    super::say_skipped(&loaded.left_out);
+    let loaded = args.input.load()?;
     let targets =
         loaded.manifest.as_ref().map_or_else(|| RuntimeConfig::default().layouts(), |m| m.runtime.layouts());
-    // A manifest's supervisors are synthesised from its specifications; given files, the specifications
-    // only add the comparison rows.
-    let closed = if loaded.manifest.is_some() { supervisors(loaded.models)? } else { loaded.models };
+    let closed = supervisors(loaded.models)?;
     let set = PackSet::new(closed.plants.clone(), closed.supervisors)?;
     let comparisons = if closed.specs.is_empty() {
         Vec::new()

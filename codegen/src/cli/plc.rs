@@ -12,6 +12,7 @@ use codegen::project::{Project, ProjectError};
 use codegen::symbolic::Options;
 use codegen::synth::Config;
 
+use super::files::Files;
 use super::{engine, limits, Error};
 
 /// The sequence net of the manifest `path` when it has a `[net]` section, bound to the project's
@@ -40,16 +41,10 @@ fn sequence(path: &Path, project: &Project) -> Result<Option<Interpretation>, Er
 /// (unreduced) are written, the XML with a Ladder Diagram body, and the two compared in the report.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// A project: a manifest (TOML; supervisors as listed, else synthesised local modular) or a Supremica
-    /// module; or plant model files.
-    #[arg(required_unless_present = "plants")]
-    files: Vec<PathBuf>,
-    /// A plant model file (repeat).
-    #[arg(long = "plant", value_name = "FILE")]
-    plants: Vec<PathBuf>,
-    /// A supervisor model file (repeat).
-    #[arg(long = "sup", value_name = "FILE")]
-    supervisors: Vec<PathBuf>,
+    /// The project: a manifest (supervisors as listed, else synthesised local modular), or modules and
+    /// model files (one project, loaded as by every command), or files in roles.
+    #[command(flatten)]
+    input: Files,
     /// Name of the set, without a manifest (file and POU names derive from it).
     #[arg(long, default_value = "set")]
     name: String,
@@ -242,33 +237,24 @@ fn hybrid(manifest: &Manifest, args: &Args) -> Result<ExitCode, Error> {
 
 /// Runs `plc`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
-    if let [one] = args.files.as_slice() {
-        if is_manifest(one) && args.plants.is_empty() && args.supervisors.is_empty() {
-            let manifest = Manifest::load(one)?;
-            if manifest.hybrid.is_some() {
-                return hybrid(&manifest, &args);
-            }
+    let sources = args.input.sources();
+    if sources.is_empty() {
+        return Err(super::files::NO_INPUT.into());
+    }
+    if let Some(one) = sources.manifest().filter(|one| is_manifest(one)) {
+        let manifest = Manifest::load(one)?;
+        if manifest.hybrid.is_some() {
+            return hybrid(&manifest, &args);
         }
     }
-    let project = match args.files.as_slice() {
+    let project = match (sources.manifest(), args.encoding, args.engine) {
         // Guards off the BDDs are for sets too large to list: the local modular set's conflict check
         // runs on BDDs too.
-        [one] if is_manifest(one) && args.plants.is_empty() && args.supervisors.is_empty() => {
-            match (args.encoding, args.engine) {
-                (EncodingArg::State, StateEngine::Symbolic) => {
-                    let check = engine::Engine::Symbolic.conflict_check(Options::default());
-                    Project::load_with(
-                        one,
-                        &Config { nonblocking: check.map(|c| c as _), ..Config::default() },
-                    )?
-                }
-                _ => Project::load(one)?,
-            }
+        (Some(one), EncodingArg::State, StateEngine::Symbolic) => {
+            let check = engine::Engine::Symbolic.conflict_check(Options::default());
+            Project::load_with(one, &Config { nonblocking: check.map(|c| c as _), ..Config::default() })?
         }
-        files => {
-            let plants: Vec<PathBuf> = files.iter().chain(&args.plants).cloned().collect();
-            Project::from_files(&args.name, &plants, &args.supervisors, None, RuntimeConfig::default())?
-        }
+        _ => Project::from_sources(&args.name, &sources, None, RuntimeConfig::default())?,
     };
     super::say_skipped(&project.left_out);
     let encoding = match args.encoding {
@@ -276,9 +262,9 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
         EncodingArg::Bits => Encoding::Bits,
         EncodingArg::State => return state(&project, &args),
     };
-    let net = match args.files.as_slice() {
-        [one] => sequence(one, &project)?,
-        _ => None,
+    let net = match sources.manifest() {
+        Some(one) => sequence(one, &project)?,
+        None => None,
     };
     let out = project.plc_beside(encoding, args.avalanche, args.policy, net.as_ref())?;
     write(&args.output, &out.files)?;

@@ -67,8 +67,8 @@ pub struct Project {
 enum Origin {
     /// A manifest, with the run-time configuration it gave.
     Manifest { path: PathBuf, runtime: RuntimeConfig },
-    /// Model files named one by one (`codegen emit --plant … --sup …`).
-    Files { plants: Vec<PathBuf>, supervisors: Vec<PathBuf>, board: Option<PathBuf> },
+    /// Modules and model files (`codegen emit a.wmod b.wmod`, `--plant … --spec … --sup …`).
+    Files { sources: Sources, board: Option<PathBuf> },
     /// Automata built in code.
     Code,
 }
@@ -193,10 +193,8 @@ impl Project {
         })
     }
 
-    /// The project of plant and supervisor files given one by one (plants first in the tables, each
-    /// group in this order), with `runtime` and the `[board]` of the TOML file `board`, loaded as every
-    /// command loads files ([`Sources::load`]). A Supremica module contributes only the components of
-    /// the role it is given in; those it left out are in [`Project::left_out`].
+    /// The project of model files: `plants` and ready `supervisors` in these roles (see
+    /// [`Project::from_sources`]).
     pub fn from_files(
         name: &str,
         plants: &[PathBuf],
@@ -206,6 +204,22 @@ impl Project {
     ) -> Result<Project, ProjectError> {
         let sources =
             Sources { plants: plants.to_vec(), supervisors: supervisors.to_vec(), ..Sources::default() };
+        Project::from_sources(name, &sources, board, runtime)
+    }
+
+    /// The project of `sources` as every command that takes files reads them ([`Sources::load`]): a
+    /// lone manifest (or module) is [`Project::load`]; otherwise modules and model files, one project,
+    /// the local modular supervisors synthesised where it has specifications ([`supervisor_set`]), named
+    /// `name`, with the pin map `board` and `runtime`.
+    pub fn from_sources(
+        name: &str,
+        sources: &Sources,
+        board: Option<&Path>,
+        runtime: RuntimeConfig,
+    ) -> Result<Project, ProjectError> {
+        if let (Some(path), None) = (sources.manifest(), board) {
+            return Project::load(path);
+        }
         let loaded = sources.load()?;
         let set = supervisor_set(&loaded)?;
         let mut inputs: Vec<Input> = loaded.inputs.iter().map(|f| hash(f)).collect::<Result<_, _>>()?;
@@ -224,11 +238,7 @@ impl Project {
             plc: None,
             state: None,
             left_out: loaded.left_out,
-            origin: Origin::Files {
-                plants: plants.to_vec(),
-                supervisors: supervisors.to_vec(),
-                board: board.map(Path::to_path_buf),
-            },
+            origin: Origin::Files { sources: sources.clone(), board: board.map(Path::to_path_buf) },
             inputs,
         })
     }
@@ -269,10 +279,9 @@ impl Project {
                 }
                 line
             }
-            Origin::Files { plants, supervisors, board } => {
+            Origin::Files { sources, board } => {
                 let mut words = vec![String::from("codegen emit"), format!("--name {}", self.name)];
-                words.extend(plants.iter().map(|p| format!("--plant {}", p.display())));
-                words.extend(supervisors.iter().map(|p| format!("--sup {}", p.display())));
+                words.extend(sources.words());
                 words.push(format!("--policy {}", r.policy));
                 words.push(format!("--seed {}", r.seed));
                 words.push(format!("--guard {}", r.guard));
@@ -422,10 +431,9 @@ impl Project {
         let mut words = vec![String::from("codegen plc")];
         match &self.origin {
             Origin::Manifest { path, .. } => words.push(path.display().to_string()),
-            Origin::Files { plants, supervisors, .. } => {
+            Origin::Files { sources, .. } => {
                 words.push(format!("--name {}", self.name));
-                words.extend(plants.iter().map(|p| format!("--plant {}", p.display())));
-                words.extend(supervisors.iter().map(|p| format!("--sup {}", p.display())));
+                words.extend(sources.words());
             }
             Origin::Code => words.push(format!("(automata of '{}' built in code)", self.name)),
         }

@@ -58,9 +58,22 @@ impl Sources {
             && self.supervisors.is_empty()
     }
 
+    /// The sources as a command line's words: the files without a role, then `--plant`, `--spec` and
+    /// `--sup` with theirs.
+    pub fn words(&self) -> Vec<String> {
+        let role = |flag: &'static str, files: &'_ [PathBuf]| {
+            files.iter().map(move |p| format!("{flag} {}", p.display())).collect::<Vec<_>>()
+        };
+        let mut out: Vec<String> = self.files.iter().map(|p| p.display().to_string()).collect();
+        out.extend(role("--plant", &self.plants));
+        out.extend(role("--spec", &self.specs));
+        out.extend(role("--sup", &self.supervisors));
+        out
+    }
+
     /// The manifest among the files, if the sources are a lone manifest (or a lone module with no
     /// files in roles, which is its own manifest).
-    fn manifest(&self) -> Option<&Path> {
+    pub fn manifest(&self) -> Option<&Path> {
         let roles = self.plants.len() + self.specs.len() + self.supervisors.len();
         match self.files.as_slice() {
             [one] if roles == 0 && (has_extension(one, "toml") || has_extension(one, "wmod")) => Some(one),
