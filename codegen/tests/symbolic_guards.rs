@@ -77,8 +77,8 @@ fn the_interlock_gives_the_explicit_rungs() {
 
 #[test]
 fn the_cli_writes_the_program_from_guards() {
-    let manifest = interlock(20, &scratch("interlock-20"));
-    let out = scratch("interlock-20-plc");
+    let manifest = interlock(12, &scratch("interlock-12"));
+    let out = scratch("interlock-12-plc");
     let run = std::process::Command::new(env!("CARGO_BIN_EXE_codegen"))
         .args(["plc", "--encoding", "state", "--engine", "symbolic", "--json", "-o"])
         .arg(&out)
@@ -90,11 +90,11 @@ fn the_cli_writes_the_program_from_guards() {
     assert!(stderr.contains("engine: the guards were read off the symbolic supervisor's BDDs"), "{stderr}");
     let json: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
     assert_eq!(json["engine"], "symbolic");
-    assert_eq!(json["rungs"].as_array().unwrap().len(), 40);
+    assert_eq!(json["rungs"].as_array().unwrap().len(), 24);
     // go1: station 1 idle and station 2 idle — one product.
     assert_eq!(json["rungs"][0]["event"], "go1");
     assert_eq!(json["rungs"][0]["products"], 1);
-    let st = std::fs::read_to_string(out.join("interlock_20.st")).unwrap();
+    let st = std::fs::read_to_string(out.join("interlock_12.st")).unwrap();
     assert!(st.contains("--engine symbolic"), "{st}");
 }
 
