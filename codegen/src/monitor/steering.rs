@@ -240,12 +240,13 @@ impl Steering {
                         }
                         // A command the controller's round excludes now comes back when the round is over
                         // (the values are not recomputed when a round outside the focus moves unless it
-                        // holds a target): a target keeps a floor, and so does any other command the
+                        // holds a target): a target keeps a floor, and so does any other command a site's
                         // round excludes, or every target behind it would look unreachable and the plant
-                        // would stop steering.
+                        // would stop steering. A command outside every site with no chance is never
+                        // chosen.
                         let chance = match (bit, c.target) {
                             (None, true) => c.chance.max(floor),
-                            (None, false) if c.chance == 0.0 => floor,
+                            (None, false) if c.chance == 0.0 && c.site.is_some() => floor,
                             _ => c.chance,
                         };
                         Step { command: true, target: c.target, chance, bit }
