@@ -91,6 +91,8 @@ pub struct Report {
     pub scan_us: f64,
     /// The supervisors kept as memory, when the plant state does not decide.
     pub memory: Option<MemoryFigures>,
+    /// The policy choosing one command per scan (`[state] choice`), when the program fires one.
+    pub choice: Option<&'static str>,
     /// The event-based program's figures, when computed.
     pub event_based: Option<EventBased>,
     /// f as a table.
@@ -137,6 +139,7 @@ impl Report {
             il_instructions: il,
             instruction_ns: ns,
             scan_us: il as f64 * f64::from(ns) / 1000.0,
+            choice: None,
             per_rung,
             event_based: event_based.map(|r| EventBased {
                 statements: r.statements.function_block + r.statements.program,
@@ -165,6 +168,12 @@ impl Report {
             "{} rungs over {} signals: {} IL instructions, stack depth {}, scan {:.1} us at {} ns per instruction",
             self.rungs, self.signals, self.il_instructions, self.stack_depth, self.scan_us, self.instruction_ns
         );
+        if let Some(policy) = self.choice {
+            let _ = writeln!(
+                out,
+                "one command per scan, chosen by {policy} among the rungs that conduct (the choice section is not in the IL count)"
+            );
+        }
         if let Some(m) = &self.memory {
             let _ = writeln!(
                 out,
