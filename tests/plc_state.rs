@@ -16,7 +16,7 @@ use codegen::project::Project;
 use end_to_end::st::Plc;
 use end_to_end::{example, root, Scratch};
 
-/// Events of a closed-loop run.
+/// Events of a closed-loop run on the station.
 const EVENTS: u64 = 6_000;
 
 fn program(exact: bool, choice: Option<ScanPolicy>) -> (Project, Output) {
@@ -151,12 +151,13 @@ impl Lcg {
     }
 }
 
-/// Runs the program of `out` closed loop for [`EVENTS`] events and returns the monitor's report and the
+/// Runs the program of `out` closed loop for `events` events and returns the monitor's report and the
 /// (plant state, controllable event) pairs the program fired.
 fn closed_loop(
     p: &Project,
     out: &Output,
     seed: u64,
+    events: u64,
 ) -> (codegen::monitor::Report, BTreeSet<(Vec<u32>, u32)>) {
     let set = &p.set;
     let members = set.members();
@@ -172,7 +173,7 @@ fn closed_loop(
     let mut rng = Lcg(seed);
     let mut fired = BTreeSet::new();
     let mut t = 0;
-    while monitor.report().events < EVENTS {
+    while monitor.report().events < events {
         t += 1;
         // The plant: up to two uncontrollable events of different components between two scans (a
         // scan is not always faster than two sensors), half the time steered towards what the run has
@@ -211,15 +212,19 @@ fn closed_loop(
         let after =
             names.iter().enumerate().fold(0u64, |a, (k, n)| a | u64::from(plc.get_bool(n).unwrap()) << k);
         assert_eq!(after & !outputs, v & !outputs, "the program writes no input");
-        for r in &out.rungs {
+        // With a choice policy the program says which rung it chose; without, a rung fired when its
+        // command's outputs changed.
+        let chosen = out.one.as_ref().map(|_| plc.get_int("c").unwrap());
+        for (k, r) in out.rungs.iter().enumerate() {
             let e = set.events().id(&r.event).unwrap();
             let (i, cmd) = out.vector.commands[e.index()].unwrap();
             let Some(s) = plants[i].out(x[i] as usize).find(|&(ev, _)| ev == e).map(|(_, s)| s.index())
             else {
                 continue;
             };
-            if (v & !cmd.mask) | cmd.value == v || after & cmd.mask != cmd.value {
-                continue; // the command's outputs did not change: the rung did not fire
+            let unchanged = (v & !cmd.mask) | cmd.value == v || after & cmd.mask != cmd.value;
+            if chosen.map_or(unchanged, |c| c != k as i64) {
+                continue;
             }
             fired.insert((x.clone(), e.as_u32()));
             v = out.vector.after(i, e, s, v);
@@ -244,7 +249,7 @@ fn r23_the_state_based_program_runs_the_station_safely_live_and_covering() {
     ];
     for (exact, choice) in runs {
         let (p, out) = program(exact, choice);
-        let (report, fired) = closed_loop(&p, &out, 7);
+        let (report, fired) = closed_loop(&p, &out, 7, EVENTS);
         assert_eq!(report.violations, 0, "{:?}", report.findings);
         // The marked state needs all four components home with the barrel empty at once: rare under a
         // random barrel, yet reached again and again.
@@ -283,7 +288,7 @@ fn a_program_with_memory_tracks_the_supervisor_and_stays_safe() {
     let p = Project::load(&root().join("codegen/tests/data/sfbc_memory/memory.toml")).unwrap();
     for choice in [None, Some(ScanPolicy::Random)] {
         let out = p.state_plc(StateOptions { memory: true, choice, ..StateOptions::default() }).unwrap();
-        let (report, fired) = closed_loop(&p, &out, 11);
+        let (report, fired) = closed_loop(&p, &out, 11, EVENTS);
         assert_eq!(report.violations, 0, "{:?}", report.findings);
         assert!(report.marked_visits > 100, "liveness: {report:?}");
         let reachable = program_reachable(&p, &out);

@@ -45,10 +45,9 @@ pub struct Row {
 pub struct MemoryFigures {
     /// The kept supervisors.
     pub kept: Vec<String>,
-    /// Bits their states take (⌈log2 states⌉ each).
+    /// Bits their states take (⌈log2 states⌉ each): the program's memory `BOOL`s, beside an `INT`
+    /// per kept supervisor.
     pub bits: u32,
-    /// The program's memory variables (one `BOOL` per kept state).
-    pub variables: usize,
     /// (plant state, event) pairs where memory decides.
     pub conflicts: usize,
 }
@@ -149,7 +148,6 @@ impl Report {
             memory: f.memory.as_ref().map(|m| MemoryFigures {
                 kept: m.kept.iter().map(|&k| set.members()[k].name().to_owned()).collect(),
                 bits: m.bits,
-                variables: m.kept.iter().map(|&k| set.members()[k].state_count()).sum(),
                 conflicts: f.conflicts.len(),
             }),
         }
@@ -177,11 +175,10 @@ impl Report {
         if let Some(m) = &self.memory {
             let _ = writeln!(
                 out,
-                "memory decides at {} (plant state, event) pairs: kept {} ({} bits; {} BOOLs in the program)",
+                "memory decides at {} (plant state, event) pairs: kept {} ({} bits: as many BOOLs in the program, beside an INT per supervisor)",
                 m.conflicts,
                 m.kept.join(", "),
-                m.bits,
-                m.variables
+                m.bits
             );
         }
         if let Some(e) = &self.event_based {
