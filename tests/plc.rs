@@ -551,9 +551,21 @@ fn r22_every_generated_program_is_strict_iec_61131_3() {
         }
     }
     let distribution = Project::load(&example("distribution/distribution.toml")).unwrap();
-    for (memory, exact) in [(false, false), (false, true), (true, false)] {
-        let out = distribution.state_plc(memory, exact).unwrap_or_else(|e| panic!("distribution: {e}"));
-        programs.push((format!("distribution state memory={memory} exact={exact}"), out.files));
+    // Memory, exactness, and every choice policy.
+    let choices = [
+        (false, false, None),
+        (false, true, None),
+        (true, false, None),
+        (false, false, Some(ScanPolicy::First)),
+        (false, false, Some(ScanPolicy::GlobalQueue)),
+        (true, false, Some(ScanPolicy::Random)),
+        (false, false, Some(ScanPolicy::LocalQueue)),
+    ];
+    for (memory, exact, choice) in choices {
+        let options = codegen::plc::state_based::StateOptions { memory, exact, choice };
+        let out = distribution.state_plc(options).unwrap_or_else(|e| panic!("distribution: {e}"));
+        programs
+            .push((format!("distribution state memory={memory} exact={exact} choice={choice:?}"), out.files));
     }
     let mut located = 0;
     for (what, files) in &programs {

@@ -8,7 +8,7 @@ use std::process::{Command, Output};
 
 use codegen::manifest::Manifest;
 use codegen::model::{Dfa, EventTable};
-use codegen::plc::state_based::{product_size, validate};
+use codegen::plc::state_based::{product_size, validate, StateOptions};
 use codegen::project::Project;
 
 fn codegen(args: &[&str]) -> Output {
@@ -103,11 +103,14 @@ fn r23_the_distribution_station_reproduces_table_1() {
 fn every_generated_program_passes_translation_validation_and_a_wrong_rung_does_not() {
     let project = Project::load(&repo(STATION)).unwrap();
     for exact in [false, true] {
-        let out = project.state_plc(false, exact).unwrap();
+        let out = project.state_plc(StateOptions { exact, ..StateOptions::default() }).unwrap();
         let checked = validate(&out, &out.rungs).unwrap();
         assert!(checked >= out.sfbc.entries.len(), "every reachable state checked: {checked}");
         // Same bytes twice.
-        assert_eq!(project.state_plc(false, exact).unwrap().files, out.files);
+        assert_eq!(
+            project.state_plc(StateOptions { exact, ..StateOptions::default() }).unwrap().files,
+            out.files
+        );
         // Dropping a product of a rung with several makes some reachable state disagree.
         let mut broken = out.rungs.clone();
         let r = broken.iter_mut().find(|r| r.cubes.len() > 1).unwrap();
@@ -118,8 +121,8 @@ fn every_generated_program_passes_translation_validation_and_a_wrong_rung_does_n
         }
         assert!(validate(&out, &broken).is_err());
     }
-    let exact = project.state_plc(false, true).unwrap().report;
-    let free = project.state_plc(false, false).unwrap().report;
+    let exact = project.state_plc(StateOptions { exact: true, ..StateOptions::default() }).unwrap().report;
+    let free = project.state_plc(StateOptions::default()).unwrap().report;
     assert!(free.il_instructions < exact.il_instructions, "don't-cares shrink the program");
     assert!(free.stack_depth <= 3 && exact.stack_depth <= 3, "a factored DNF needs three levels at most");
 }
@@ -134,7 +137,7 @@ fn the_specification_e_and_the_program_figures_are_recorded() {
     // Our E is determined by G's state (docs/state-based.md explains why the paper's 302/2940 is not):
     // its reachable part is the closed loop's 52 states.
     assert_eq!(e, (52, 125));
-    let report = Project::load(&repo(STATION)).unwrap().state_plc(false, false).unwrap().report;
+    let report = Project::load(&repo(STATION)).unwrap().state_plc(StateOptions::default()).unwrap().report;
     assert_eq!((report.il_instructions, report.stack_depth), (41, 3));
 }
 
@@ -176,6 +179,10 @@ fn a_state_section_that_cannot_be_read_back_exits_2_naming_the_key() {
             state.replace("I2D = [\"Y2\", \"!X0\", \"X1\"]", "I2D = [\"Y2\", \"X0\", \"X1\"]"),
             "do not read as",
         ),
+        (
+            format!("[state]\nchoice = \"random\"\n{}", state.replace("X5", "c")),
+            "state.choice: signal 'c' has a name the choice section uses",
+        ),
     ];
     for (i, (section, want)) in cases.iter().enumerate() {
         let dir = scratch(&format!("bad{i}"));
@@ -186,6 +193,30 @@ fn a_state_section_that_cannot_be_read_back_exits_2_naming_the_key() {
         assert_eq!(out.status.code(), Some(2), "{err}");
         assert!(err.contains(&path) && err.contains(want), "{want}: {err}");
     }
+}
+
+// See: issue 23 (item 6: a command allowed with others must be able to fire first somewhere).
+#[test]
+fn with_a_choice_policy_the_program_fires_one_chosen_rung_per_scan() {
+    let dir = scratch("choice");
+    let out_dir = dir.join("out").display().to_string();
+    let station = repo(STATION).display().to_string();
+    let out =
+        codegen(&["plc", &station, "--encoding", "state", "--choice", "random", "-o", &out_dir, "--json"]);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["sfbc"]["choice"], "random");
+    // The rungs and their figures are those of the fixed-order program: only the scan around them differs.
+    assert_eq!(
+        (json["sfbc"]["rungs"].as_u64(), json["sfbc"]["il_instructions"].as_u64()),
+        (Some(6), Some(41))
+    );
+    let st = std::fs::read_to_string(dir.join("out/distribution.st")).unwrap();
+    assert!(st.contains("enabled[5] :=") && st.contains("CASE c OF") && st.contains("choice=random"), "{st}");
+    let xml = std::fs::read_to_string(dir.join("out/distribution.xml")).unwrap();
+    assert!(!xml.contains("<LD>"), "the choice is ST only");
+    let text = codegen(&["plc", &station, "--encoding", "state", "--choice", "random", "-o", &out_dir]);
+    assert!(String::from_utf8_lossy(&text.stdout).contains("one command per scan, chosen by random"));
 }
 
 #[test]
@@ -204,15 +235,14 @@ fn where_memory_decides_the_plant_states_are_reported_with_two_traces_or_memory_
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let memory = &json["sfbc"]["memory"];
-    assert_eq!(
-        (memory["kept"][0].as_str(), memory["bits"].as_u64(), memory["variables"].as_u64()),
-        (Some("S"), Some(2), Some(4))
-    );
+    assert_eq!((memory["kept"][0].as_str(), memory["bits"].as_u64()), (Some("S"), Some(2)));
+    let st = std::fs::read_to_string(Path::new(&out_dir).join("alternating.st")).unwrap();
+    assert!(st.contains("s_S : INT := 0;") && st.contains("m_S_b1 : BOOL := FALSE;"), "{st}");
     // The program with memory passes translation validation over signals and memory bits.
     let project = Project::load(Path::new(&m)).unwrap();
-    let program = project.state_plc(true, false).unwrap();
+    let program = project.state_plc(StateOptions { memory: true, ..StateOptions::default() }).unwrap();
     assert!(validate(&program, &program.rungs).unwrap() > 0);
     let alt = program.rungs.iter().find(|r| r.event == "alt").unwrap();
-    // alt is allowed in I with S in a: the memory bits (one-hot) say so.
+    // alt is allowed in I with S in a: the memory bits (S's state code) say so.
     assert!(alt.rung.condition.st().text().contains("m_S_"), "{}", alt.rung.condition.st().text());
 }

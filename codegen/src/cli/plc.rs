@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use codegen::config::{RuntimeConfig, ScanPolicy};
 use codegen::manifest::{is_manifest, Manifest};
 use codegen::net::{interpretation, Interpretation};
-use codegen::plc::state_based::StateError;
+use codegen::plc::state_based::{StateError, StateOptions};
 use codegen::plc::{Avalanche, Encoding};
 use codegen::project::{Project, ProjectError};
 use codegen::symbolic::Options;
@@ -71,6 +71,11 @@ pub struct Args {
     /// size (512M, 2G, none) [default: three quarters of the machine's RAM].
     #[arg(long, value_name = "SIZE", value_parser = limits::parse_size)]
     memory_limit: Option<limits::MemoryLimit>,
+    /// `--encoding state`: fire at most one command per scan, chosen among the rungs that conduct by
+    /// this policy, so that every command allowed with others may be the one that fires (as
+    /// `[state] choice`; the XML then carries the ST body only).
+    #[arg(long, value_enum, value_name = "POLICY")]
+    choice: Option<ScanPolicy>,
     /// Avalanche elimination in the bits encoding.
     #[arg(long, value_enum, default_value_t = Avalanche::Auto)]
     avalanche: Avalanche,
@@ -121,14 +126,16 @@ fn state(project: &Project, args: &Args) -> Result<ExitCode, Error> {
     if args.engine == StateEngine::Symbolic {
         return state_symbolic(project, args);
     }
-    let out = match project.state_plc(args.memory, args.exact) {
-        Ok(out) => out,
-        Err(e) if memory_decides(&e) => {
-            eprintln!("{e}");
-            return Ok(ExitCode::from(1));
-        }
-        Err(e) => return Err(e.into()),
-    };
+    let out =
+        match project.state_plc(StateOptions { memory: args.memory, exact: args.exact, choice: args.choice })
+        {
+            Ok(out) => out,
+            Err(e) if memory_decides(&e) => {
+                eprintln!("{e}");
+                return Ok(ExitCode::from(1));
+            }
+            Err(e) => return Err(e.into()),
+        };
     write(&args.output, &out.files)?;
     if args.json {
         let files: Vec<&str> = out.files.iter().map(|(n, _)| n.as_str()).collect();

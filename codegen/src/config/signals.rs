@@ -7,6 +7,7 @@
 //! [state]
 //! memory = false                 # keep supervisors' states where the plant state does not decide
 //! exact = false                  # F_σ without don't-cares
+//! choice = "global-queue"       # one command per scan, chosen by this policy (absent: every rung fires)
 //! [state.components.Injector]    # a plant automaton of the manifest
 //! inputs = [{ name = "X0", address = "%IX0.0", pin = 2 }, { name = "X1", address = "%IX0.1", pin = 3 }]
 //! outputs = [{ name = "Y2", address = "%QX0.2", pin = 18 }]
@@ -24,6 +25,8 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use serde::Deserialize;
 
+use super::ScanPolicy;
+
 /// At most this many signals: a valuation is one `u64` word.
 pub const MAX_SIGNALS: usize = 64;
 
@@ -38,6 +41,10 @@ pub struct StateSpec {
     /// Minimise each F_σ without don't-cares: the formula is exactly the union of its states' formulas.
     #[serde(default)]
     pub exact: bool,
+    /// At most one command per scan, chosen among the rungs that conduct by this policy (as the
+    /// event-based program chooses); absent, every rung that conducts fires, in rung order.
+    #[serde(default)]
+    pub choice: Option<ScanPolicy>,
     /// The components, by the name of their plant automaton.
     #[serde(default)]
     pub components: BTreeMap<String, ComponentSpec>,
@@ -157,6 +164,8 @@ pub struct Signals {
     pub memory: bool,
     /// `[state] exact`.
     pub exact: bool,
+    /// `[state] choice`.
+    pub choice: Option<ScanPolicy>,
 }
 
 /// A `[state]` section that cannot be read back from the signals.
@@ -252,7 +261,7 @@ impl StateSpec {
             }
             components.push(Component { name: name.clone(), states, commands });
         }
-        Ok(Signals { signals, components, memory: self.memory, exact: self.exact })
+        Ok(Signals { signals, components, memory: self.memory, exact: self.exact, choice: self.choice })
     }
 }
 

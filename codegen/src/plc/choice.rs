@@ -2,7 +2,7 @@
 //! same rules as `firmware::choice` over the same event ids, so that with the deterministic policies the
 //! program and the firmware fire the same events.
 
-use super::st::{Expr, Op, Stmt, Type};
+use super::st::{Expr, Op, Stmt, Type, Var};
 use crate::config::ScanPolicy;
 
 /// The MINSTD multiplier (Park & Miller), and Schrage's split of the modulus 2³¹ − 1 by it, so that the
@@ -43,6 +43,47 @@ fn en(i: Expr) -> Expr {
 
 fn c_is(e: i64) -> Stmt {
     Stmt::set("c", Expr::Int(e))
+}
+
+/// Every name the choice section uses: a program that holds it keeps them free.
+pub const VARIABLES: [&str; 13] =
+    [ENABLED, "c", "i", "j", "k", "n", "p", "pc", "gq", "sc", "site", "cur", "rng"];
+
+/// The variables of the choice section over `count` candidates (indexed as `what` says) with `policy`:
+/// the enabled array, `c` and `i`, and the policy's cursors (`sites` choice sites for the local queue) or
+/// generator (seeded from `seed`).
+pub fn locals(policy: ScanPolicy, count: usize, sites: usize, seed: u64, what: &str) -> Vec<Var> {
+    let mut locals = vec![
+        Var::new(ENABLED, Type::array(count as i64 - 1, Type::Bool), format!("enabled, by {what}")),
+        Var::new("c", Type::Int, format!("chosen {what}, -1 none")),
+        Var::new("i", Type::Int, ""),
+    ];
+    match policy {
+        ScanPolicy::First => {}
+        ScanPolicy::GlobalQueue => {
+            locals.push(Var::new("j", Type::Int, ""));
+            locals.push(Var::new("gq", Type::Int, format!("global cursor ({what})")));
+        }
+        ScanPolicy::LocalQueue => {
+            locals.push(Var::new("p", Type::Int, "plant"));
+            locals.push(Var::new("pc", Type::Int, "plant cursor"));
+            locals.push(Var::new("cur", Type::Int, "site cursor in use"));
+            if sites > 0 {
+                locals.push(Var::new("site", Type::Int, "choice site, -1 none"));
+                locals.push(Var::new(
+                    "sc",
+                    Type::array(sites as i64 - 1, Type::Int),
+                    "cursor per choice site",
+                ));
+            }
+        }
+        ScanPolicy::Random => {
+            locals.push(Var::new("n", Type::Int, "enabled count"));
+            locals.push(Var::new("k", Type::Int, ""));
+            locals.push(Var::new("rng", Type::Dint, "MINSTD state").init(Expr::Int(minstd_seed(seed))));
+        }
+    }
+    locals
 }
 
 /// Statements setting `c` (already -1) to the chosen event of `en[0..events-1]`, by `policy`.

@@ -93,22 +93,8 @@ pub fn build(set: &PackSet, opts: &PlcOptions) -> Result<Program, PlcError> {
     for fixed in ["ready", "reset", "hold", "guard", "fired", "pending", "safe", "busy", "arrived", "EVENTS"]
         .iter()
         .chain(&COUNTERS)
-        .chain(&[
-            choice::ENABLED,
-            "c",
-            "i",
-            "j",
-            "k",
-            "n",
-            "p",
-            "pc",
-            "gq",
-            "sc",
-            "site",
-            "cur",
-            "rng",
-            "sct",
-        ])
+        .chain(&choice::VARIABLES)
+        .chain(&["sct"])
     {
         names.reserve(fixed);
     }
@@ -692,7 +678,6 @@ impl Builder<'_> {
         for pt in self.pulse.iter().flatten() {
             locals.push(Var::new(pt, Type::Int, "pulse scans left"));
         }
-        let last = events.len() - 1;
         let has_u = !self.uncontrollable().is_empty();
         let has_c = !self.controllable().is_empty();
         if has_u {
@@ -704,41 +689,7 @@ impl Builder<'_> {
             ));
         }
         if has_c {
-            locals.push(Var::new(
-                choice::ENABLED,
-                Type::array(last as i64, Type::Bool),
-                "enabled, by event id",
-            ));
-            locals.push(Var::new("c", Type::Int, "chosen event id, -1 none"));
-            locals.push(Var::new("i", Type::Int, ""));
-            match self.opts.policy {
-                ScanPolicy::First => {}
-                ScanPolicy::GlobalQueue => {
-                    locals.push(Var::new("j", Type::Int, ""));
-                    locals.push(Var::new("gq", Type::Int, "global cursor (event id)"));
-                }
-                ScanPolicy::LocalQueue => {
-                    locals.push(Var::new("p", Type::Int, "plant"));
-                    locals.push(Var::new("pc", Type::Int, "plant cursor"));
-                    locals.push(Var::new("cur", Type::Int, "site cursor in use"));
-                    if sites > 0 {
-                        locals.push(Var::new("site", Type::Int, "choice site, -1 none"));
-                        locals.push(Var::new(
-                            "sc",
-                            Type::array(sites as i64 - 1, Type::Int),
-                            "cursor per choice site",
-                        ));
-                    }
-                }
-                ScanPolicy::Random => {
-                    locals.push(Var::new("n", Type::Int, "enabled count"));
-                    locals.push(Var::new("k", Type::Int, ""));
-                    locals.push(
-                        Var::new("rng", Type::Dint, "MINSTD state")
-                            .init(Expr::Int(choice::minstd_seed(self.opts.seed))),
-                    );
-                }
-            }
+            locals.extend(choice::locals(self.opts.policy, events.len(), sites, self.opts.seed, "event id"));
         }
         let fb = Pou {
             program: false,

@@ -366,14 +366,15 @@ impl Project {
     }
 
     /// The state-based PLC program of the set (`--encoding state`): its `[state]` section's state
-    /// vectors, memory allowed with `memory` (or `[state] memory`), F_σ exact with `exact` (or
-    /// `[state] exact`), the event-based program's figures beside. Errors name the manifest.
-    pub fn state_plc(&self, memory: bool, exact: bool) -> Result<state_based::Output, ProjectError> {
-        let flags = [(memory, " --memory"), (exact, " --exact")];
+    /// vectors, memory allowed, F_σ exact and one command per scan as `choices` (or the `[state]`
+    /// keys) say, the event-based program's figures beside. Errors name the manifest.
+    pub fn state_plc(&self, choices: state_based::StateOptions) -> Result<state_based::Output, ProjectError> {
+        let choice = choices.choice.map(|p| format!(" --choice {}", p.name())).unwrap_or_default();
+        let flags = [(choices.memory, " --memory"), (choices.exact, " --exact"), (true, choice.as_str())];
         let (signals, opts, provenance) = self.state_setup(&flags).map_err(|e| self.in_file(e))?;
         let event_based = self.plc(Encoding::Int, Avalanche::Auto, None).ok();
         let report = event_based.as_ref().map(|o| &o.report);
-        state_based::generate(&self.set, signals, &opts, memory, exact, &provenance, report)
+        state_based::generate(&self.set, signals, &opts, choices, &provenance, report)
             .map_err(|e| self.in_file(e))
     }
 

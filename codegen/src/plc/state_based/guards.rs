@@ -37,7 +37,8 @@ pub fn generate(
     let exact = exact || signals.exact;
     let vector = Vector::bind(set, signals)?;
     let rungs = rungs(set, &vector, guards, exact)?;
-    let files = program_files(set, &vector, &rungs, &memory::Memory::default(), opts, exact, provenance)?;
+    let files =
+        program_files(set, &vector, &rungs, &memory::Memory::default(), None, opts, exact, provenance)?;
     Ok(GuardProgram { files, rungs, vector })
 }
 

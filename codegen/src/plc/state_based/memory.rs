@@ -1,6 +1,7 @@
 //! Supervisor memory in a state-based program: where the plant state does not decide the feedback, the
-//! kept supervisors' states ([`super::sfbc::Memory`]) become further literals — one `BOOL` per state,
-//! exactly one TRUE — tracked from events as an event-based program tracks them. A command is known when
+//! kept supervisors' states ([`super::sfbc::Memory`]) become further literals — each kept supervisor's
+//! state as an `INT`, and its binary code as `BOOL`s (⌈log2 states⌉ of them, least significant first)
+//! the rungs read — tracked from events as an event-based program tracks them. A command is known when
 //! its rung fires; an uncontrollable event is read as its component's state change between two scans
 //! (the previous state kept in an `INT`), so memory, unlike the rest of the program, depends on seeing
 //! every sensor change: a component that moves two steps between scans desynchronises it.
@@ -20,13 +21,17 @@ use super::{program, StateError, Vector};
 pub struct Memory {
     /// Member indices of the kept supervisors.
     pub kept: Vec<usize>,
-    /// Per kept supervisor, per state: its variable's index among the program's Boolean variables.
+    /// Per kept supervisor, its state code's bits: their indices among the program's Boolean
+    /// variables, least significant first.
     pub bits: Vec<Vec<usize>>,
-    /// Every memory variable's name, in index order.
+    /// Per kept supervisor, the `INT` holding its state.
+    pub states: Vec<String>,
+    /// Every memory bit's name, in index order.
     pub names: Vec<String>,
-    /// The index of the first memory variable (the number of signals).
+    /// The index of the first memory bit (the number of signals).
     pub base: usize,
-    /// Declarations: memory bits (the initial states TRUE), each tracked component's last state.
+    /// Declarations: the kept supervisors' states and bits (initial states set), each tracked
+    /// component's last state.
     pub vars: Vec<Var>,
     /// Before the rungs: each tracked component's state decoded, its uncontrollable events applied.
     pub detect: Vec<Stmt>,
@@ -34,7 +39,8 @@ pub struct Memory {
     pub after: BTreeMap<u32, Vec<Stmt>>,
 }
 
-/// `IF m_q THEN m_q := FALSE; m_q' := TRUE; ELSIF …` for event `e` in every kept supervisor holding it.
+/// `CASE s OF q: s := q'; …` for event `e` in every kept supervisor holding it, then that supervisor's
+/// bits set from its new state.
 fn apply(set: &PackSet, m: &Memory, e: EventId) -> Vec<Stmt> {
     let mut out = Vec::new();
     for (k, &s) in m.kept.iter().enumerate() {
@@ -42,21 +48,23 @@ fn apply(set: &PackSet, m: &Memory, e: EventId) -> Vec<Stmt> {
         if !member.dfa.has_event(e.as_u32()) {
             continue;
         }
-        let arms: Vec<(Expr, Vec<Stmt>)> = (0..member.state_count())
+        let state = &m.states[k];
+        let arms: Vec<(Vec<i64>, Vec<Stmt>)> = (0..member.state_count())
             .filter_map(|q| {
                 let t = member.dfa.step(q as u32, e.as_u32())? as usize;
-                let (from, to) = (&m.names[m.bits[k][q] - m.base], &m.names[m.bits[k][t] - m.base]);
-                let body = if q == t {
-                    Vec::new()
-                } else {
-                    vec![Stmt::set(from.clone(), Expr::Bool(false)), Stmt::set(to.clone(), Expr::Bool(true))]
-                };
-                Some((Expr::var(from.clone()), body))
+                (q != t).then(|| (vec![q as i64], vec![Stmt::set(state.clone(), Expr::Int(t as i64))]))
             })
-            .filter(|(_, body)| !body.is_empty())
             .collect();
-        if !arms.is_empty() {
-            out.push(Stmt::If(arms, Vec::new()));
+        if arms.is_empty() {
+            continue;
+        }
+        out.push(Stmt::Case(Expr::var(state.clone()), arms, Vec::new()));
+        for (i, &bit) in m.bits[k].iter().enumerate() {
+            let digit = Expr::var(state.clone())
+                .op(Op::Div, Expr::Int(1 << i))
+                .op(Op::Mod, Expr::Int(2))
+                .op(Op::Eq, Expr::Int(1));
+            out.push(Stmt::set(m.names[bit - m.base].clone(), digit));
         }
     }
     out
@@ -79,17 +87,20 @@ impl Memory {
         let mut m = Memory { kept: kept.to_vec(), base: signal_names.len(), ..Memory::default() };
         let mut index = signal_names.len();
         for &s in kept {
+            let sup = members[s].name();
+            let initial = members[s].initial().index();
+            let state = names.fresh("s", sup);
+            m.vars.push(
+                Var::new(state.clone(), Type::Int, format!("memory: {sup}'s state"))
+                    .init(Expr::Int(initial as i64)),
+            );
+            m.states.push(state);
             let mut per = Vec::new();
-            for (q, st) in members[s].automaton.states.iter().enumerate() {
-                let name = names.fresh(&format!("m_{}", members[s].name()), &st.name);
-                let init = members[s].initial().index() == q;
+            for i in 0..super::sfbc::bits(members[s].state_count()) as usize {
+                let name = names.fresh(&format!("m_{sup}"), &format!("b{i}"));
                 m.vars.push(
-                    Var::new(
-                        name.clone(),
-                        Type::Bool,
-                        format!("memory: {} in {}", members[s].name(), st.name),
-                    )
-                    .init(Expr::Bool(init)),
+                    Var::new(name.clone(), Type::Bool, format!("memory: bit {i} of {sup}'s state"))
+                        .init(Expr::Bool(initial >> i & 1 == 1)),
                 );
                 m.names.push(name);
                 per.push(index);
@@ -186,14 +197,14 @@ impl Memory {
         Ok(m)
     }
 
-    /// The literals of the kept supervisors in `states` (one per kept supervisor, in order): the
-    /// state's bit TRUE, the supervisor's other bits FALSE.
+    /// The literals of the kept supervisors in `states` (one per kept supervisor, in order): each
+    /// state's binary code on its supervisor's bits.
     pub fn cube(&self, states: &[u32]) -> Cube {
         let mut c = Cube::default();
         for (k, &q) in states.iter().enumerate() {
-            for (j, &bit) in self.bits[k].iter().enumerate() {
+            for (i, &bit) in self.bits[k].iter().enumerate() {
                 c.mask |= 1 << bit;
-                c.value |= u64::from(j == q as usize) << bit;
+                c.value |= u64::from(q >> i & 1) << bit;
             }
         }
         c

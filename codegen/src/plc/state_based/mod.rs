@@ -28,14 +28,14 @@ pub mod report;
 pub mod sfbc;
 pub mod vector;
 
-use crate::config::{Cube, Signals, SignalsError};
+use crate::config::{Cube, ScanPolicy, Signals, SignalsError};
 use crate::emit::Provenance;
 use crate::pack::PackSet;
 use crate::plc::names::sanitize;
 use crate::plc::{comment, header, ld, xml, PlcOptions};
 use crate::synth::{Reachable, SynthError};
 
-pub use program::EventRung;
+pub use program::{EventRung, OnePerScan};
 pub use report::Report;
 pub use sfbc::Sfbc;
 pub use vector::Vector;
@@ -68,6 +68,17 @@ pub enum StateError {
     Memory(String),
 }
 
+/// What the command line adds to the manifest's `[state]` keys (each ORed with its key).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StateOptions {
+    /// Keep supervisors' states where the plant state does not decide (`--memory`).
+    pub memory: bool,
+    /// F_σ without don't-cares (`--exact`).
+    pub exact: bool,
+    /// One command per scan, chosen by this policy (`--choice`).
+    pub choice: Option<ScanPolicy>,
+}
+
 /// The program's files, report and rungs.
 #[derive(Clone, Debug)]
 pub struct Output {
@@ -83,6 +94,8 @@ pub struct Output {
     pub sfbc: Sfbc,
     /// The kept supervisors' memory (empty when the plant state decides).
     pub memory: memory::Memory,
+    /// The choice of one command per scan, when the program makes one.
+    pub one: Option<OnePerScan>,
 }
 
 impl Output {
@@ -177,20 +190,21 @@ pub fn product_size(dfas: &[&crate::model::Dfa]) -> Result<(usize, usize), Synth
     Ok((r.dfa().state_count(), r.dfa().transition_count()))
 }
 
-/// Writes the state-based program of `set` with `opts` and the state vectors `signals`; `memory` allows
-/// supervisor memory (as `[state] memory`), `exact` keeps F_σ free of don't-cares (as `[state] exact`).
-/// `event_based` is the event-based program's report for the same set, for the comparison figures.
+/// Writes the state-based program of `set` with `opts` and the state vectors `signals`; `choices` allow
+/// supervisor memory (as `[state] memory`), keep F_σ free of don't-cares (as `[state] exact`) and fire
+/// one command per scan by a choice policy (as `[state] choice`). `event_based` is the event-based program's report for
+/// the same set, for the comparison figures.
 pub fn generate(
     set: &PackSet,
     signals: Signals,
     opts: &PlcOptions,
-    memory: bool,
-    exact: bool,
+    choices: StateOptions,
     provenance: &Provenance,
     event_based: Option<&crate::plc::Report>,
 ) -> Result<Output, StateError> {
-    let exact = exact || signals.exact;
-    let (vector, f) = analyse(set, signals, memory)?;
+    let exact = choices.exact || signals.exact;
+    let policy = choices.choice.or(signals.choice);
+    let (vector, f) = analyse(set, signals, choices.memory)?;
     if !f.conflicts.is_empty() && f.memory.is_none() {
         return Err(StateError::Memory(report::conflicts_text(set, &f)));
     }
@@ -200,32 +214,42 @@ pub fn generate(
         None => memory::Memory::default(),
     };
     let rungs = self::rungs(set, &vector, &f, &memory, exact);
-    let files = program_files(set, &vector, &rungs, &memory, opts, exact, provenance)?;
+    let one = policy.map(|policy| OnePerScan {
+        policy,
+        seed: opts.seed,
+        owners: f.controllable.iter().map(|e| vector.commands[e.index()].map_or(0, |(p, _)| p)).collect(),
+    });
+    let files = program_files(set, &vector, &rungs, &memory, one.as_ref(), opts, exact, provenance)?;
     let ns = opts.spec.instruction_ns.unwrap_or(1000);
     let plants: Vec<_> = set.members()[..f.plants].iter().map(|m| &m.dfa).collect();
     let g = product_size(&plants)?;
-    let report = Report::new(set, &vector, &f, &rungs, g, ns, event_based);
-    Ok(Output { files, report, rungs, vector, sfbc: f, memory })
+    let mut report = Report::new(set, &vector, &f, &rungs, g, ns, event_based);
+    report.choice = policy.map(ScanPolicy::name);
+    Ok(Output { files, report, rungs, vector, sfbc: f, memory, one })
 }
 
 /// The program's files from its rungs: `<name>.st` (the `PROGRAM`), `<name>_config.st` and
-/// `<name>.xml` (PLCopen XML with the Ladder Diagram body when no memory is kept), each with the header.
+/// `<name>.xml` (PLCopen XML with the Ladder Diagram body when no memory is kept and no choice is
+/// made), each with the header; `one` makes the scan fire one chosen rung.
+#[allow(clippy::too_many_arguments)]
 pub fn program_files(
     set: &PackSet,
     vector: &Vector,
     rungs: &[EventRung],
     memory: &memory::Memory,
+    one: Option<&OnePerScan>,
     opts: &PlcOptions,
     exact: bool,
     provenance: &Provenance,
 ) -> Result<Vec<(String, String)>, StateError> {
     let base = sanitize(&opts.name);
-    let pou = program::pou(&vector.signals, &base, rungs, memory)?;
+    let pou = program::pou(&vector.signals, &base, rungs, memory, one)?;
     crate::plc::strict::check(&[], &[&pou])?;
     let ns = opts.spec.instruction_ns.unwrap_or(1000);
     let options = format!(
-        "Options: encoding=state memory={} exact={exact} cycle_ms={} instruction_ns={ns}",
+        "Options: encoding=state memory={} exact={exact} choice={} cycle_ms={} instruction_ns={ns}",
         !memory.kept.is_empty(),
+        one.map_or("none", |o| o.policy.name()),
         opts.cycle_ms
     );
     let header: Vec<String> = header(set, opts, provenance)
@@ -234,9 +258,10 @@ pub fn program_files(
         .collect();
     let st = format!("{}\n{}", comment(&header), pou.text());
     let config = format!("{}\n{}", comment(&header), xml::configuration_text(&base, opts.cycle_ms));
-    // The Ladder Diagram body holds the rungs alone: a program with memory tracks it in ST only.
+    // The Ladder Diagram body holds the rungs alone: a program with memory tracks it, and one with a
+    // choice policy chooses among its rungs, in ST only.
     let ladder: Vec<ld::Rung> = rungs.iter().map(|r| r.rung.clone()).collect();
-    let bodies = if memory.kept.is_empty() { vec![ld::body(&ladder)] } else { Vec::new() };
+    let bodies = if memory.kept.is_empty() && one.is_none() { vec![ld::body(&ladder)] } else { Vec::new() };
     let xml = xml::document(None, &[(&pou, &bodies)], &base, opts.cycle_ms, &header);
     Ok(vec![(format!("{base}.st"), st), (format!("{base}_config.st"), config), (format!("{base}.xml"), xml)])
 }

@@ -2,9 +2,15 @@
 //! the literals every product shares in series (the precondition side), the rest of each product on a
 //! parallel branch — whose coils are the outputs σ's command writes (SET for TRUE, RESET for FALSE). The
 //! same rungs become the ST `PROGRAM` (one `IF` per rung, on the current image: a command written by one
-//! rung is seen by the rungs below) and the Ladder Diagram body.
+//! rung is seen by the rungs below) and the Ladder Diagram body. With a choice policy ([`OnePerScan`],
+//! `[state] choice`) the rungs' conditions fill the choice section's `enabled` array instead, the policy
+//! picks one ([`crate::plc::choice`], as in the event-based program) and only its command is written:
+//! where several commands are allowed in one plant state, each may be the one that fires there, and the
+//! plant may move before the next.
 
+use crate::config::ScanPolicy;
 use crate::config::{Cube, Direction, Signals};
+use crate::plc::choice::{self, PlantChoice};
 use crate::plc::ld::{Coil, CoilKind, Element, Rung};
 use crate::plc::names::is_identifier;
 use crate::plc::st::{Expr, Pou, Section, SectionKind, Stmt, Type, Var, VarClass};
@@ -64,9 +70,51 @@ pub fn rung(names: &[String], event: &str, cubes: Vec<Cube>, command: Cube, extr
     EventRung { event: event.to_owned(), cubes, rung, extra }
 }
 
+/// One command per scan, chosen among the rungs that conduct.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct OnePerScan {
+    /// The choice policy.
+    pub policy: ScanPolicy,
+    /// The random policy's seed.
+    pub seed: u64,
+    /// Per rung, the plant component its command belongs to (the local queue's plants).
+    pub owners: Vec<usize>,
+}
+
+impl OnePerScan {
+    /// `enabled[k] := F_k` for every rung, the policy's choice of `c`, then `CASE c OF k: command k`.
+    fn statements(&self, conditions: Vec<Expr>, bodies: Vec<Vec<Stmt>>) -> Vec<Stmt> {
+        let n = conditions.len() as i64;
+        let components = self.owners.iter().max().map_or(0, |&m| m + 1);
+        let plants: Vec<PlantChoice> = (0..components)
+            .map(|p| PlantChoice {
+                events: (0..n).filter(|&k| self.owners.get(k as usize) == Some(&p)).collect(),
+                sites: Vec::new(),
+            })
+            .collect();
+        let mut out: Vec<Stmt> = conditions
+            .into_iter()
+            .enumerate()
+            .map(|(k, cond)| Stmt::Assign(Expr::at(choice::ENABLED, Expr::Int(k as i64)), cond))
+            .collect();
+        out.push(Stmt::set("c", Expr::Int(-1)));
+        out.extend(choice::statements(self.policy, n, &plants));
+        let arms = bodies.into_iter().enumerate().map(|(k, body)| (vec![k as i64], body)).collect();
+        out.push(Stmt::Case(Expr::var("c"), arms, Vec::new()));
+        out
+    }
+}
+
 /// The `PROGRAM <base>_main`: every signal a `BOOL` (located where it has an address), the memory's
-/// variables, its event detection, then one `IF` per rung.
-pub fn pou(signals: &Signals, base: &str, rungs: &[EventRung], memory: &Memory) -> Result<Pou, StateError> {
+/// variables, its event detection, then one `IF` per rung — or, with `one`, the rungs' conditions
+/// into the choice section and the chosen rung's command.
+pub fn pou(
+    signals: &Signals,
+    base: &str,
+    rungs: &[EventRung],
+    memory: &Memory,
+    one: Option<&OnePerScan>,
+) -> Result<Pou, StateError> {
     let mut vars = Vec::new();
     for s in &signals.signals {
         if !is_identifier(&s.name) {
@@ -85,19 +133,31 @@ pub fn pou(signals: &Signals, base: &str, rungs: &[EventRung], memory: &Memory) 
         vars.push(v);
     }
     vars.extend(memory.vars.iter().cloned());
-    let stmts = rungs
-        .iter()
-        .map(|r| {
-            let body = r
-                .rung
-                .coils
-                .iter()
-                .map(|c| Stmt::set(c.variable.clone(), Expr::Bool(c.kind == CoilKind::Set)))
-                .chain(r.extra.iter().cloned())
-                .collect();
-            Stmt::when(r.rung.condition.st(), body)
-        })
-        .collect();
+    if let Some(one) = one {
+        let taken = vars.iter().find(|v| choice::VARIABLES.iter().any(|c| c.eq_ignore_ascii_case(&v.name)));
+        if let Some(v) = taken {
+            return Err(StateError::Vector {
+                key: "state.choice".into(),
+                message: format!("signal '{}' has a name the choice section uses", v.name),
+            });
+        }
+        vars.extend(choice::locals(one.policy, rungs.len(), 0, one.seed, "rung"));
+    }
+    let body = |r: &EventRung| -> Vec<Stmt> {
+        r.rung
+            .coils
+            .iter()
+            .map(|c| Stmt::set(c.variable.clone(), Expr::Bool(c.kind == CoilKind::Set)))
+            .chain(r.extra.iter().cloned())
+            .collect()
+    };
+    let stmts = match one {
+        None => rungs.iter().map(|r| Stmt::when(r.rung.condition.st(), body(r))).collect(),
+        Some(one) => one.statements(
+            rungs.iter().map(|r| r.rung.condition.st()).collect(),
+            rungs.iter().map(body).collect(),
+        ),
+    };
     let events: Vec<&str> = rungs.iter().map(|r| r.event.as_str()).collect();
     Ok(Pou {
         program: true,
@@ -112,7 +172,11 @@ pub fn pou(signals: &Signals, base: &str, rungs: &[EventRung], memory: &Memory) 
             },
             Section {
                 kind: SectionKind::Rungs,
-                title: format!("one rung per controllable event: {}", events.join(", ")),
+                title: format!(
+                    "one rung per controllable event{}: {}",
+                    one.map_or(String::new(), |o| format!(", one per scan chosen by {}", o.policy.name())),
+                    events.join(", ")
+                ),
                 stmts,
             },
         ],

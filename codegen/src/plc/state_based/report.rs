@@ -45,10 +45,9 @@ pub struct Row {
 pub struct MemoryFigures {
     /// The kept supervisors.
     pub kept: Vec<String>,
-    /// Bits their states take (⌈log2 states⌉ each).
+    /// Bits their states take (⌈log2 states⌉ each): the program's memory `BOOL`s, beside an `INT`
+    /// per kept supervisor.
     pub bits: u32,
-    /// The program's memory variables (one `BOOL` per kept state).
-    pub variables: usize,
     /// (plant state, event) pairs where memory decides.
     pub conflicts: usize,
 }
@@ -91,6 +90,8 @@ pub struct Report {
     pub scan_us: f64,
     /// The supervisors kept as memory, when the plant state does not decide.
     pub memory: Option<MemoryFigures>,
+    /// The policy choosing one command per scan (`[state] choice`), when the program fires one.
+    pub choice: Option<&'static str>,
     /// The event-based program's figures, when computed.
     pub event_based: Option<EventBased>,
     /// f as a table.
@@ -137,6 +138,7 @@ impl Report {
             il_instructions: il,
             instruction_ns: ns,
             scan_us: il as f64 * f64::from(ns) / 1000.0,
+            choice: None,
             per_rung,
             event_based: event_based.map(|r| EventBased {
                 statements: r.statements.function_block + r.statements.program,
@@ -146,7 +148,6 @@ impl Report {
             memory: f.memory.as_ref().map(|m| MemoryFigures {
                 kept: m.kept.iter().map(|&k| set.members()[k].name().to_owned()).collect(),
                 bits: m.bits,
-                variables: m.kept.iter().map(|&k| set.members()[k].state_count()).sum(),
                 conflicts: f.conflicts.len(),
             }),
         }
@@ -165,14 +166,19 @@ impl Report {
             "{} rungs over {} signals: {} IL instructions, stack depth {}, scan {:.1} us at {} ns per instruction",
             self.rungs, self.signals, self.il_instructions, self.stack_depth, self.scan_us, self.instruction_ns
         );
+        if let Some(policy) = self.choice {
+            let _ = writeln!(
+                out,
+                "one command per scan, chosen by {policy} among the rungs that conduct (the choice section is not in the IL count)"
+            );
+        }
         if let Some(m) = &self.memory {
             let _ = writeln!(
                 out,
-                "memory decides at {} (plant state, event) pairs: kept {} ({} bits; {} BOOLs in the program)",
+                "memory decides at {} (plant state, event) pairs: kept {} ({} bits: as many BOOLs in the program, beside an INT per supervisor)",
                 m.conflicts,
                 m.kept.join(", "),
-                m.bits,
-                m.variables
+                m.bits
             );
         }
         if let Some(e) = &self.event_based {

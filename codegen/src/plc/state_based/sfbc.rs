@@ -182,7 +182,7 @@ impl Sfbc {
 }
 
 /// Bits to number `states` states.
-fn bits(states: usize) -> u32 {
+pub(super) fn bits(states: usize) -> u32 {
     usize::BITS - states.saturating_sub(1).leading_zeros()
 }
 
