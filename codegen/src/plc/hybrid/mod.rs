@@ -15,7 +15,7 @@
 pub mod controller;
 pub mod report;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 pub use controller::Controller;
 pub use report::{Figures, Report};
@@ -64,6 +64,27 @@ pub enum HybridError {
     Empty {
         /// The manifest.
         file: PathBuf,
+    },
+    /// The manifest gives no specification and no supervisor, both, or more than one supervisor.
+    #[error("{}: a hybrid controller takes either `specs` (its supervisor is synthesised) or one ready supervisor in `supervisors`; {specs} specification file(s) and {supervisors} supervisor file(s) given", file.display())]
+    Source {
+        /// The manifest.
+        file: PathBuf,
+        /// How many specification files it lists.
+        specs: usize,
+        /// How many supervisor files it lists.
+        supervisors: usize,
+    },
+    /// The ready supervisor cannot control the net: an event no transition generates, an uncontrollable
+    /// event it refuses, or a state of the closed loop from which no marked state is reachable.
+    #[error("{}: supervisor '{name}': {problem}", file.display())]
+    Given {
+        /// The supervisor's file.
+        file: PathBuf,
+        /// The supervisor.
+        name: String,
+        /// What is wrong, with a trace where there is one.
+        problem: String,
     },
     /// The program breaks a rule of the standard: the writer's bug.
     #[error("internal error, please report: the program is not strict IEC 61131-3: {0}")]
@@ -151,18 +172,18 @@ fn load_net(manifest: &Manifest) -> Result<(Interpretation, Labels), HybridError
 pub fn generate(manifest: &Manifest, cfg: &Config, cycle_ms: u32) -> Result<Output, HybridError> {
     let (net, labels) = load_net(manifest)?;
     let plant = reachability(&net.net, &labels, &format!("G_{}", net.net.name), cfg.state_limit)?;
-    let mut specs = Vec::new();
-    for p in &manifest.specs {
-        for mut a in crate::formats::read_path(&manifest.resolve(p))? {
-            a.kind = Kind::Spec;
-            specs.push(a);
-        }
-    }
     let plants = std::slice::from_ref(&plant);
-    let mut full = synth::supc(plants, &specs, cfg)?;
-    if full.states.is_empty() {
-        return Err(HybridError::Empty { file: manifest.file.clone() });
-    }
+    let mut full = match (manifest.specs.as_slice(), manifest.supervisors.as_slice()) {
+        (specs, []) if !specs.is_empty() => synthesise(manifest, &plant, cfg)?,
+        ([], [one]) => given(&manifest.resolve(one), &plant, &labels, cfg)?,
+        (specs, supervisors) => {
+            return Err(HybridError::Source {
+                file: manifest.file.clone(),
+                specs: specs.len(),
+                supervisors: supervisors.len(),
+            })
+        }
+    };
     full.name = "SUPER".into();
     let mut reduced = synth::reduce(plants, &full, cfg)?;
     reduced.name = "RSUPER".into();
@@ -199,6 +220,85 @@ pub fn generate(manifest: &Manifest, cfg: &Config, cycle_ms: u32) -> Result<Outp
     }
     let report = Report::new(&net, &plant, &reduced, &full);
     Ok(Output { files, net, events: labels.events, plant, reduced, full, report })
+}
+
+/// supC of the manifest's specifications against the net's reachability graph `plant`.
+fn synthesise(manifest: &Manifest, plant: &Automaton, cfg: &Config) -> Result<Automaton, HybridError> {
+    let mut specs = Vec::new();
+    for p in &manifest.specs {
+        for mut a in crate::formats::read_path(&manifest.resolve(p))? {
+            a.kind = Kind::Spec;
+            specs.push(a);
+        }
+    }
+    let full = synth::supc(std::slice::from_ref(plant), &specs, cfg)?;
+    if full.states.is_empty() {
+        return Err(HybridError::Empty { file: manifest.file.clone() });
+    }
+    Ok(full)
+}
+
+/// The ready supervisor of `file`, checked against the net's reachability graph `plant`: its events are
+/// the net's, it never refuses an uncontrollable event the net can generate, and the closed loop is
+/// nonblocking — so that the controller written on it keeps what synthesis would have guaranteed.
+fn given(file: &Path, plant: &Automaton, labels: &Labels, cfg: &Config) -> Result<Automaton, HybridError> {
+    let mut read = crate::formats::read_path(file)?;
+    let mut sup = match read.len() {
+        1 => read.remove(0),
+        n => {
+            return Err(HybridError::Given {
+                file: file.to_owned(),
+                name: file.display().to_string(),
+                problem: format!("the file holds {n} automata, a hybrid controller takes one supervisor"),
+            })
+        }
+    };
+    sup.kind = Kind::Supervisor;
+    let problem =
+        |problem: String| HybridError::Given { file: file.to_owned(), name: sup.name.clone(), problem };
+    let foreign: Vec<&str> = sup
+        .events
+        .iter()
+        .map(|e| e.name.as_str())
+        .filter(|e| !labels.events.iter().any(|n| n == e))
+        .collect();
+    if !foreign.is_empty() {
+        return Err(problem(format!("no transition of the net generates {}", foreign.join(", "))));
+    }
+    if sup.states.is_empty() {
+        return Err(problem("it has no state".into()));
+    }
+    for e in &mut sup.events {
+        if let Some(i) = labels.events.iter().position(|n| *n == e.name) {
+            e.controllable = labels.controllable[i];
+        }
+    }
+    let plants = std::slice::from_ref(plant);
+    if let Some(u) = synth::verify::controllability(plants, &sup, cfg)? {
+        return Err(problem(format!(
+            "not controllable: after {} it refuses the uncontrollable '{}' the net can generate (state {})",
+            trace(&u.trace),
+            u.event,
+            u.state
+        )));
+    }
+    if let Some(b) = synth::verify::nonblocking(&[plant.clone(), sup.clone()], cfg)? {
+        return Err(problem(format!(
+            "the closed loop blocks: after {} no marked state is reachable (state {})",
+            trace(&b.trace),
+            b.state
+        )));
+    }
+    Ok(sup)
+}
+
+/// A trace as words for a message.
+fn trace(events: &[String]) -> String {
+    if events.is_empty() {
+        "the initial state".into()
+    } else {
+        events.join(" ")
+    }
 }
 
 /// The controller as a `PROGRAM <name>_main`: its signals, bits and timers, one statement per rung.

@@ -214,3 +214,43 @@ fn a_transition_without_an_event_is_named_with_its_line() {
     let err = generate(&m, &Config::default(), 10).unwrap_err().to_string();
     assert!(err.ends_with("hybrid.toml:32: hybrid.events.t9: the net has no such transition"), "{err}");
 }
+
+/// The example's manifest with `supervisors = [file]` in place of its specifications.
+fn with_supervisor(m: &Manifest, sup: &Automaton, name: &str) -> Manifest {
+    let dir = std::env::temp_dir().join(format!("hybrid-given-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join(name);
+    crate::formats::write_path(&file, std::slice::from_ref(sup)).unwrap();
+    let text = std::fs::read_to_string(&m.file).unwrap().replace(
+        "specs = [\"specs/buffer.gen\"]",
+        &format!("supervisors = [{:?}]", file.display().to_string()),
+    );
+    Manifest::parse(&m.file, &text).unwrap()
+}
+
+#[test]
+fn a_ready_supervisor_gives_the_synthesised_ones_controllers_and_a_wrong_one_is_refused() {
+    let (m, out, _) = example();
+    let given = with_supervisor(&m, &out.full.supervisor, "super.gen");
+    let again = generate(&given, &Config::default(), CYCLE_MS as u32).unwrap();
+    assert_eq!(again.report.text(), out.report.text());
+    assert_eq!(again.files, out.files);
+
+    // Without the transitions of one uncontrollable event the supervisor refuses what the net does.
+    let mut wrong = out.full.supervisor.clone();
+    let f2 = wrong.event_id("f2").unwrap();
+    wrong.transitions.retain(|t| t.event != f2);
+    let err = generate(&with_supervisor(&m, &wrong, "wrong.gen"), &Config::default(), 10).unwrap_err();
+    let text = err.to_string();
+    assert!(
+        text.contains("wrong.gen: supervisor 'wrong': not controllable") && text.contains("'f2'"),
+        "{text}"
+    );
+
+    // Specifications and a supervisor together: which one is meant is not guessed.
+    let both = std::fs::read_to_string(&m.file)
+        .unwrap()
+        .replace("name = \"line\"", "name = \"line\"\nsupervisors = [\"x.gen\"]");
+    let err = generate(&Manifest::parse(&m.file, &both).unwrap(), &Config::default(), 10).unwrap_err();
+    assert!(err.to_string().contains("1 specification file(s) and 1 supervisor file(s) given"), "{err}");
+}
