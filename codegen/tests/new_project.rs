@@ -197,6 +197,9 @@ fn check_expected(name: &str, measured: &[(&str, u64)]) {
     assert_eq!(seen, measured.len(), "{}: every measured figure is expected", path.display());
 }
 
+/// The boards with no emulator here: `codegen new`'s name, the Rust target, probe-rs's chip.
+const OTHER_BOARDS: &[(&str, &str, &str)] = &[("nucleo-f401re", "thumbv7em-none-eabihf", "STM32F401RETx")];
+
 /// The boards with no emulator here: each project is written from the starter manifest outside the
 /// checkout, builds for its target with the chip's probe-rs runner, and its flash and RAM stay within
 /// `.ci/expected/cell-<board>.size`.
@@ -204,7 +207,7 @@ fn check_expected(name: &str, measured: &[(&str, u64)]) {
 fn the_other_boards_projects_build_within_their_recorded_size() {
     let temp = Temp(std::env::temp_dir().join(format!("codegen-new-boards-{}", std::process::id())));
     std::fs::create_dir_all(&temp.0).unwrap();
-    for (board, target, chip) in [("nucleo-f401re", "thumbv7em-none-eabihf", "STM32F401RETx")] {
+    for &(board, target, chip) in OTHER_BOARDS {
         let name = format!("cell-{board}");
         let out = codegen(&temp.0, &["new", &name, "--board", board]);
         assert!(out.status.success(), "{}", text(&out));
