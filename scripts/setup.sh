@@ -16,7 +16,8 @@ if ((${#missing[@]})); then
   rustup component add "${missing[@]}" >/dev/null
 fi
 
-# thumbv7m-none-eabi (QEMU) and thumbv6m-none-eabi (Pico): see the script for the two paths.
+# thumbv7m-none-eabi (QEMU), thumbv6m-none-eabi (Pico) and thumbv7em-none-eabihf (Nucleo-F401RE, nRF52840 DK):
+# see the script for the two paths.
 bash scripts/thumb-targets.sh install
 
 if ! command -v qemu-system-arm >/dev/null; then

@@ -18,7 +18,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-TARGETS=(thumbv7m-none-eabi thumbv6m-none-eabi)
+TARGETS=(thumbv7m-none-eabi thumbv6m-none-eabi thumbv7em-none-eabihf)
 MARK=sct-built-from-rust-src   # left beside the libraries this script built, with the compiler's version
 
 has_libs() { compgen -G "$1/libcore-*.rlib" >/dev/null; }

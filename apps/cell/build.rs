@@ -4,9 +4,9 @@
 //! workspace root), else the committed `src/generated/cell.rs` (which a codegen test keeps
 //! byte-identical to `codegen emit examples/cell/cell.toml`). The applications read the chosen path from
 //! `SCT_TABLES_FILE`. Memory layout: `boards/lm3s6965/memory.x` for thumbv7m, `boards/pico/memory.x` for
-//! the RP2040 (thumbv6m). Neither may sit at the workspace root: the linker looks for `memory.x` in its
-//! working directory (where cargo runs rustc) before the search paths, so a root file would be linked
-//! into every target's image.
+//! the RP2040 (thumbv6m), `boards/nucleo-f401re/memory.x` with the `nucleo` feature. None may sit at
+//! the workspace root: the linker looks for `memory.x` in its working directory (where cargo runs rustc)
+//! before the search paths, so a root file would be linked into every target's image.
 
 use std::env;
 use std::path::{Path, PathBuf};
@@ -24,7 +24,13 @@ fn main() {
     println!("cargo:rustc-env=SCT_TABLES_FILE={}", tables.display());
 
     let target = env::var("TARGET").unwrap_or_default();
-    let board = if target.starts_with("thumbv6m") { "boards/pico" } else { "boards/lm3s6965" };
+    let board = if target.starts_with("thumbv6m") {
+        "boards/pico"
+    } else if env::var_os("CARGO_FEATURE_NUCLEO").is_some() {
+        "boards/nucleo-f401re"
+    } else {
+        "boards/lm3s6965"
+    };
     let memory_dir = crate_dir.join(board);
     if target.starts_with("thumb") {
         println!("cargo:rerun-if-changed={}", memory_dir.join("memory.x").display());

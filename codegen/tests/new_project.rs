@@ -139,3 +139,86 @@ fn a_new_pico_project_builds_outside_the_checkout_runs_closed_loop_and_follows_i
         text(&failed)
     );
 }
+
+/// Flash and static RAM of `elf` from `llvm-size -A` (the toolchain's llvm-tools, as
+/// `scripts/measure/footprint.py` reads them): flash is what is programmed (`.vector_table`, `.text`,
+/// `.rodata`, `.data`'s initial values), RAM what is reserved (`.data`, `.bss`, `.uninit`). A section
+/// `.text`, `.rodata` or `.bss` not found fails: a measurement that finds nothing is no measurement.
+fn footprint(elf: &Path) -> [(&'static str, u64); 2] {
+    let rustc =
+        |args: &[&str]| String::from_utf8(Command::new("rustc").args(args).output().unwrap().stdout).unwrap();
+    let sysroot = rustc(&["--print", "sysroot"]);
+    let host = rustc(&["-vV"]).lines().find_map(|l| l.strip_prefix("host: ")).unwrap().to_owned();
+    let size = Path::new(sysroot.trim()).join("lib/rustlib").join(host).join("bin/llvm-size");
+    let out =
+        Command::new(&size).arg("-A").arg(elf).output().unwrap_or_else(|e| panic!("{}: {e}", size.display()));
+    assert!(out.status.success(), "{}", text(&out));
+    let listing = String::from_utf8(out.stdout).unwrap();
+    let section = |name: &str| {
+        listing.lines().find_map(|l| {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            (f.len() == 3 && f[0] == name).then(|| f[1].parse::<u64>().unwrap())
+        })
+    };
+    for required in [".vector_table", ".text", ".rodata", ".bss"] {
+        assert!(section(required).is_some_and(|s| s > 0), "{}: no {required}:\n{listing}", elf.display());
+    }
+    let sum = |names: &[&str]| names.iter().map(|n| section(n).unwrap_or(0)).sum();
+    [
+        ("flash", sum(&[".vector_table", ".text", ".rodata", ".data"])),
+        ("static_ram", sum(&[".data", ".bss", ".uninit"])),
+    ]
+}
+
+/// Checks `measured` against `.ci/expected/NAME.size` (`NAME VALUE TOLERANCE%` lines, `#` comments, the
+/// format of `scripts/measure/expect.py`): every figure listed, each within its tolerance.
+fn check_expected(name: &str, measured: &[(&str, u64)]) {
+    let path = repo(&format!(".ci/expected/{name}.size"));
+    let file = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut seen = 0;
+    for line in file.lines().map(|l| l.split('#').next().unwrap().trim()).filter(|l| !l.is_empty()) {
+        let f: Vec<&str> = line.split_whitespace().collect();
+        let (figure, value, tolerance) = (f[0], f[1].parse::<f64>().unwrap(), f[2]);
+        let allowed = match tolerance.strip_suffix('%') {
+            Some(pct) => value * pct.parse::<f64>().unwrap() / 100.0,
+            None => tolerance.parse::<f64>().unwrap(),
+        };
+        let (_, got) = measured
+            .iter()
+            .find(|(n, _)| *n == figure)
+            .unwrap_or_else(|| panic!("{}: {figure} is not measured", path.display()));
+        assert!(
+            (*got as f64 - value).abs() <= allowed,
+            "{}: {figure} = {got}, expected {value} ± {tolerance}",
+            path.display()
+        );
+        seen += 1;
+    }
+    assert_eq!(seen, measured.len(), "{}: every measured figure is expected", path.display());
+}
+
+/// The boards with no emulator here: `codegen new`'s name, the Rust target, probe-rs's chip.
+const OTHER_BOARDS: &[(&str, &str, &str)] = &[("nucleo-f401re", "thumbv7em-none-eabihf", "STM32F401RETx")];
+
+/// The boards with no emulator here: each project is written from the starter manifest outside the
+/// checkout, builds for its target with the chip's probe-rs runner, and its flash and RAM stay within
+/// `.ci/expected/cell-<board>.size`.
+#[test]
+fn the_other_boards_projects_build_within_their_recorded_size() {
+    let temp = Temp(std::env::temp_dir().join(format!("codegen-new-boards-{}", std::process::id())));
+    std::fs::create_dir_all(&temp.0).unwrap();
+    for &(board, target, chip) in OTHER_BOARDS {
+        let name = format!("cell-{board}");
+        let out = codegen(&temp.0, &["new", &name, "--board", board]);
+        assert!(out.status.success(), "{}", text(&out));
+        let dir = temp.0.join(&name);
+        let config = std::fs::read_to_string(dir.join(".cargo/config.toml")).unwrap();
+        assert!(
+            config.contains(&format!("probe-rs run --chip {chip}")) && config.contains(target),
+            "{config}"
+        );
+        let built = cargo_build(&dir);
+        assert!(built.status.success(), "{board}: {}", text(&built));
+        check_expected(&name, &footprint(&shared().0.join(target).join("release").join(&name)));
+    }
+}

@@ -24,6 +24,9 @@ pub enum Board {
     /// Raspberry Pi Pico (RP2040, Cortex-M0+, thumbv6m-none-eabi; rp2040-hal). Runs on the RP2040
     /// emulator here (`codegen run --target rp2040 --elf …`).
     Pico,
+    /// ST Nucleo-F401RE (STM32F401RE, Cortex-M4F, thumbv7em-none-eabihf; stm32f4xx-hal's device crate).
+    /// Built, not run: no emulator for it here.
+    NucleoF401re,
 }
 
 /// What a board's project is made of, each named by where it lies in the carried sources.
@@ -49,6 +52,13 @@ impl Board {
                 chip: "RP2040",
                 main: "apps/cell/src/bin/cell_pico.rs",
                 memory: "apps/cell/boards/pico/memory.x",
+            },
+            Board::NucleoF401re => Parts {
+                feature: "nucleo",
+                target: "thumbv7em-none-eabihf",
+                chip: "STM32F401RETx",
+                main: "apps/cell/src/bin/cell_nucleo.rs",
+                memory: "apps/cell/boards/nucleo-f401re/memory.x",
             },
         }
     }

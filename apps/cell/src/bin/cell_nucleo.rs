@@ -1,0 +1,285 @@
+//! The supervisor firmware on a Nucleo-F401RE (STM32F401RE, Cortex-M4F; stm32f4xx-hal's device crate):
+//! input pins sampled every 1 ms SysTick tick (edges found by comparing levels, whatever the manifest's
+//! `[board] sampling`), the decision loop in `idle`, commands to output pins (set, clear, timed pulse)
+//! through `firmware::board::Outputs` (embedded-hal traits), defmt over RTT. Flash and run with
+//! `cargo run --release` in a `codegen new --board nucleo-f401re` project (probe-rs, the on-board ST-LINK).
+//!
+//! Pins are numbered as the manifest's `[board]` numbers them: pin `n` is GPIO port `n / 16` (0 = A,
+//! 1 = B, … 4 = E), line `n % 16` (PA5 = 5, PC13 = 45). The core runs on the 16 MHz internal oscillator
+//! as reset leaves it. Tables: `SCT_TABLES_FILE` (see `build.rs`). Randomness: the manifest's seed.
+#![no_std]
+#![no_main]
+
+use defmt_rtt as _;
+use panic_probe as _;
+
+/// The emitted tables.
+#[allow(dead_code)]
+mod tables {
+    include!(env!("SCT_TABLES_FILE"));
+}
+
+use core::convert::Infallible;
+
+use firmware::board::{Outputs, Pull};
+use firmware::event_loop::{Note, Port};
+use firmware::link::{Hold, SAFE};
+use firmware::rng::SeedEntropy;
+use firmware::status::Published;
+use stm32f4xx_hal::pac;
+
+/// The core clock as reset leaves it (HSI).
+const CORE_HZ: u32 = 16_000_000;
+
+/// GPIO ports A to E.
+const PORTS: u8 = 5;
+
+/// Never set: the board has no host link to send HOLD.
+static HOLD: Hold = Hold::new();
+
+/// The runtime's counters after every turn of the loop, for a debugger (`firmware::status`).
+#[no_mangle]
+static SCT_STATUS: Published = Published::new();
+
+type Outs = Outputs<Gpio, { tables::OUTPUT_PINS.len() }>;
+
+/// The runtime on the tables' default layout, seeded from the manifest.
+type Rt = tables::Runtime<tables::Policy, SeedEntropy>;
+
+/// One GPIO line by number, driven through its port's registers: the embedded-hal pin the runtime's
+/// `Outputs` and the sampling take. The HAL's pins are typed by port and line at compile time; the
+/// manifest numbers them at build time, so this is the by-number pin the RP2040's HAL has built in.
+pub struct Gpio {
+    /// The port, 0 (A) to 4 (E).
+    port: u8,
+    /// The line, 0 to 15.
+    line: u8,
+}
+
+impl Gpio {
+    /// Pin `num` as an input with `pull`, or as a push-pull output driven low; `None` past port E.
+    fn new(num: u8, output: bool, pull: Pull) -> Option<Self> {
+        let pin = Gpio { port: num / 16, line: num % 16 };
+        if pin.port >= PORTS {
+            return None;
+        }
+        let regs = pin.regs();
+        let shift = 2 * u32::from(pin.line);
+        let pupd = match pull {
+            Pull::Floating => 0b00,
+            Pull::Up => 0b01,
+            Pull::Down => 0b10,
+        };
+        // SAFETY: plain register values (RM0368 §8.4): reset state low, then the line's pull and mode
+        // fields; `init` does this before any interrupt is enabled, so the read-modify-writes race nothing.
+        unsafe {
+            if output {
+                regs.bsrr().write(|w| w.bits(1 << (pin.line + 16)));
+            }
+            regs.pupdr().modify(|r, w| w.bits(r.bits() & !(0b11 << shift) | pupd << shift));
+            regs.moder().modify(|r, w| w.bits(r.bits() & !(0b11 << shift) | u32::from(output) << shift));
+        }
+        Some(pin)
+    }
+
+    /// The port's registers.
+    fn regs(&self) -> &'static pac::gpioa::RegisterBlock {
+        let at = pac::GPIOA::ptr() as usize + 0x400 * usize::from(self.port);
+        // SAFETY: GPIOA..GPIOE are register blocks of the same layout 0x400 apart (RM0368 §2.3) and
+        // `port` is below PORTS; `codegen emit` writes each pin once, in INPUT_PINS or in OUTPUT_PINS,
+        // so no two `Gpio` share a line, and BSRR/IDR accesses touch this line only.
+        unsafe { &*(at as *const pac::gpioa::RegisterBlock) }
+    }
+
+    /// The pin's number as the manifest gives it.
+    fn num(&self) -> u8 {
+        self.port * 16 + self.line
+    }
+}
+
+impl embedded_hal::digital::ErrorType for Gpio {
+    type Error = Infallible;
+}
+
+impl embedded_hal::digital::OutputPin for Gpio {
+    fn set_low(&mut self) -> Result<(), Infallible> {
+        // SAFETY: BSRR is write-only and atomic: it touches this line only.
+        self.regs().bsrr().write(|w| unsafe { w.bits(1 << (self.line + 16)) });
+        Ok(())
+    }
+
+    fn set_high(&mut self) -> Result<(), Infallible> {
+        // SAFETY: as in `set_low`.
+        self.regs().bsrr().write(|w| unsafe { w.bits(1 << self.line) });
+        Ok(())
+    }
+}
+
+impl embedded_hal::digital::InputPin for Gpio {
+    fn is_high(&mut self) -> Result<bool, Infallible> {
+        Ok(self.regs().idr().read().bits() & (1 << self.line) != 0)
+    }
+
+    fn is_low(&mut self) -> Result<bool, Infallible> {
+        self.is_high().map(|h| !h)
+    }
+}
+
+/// Stops for good after a configuration error (logged); the outputs stay as they are.
+fn halt(why: &str) -> ! {
+    defmt::error!("halt: {=str}", why);
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
+
+/// The outputs as the event loop's port: a fired event runs its actions; SAFE turns everything off.
+struct Driver<'a, L>(&'a mut L);
+
+impl<L: rtic::Mutex<T = Outs>> Port for Driver<'_, L> {
+    fn send(&mut self, byte: u8) {
+        let ok = self.0.lock(|o| if byte == SAFE { o.all_off() } else { o.fire(&tables::BOARD, byte) });
+        if ok.is_err() {
+            defmt::error!("output pin error");
+        }
+    }
+
+    fn note(&mut self, note: Note) {
+        match note {
+            Note::Unexpected { event, automaton } => {
+                defmt::warn!("unexpected event {=u8} in automaton {=u8}", event, automaton)
+            }
+            Note::Unknown(byte) => defmt::warn!("unknown event {=u8}", byte),
+            Note::Safe => defmt::error!("fault: safe state, outputs off, deciding stopped"),
+            Note::Redecided => defmt::debug!("guard: input arrived while choosing"),
+        }
+    }
+}
+
+#[rtic::app(device = stm32f4xx_hal::pac)]
+mod app {
+    use super::{halt, tables, Driver, Gpio, Outs, Rt, CORE_HZ, HOLD, SCT_STATUS};
+    use embedded_hal::digital::InputPin;
+    use firmware::board::{Outputs, Pull, Sampling};
+    use firmware::event_loop::{EventLoop, Poll};
+    use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
+    use firmware::rng::SeedEntropy;
+
+    /// The SysTick period: pulses are timed in it, inputs sampled every `period_us` of it.
+    const TICK_US: u32 = 1_000;
+
+    #[shared]
+    struct Shared {
+        outputs: Outs,
+    }
+
+    #[local]
+    struct Local {
+        consumer: InputConsumer<'static>,
+        producer: InputProducer<'static>,
+        inputs: [Gpio; tables::INPUT_PINS.len()],
+        runtime: Rt,
+        event_loop: EventLoop,
+        levels: u32,
+        ticks: u32,
+    }
+
+    #[init(local = [queue: InputQueue<{ tables::INPUT_SLOTS }> = InputQueue::new()])]
+    fn init(cx: init::Context) -> (Shared, Local) {
+        // GPIOA..GPIOE clocks on.
+        cx.device.RCC.ahb1enr().modify(|r, w| unsafe { w.bits(r.bits() | 0b1_1111) });
+        let mut inputs: [Gpio; tables::INPUT_PINS.len()] = core::array::from_fn(|i| {
+            let pull = tables::INPUT_PULLS.get(i).copied().unwrap_or(Pull::Floating);
+            Gpio::new(tables::INPUT_PINS[i], false, pull).unwrap_or_else(|| halt("input pin past port E"))
+        });
+        let out_pins = tables::OUTPUT_PINS
+            .map(|n| Gpio::new(n, true, Pull::Floating).unwrap_or_else(|| halt("output pin past port E")));
+        let mut outputs = Outputs::new(out_pins, tables::OUTPUT_PINS);
+        if outputs.all_off().is_err() {
+            halt("output pins");
+        }
+        let mut syst = cx.core.SYST;
+        syst.set_clock_source(cortex_m::peripheral::syst::SystClkSource::Core);
+        syst.set_reload(CORE_HZ / 1_000_000 * TICK_US - 1);
+        syst.clear_current();
+        syst.enable_interrupt();
+        syst.enable_counter();
+
+        let (producer, consumer) = cx.local.queue.split();
+        // The tables were checked when they were compiled (`tables::CHECKED`).
+        let runtime = Rt::new(
+            tables::CHECKED,
+            tables::CONFIG,
+            tables::Policy::default(),
+            SeedEntropy::new(tables::SEED),
+        );
+        let levels = sample(&mut inputs);
+        defmt::info!(
+            "{=str} on {=str}: {=usize} automata, {=usize} inputs, {=usize} outputs",
+            tables::NAME,
+            tables::BOARD.name,
+            tables::SET.automata.len(),
+            tables::BOARD.inputs.len(),
+            tables::BOARD.outputs.len()
+        );
+        (
+            Shared { outputs },
+            Local { consumer, producer, inputs, runtime, event_loop: EventLoop::new(), levels, ticks: 0 },
+        )
+    }
+
+    /// Bit `n` set when pin `n` of the inputs reads high.
+    fn sample(inputs: &mut [Gpio]) -> u32 {
+        let mut levels = 0;
+        for p in inputs {
+            if p.is_high().unwrap_or(false) {
+                levels |= 1u32.checked_shl(u32::from(p.num())).unwrap_or(0);
+            }
+        }
+        levels
+    }
+
+    /// Queues `event`; counts it as an overflow when the buffer is full (never silent).
+    fn push(q: &mut InputProducer<'static>, event: u8) {
+        if q.push(event).is_err() {
+            q.count_overflow();
+        }
+    }
+
+    /// The 1 ms tick: ends pulses; samples the inputs every period (every tick in interrupt mode).
+    #[task(binds = SysTick, shared = [outputs], local = [producer, inputs, levels, ticks])]
+    fn tick(mut cx: tick::Context) {
+        if cx.shared.outputs.lock(|o| o.tick_ms()).is_err() {
+            defmt::error!("output pin error");
+        }
+        let period = match tables::BOARD.sampling {
+            Sampling::Timer { period_us } => (period_us / TICK_US).max(1),
+            Sampling::Interrupt => 1,
+        };
+        *cx.local.ticks += 1;
+        if *cx.local.ticks >= period {
+            *cx.local.ticks = 0;
+            let now = sample(cx.local.inputs);
+            let before = core::mem::replace(cx.local.levels, now);
+            let q = cx.local.producer;
+            tables::BOARD.changes(before, now, |e| push(q, e));
+        }
+    }
+
+    /// The decision loop; sleeps in `wfi` while there is nothing to do.
+    #[idle(shared = [outputs], local = [consumer, runtime, event_loop])]
+    fn idle(mut cx: idle::Context) -> ! {
+        let (rx, rt, event_loop) = (cx.local.consumer, cx.local.runtime, cx.local.event_loop);
+        loop {
+            let poll = event_loop.turn(rt, rx, &HOLD, &mut Driver(&mut cx.shared.outputs));
+            SCT_STATUS.store(&rt.counters().to_array(), rt.is_safe());
+            if poll != Poll::Busy {
+                cortex_m::interrupt::free(|_| {
+                    if poll.may_sleep(rx, &HOLD) {
+                        cortex_m::asm::wfi();
+                    }
+                });
+            }
+        }
+    }
+}
