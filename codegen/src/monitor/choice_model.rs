@@ -8,7 +8,9 @@
 //! cycle can meet that round in the same phase every time and never see a command it is waiting for. So
 //! the monitor mirrors every site's round from the commands it sees (the same rule as the firmware's,
 //! with the physical state standing for the controller's) and gives the steering the chances that
-//! follow. Other policies are modelled as uniform; a wrong model costs only steering efficiency.
+//! follow. `first` is deterministic: the lowest enabled event id, always — a command with a lower one
+//! enabled beside it is never fired, and coverage does not count it ([`ChoiceModel::fires`]). Other
+//! policies are modelled as uniform; a wrong model costs only steering efficiency.
 
 use std::collections::HashMap;
 
@@ -24,6 +26,8 @@ pub enum ChoiceModel {
     Uniform,
     /// A uniform plant, then the plant's state's round (the firmware's `random-local-queue`).
     RandomLocalQueue,
+    /// The lowest enabled event id (the firmware's `first`).
+    First,
 }
 
 impl ChoiceModel {
@@ -31,8 +35,15 @@ impl ChoiceModel {
     pub fn of(policy: ChoicePolicy) -> Self {
         match policy {
             ChoicePolicy::RandomLocalQueue => ChoiceModel::RandomLocalQueue,
+            ChoicePolicy::First => ChoiceModel::First,
             _ => ChoiceModel::Uniform,
         }
+    }
+
+    /// Whether a controller of this model can fire `command` where `enabled` are the enabled commands:
+    /// always, but under `first` only the lowest id.
+    pub fn fires(self, enabled: &[u32], command: u32) -> bool {
+        self != ChoiceModel::First || enabled.iter().min() == Some(&command)
     }
 }
 
@@ -125,6 +136,9 @@ impl Choices {
     /// same order.
     pub fn chances(&self, closed: &Composition, state: &[u32], enabled: &[u32]) -> Vec<f32> {
         let uniform = || vec![1.0 / enabled.len() as f32; enabled.len()];
+        if self.model == ChoiceModel::First {
+            return enabled.iter().map(|&e| if self.model.fires(enabled, e) { 1.0 } else { 0.0 }).collect();
+        }
         if self.model != ChoiceModel::RandomLocalQueue || enabled.is_empty() {
             return uniform();
         }
@@ -210,6 +224,17 @@ mod tests {
         // round must have been new, so only a is gone from it.
         choices.fired(&closed, &rest, &[id("a"), id("b")], id("a"));
         assert_eq!(choices.chances(&closed, &rest, &[id("a"), id("b"), id("c")]), [0.0, 0.5, 0.5]);
+    }
+
+    #[test]
+    fn first_fires_only_the_lowest_enabled_id() {
+        let (closed, controllable, t) = site();
+        let id = |e: &str| t.id(e).unwrap().as_u32();
+        let choices = Choices::new(ChoiceModel::of(ChoicePolicy::First), &closed, 2, &controllable);
+        let (a, b, x) = (id("a"), id("b"), id("x"));
+        assert_eq!(choices.chances(&closed, &[0, 0], &[b, a, x]), [0.0, 1.0, 0.0]);
+        assert!(ChoiceModel::First.fires(&[b, a], a) && !ChoiceModel::First.fires(&[b, a], b));
+        assert!(ChoiceModel::Uniform.fires(&[a, b], b));
     }
 
     #[test]

@@ -68,22 +68,41 @@ impl Graph {
     }
 
     /// For every member in `supervisors` (indices into `closed`, which the graph explored), the
-    /// controllable transitions it takes in some reachable state. A transition counts once per
-    /// (supervisor state, event), however many closed-loop states reach it.
+    /// controllable transitions it takes in some state the controller can lead the closed loop to. A
+    /// transition counts once per (supervisor state, event), however many closed-loop states reach it.
+    ///
+    /// `fires(enabled, event)` says whether the controller's policy can fire `event` where `enabled` are
+    /// the enabled commands (in event-id order): a command it never picks there is not taken, and the
+    /// states only such commands lead to are not reached (the `first` policy never fires a command
+    /// while one with a lower id is enabled).
     pub fn controllable_edges(
         &self,
         closed: &Composition,
         supervisors: std::ops::Range<usize>,
         controllable: &[bool],
+        fires: impl Fn(&[u32], u32) -> bool,
     ) -> Vec<BTreeSet<Edge>> {
         let mut out = vec![BTreeSet::new(); supervisors.len()];
         let dfa = self.reach.dfa();
-        for s in 0..self.len() as u32 {
-            for (e, _) in dfa.edges(s).filter(|&(e, _)| controllable[e as usize]) {
-                for (k, i) in supervisors.clone().enumerate() {
-                    if closed.has_event(i, EventId::from_u32(e)) {
-                        out[k].insert((self.reach.component_state(s, i), e));
+        let mut seen = vec![false; self.len()];
+        let mut queue = VecDeque::from([0u32]);
+        seen[0] = true;
+        while let Some(s) = queue.pop_front() {
+            let enabled: Vec<u32> =
+                dfa.edges(s).map(|(e, _)| e).filter(|&e| controllable[e as usize]).collect();
+            for (e, t) in dfa.edges(s) {
+                if controllable[e as usize] {
+                    if !fires(&enabled, e) {
+                        continue;
                     }
+                    for (k, i) in supervisors.clone().enumerate() {
+                        if closed.has_event(i, EventId::from_u32(e)) {
+                            out[k].insert((self.reach.component_state(s, i), e));
+                        }
+                    }
+                }
+                if !std::mem::replace(&mut seen[t as usize], true) {
+                    queue.push_back(t);
                 }
             }
         }
@@ -182,11 +201,42 @@ mod tests {
         let g = Graph::explore(&closed, 100).unwrap();
         assert_eq!(g.len(), 2);
         let a = table.id("a").unwrap();
-        assert_eq!(g.controllable_edges(&closed, 1..2, &controllable), [BTreeSet::from([(0, a.as_u32())])]);
+        assert_eq!(
+            g.controllable_edges(&closed, 1..2, &controllable, |_, _| true),
+            [BTreeSet::from([(0, a.as_u32())])]
+        );
         assert_eq!(Graph::explore(&closed, 1).unwrap_err(), TooLarge { limit: 1 });
         let d = g.distances(|s, k| g.edges(s).nth(k).is_some_and(|(e, _)| e == a.as_u32()), |_, _| true);
         assert_eq!(d, [0, 1]);
         assert_eq!(g.next(0, a), Some(1));
         assert_eq!(g.id(&[1, 1]), Some(1));
+    }
+
+    #[test]
+    fn a_command_the_policy_never_fires_and_what_lies_behind_it_do_not_count() {
+        // From 0 the supervisor allows a (lower id) and b; only after b is c possible.
+        let m =
+            automaton("M", Kind::Plant, 3, &[0], &["a", "b", "c"], &[(0, "a", 0), (0, "b", 1), (1, "c", 0)]);
+        let s = automaton(
+            "S",
+            Kind::Supervisor,
+            2,
+            &[0],
+            &["a", "b", "c"],
+            &[(0, "a", 0), (0, "b", 1), (1, "c", 0)],
+        );
+        let table = EventTable::build([&m, &s]).unwrap();
+        let closed = Composition::new(&[&m, &s], &table).unwrap();
+        let controllable: Vec<_> = table.ids().map(|e| table.is_controllable(e)).collect();
+        let g = Graph::explore(&closed, 100).unwrap();
+        let id = |e: &str| table.id(e).unwrap().as_u32();
+        let all = g.controllable_edges(&closed, 1..2, &controllable, |_, _| true);
+        assert_eq!(all, [BTreeSet::from([(0, id("a")), (0, id("b")), (1, id("c"))])]);
+        // Lowest id only (the `first` policy): a shadows b, and c behind b is never reached.
+        let lowest = |on: &[u32], e: u32| on.iter().min() == Some(&e);
+        assert_eq!(
+            g.controllable_edges(&closed, 1..2, &controllable, lowest),
+            [BTreeSet::from([(0, id("a"))])]
+        );
     }
 }

@@ -89,7 +89,8 @@ impl Monitor {
         let controllable: Vec<bool> = table.ids().map(|e| table.is_controllable(e)).collect();
         let sups = plants.len()..all.len();
         let graph = Graph::explore(&closed, EXPLORATION_LIMIT).ok();
-        let reachable = graph.as_ref().map(|g| g.controllable_edges(&closed, sups.clone(), &controllable));
+        let reachable =
+            graph.as_ref().map(|g| g.controllable_edges(&closed, sups.clone(), &controllable, |_, _| true));
         let physical = closed.initial();
         let choices = Choices::new(ChoiceModel::Uniform, &closed, plants.len(), &controllable);
         let mut report = Report {
@@ -268,9 +269,20 @@ impl Monitor {
         );
     }
 
-    /// Models the controller's choice policy for the steering (uniform until told).
+    /// Models the controller's choice policy for the steering and for coverage (uniform until told):
+    /// the transitions to cover are those the policy can take ([`ChoiceModel::fires`]).
     pub fn model_choices(&mut self, model: ChoiceModel) {
         self.choices = Choices::new(model, &self.closed, self.plants, &self.controllable);
+        self.reachable = self.graph.as_ref().map(|g| {
+            g.controllable_edges(&self.closed, self.plants..self.closed.len(), &self.controllable, |on, e| {
+                model.fires(on, e)
+            })
+        });
+        if let Some(reachable) = &self.reachable {
+            for (line, edges) in self.report.coverage.iter_mut().zip(reachable) {
+                line.reachable = Some(edges.len());
+            }
+        }
         self.steering.invalidate();
     }
 
