@@ -1,5 +1,6 @@
 //! `codegen plc`: Structured Text and PLCopen XML for a scan-cycle controller.
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -120,6 +121,25 @@ fn write(dir: &Path, files: &[(String, String)]) -> Result<(), Error> {
     Ok(())
 }
 
+/// The names of the files written, for the JSON report.
+fn names(files: &[(String, String)]) -> Vec<&str> {
+    files.iter().map(|(n, _)| n.as_str()).collect()
+}
+
+/// Prints the report — `json()` with `--json`, else `text` and where the files went — through a locked
+/// stdout, so that a closed pipe (`codegen plc … | head`) ends the command as any write error does
+/// instead of panicking as `println!` would.
+fn report(args: &Args, json: impl FnOnce() -> serde_json::Value, text: &str) -> Result<ExitCode, Error> {
+    let mut out = std::io::stdout().lock();
+    if args.json {
+        writeln!(out, "{}", serde_json::to_string_pretty(&json())?)?;
+    } else {
+        write!(out, "{text}")?;
+        writeln!(out, "written to {}", args.output.display())?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
 /// The state-based program: files, then the report (JSON under `sfbc`). Memory deciding where memory is
 /// not allowed is a finding (exit 1, the plant states with their traces on stderr).
 fn state(project: &Project, args: &Args) -> Result<ExitCode, Error> {
@@ -137,21 +157,16 @@ fn state(project: &Project, args: &Args) -> Result<ExitCode, Error> {
             Err(e) => return Err(e.into()),
         };
     write(&args.output, &out.files)?;
-    if args.json {
-        let files: Vec<&str> = out.files.iter().map(|(n, _)| n.as_str()).collect();
-        let json = serde_json::json!({
+    let json = || {
+        serde_json::json!({
             "schema": 1,
             "name": project.name,
             "encoding": "state",
-            "files": files,
+            "files": names(&out.files),
             "sfbc": out.report,
-        });
-        println!("{}", serde_json::to_string_pretty(&json)?);
-    } else {
-        print!("{}", out.report.text());
-        println!("written to {}", args.output.display());
-    }
-    Ok(ExitCode::SUCCESS)
+        })
+    };
+    report(args, json, &out.report.text())
 }
 
 /// Whether `e` is the supervisors' memory deciding an event (a finding, not bad input).
@@ -192,31 +207,27 @@ fn state_symbolic(project: &Project, args: &Args) -> Result<ExitCode, Error> {
             (r.event.clone(), r.cubes.len(), r.cubes.iter().map(|c| c.len()).sum(), nodes)
         })
         .collect();
-    if args.json {
-        let files: Vec<&str> = program.files.iter().map(|(n, _)| n.as_str()).collect();
+    let json = || {
         let rungs: Vec<_> = rows
             .iter()
             .map(|(e, p, l, n)| serde_json::json!({ "event": e, "products": p, "literals": l, "bdd_nodes": n }))
             .collect();
-        let json = serde_json::json!({
+        serde_json::json!({
             "schema": 1,
             "name": project.name,
             "encoding": "state",
             "engine": "symbolic",
-            "files": files,
+            "files": names(&program.files),
             "reachable_plant_states": engine::count(&reachable),
             "rungs": rungs,
-        });
-        println!("{}", serde_json::to_string_pretty(&json)?);
-    } else {
-        println!("reachable plant states: {reachable}");
-        println!("rung  products  literals  guard BDD nodes");
-        for (e, p, l, n) in &rows {
-            println!("{e}  {p}  {l}  {n}");
-        }
-        println!("written to {}", args.output.display());
+        })
+    };
+    let mut text =
+        format!("reachable plant states: {reachable}\nrung  products  literals  guard BDD nodes\n");
+    for (e, p, l, n) in &rows {
+        text.push_str(&format!("{e}  {p}  {l}  {n}\n"));
     }
-    Ok(ExitCode::SUCCESS)
+    report(args, json, &text)
 }
 
 /// The hybrid controller of a manifest with a `[hybrid]` section ([`codegen::plc::hybrid`]): both
@@ -225,21 +236,16 @@ fn hybrid(manifest: &Manifest, args: &Args) -> Result<ExitCode, Error> {
     let cycle = manifest.plc.as_ref().and_then(|p| p.cycle_ms).unwrap_or(10);
     let out = codegen::plc::hybrid::generate(manifest, &Config::default(), cycle)?;
     write(&args.output, &out.files)?;
-    if args.json {
-        let files: Vec<&str> = out.files.iter().map(|(n, _)| n.as_str()).collect();
-        let json = serde_json::json!({
+    let json = || {
+        serde_json::json!({
             "schema": 1,
             "name": manifest.name,
             "encoding": "hybrid",
-            "files": files,
+            "files": names(&out.files),
             "hybrid": out.report,
-        });
-        println!("{}", serde_json::to_string_pretty(&json)?);
-    } else {
-        print!("{}", out.report.text());
-        println!("written to {}", args.output.display());
-    }
-    Ok(ExitCode::SUCCESS)
+        })
+    };
+    report(args, json, &out.report.text())
 }
 
 /// Runs `plc`.
@@ -275,11 +281,5 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     };
     let out = project.plc_beside(encoding, args.avalanche, args.policy, net.as_ref())?;
     write(&args.output, &out.files)?;
-    if args.json {
-        println!("{}", serde_json::to_string_pretty(&out.report)?);
-    } else {
-        print!("{}", out.report.text());
-        println!("written to {}", args.output.display());
-    }
-    Ok(ExitCode::SUCCESS)
+    report(&args, || serde_json::json!(out.report), &out.report.text())
 }
