@@ -173,6 +173,9 @@ class Tct:
         init = sup.initial or 0
         swap = lambda x: init if x == 0 else (0 if x == init else x)
         out, state = {}, None
+        if text.split() == ["empty."]:
+            # Nothing disabled anywhere: TCT writes the word instead of a list.
+            return out
         for token in text.split():
             if token.endswith(":"):
                 state = sup.states[swap(int(token[:-1]))][0]
