@@ -71,8 +71,13 @@ def run_case(codegen, label, manifest, work):
     by_name = {a.name: a for a in plants}
     out = os.path.join(work, "out")
     mono = tools.codegen_json(codegen, ["--monolithic", "-o", out + "/mono", manifest])
-    ours = tools.read_xmd(os.path.join(out, "mono", "S_monolithic.xmd"))
     ref = tools.faudes_supc(plants, specs)
+    if mono is None:
+        # A random instance may forbid what the plants cannot be kept from: our verdict against libFAUDES'
+        # empty supremal sublanguage; nothing else to compare.
+        check(ref.Size() == 0, f"{label}: no supervisor exists = libFAUDES SupCon empty ({ref.Size()} states)")
+        return
+    ours = tools.read_xmd(os.path.join(out, "mono", "S_monolithic.xmd"))
     check(faudes.LanguageEquality(tools.to_faudes(ours), ref),
           f"{label}: monolithic {mono['total_states']}/{mono['total_transitions']} "
           f"= libFAUDES SupCon {ref.Size()}/{ref.TransRelSize()} (language)")

@@ -206,9 +206,13 @@ class Tct:
 
 
 def codegen_json(codegen, args):
+    """`codegen synth --json ARGS` as parsed JSON, or None for the verdict that no supervisor exists (exit 1,
+    said on stderr, nothing on stdout)."""
     out = subprocess.run([codegen, "synth", "--json", *args], check=False, capture_output=True, text=True)
     if out.returncode not in (0, 1):
         raise RuntimeError(f"codegen synth {' '.join(args)}: {out.stderr}")
+    if out.returncode == 1 and not out.stdout.strip() and "no supervisor exists" in out.stderr:
+        return None
     import json
 
     return json.loads(out.stdout)
