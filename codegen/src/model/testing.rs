@@ -121,3 +121,9 @@ pub fn arb_automaton(name: String, pool: usize, max_states: usize) -> impl Strat
         )
     })
 }
+
+/// `a` in the role `kind`: random automata are drawn without one.
+pub fn with_kind(mut a: Automaton, kind: Kind) -> Automaton {
+    a.kind = kind;
+    a
+}

@@ -6,7 +6,7 @@ use num_bigint::BigUint;
 use proptest::prelude::*;
 
 use super::*;
-use crate::model::testing::arb_automaton;
+use crate::model::testing::{arb_automaton, with_kind};
 use crate::model::Kind;
 use crate::synth::families::{generate, random_seeded};
 use crate::synth::{language, local_modular, verify};
@@ -94,11 +94,6 @@ fn same_conflict_verdict(
         prop_assert_eq!(symbolic, product > explicit_states, "cap {}", explicit_states);
     }
     Ok(())
-}
-
-fn with_kind(mut a: Automaton, kind: Kind) -> Automaton {
-    a.kind = kind;
-    a
 }
 
 proptest! {

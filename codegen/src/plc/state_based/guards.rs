@@ -86,7 +86,7 @@ mod tests {
     use proptest::prelude::*;
 
     use super::*;
-    use crate::model::testing::arb_automaton;
+    use crate::model::testing::{arb_automaton, with_kind};
     use crate::model::{Automaton, Kind};
     use crate::plc::state_based::Sfbc;
     use crate::symbolic::Options;
@@ -122,11 +122,6 @@ mod tests {
             }
         }
         Ok(())
-    }
-
-    fn with_kind(mut a: Automaton, kind: Kind) -> Automaton {
-        a.kind = kind;
-        a
     }
 
     proptest! {
