@@ -73,3 +73,26 @@ fn the_station_from_a_supremica_module_is_safe_in_step_and_fully_covered_on_the_
         assert_eq!(report.steering_resets, 0, "{what}: {report}");
     }
 }
+
+/// Two runs with one seed take one trace, byte for byte: the firmware boots on hold and decides nothing
+/// before the session's RESET and first STEP, so its random generator starts every run from the seed
+/// (docs/steering.md). The runs go side by side, so that their timings differ.
+#[test]
+fn two_runs_with_one_seed_take_the_same_trace() {
+    let (a, b) = std::thread::scope(|s| {
+        let a = s.spawn(|| station(1));
+        let b = s.spawn(|| station(1));
+        (a.join().unwrap(), b.join().unwrap())
+    });
+    let fingerprint = |r: &Report| {
+        (
+            r.trace_sha256.clone(),
+            r.events,
+            r.commands,
+            r.full_coverage_at,
+            r.firmware.commands_out,
+            r.marked_visits,
+        )
+    };
+    assert_eq!(fingerprint(&a), fingerprint(&b), "seed 1 twice:\n{a}\n{b}");
+}

@@ -16,6 +16,9 @@
 //! | `0xF7` SYNC | both | request: answer SYNC once nothing is enabled (or in the safe state) and deciding is not on hold; so a host can run the loop in lock-step, every round's decisions taken on every input it sent |
 //! | `0xF8` STEP | host → fw | decide once on every input sent before it (fire at most one command), then hold again and answer SYNC; so a host can take its turn between any two decisions of a controller that never runs out of commands |
 //!
+//! A firmware a host drives (QEMU's, the host-compiled one of the tests) boots on hold ([`Hold::on_hold`]):
+//! it sends READY and decides nothing until the host's first GO or STEP.
+//!
 //! Any other byte from `0xF0` up, an event id beyond the set, and a *controllable* event id sent by the
 //! host (only the firmware generates those) count as `unknown_bytes` and are faults. Control bytes go
 //! through the input buffer in order with the events (so a RESET or STATUS sees every event sent before
@@ -71,9 +74,17 @@ impl Counters {
 pub struct Hold(AtomicBool);
 
 impl Hold {
-    /// Deciding allowed.
+    /// Deciding allowed: a board that no host drives.
     pub const fn new() -> Self {
         Self(AtomicBool::new(false))
+    }
+
+    /// Deciding on hold until the first GO or STEP: a firmware a host drives boots this way, so that it
+    /// decides nothing (and draws nothing from its random generator) before the host has reset it and
+    /// released it. A lock-step run then repeats exactly from the seeds, however long the host took to
+    /// connect. A constant initialiser: no code at boot.
+    pub const fn on_hold() -> Self {
+        Self(AtomicBool::new(true))
     }
 
     /// Called by the receive interrupt for every byte: consumes HOLD and GO, hands every other byte back

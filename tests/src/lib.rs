@@ -98,7 +98,8 @@ where
         let mut rt = Runtime::new(checked, config, policy, SeedEntropy::new(seed));
         let mut queue = InputQueue::<Q>::new();
         let (mut tx, mut rx) = queue.split();
-        let hold = Hold::new();
+        // On hold from boot, as the QEMU application: nothing is decided before the session releases it.
+        let hold = Hold::on_hold();
         let mut event_loop = EventLoop::new();
         let mut out = Outbox(Vec::new());
         link.send(&[READY]).ok()?;

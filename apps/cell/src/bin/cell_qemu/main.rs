@@ -21,8 +21,9 @@ mod tables {
 use firmware::event_loop::{Note, Port};
 use firmware::link::Hold;
 
-/// The decision gate; HOLD and GO set it from the receive interrupt.
-static HOLD: Hold = Hold::new();
+/// The decision gate; HOLD and GO set it from the receive interrupt. On hold from boot: the host
+/// releases the firmware after its RESET, so a seeded run repeats exactly (`firmware::link`).
+static HOLD: Hold = Hold::on_hold();
 
 /// The runtime over the emitted tables.
 type Rt = tables::Runtime<tables::Policy, firmware::rng::SeedEntropy>;
