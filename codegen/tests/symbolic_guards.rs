@@ -6,8 +6,9 @@
 
 use std::path::{Path, PathBuf};
 
+use codegen::config::ScanPolicy;
 use codegen::formats::write_path;
-use codegen::plc::state_based::{self, guards, memory::Memory, minimise::Universe};
+use codegen::plc::state_based::{self, guards, memory::Memory, minimise::Universe, StateOptions};
 use codegen::project::{Project, Sources};
 use codegen::symbolic::{Guards, Options};
 use codegen::synth::families::{generate, state_section};
@@ -68,6 +69,35 @@ fn interlock(n: usize, dir: &Path) -> PathBuf {
 #[test]
 fn the_distribution_station_gives_the_explicit_rungs() {
     same_rungs(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/distribution/distribution.toml")));
+}
+
+/// `files` without their header's command line, which names the engine.
+fn without_command(files: &[(String, String)]) -> Vec<(String, String)> {
+    let body = |text: &str| {
+        text.lines().filter(|l| !l.contains("Command: codegen plc")).collect::<Vec<_>>().join("\n")
+    };
+    files.iter().map(|(name, text)| (name.clone(), body(text))).collect()
+}
+
+#[test]
+fn every_choice_policy_gives_the_explicit_program_from_guards() {
+    let manifest =
+        Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/distribution/distribution.toml"));
+    let project = Project::load(manifest).unwrap();
+    let fixed_order = project.state_plc(StateOptions::default()).unwrap().files;
+    for choice in [ScanPolicy::First, ScanPolicy::GlobalQueue, ScanPolicy::LocalQueue, ScanPolicy::Random] {
+        let choices = StateOptions { choice: Some(choice), ..StateOptions::default() };
+        let explicit = project.state_plc(choices).unwrap();
+        let (symbolic, _) =
+            project.state_plc_guards(choices, &Config::default(), &Options::default()).unwrap();
+        let what = choice.name();
+        assert_eq!(without_command(&symbolic.files), without_command(&explicit.files), "--choice {what}");
+        // The choice is made: the rungs fill `enabled`, and the program is not the fixed-order one.
+        let st = &symbolic.files[0].1;
+        assert!(st.contains("enabled[0] :="), "--choice {what}: {st}");
+        assert!(st.contains(&format!("--choice {what}")), "--choice {what}: {st}");
+        assert_ne!(without_command(&symbolic.files), without_command(&fixed_order), "--choice {what}");
+    }
 }
 
 #[test]

@@ -186,7 +186,8 @@ fn state_symbolic(project: &Project, args: &Args) -> Result<ExitCode, Error> {
         observer: Some(observer),
         ..Config::default()
     };
-    let result = project.state_plc_guards(args.exact, &cfg, &Options::default());
+    let choices = StateOptions { memory: false, exact: args.exact, choice: args.choice };
+    let result = project.state_plc_guards(choices, &cfg, &Options::default());
     bar.inspect(|b| b.finish_and_clear());
     let (program, guards) = match result {
         Ok(r) => r,

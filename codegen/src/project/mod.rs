@@ -156,6 +156,11 @@ pub fn supervisor_set_with(loaded: &Loaded, cfg: &Config) -> Result<PackSet, Pro
     Ok(PackSet::new(models.plants, models.supervisors)?)
 }
 
+/// The command-line words of a state-based program's choice policy (` --choice POLICY`, or none).
+fn choice_flag(choice: Option<ScanPolicy>) -> String {
+    choice.map(|p| format!(" --choice {}", p.name())).unwrap_or_default()
+}
+
 /// Reads and hashes `path`.
 fn hash(path: &Path) -> Result<Input, ProjectError> {
     Input::read(path).map_err(|source| ProjectError::File { path: path.to_owned(), source })
@@ -369,7 +374,7 @@ impl Project {
     /// vectors, memory allowed, F_σ exact and one command per scan as `choices` (or the `[state]`
     /// keys) say, the event-based program's figures beside. Errors name the manifest.
     pub fn state_plc(&self, choices: state_based::StateOptions) -> Result<state_based::Output, ProjectError> {
-        let choice = choices.choice.map(|p| format!(" --choice {}", p.name())).unwrap_or_default();
+        let choice = choice_flag(choices.choice);
         let flags = [(choices.memory, " --memory"), (choices.exact, " --exact"), (true, choice.as_str())];
         let (signals, opts, provenance) = self.state_setup(&flags).map_err(|e| self.in_file(e))?;
         let event_based = self.plc(Encoding::Int, Avalanche::Auto, None).ok();
@@ -380,11 +385,13 @@ impl Project {
 
     /// The state-based program from guards read off the symbolic engine's BDDs (`--engine symbolic`):
     /// the monolithic supervisor of the manifest's plants and specifications synthesised on BDDs
-    /// ([`Guards`]), F_σ per controllable event rewritten over the `[state]` signals. Needs a manifest
-    /// with specifications; the supervisor's memory deciding somewhere is [`StateError::Memory`].
+    /// ([`Guards`]), F_σ per controllable event rewritten over the `[state]` signals, F_σ exact and one
+    /// command per scan as `choices` (or the `[state]` keys) say; `choices.memory` is not read (a program
+    /// from guards keeps no memory). Needs a manifest with specifications; the supervisor's memory
+    /// deciding somewhere is [`StateError::Memory`].
     pub fn state_plc_guards(
         &self,
-        exact: bool,
+        choices: state_based::StateOptions,
         cfg: &Config,
         options: &symbolic::Options,
     ) -> Result<(GuardProgram, Guards), ProjectError> {
@@ -395,10 +402,12 @@ impl Project {
         if models.specs.is_empty() {
             return Err(ProjectError::Nothing { file: path.clone() });
         }
-        let flags = [(exact, " --exact"), (true, " --engine symbolic")];
+        let choice = choice_flag(choices.choice);
+        let flags = [(choices.exact, " --exact"), (true, " --engine symbolic"), (true, choice.as_str())];
         let (signals, opts, provenance) = self.state_setup(&flags).map_err(|e| self.in_file(e))?;
         let guards = Guards::compute(&models.plants, &models.specs, cfg, options)?;
-        let program = state_based::guards::generate(&self.set, signals, &guards, &opts, exact, &provenance)
+        let both = (choices.exact, choices.choice);
+        let program = state_based::guards::generate(&self.set, signals, &guards, &opts, both, &provenance)
             .map_err(|e| self.in_file(e))?;
         Ok((program, guards))
     }

@@ -3,14 +3,14 @@
 //! valuations of the reachable plant states it allows and those no reachable plant state produces (none
 //! with `exact`) — the same formula [`rungs`](super::rungs) gives, without listing a state.
 
-use crate::config::{Cube, Signals};
+use crate::config::{Cube, ScanPolicy, Signals};
 use crate::emit::Provenance;
 use crate::pack::PackSet;
 use crate::plc::PlcOptions;
 use crate::symbolic::Guards;
 
 use super::minimise::Universe;
-use super::{memory, program, program_files, EventRung, StateError, Vector};
+use super::{memory, program, program_files, EventRung, OnePerScan, StateError, Vector};
 
 /// A state-based program written from guards.
 #[derive(Clone, Debug)]
@@ -25,20 +25,31 @@ pub struct GuardProgram {
 
 /// Writes the state-based program of `set`'s plants under `signals`' state vectors from `guards` (as
 /// [`generate`](super::generate) does from the explicit closed loop; `exact` keeps F_σ free of
-/// don't-cares).
+/// don't-cares, and `choice`, else `[state] choice`, fires one command per scan chosen by that policy).
 pub fn generate(
     set: &PackSet,
     signals: Signals,
     guards: &Guards,
     opts: &PlcOptions,
-    exact: bool,
+    (exact, choice): (bool, Option<ScanPolicy>),
     provenance: &Provenance,
 ) -> Result<GuardProgram, StateError> {
     let exact = exact || signals.exact;
+    let policy = choice.or(signals.choice);
     let vector = Vector::bind(set, signals)?;
     let rungs = rungs(set, &vector, guards, exact)?;
-    let files =
-        program_files(set, &vector, &rungs, &memory::Memory::default(), None, opts, exact, provenance)?;
+    let events = rungs.iter().filter_map(|r| set.events().id(&r.event));
+    let one = policy.map(|policy| OnePerScan::new(policy, opts.seed, &vector, events));
+    let files = program_files(
+        set,
+        &vector,
+        &rungs,
+        &memory::Memory::default(),
+        one.as_ref(),
+        opts,
+        exact,
+        provenance,
+    )?;
     Ok(GuardProgram { files, rungs, vector })
 }
 

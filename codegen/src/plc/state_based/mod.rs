@@ -214,11 +214,8 @@ pub fn generate(
         None => memory::Memory::default(),
     };
     let rungs = self::rungs(set, &vector, &f, &memory, exact);
-    let one = policy.map(|policy| OnePerScan {
-        policy,
-        seed: opts.seed,
-        owners: f.controllable.iter().map(|e| vector.commands[e.index()].map_or(0, |(p, _)| p)).collect(),
-    });
+    let one =
+        policy.map(|policy| OnePerScan::new(policy, opts.seed, &vector, f.controllable.iter().copied()));
     let files = program_files(set, &vector, &rungs, &memory, one.as_ref(), opts, exact, provenance)?;
     let ns = opts.spec.instruction_ns.unwrap_or(1000);
     let plants: Vec<_> = set.members()[..f.plants].iter().map(|m| &m.dfa).collect();

@@ -10,11 +10,13 @@
 
 use crate::config::ScanPolicy;
 use crate::config::{Cube, Direction, Signals};
+use crate::model::EventId;
 use crate::plc::choice::{self, PlantChoice};
 use crate::plc::ld::{Coil, CoilKind, Element, Rung};
 use crate::plc::names::is_identifier;
 use crate::plc::st::{Expr, Pou, Section, SectionKind, Stmt, Type, Var, VarClass};
 use crate::plc::state_based::memory::Memory;
+use crate::plc::state_based::Vector;
 
 use super::StateError;
 
@@ -82,6 +84,18 @@ pub struct OnePerScan {
 }
 
 impl OnePerScan {
+    /// The choice by `policy` (seeded with `seed`) among the rungs of `events`, in rung order, each
+    /// owned by the plant component its command writes (component 0 for an event without a command).
+    pub fn new(
+        policy: ScanPolicy,
+        seed: u64,
+        vector: &Vector,
+        events: impl IntoIterator<Item = EventId>,
+    ) -> Self {
+        let owners = events.into_iter().map(|e| vector.commands[e.index()].map_or(0, |(p, _)| p)).collect();
+        OnePerScan { policy, seed, owners }
+    }
+
     /// `enabled[k] := F_k` for every rung, the policy's choice of `c`, then `CASE c OF k: command k`.
     fn statements(&self, conditions: Vec<Expr>, bodies: Vec<Vec<Stmt>>) -> Vec<Stmt> {
         let n = conditions.len() as i64;
