@@ -11,7 +11,7 @@ use codegen::config::ScanPolicy;
 use codegen::model::EventId;
 use codegen::monitor::Monitor;
 use codegen::pack::Role;
-use codegen::plc::state_based::{Output, StateOptions};
+use codegen::plc::state_based::{OnePerScan, Output, StateOptions};
 use codegen::project::Project;
 use end_to_end::st::Plc;
 use end_to_end::{example, root, Scratch};
@@ -29,27 +29,39 @@ fn program(exact: bool, choice: Option<ScanPolicy>) -> (Project, Output) {
 }
 
 /// What one scan can do from a state where the rungs `enabled` conduct, with the policy's cursor
-/// `cursor`: per outcome, the rungs fired (in order) and the cursor after. Without a policy every rung
-/// that conducts on the current image fires, in rung order (`fire` tells whether rung k conducts
-/// after the ones before it fired); with one, one rung of those that conduct.
+/// `cursor`: per outcome, the rungs fired (in order) and the cursor after. Without a policy (`one`)
+/// every rung that conducts on the current image fires, in rung order (`fire` tells whether rung k
+/// conducts after the ones before it fired); with one, one rung of those that conduct, as the choice
+/// section (`codegen/src/plc/choice.rs`) picks it.
 fn outcomes(
-    policy: Option<ScanPolicy>,
+    one: Option<&OnePerScan>,
     n: usize,
     cursor: usize,
     enabled: &[bool],
 ) -> Vec<(Option<usize>, usize)> {
     let on: Vec<usize> = (0..n).filter(|&k| enabled[k]).collect();
-    match policy {
-        None => vec![(None, cursor)],
-        Some(_) if on.is_empty() => vec![(None, cursor)],
-        Some(ScanPolicy::First) => vec![(Some(on[0]), cursor)],
-        Some(ScanPolicy::GlobalQueue) => {
+    let Some(one) = one else { return vec![(None, cursor)] };
+    if on.is_empty() {
+        return vec![(None, cursor)];
+    }
+    match one.policy {
+        ScanPolicy::First => vec![(Some(on[0]), cursor)],
+        ScanPolicy::GlobalQueue => {
             let k = (0..n).map(|i| (cursor + i) % n).find(|k| enabled[*k]).unwrap();
             vec![(Some(k), (k + 1) % n)]
         }
-        Some(ScanPolicy::Random) => on.iter().map(|&k| (Some(k), cursor)).collect(),
-        Some(ScanPolicy::LocalQueue) => {
-            unimplemented!("the closed loop explores first, global-queue, random")
+        ScanPolicy::Random => on.iter().map(|&k| (Some(k), cursor)).collect(),
+        ScanPolicy::LocalQueue => {
+            // The components cyclically from the cursor; in the first with a rung that conducts, its
+            // lowest such rung (a state-based program has no choice sites: every component's cursor is
+            // 0); the cursor moves past that component.
+            let components = one.owners.iter().max().map_or(0, |&m| m + 1);
+            (0..components)
+                .map(|i| (cursor + i) % components)
+                .find_map(|p| {
+                    on.iter().find(|&&k| one.owners[k] == p).map(|&k| vec![(Some(k), (p + 1) % components)])
+                })
+                .unwrap()
         }
     }
 }
@@ -107,7 +119,7 @@ fn program_reachable(p: &Project, out: &Output) -> BTreeSet<(Vec<u32>, u32)> {
             continue;
         }
         let enabled = table.get(s0.as_slice()).copied().unwrap_or(&none);
-        for (pick, next) in outcomes(policy, n, cursor, enabled) {
+        for (pick, next) in outcomes(out.one.as_ref(), n, cursor, enabled) {
             let mut s = s0.clone();
             for k in 0..n {
                 let e = f.controllable[k];
@@ -249,6 +261,7 @@ fn r23_the_state_based_program_runs_the_station_safely_live_and_covering() {
         (false, Some(ScanPolicy::GlobalQueue)),
         (true, Some(ScanPolicy::Random)),
         (false, Some(ScanPolicy::First)),
+        (false, Some(ScanPolicy::LocalQueue)),
     ];
     for (exact, choice) in runs {
         let (p, out) = program(exact, choice);
