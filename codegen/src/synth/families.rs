@@ -96,22 +96,21 @@ fn interlock(n: usize) -> (Vec<Automaton>, Vec<Automaton>) {
     let specs = (1..n)
         .map(|i| {
             let j = i + 1;
-            let ev = [
-                (format!("go{i}"), true),
-                (format!("back{i}"), false),
-                (format!("go{j}"), true),
-                (format!("back{j}"), false),
-            ];
-            build(
-                &format!("E{i}"),
-                Kind::Spec,
-                &states(3),
-                &ev,
-                &[(0, 0, 1), (1, 1, 0), (0, 2, 2), (2, 3, 0)],
-            )
+            let users = [format!("go{i}"), format!("back{i}"), format!("go{j}"), format!("back{j}")];
+            exclusion(&format!("E{i}"), users)
         })
         .collect();
     (plants, specs)
+}
+
+/// A specification that two users never hold one resource at once (a station's busy span, a fork):
+/// from free (state 0), the first takes it (controllable) into state 1 and gives it back
+/// (uncontrollable), the second likewise through state 2. `events`: take and give back of the first
+/// user, then of the second.
+fn exclusion(name: &str, events: [String; 4]) -> Automaton {
+    let [take_a, give_a, take_b, give_b] = events;
+    let ev = [(take_a, true), (give_a, false), (take_b, true), (give_b, false)];
+    build(name, Kind::Spec, &states(3), &ev, &[(0, 0, 1), (1, 1, 0), (0, 2, 2), (2, 3, 0)])
 }
 
 /// The manifest's `[state]` section of `family`'s instance of size `n`, for the families whose plants
@@ -299,19 +298,7 @@ fn philosophers(n: usize) -> (Vec<Automaton>, Vec<Automaton>) {
         .map(|j| {
             // Fork j is philosopher j's left fork and philosopher j+1's right fork.
             let k = (j + 1) % n;
-            let ev = [
-                (format!("l{j}"), true),
-                (format!("p{j}"), false),
-                (format!("r{k}"), true),
-                (format!("p{k}"), false),
-            ];
-            build(
-                &format!("F{j}"),
-                Kind::Spec,
-                &states(3),
-                &ev,
-                &[(0, 0, 1), (1, 1, 0), (0, 2, 2), (2, 3, 0)],
-            )
+            exclusion(&format!("F{j}"), [format!("l{j}"), format!("p{j}"), format!("r{k}"), format!("p{k}")])
         })
         .collect();
     (plants, specs)
