@@ -4,21 +4,11 @@
 //! into an empty cache (`SCT_CODEGEN_CACHE`). Cargo is the one on `PATH`, as for an installed binary.
 //! Only the target directory is the checkout's, so the firmware's dependencies are not compiled again.
 
-use std::path::{Path, PathBuf};
+mod common;
+
 use std::process::Command;
 
-/// A directory removed when dropped.
-struct Temp(PathBuf);
-
-impl Drop for Temp {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn repo(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(rel)
-}
+use common::{repo, Temp};
 
 #[test]
 fn an_installed_codegen_runs_a_project_outside_the_checkout() {
