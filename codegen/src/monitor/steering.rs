@@ -243,9 +243,11 @@ impl Steering {
                         // holds a target): a target keeps a floor, and so does any other command a site's
                         // round excludes, or every target behind it would look unreachable and the plant
                         // would stop steering. A command outside every site with no chance is never
-                        // chosen.
+                        // chosen, not even a target: under `first`, a command with a lower one enabled
+                        // beside it never fires there, and a floor would steer the plant to where the
+                        // target never comes.
                         let chance = match (bit, c.target) {
-                            (None, true) => c.chance.max(floor),
+                            (None, true) if c.site.is_some() || c.chance > 0.0 => c.chance.max(floor),
                             (None, false) if c.chance == 0.0 && c.site.is_some() => floor,
                             _ => c.chance,
                         };
@@ -468,8 +470,20 @@ mod tests {
         // With chance p per visit, each miss costs `skip` and `back`: 1 + 2(1-p)/p events.
         assert!((value(1.0) - 1.0).abs() < 0.05, "{}", value(1.0));
         assert!((value(0.5) - 3.0).abs() < 0.05, "{}", value(0.5));
-        // A round that excludes the target still leaves it a floor (it comes back with the next round).
-        assert!(value(0.0) < UNREACHABLE);
+        // Outside every site, no chance is never (`first`, with a lower id enabled beside the target).
+        assert_eq!(value(0.0), UNREACHABLE);
+        // At a site, a round that excludes the target still leaves it a floor (it comes back with the
+        // next round).
+        let mut s = Steering::new();
+        let excluded =
+            |e: u32| Command { target: e == take, chance: f32::from(e != take), site: Some((0, 0)) };
+        s.refresh(
+            &g,
+            &controllable,
+            |_, commands| commands.iter().map(|&e| excluded(e)).collect(),
+            |_| Round::default(),
+        );
+        assert!(s.values[0] < UNREACHABLE, "{}", s.values[0]);
     }
 
     #[test]
