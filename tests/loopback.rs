@@ -2,12 +2,15 @@
 //! over an in-memory byte link: the closed loop without QEMU.
 
 use codegen::closed_loop::{attach, parts, Options, Session, SessionConfig};
+use codegen::config::ChoicePolicy;
 use codegen::link::memory;
 use codegen::link::protocol::EXIT;
 use codegen::link::ByteLink;
 use codegen::model::StateId;
+use codegen::monitor::ChoiceModel;
 use codegen::pack::{ranked, PackSet};
-use end_to_end::{assert_clean, published_cell, spawn_host_firmware, ticker};
+use codegen::project::Project;
+use end_to_end::{assert_clean, example, published_cell, spawn_host_firmware, ticker};
 use firmware::build::HostTables;
 use firmware::choice::{First, Random, RandomLocalQueue};
 use firmware::fault::FaultPolicy;
@@ -109,4 +112,30 @@ fn a_stuck_steering_restarts_the_closed_loop() {
     assert!(!report.full_coverage(), "first cannot cover the cell: {report}");
     assert!(report.steering_resets >= 1, "{report}");
     assert_eq!((report.violations, report.resyncs, report.stalls), (0, 0, 0), "{report}");
+}
+
+/// The distribution station under its own `first` policy (the state-based paper's rung order): every
+/// transition `first` can fire taken, and the marked state visited throughout — the steering chases no
+/// transition `first` never fires (it did, and the run never came home: docs/steering.md).
+#[test]
+fn the_distribution_station_under_first_is_covered_and_comes_home() {
+    let project = Project::load(&example("distribution/distribution.toml")).unwrap();
+    assert_eq!(project.runtime.policy, ChoicePolicy::First);
+    let tables = HostTables::new(ranked::encode(&project.set).unwrap()).unwrap();
+    let (mut host, target) = memory::pair();
+    // 14 events (one bitset word, 2-byte masks), 4 plants + 6 supervisors, 2-byte fields.
+    let firmware =
+        spawn_host_firmware::<_, 1, 10, true, 2, { layout::RANKED }, 33>(tables, CONFIG, First, 1, target);
+    // In lock-step, as `codegen run` runs it.
+    let session = SessionConfig { lockstep: true, ..SessionConfig::default() };
+    let choices = ChoiceModel::of(project.runtime.policy);
+    let options = Options { events: 10_000, choices, session, ..Options::default() };
+    let report = attach(&mut host, &project.set, "distribution", &options, &mut |_| {}).unwrap();
+    host.send(&[EXIT]).unwrap();
+    assert_eq!(firmware.join().unwrap(), Some(0));
+    eprintln!("{report}");
+    assert_clean(&report, "distribution on the host runtime");
+    assert!(report.full_coverage(), "{report}");
+    assert_eq!(report.steering_resets, 0, "{report}");
+    assert!(report.marked_visits >= 1_000 && report.longest_marked_gap < 2_000, "{report}");
 }
