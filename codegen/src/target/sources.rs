@@ -14,6 +14,7 @@
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
+use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::OnceLock;
 
 use sha2::{Digest, Sha256};
@@ -108,7 +109,11 @@ fn unpack_into(cache: &Path) -> Result<PathBuf, SourcesError> {
         let path = path.to_path_buf();
         move |source| SourcesError::Io { what, path, source }
     };
-    let staging = cache.join(format!(".{name}.{}", std::process::id()));
+    // A staging directory per call: two threads of one process unpacking at once (two tests of one
+    // binary) would otherwise write into, remove and rename one directory, and leave half of it in place.
+    static STAGED: AtomicU32 = AtomicU32::new(0);
+    let n = STAGED.fetch_add(1, Ordering::Relaxed);
+    let staging = cache.join(format!(".{name}.{}.{n}", std::process::id()));
     let _ = std::fs::remove_dir_all(&staging);
     for (rel, bytes) in embedded::FILES {
         let path = staging.join(rel);
@@ -236,6 +241,24 @@ mod tests {
         std::fs::write(root.join("Cargo.lock"), "changed by cargo").unwrap();
         assert_eq!(unpack_into(&cache).unwrap(), root);
         assert_eq!(std::fs::read_to_string(root.join("Cargo.lock")).unwrap(), "changed by cargo");
+        let left: Vec<_> = std::fs::read_dir(&cache).unwrap().map(|e| e.unwrap().file_name()).collect();
+        assert_eq!(left.len(), 1, "no staging directory left behind: {left:?}");
+        std::fs::remove_dir_all(cache).unwrap();
+    }
+
+    /// Threads that unpack at once into an empty cache all get the whole sources, in one directory.
+    #[test]
+    fn threads_unpacking_at_once_each_get_the_whole_sources() {
+        let cache = std::env::temp_dir().join(format!("codegen-sources-race-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&cache);
+        let roots: Vec<PathBuf> = std::thread::scope(|s| {
+            let all: Vec<_> = (0..4).map(|_| s.spawn(|| unpack_into(&cache).unwrap())).collect();
+            all.into_iter().map(|t| t.join().unwrap()).collect()
+        });
+        assert!(roots.iter().all(|r| *r == roots[0]), "{roots:?}");
+        for (rel, bytes) in embedded::FILES {
+            assert_eq!(std::fs::read(roots[0].join(rel)).ok().as_deref(), Some(*bytes), "{rel}");
+        }
         let left: Vec<_> = std::fs::read_dir(&cache).unwrap().map(|e| e.unwrap().file_name()).collect();
         assert_eq!(left.len(), 1, "no staging directory left behind: {left:?}");
         std::fs::remove_dir_all(cache).unwrap();
