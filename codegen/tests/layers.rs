@@ -23,7 +23,7 @@ const FIRMWARE: &[&[&str]] = &[
     &["table"],
     &["build", "choice"],
     &["runtime"],
-    &["link"],
+    &["link", "state"],
     &["event_loop"],
 ];
 

@@ -1,13 +1,13 @@
 //! The firmware's event loop, one turn at a time: the input buffer's bytes (events from the UART or from
-//! the pins' interrupts, and the protocol's control bytes) into the [`Runtime`], then at most one
-//! decision, its command out through a [`Port`]. The same loop runs every application — QEMU's over its
-//! UART, the Pico's on its pins — and the host-compiled runtime in the tests.
+//! the pins' interrupts, and the protocol's control bytes) into the decider, then at most one decision,
+//! its command out through a [`Port`]. The decider is any [`Decide`]: the supervisor runtime
+//! ([`crate::runtime::Runtime`]) or the state-based one ([`crate::state::StateRuntime`]). The same loop
+//! runs every application — QEMU's over its UART, the Pico's on its pins — and the host-compiled
+//! runtime in the tests.
 
-use crate::choice::Choose;
 use crate::input_queue::InputConsumer;
 use crate::link::{Hold, EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, STEP, SYNC};
-use crate::rng::Entropy;
-use crate::runtime::{Applied, Decision, Runtime};
+use crate::runtime::{Applied, Decide, Decision};
 
 /// Where the loop's outgoing bytes and notes go (a UART and a log on the target, a vector in tests).
 pub trait Port {
@@ -83,17 +83,9 @@ impl EventLoop {
 
     /// One turn of the loop: drains the input buffer into the runtime, then takes at most one decision
     /// (unless held) and sends what it fired.
-    pub fn turn<
-        P: Choose<W>,
-        E: Entropy,
-        const W: usize,
-        const N: usize,
-        const WIDE: bool,
-        const MASK: usize,
-        const LAYOUT: u8,
-    >(
+    pub fn turn(
         &mut self,
-        rt: &mut Runtime<'_, P, E, W, N, WIDE, MASK, LAYOUT>,
+        rt: &mut impl Decide,
         rx: &mut InputConsumer<'_>,
         hold: &Hold,
         port: &mut impl Port,

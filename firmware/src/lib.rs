@@ -23,5 +23,6 @@ pub mod input_queue;
 pub mod link;
 pub mod rng;
 pub mod runtime;
+pub mod state;
 pub mod status;
 pub mod table;

@@ -383,6 +383,73 @@ impl<
     }
 }
 
+/// What the event loop ([`crate::event_loop`]) asks of a decider: the supervisor runtime ([`Runtime`])
+/// or the state-based one ([`crate::state::StateRuntime`]). The loop's input handling, link protocol and
+/// fault reporting are the same for both; only how inputs are taken and a decision is made differ.
+pub trait Decide {
+    /// Takes uncontrollable `event` (step 1 of the loop).
+    fn apply(&mut self, event: u8) -> Applied;
+    /// Steps 2–6: the enabled set, the choice, the guard (`pending` says whether an input is waiting),
+    /// the firing.
+    fn decide(&mut self, pending: impl FnOnce() -> bool) -> Decision;
+    /// Back to the initial state, counters to zero, policy to its boot state, safe state left.
+    fn reset(&mut self);
+    /// The counters.
+    fn counters(&self) -> &Counters;
+    /// Whether a fault put the decider in the safe state.
+    fn is_safe(&self) -> bool;
+    /// Counts a link byte that means nothing and applies the fault policy.
+    fn note_unknown_byte(&mut self);
+    /// Takes the input buffer's total overflow count; any growth is counted and is a fault.
+    fn note_overflows(&mut self, total: u32);
+}
+
+impl<
+        P: Choose<W>,
+        E: Entropy,
+        const W: usize,
+        const N: usize,
+        const WIDE: bool,
+        const MASK: usize,
+        const LAYOUT: u8,
+    > Decide for Runtime<'_, P, E, W, N, WIDE, MASK, LAYOUT>
+{
+    #[inline(always)]
+    fn apply(&mut self, event: u8) -> Applied {
+        Runtime::apply(self, event)
+    }
+
+    #[inline(always)]
+    fn decide(&mut self, pending: impl FnOnce() -> bool) -> Decision {
+        Runtime::decide(self, pending)
+    }
+
+    #[inline(always)]
+    fn reset(&mut self) {
+        Runtime::reset(self)
+    }
+
+    #[inline(always)]
+    fn counters(&self) -> &Counters {
+        Runtime::counters(self)
+    }
+
+    #[inline(always)]
+    fn is_safe(&self) -> bool {
+        Runtime::is_safe(self)
+    }
+
+    #[inline(always)]
+    fn note_unknown_byte(&mut self) {
+        Runtime::note_unknown_byte(self)
+    }
+
+    #[inline(always)]
+    fn note_overflows(&mut self, total: u32) {
+        Runtime::note_overflows(self, total)
+    }
+}
+
 /// The `rest` of [`take_until_stuck`] that moves every one of `holders`: their bits, or none of the
 /// holder list passed (`indexed` layout).
 #[inline(always)]

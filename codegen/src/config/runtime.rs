@@ -92,6 +92,24 @@ impl fmt::Display for OnFault {
     }
 }
 
+/// What the firmware runs (`[runtime] mode`): the supervisors' tables, or the state feedback f.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Mode {
+    /// Event-based: plants and supervisors as tables, their states tracked from events (design notes §4).
+    #[default]
+    Event,
+    /// State-based: F_σ per controllable event as cubes over the packed signal word, no supervisor
+    /// tables (design notes §10; needs the manifest's `[state]`).
+    State,
+}
+
+impl fmt::Display for Mode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        kebab(self, f)
+    }
+}
+
 /// The run-time configuration of a firmware: the manifest's `[runtime]` section, which `codegen emit`'s
 /// options override and the emitted tables carry (`CONFIG`, `SEED`, `INPUT_SLOTS`, the `Policy` type).
 /// Every key is optional; unknown keys are refused.
@@ -113,6 +131,8 @@ pub struct RuntimeConfig {
     /// The tables' layout on every core (default: the best measured per core, `ranked` on the
     /// Cortex-M3 and `indexed` on the Cortex-M0+).
     pub layout: Option<Layout>,
+    /// Event-based tables or the state feedback (default: event-based).
+    pub mode: Mode,
 }
 
 impl RuntimeConfig {
@@ -136,6 +156,7 @@ impl Default for RuntimeConfig {
             input_buffer: 32,
             reseed_every: 1024,
             layout: None,
+            mode: Mode::Event,
         }
     }
 }
@@ -165,6 +186,7 @@ mod tests {
         reads_back(&ChoicePolicy::ALL);
         reads_back(OnFault::value_variants());
         reads_back(Layout::value_variants());
+        reads_back(Mode::value_variants());
         assert_eq!(Layout::MemorySafe.to_string(), "memory-safe");
         assert_eq!(ChoicePolicy::RandomGlobalQueue.to_string(), "random-global-queue");
         assert_eq!(OnFault::SafeState.to_string(), "safe-state");

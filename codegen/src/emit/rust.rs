@@ -352,7 +352,7 @@ fn hex_words(words: &[u32]) -> String {
 
 /// Upper-case identifiers for the event names: non-alphanumerics become `_`, a leading digit gets `E_`,
 /// and names that would collide get their id appended.
-fn event_idents(names: &[String]) -> Vec<String> {
+pub fn event_idents(names: &[String]) -> Vec<String> {
     let base: Vec<String> = names
         .iter()
         .map(|n| {

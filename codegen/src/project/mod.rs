@@ -27,7 +27,7 @@ pub use sources::{Loaded, Sources};
 
 use std::path::{Path, PathBuf};
 
-use crate::config::{BoardSpec, PlcSpec, RuntimeConfig, ScanPolicy, Signals, StateSpec};
+use crate::config::{BoardSpec, Mode, PlcSpec, RuntimeConfig, ScanPolicy, Signals, StateSpec};
 use crate::emit::{self, EmitError, Input, Provenance};
 use crate::manifest::{is_manifest, read_board, ManifestError, ModelSet};
 use crate::model::Automaton;
@@ -322,15 +322,26 @@ impl Project {
     }
 
     /// The emitted-source stage: the Rust tables the firmware includes (`SCT_TABLES`), under a header
-    /// naming every input with its hash and the command that reproduces them, in the layouts of
-    /// [`RuntimeConfig::layouts`] (the Cortex-M0+'s falls back to the Cortex-M3's when it does not fit).
-    pub fn emit(&self) -> Result<String, EmitError> {
+    /// naming every input with its hash and the command that reproduces them. Event-based
+    /// (`[runtime] mode = "event"`): the set in the layouts of [`RuntimeConfig::layouts`] (the
+    /// Cortex-M0+'s falls back to the Cortex-M3's when it does not fit). State-based (`mode = "state"`):
+    /// the state feedback of the `[state]` section as cubes over the signal word, no supervisor tables
+    /// ([`state_based::firmware_tables`]).
+    pub fn emit(&self) -> Result<String, ProjectError> {
         let provenance = Provenance { inputs: self.inputs.clone(), command: self.command() };
+        if self.runtime.mode == Mode::State {
+            let signals = self.state.as_ref().ok_or(StateError::Missing).and_then(|s| Ok(s.check()?));
+            return signals
+                .and_then(|signals| {
+                    state_based::firmware_tables(&self.set, signals, &self.name, &self.runtime, &provenance)
+                })
+                .map_err(|e| self.in_file(e));
+        }
         let (m3, m0) = self.runtime.layouts();
-        let tables = ranked::encode_as(&self.set, m3.firmware())?;
+        let tables = ranked::encode_as(&self.set, m3.firmware()).map_err(EmitError::from)?;
         let m0plus = ranked::encode_as(&self.set, m0.firmware());
         let m0plus = m0plus.as_ref().map_err(|e| format!("the {m0} layout does not fit: {e}"));
-        emit::emit(&tables, m0plus, &self.name, &self.runtime, self.board.as_ref(), &provenance)
+        Ok(emit::emit(&tables, m0plus, &self.name, &self.runtime, self.board.as_ref(), &provenance)?)
     }
 
     /// The PLC stage: the Structured Text and PLCopen XML program of the set with its report, under the

@@ -98,7 +98,7 @@ impl Vector {
     }
 
     /// The input signals of plant `p`'s component.
-    fn inputs(&self, p: usize) -> u64 {
+    pub fn inputs(&self, p: usize) -> u64 {
         let c = self.component[p];
         self.signals
             .signals

@@ -1,7 +1,9 @@
 //! The supervisor firmware on QEMU's lm3s6965evb: UART0 receive interrupt → input buffer, the decision
 //! loop in `idle`, commands back out on UART0 (protocol: `firmware::link`), defmt logs over semihosting.
 //!
-//! Tables: `SCT_TABLES_FILE` (see `build.rs`), the cell's by default. Run with `cargo qemu` from the
+//! Tables: `SCT_TABLES_FILE` (see `build.rs`), the cell's by default: supervisor tables
+//! (`[runtime] mode = "event"`) or the state feedback's (`mode = "state"`, `firmware::state`), which
+//! define the same names (`Runtime`, `CHECKED`, `CONFIG`, `Policy`, …), so one application runs both. Run with `cargo qemu` from the
 //! repository root, or start QEMU on a socket for the virtual plant (docs/firmware.md, "Run the cell under QEMU").
 #![no_std]
 #![no_main]
@@ -93,8 +95,8 @@ mod app {
         defmt::info!(
             "{=str}: {=usize} automata, {=usize} events, input buffer {=usize}",
             tables::NAME,
-            tables::SET.automata.len(),
-            tables::SET.events(),
+            tables::AUTOMATON_NAMES.len(),
+            tables::EVENT_NAMES.len(),
             tables::INPUT_SLOTS - 1
         );
         uart::init();

@@ -1,0 +1,273 @@
+//! State feedback control on the microcontroller (design notes §10): no supervisor tables and no event
+//! tracked. The plant's signals are one packed word; per controllable event σ the tables hold F_σ as
+//! cubes, `(mask, value)` pairs over the word (a cube holds when `word & mask == value`), and a decision
+//! evaluates every F_σ on the current word, chooses among the events whose formula holds with the
+//! policies of [`crate::choice`], and writes the chosen command's outputs into the word, so that the next
+//! decision sees them: two decisions firing σ1 then σ2 are the trace σ1σ2 of the closed loop.
+//!
+//! Inputs: a board samples its pins into the word's input bits; under QEMU the virtual plant sends its
+//! sensor events over the link as for the event-based firmware, and [`StateRuntime::apply`] writes each
+//! event's *virtual pins* (its target state's input literals, the same whatever the source state: codegen
+//! refuses a plant where they are not) into the word.
+//!
+//! The choice policies read a [`View`] of a [`SupervisorSet`]; here that set holds only what they use —
+//! the controllable events, one "plant" per state-vector component with the commands it owns, and the
+//! choice sites (component states with two or more commands leaving) — and each decision reads every
+//! component's state off the word ([`StateTables::readings`]) for the local policies' sites.
+//!
+//! Everything read from the tables goes through checked accessors: tables inconsistent with themselves
+//! disable events, never panic.
+
+use crate::choice::{Choose, View};
+use crate::event_set::EventSet;
+use crate::fault::FaultPolicy;
+use crate::rng::{Entropy, Rng};
+use crate::runtime::{Applied, Config, Counters, Decide, Decision};
+use crate::table::SupervisorSet;
+
+/// A product of literals over the signal word: the signals of `mask` at the values of `value`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Cube {
+    /// The signals the cube fixes (bit `i`: signal `i`).
+    pub mask: u32,
+    /// Their values (bits outside `mask` are 0).
+    pub value: u32,
+}
+
+impl Cube {
+    /// Whether the cube holds on `word`.
+    #[inline(always)]
+    pub const fn holds(self, word: u32) -> bool {
+        word & self.mask == self.value
+    }
+
+    /// `word` with the cube's signals set to its values (a command's outputs, a sensor's inputs).
+    #[inline(always)]
+    pub const fn write(self, word: u32) -> u32 {
+        (word & !self.mask) | self.value
+    }
+}
+
+/// One controllable event's formula: the event, and the end of its cubes in [`StateTables::cubes`] (they
+/// start where the previous rule's end, the first at 0).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Rule {
+    /// The controllable event.
+    pub event: u8,
+    /// One past its last cube in [`StateTables::cubes`].
+    pub end: u16,
+}
+
+/// How one state of a state-vector component reads off the word, for the local choice policies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Reading<const W: usize> {
+    /// The state's formula.
+    pub cube: Cube,
+    /// The commands of its component that leave it (physically possible there).
+    pub offered: [u32; W],
+    /// Its code, an entry of the choice view's `sites` when it is a choice site.
+    pub code: u16,
+}
+
+/// The state-based tables `codegen emit` writes for `[runtime] mode = "state"`.
+#[derive(Clone, Copy, Debug)]
+pub struct StateTables<'t, const W: usize> {
+    /// The word in the initial state: the initial states' literals, every other signal 0.
+    pub initial: u32,
+    /// Per controllable event, in id order: its formula's cubes in [`StateTables::cubes`].
+    pub rules: &'t [Rule],
+    /// Every rule's cubes, back to back.
+    pub cubes: &'t [Cube],
+    /// Per event id, what it writes into the word: a controllable event its command's outputs, an
+    /// uncontrollable one its virtual pins (the inputs its target state fixes).
+    pub writes: &'t [Cube],
+    /// Per component, one past its last state in [`StateTables::readings`] (the first starts at 0).
+    pub components: &'t [u16],
+    /// Every component's states, component after component.
+    pub readings: &'t [Reading<W>],
+    /// What the choice policies see: controllable events, one plant per component (`plants`,
+    /// `plant_events`: the commands it owns) and the choice sites (`sites`: codes of readings); no
+    /// automaton, block or mask.
+    pub choice: SupervisorSet<'t, W>,
+}
+
+impl<const W: usize> StateTables<'_, W> {
+    /// The events whose formula holds on `word`.
+    #[inline(never)]
+    pub fn enabled(&self, word: u32) -> EventSet<W> {
+        let mut enabled = EventSet::EMPTY;
+        let mut start = 0;
+        for rule in self.rules {
+            let end = usize::from(rule.end);
+            if self.cubes.get(start..end).is_some_and(|cubes| cubes.iter().any(|c| c.holds(word))) {
+                enabled.insert(rule.event);
+            }
+            start = end;
+        }
+        enabled.and(&EventSet(self.choice.controllable))
+    }
+
+    /// The reading of component `c`'s state on `word`: the first of its states whose formula holds.
+    pub fn reading(&self, c: usize, word: u32) -> Option<&Reading<W>> {
+        let start = if c == 0 { 0 } else { usize::from(*self.components.get(c - 1)?) };
+        let end = usize::from(*self.components.get(c)?);
+        self.readings.get(start..end)?.iter().find(|r| r.cube.holds(word))
+    }
+}
+
+/// The state-based runtime over `C` components and events in `W`-word bitsets, choosing with policy `P`
+/// and drawing entropy from `E`. It answers the event loop as [`crate::runtime::Runtime`] does
+/// ([`Decide`]).
+pub struct StateRuntime<'t, P, E, const W: usize, const C: usize> {
+    tables: &'t StateTables<'t, W>,
+    /// The signals: inputs as last sampled (or written by a sensor event), outputs as last commanded.
+    word: u32,
+    /// Per component, its state's code at the last decision (`u16::MAX`: none reads).
+    records: [u16; C],
+    /// Per component, the commands its state offers at the last decision.
+    allowed: [[u32; W]; C],
+    counters: Counters,
+    overflow_mark: u32,
+    safe: bool,
+    guard: bool,
+    on_fault: FaultPolicy,
+    policy: P,
+    rng: Rng<E>,
+}
+
+impl<'t, P: Choose<W>, E: Entropy, const W: usize, const C: usize> StateRuntime<'t, P, E, W, C> {
+    /// A runtime with the word in its initial state.
+    pub fn new(tables: &'t StateTables<'t, W>, config: Config, policy: P, entropy: E) -> Self {
+        let mut rt = Self {
+            tables,
+            word: tables.initial,
+            records: [u16::MAX; C],
+            allowed: [[0; W]; C],
+            counters: Counters::default(),
+            overflow_mark: 0,
+            safe: false,
+            guard: config.guard,
+            on_fault: config.on_fault,
+            policy,
+            rng: Rng::new(entropy, config.reseed_every),
+        };
+        Decide::reset(&mut rt);
+        rt
+    }
+
+    /// The signal word.
+    pub fn word(&self) -> u32 {
+        self.word
+    }
+
+    /// Puts the word at `word` (a board's sampled inputs, or a checkpoint a host tool restores).
+    pub fn set_word(&mut self, word: u32) {
+        self.word = word;
+    }
+
+    /// The controllable events whose formula holds on the current word.
+    pub fn enabled(&self) -> EventSet<W> {
+        self.tables.enabled(self.word)
+    }
+
+    /// The counters.
+    pub fn counters(&self) -> &Counters {
+        &self.counters
+    }
+
+    /// The tables.
+    pub fn tables(&self) -> &'t StateTables<'t, W> {
+        self.tables
+    }
+
+    /// Reads every component's state off the word for the choice view.
+    fn read_components(&mut self) {
+        let all = self.records.iter_mut().zip(&mut self.allowed).enumerate();
+        for (c, (code, offered)) in all {
+            match self.tables.reading(c, self.word) {
+                Some(r) => (*code, *offered) = (r.code, r.offered),
+                None => (*code, *offered) = (u16::MAX, [0; W]),
+            }
+        }
+    }
+
+    fn unknown(&mut self) -> Applied {
+        self.counters.unknown_bytes = self.counters.unknown_bytes.wrapping_add(1);
+        self.fault();
+        Applied::Unknown
+    }
+
+    fn fault(&mut self) {
+        if self.on_fault == FaultPolicy::SafeState {
+            self.safe = true;
+        }
+    }
+}
+
+impl<P: Choose<W>, E: Entropy, const W: usize, const C: usize> Decide for StateRuntime<'_, P, E, W, C> {
+    /// Writes the virtual pins of uncontrollable `event` into the word.
+    fn apply(&mut self, event: u8) -> Applied {
+        let Some(&write) = self.tables.writes.get(usize::from(event)) else {
+            return self.unknown();
+        };
+        if EventSet(self.tables.choice.controllable).contains(event) {
+            return self.unknown();
+        }
+        self.counters.events_in = self.counters.events_in.wrapping_add(1);
+        self.word = write.write(self.word);
+        Applied::Taken
+    }
+
+    fn decide(&mut self, pending: impl FnOnce() -> bool) -> Decision {
+        if self.safe {
+            return Decision::Halted;
+        }
+        let enabled = self.enabled();
+        if enabled.is_empty() {
+            return Decision::Idle;
+        }
+        self.read_components();
+        let view = View { set: &self.tables.choice, records: &self.records, allowed: &self.allowed };
+        let Some(c) = self.policy.choose(view, &enabled, &mut self.rng) else {
+            return Decision::Idle;
+        };
+        if self.guard && pending() {
+            self.counters.guard_redecisions = self.counters.guard_redecisions.wrapping_add(1);
+            return Decision::Redecide;
+        }
+        let Some(&write) = self.tables.writes.get(usize::from(c)).filter(|_| enabled.contains(c)) else {
+            return Decision::Idle;
+        };
+        self.word = write.write(self.word);
+        self.counters.commands_out = self.counters.commands_out.wrapping_add(1);
+        Decision::Fired(c)
+    }
+
+    fn reset(&mut self) {
+        self.word = self.tables.initial;
+        self.counters = Counters::default();
+        self.safe = false;
+        self.policy.reset();
+    }
+
+    fn counters(&self) -> &Counters {
+        StateRuntime::counters(self)
+    }
+
+    fn is_safe(&self) -> bool {
+        self.safe
+    }
+
+    fn note_unknown_byte(&mut self) {
+        self.unknown();
+    }
+
+    fn note_overflows(&mut self, total: u32) {
+        let new = total.wrapping_sub(self.overflow_mark);
+        if new != 0 {
+            self.overflow_mark = total;
+            self.counters.overflows = self.counters.overflows.wrapping_add(new);
+            self.fault();
+        }
+    }
+}
