@@ -169,13 +169,24 @@ pub fn qemu_closed_loop(project: &Project, options: &Options) -> Report {
 /// Builds `project`'s firmware once and runs the closed loop under QEMU with `options` for each of `seeds`
 /// (the plant's seed), two runs at a time; the reports in the order of `seeds`.
 pub fn qemu_closed_loops(project: &Project, options: &Options, seeds: &[u64]) -> Vec<Report> {
+    qemu_closed_loops_judged(project, &project.set, options, seeds)
+}
+
+/// [`qemu_closed_loops`] with the monitor judging against `judged`, a set over the same events as
+/// `project`'s (its supervisors with an observer added, say, whose coverage the report then counts).
+pub fn qemu_closed_loops_judged(
+    project: &Project,
+    judged: &PackSet,
+    options: &Options,
+    seeds: &[u64],
+) -> Vec<Report> {
     let scratch = Scratch::new(&project.name);
     let elf = firmware_image(project, &scratch);
     let options = steered_for(project, options);
     let run = |seed: u64| {
         let mut options = options.clone();
         options.plant.seed = seed;
-        run_under_qemu(&elf, &project.set, &project.name, &options, &mut |_| {})
+        run_under_qemu(&elf, judged, &project.name, &options, &mut |_| {})
             .unwrap_or_else(|e| panic!("seed {seed}: {e}"))
     };
     seeds
