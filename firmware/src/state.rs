@@ -69,6 +69,26 @@ pub struct Reading<const W: usize> {
     pub code: u16,
 }
 
+/// The part of a [`SupervisorSet`] the state-based tables leave empty (no automaton, block, mask or
+/// holder), for [`StateTables::choice`]'s other fields.
+pub const fn no_tables<const W: usize>() -> SupervisorSet<'static, W> {
+    SupervisorSet {
+        controllable: [0; W],
+        plants: 0,
+        automata: &[],
+        block: &[],
+        wide: false,
+        masks: &[],
+        mask_bytes: 0,
+        layout: crate::table::layout::RANKED,
+        initials: &[],
+        holder_lists: &[],
+        holders: &[],
+        plant_events: &[],
+        sites: &[],
+    }
+}
+
 /// The state-based tables `codegen emit` writes for `[runtime] mode = "state"`.
 #[derive(Clone, Copy, Debug)]
 pub struct StateTables<'t, const W: usize> {
@@ -269,5 +289,87 @@ impl<P: Choose<W>, E: Entropy, const W: usize, const C: usize> Decide for StateR
             self.counters.overflows = self.counters.overflows.wrapping_add(new);
             self.fault();
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::choice::First;
+    use crate::rng::SeedEntropy;
+
+    // One component, input X (bit 0), output Y (bit 1): idle (!Y !X) –go(0)→ busy (Y !X) –done(1)→
+    // ended (Y X) –off(2)→ idle'(!Y X) –reset(3)→ idle. go when !Y !X, off when Y X.
+    static RULES: [Rule; 2] = [Rule { event: 0, end: 1 }, Rule { event: 2, end: 2 }];
+    static CUBES: [Cube; 2] = [Cube { mask: 0b11, value: 0b00 }, Cube { mask: 0b11, value: 0b11 }];
+    static WRITES: [Cube; 4] = [
+        Cube { mask: 0b10, value: 0b10 },
+        Cube { mask: 0b01, value: 0b01 },
+        Cube { mask: 0b10, value: 0b00 },
+        Cube { mask: 0b01, value: 0b00 },
+    ];
+    static READINGS: [Reading<1>; 1] =
+        [Reading { cube: Cube { mask: 0, value: 0 }, offered: [0b101], code: 0 }];
+    static TABLES: StateTables<'static, 1> = StateTables {
+        initial: 0,
+        rules: &RULES,
+        cubes: &CUBES,
+        writes: &WRITES,
+        components: &[1],
+        readings: &READINGS,
+        choice: SupervisorSet { controllable: [0b101], plants: 1, plant_events: &[[0b101]], ..no_tables() },
+    };
+
+    fn config(on_fault: FaultPolicy) -> Config {
+        Config { guard: true, on_fault, reseed_every: 0 }
+    }
+
+    fn runtime(
+        tables: &'static StateTables<'static, 1>,
+        on_fault: FaultPolicy,
+    ) -> StateRuntime<'static, First, SeedEntropy, 1, 1> {
+        StateRuntime::new(tables, config(on_fault), First, SeedEntropy::new(1))
+    }
+
+    #[test]
+    fn a_cycle_fires_each_command_where_its_cube_holds_and_writes_its_outputs() {
+        let mut rt = runtime(&TABLES, FaultPolicy::Continue);
+        assert_eq!(rt.decide(|| false), Decision::Fired(0));
+        assert_eq!(rt.word(), 0b10);
+        assert_eq!(rt.decide(|| false), Decision::Idle, "busy: nothing until the sensor");
+        assert_eq!(rt.apply(1), Applied::Taken);
+        assert_eq!(rt.word(), 0b11);
+        assert_eq!(rt.decide(|| true), Decision::Redecide, "the guard drops a choice made under an input");
+        assert_eq!(rt.decide(|| false), Decision::Fired(2));
+        assert_eq!(rt.apply(3), Applied::Taken);
+        assert_eq!(rt.word(), 0);
+        let c = rt.counters();
+        assert_eq!((c.events_in, c.commands_out, c.guard_redecisions), (2, 2, 1));
+    }
+
+    #[test]
+    fn a_command_or_an_unknown_byte_as_input_is_a_fault_and_reset_restores_the_word() {
+        let mut rt = runtime(&TABLES, FaultPolicy::SafeState);
+        assert_eq!(rt.decide(|| false), Decision::Fired(0));
+        assert_eq!(rt.apply(0), Applied::Unknown, "a command is no input");
+        assert_eq!(rt.apply(9), Applied::Unknown, "no such event");
+        assert_eq!(rt.counters().unknown_bytes, 2);
+        assert!(rt.is_safe());
+        assert_eq!(rt.decide(|| false), Decision::Halted);
+        rt.note_overflows(3);
+        assert_eq!(rt.counters().overflows, 3);
+        Decide::reset(&mut rt);
+        assert_eq!((rt.word(), rt.is_safe(), rt.counters().unknown_bytes), (0, false, 0));
+        assert_eq!(rt.decide(|| false), Decision::Fired(0));
+    }
+
+    #[test]
+    fn rules_past_the_cubes_and_components_past_the_readings_disable_never_panic() {
+        static BAD_RULES: [Rule; 2] = [Rule { event: 0, end: 7 }, Rule { event: 2, end: 1 }];
+        static BAD: StateTables<'static, 1> = StateTables { rules: &BAD_RULES, components: &[5], ..TABLES };
+        let mut rt = runtime(&BAD, FaultPolicy::Continue);
+        assert_eq!(rt.decide(|| false), Decision::Idle);
+        assert_eq!(BAD.reading(0, 0), None);
+        assert_eq!(BAD.reading(3, 0), None);
     }
 }

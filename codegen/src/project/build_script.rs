@@ -45,7 +45,7 @@ impl From<ProjectError> for BuildScriptError {
 /// files cargo must watch (the manifest and every model file it names).
 pub fn emit_into(manifest: &Path, out_dir: &Path) -> Result<(PathBuf, Vec<String>), BuildScriptError> {
     let project = Project::load(manifest)?;
-    let text = project.emit().map_err(ProjectError::from)?;
+    let text = project.emit()?;
     let path = out_dir.join(TABLES_FILE);
     // Written only when changed, so a build that changed nothing recompiles nothing.
     if std::fs::read_to_string(&path).ok().as_deref() != Some(text.as_str()) {

@@ -12,6 +12,9 @@
 
 use std::fmt::Write as _;
 
+use firmware::state::{Cube as WordCube, Reading, Rule};
+use firmware::table::SupervisorSet;
+
 use crate::config::{Cube, RuntimeConfig};
 use crate::emit::policy::{fault_value, rust_type};
 use crate::emit::rust::event_idents;
@@ -26,11 +29,6 @@ pub const WORD_BITS: usize = 32;
 
 fn refuse(key: &str, message: impl Into<String>) -> StateError {
     StateError::Vector { key: key.into(), message: message.into() }
-}
-
-/// A cube over the signals as the word's `(mask, value)`, once the signal count is known to fit.
-fn word(c: Cube) -> (u32, u32) {
-    (c.mask as u32, c.value as u32)
 }
 
 /// Per event id, what it writes into the word: a command its outputs, an uncontrollable event of a
@@ -95,10 +93,404 @@ fn literals(vector: &Vector, cube: Cube) -> String {
     }
 }
 
-/// The firmware tables of the feedback `f` with `rungs`, as Rust source (see the module documentation;
-/// the names the applications use are those of the event-based tables: `NAME`, `event`, `EVENT_WORDS`,
-/// `INPUT_SLOTS`, `SEED`, `Policy`, `CONFIG`, `EVENT_NAMES`, `AUTOMATON_NAMES` — the components —,
-/// `Runtime<P, E>` and `CHECKED`, here the `StateTables` the runtime takes). Deterministic.
+/// The state-based firmware's tables as data: what [`StateTables::rust`] writes and
+/// [`StateTables::host`] lends to the runtime compiled for the host (the translation validation runs
+/// the firmware's own evaluation on them).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct StateTables {
+    /// Words of an event bitset.
+    pub words: usize,
+    /// The word in the initial state.
+    pub initial: u32,
+    /// Per controllable event (the rungs' order): event and end of its cubes.
+    pub rules: Vec<Rule>,
+    /// Every rule's cubes, back to back.
+    pub cubes: Vec<WordCube>,
+    /// Per event id, its write into the word.
+    pub writes: Vec<WordCube>,
+    /// Per component, the end of its states in `readings`.
+    pub ends: Vec<u16>,
+    /// Per component state: its label (`Injector.I2B`), formula and the commands leaving it (bitset).
+    pub readings: Vec<(String, WordCube, Vec<u32>)>,
+    /// Per component: the commands it owns (bitset).
+    pub plant_events: Vec<Vec<u32>>,
+    /// The choice sites, as indices of `readings`.
+    pub sites: Vec<u16>,
+    /// The controllable events with a rule (bitset).
+    pub controllable: Vec<u32>,
+    /// Signal names by bit.
+    pub signals: Vec<String>,
+    /// Component names.
+    pub components: Vec<String>,
+}
+
+/// A cube over at most [`WORD_BITS`] signals as the word's.
+fn word_cube(c: Cube) -> WordCube {
+    // `StateTables::build` refused more than WORD_BITS signals: every bit fits.
+    WordCube { mask: c.mask as u32, value: c.value as u32 }
+}
+
+/// The bitset of `events` in `words` words.
+fn bitset(words: usize, events: impl IntoIterator<Item = EventId>) -> Vec<u32> {
+    let mut w = vec![0u32; words];
+    for e in events {
+        w[e.index() / 32] |= 1 << (e.index() % 32);
+    }
+    w
+}
+
+impl StateTables {
+    /// The tables of the feedback `f` of `set` with `rungs` (refused: see the module documentation).
+    pub fn build(
+        set: &PackSet,
+        vector: &Vector,
+        f: &Sfbc,
+        rungs: &[EventRung],
+    ) -> Result<StateTables, StateError> {
+        let signals = &vector.signals.signals;
+        if signals.len() > WORD_BITS {
+            return Err(refuse(
+                "state.components",
+                format!(
+                    "{} signals: the firmware packs at most {WORD_BITS} into its word (mode = \"state\")",
+                    signals.len()
+                ),
+            ));
+        }
+        if !f.conflicts.is_empty() || f.memory.is_some() {
+            let states: std::collections::BTreeSet<_> = f.conflicts.iter().map(|c| &c.state).collect();
+            return Err(StateError::Memory(format!(
+                "the supervisors' memory decides at {} plant state(s): the state-based firmware keeps no \
+                 supervisor state (a [state] memory program is for PLCs only); run this set with mode = \"event\"",
+                states.len()
+            )));
+        }
+        let table = set.events();
+        if table.len() > usize::from(firmware::link::MAX_EVENT) + 1 {
+            return Err(refuse(
+                "runtime.mode",
+                format!("{} events: the link carries at most 240", table.len()),
+            ));
+        }
+        let words = table.len().div_ceil(32).max(1);
+        let plants: Vec<_> = set.members().iter().filter(|m| m.role == Role::Plant).collect();
+        let mut readings = Vec::new();
+        let mut ends = Vec::new();
+        let mut sites = Vec::new();
+        for (p, plant) in plants.iter().enumerate() {
+            for s in 0..plant.state_count() {
+                let offered: Vec<EventId> =
+                    plant.out(s).map(|(e, _)| e).filter(|&e| table.is_controllable(e)).collect();
+                if offered.len() >= 2 {
+                    sites.push(readings.len() as u16);
+                }
+                let label = format!("{}.{}", plant.automaton.name, plant.automaton.states[s].name);
+                readings.push((label, word_cube(vector.cubes[p][s]), bitset(words, offered)));
+            }
+            ends.push(readings.len() as u16);
+        }
+        let mut rules = Vec::new();
+        let mut cubes = Vec::new();
+        for (r, e) in rungs.iter().zip(&f.controllable) {
+            cubes.extend(r.cubes.iter().map(|&c| word_cube(c)));
+            rules.push(Rule { event: e.index() as u8, end: cubes.len() as u16 });
+        }
+        let plant_events = (0..plants.len())
+            .map(|p| {
+                let owned =
+                    f.controllable.iter().filter(|e| vector.commands[e.index()].is_some_and(|(q, _)| q == p));
+                bitset(words, owned.copied())
+            })
+            .collect();
+        Ok(StateTables {
+            words,
+            initial: vector.initial as u32,
+            rules,
+            cubes,
+            writes: writes(set, vector)?.into_iter().map(word_cube).collect(),
+            ends,
+            readings,
+            plant_events,
+            sites,
+            controllable: bitset(words, f.controllable.iter().copied()),
+            signals: signals.iter().map(|s| s.name.clone()).collect(),
+            components: plants.iter().map(|p| p.automaton.name.clone()).collect(),
+        })
+    }
+
+    /// The tables lent to the runtime compiled for the host, for `W` = [`StateTables::words`] (else
+    /// `None`).
+    pub fn host<const W: usize>(&self) -> Option<HostStateTables<'_, W>> {
+        let fixed = |w: &Vec<u32>| <[u32; W]>::try_from(w.as_slice()).ok();
+        let readings = self
+            .readings
+            .iter()
+            .enumerate()
+            .map(|(code, (_, cube, offered))| {
+                Some(Reading { cube: *cube, offered: fixed(offered)?, code: code as u16 })
+            })
+            .collect::<Option<Vec<_>>>()?;
+        let plant_events = self.plant_events.iter().map(fixed).collect::<Option<Vec<_>>>()?;
+        Some(HostStateTables {
+            tables: self,
+            controllable: fixed(&self.controllable)?,
+            readings,
+            plant_events,
+        })
+    }
+
+    /// The tables as Rust source for the firmware applications (see [`tables`]).
+    pub fn rust(
+        &self,
+        set: &PackSet,
+        name: &str,
+        runtime: &RuntimeConfig,
+        provenance: &Provenance,
+    ) -> String {
+        let table = set.events();
+        let hex = |w: &[u32]| w.iter().map(|x| format!("0x{x:08x}")).collect::<Vec<_>>().join(", ");
+        let cube = |c: &WordCube| {
+            format!("firmware::state::Cube {{ mask: 0x{:08x}, value: 0x{:08x} }}", c.mask, c.value)
+        };
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "// @generated by codegen {} (`codegen emit`): do not edit.",
+            env!("CARGO_PKG_VERSION")
+        );
+        let _ = writeln!(out, "//");
+        let _ = writeln!(
+            out,
+            "// Set '{name}' state-based (mode = state): {} components, {} signals, {} events, {} rules of {} \
+             cubes; no supervisor tables.",
+            self.components.len(),
+            self.signals.len(),
+            table.len(),
+            self.rules.len(),
+            self.cubes.len()
+        );
+        for line in provenance.lines() {
+            let _ = writeln!(out, "// {line}");
+        }
+        let _ = writeln!(
+            out,
+            "// Options: mode=state policy={} seed={} guard={} on_fault={} input_buffer={} reseed_every={}",
+            runtime.policy,
+            runtime.seed,
+            runtime.guard,
+            runtime.on_fault,
+            runtime.input_buffer,
+            runtime.reseed_every
+        );
+        let layout: Vec<String> = self.signals.iter().enumerate().map(|(i, s)| format!("{i} {s}")).collect();
+        let _ = writeln!(out, "// Signal word, bit by bit: {}.", layout.join(", "));
+        let _ = writeln!(out);
+        let _ = writeln!(out, "/// Name of the supervisor set.");
+        let _ = writeln!(out, "pub const NAME: &str = {name:?};");
+        let _ = writeln!(out);
+        let _ = writeln!(out, "/// Global event ids.");
+        let _ = writeln!(out, "pub mod event {{");
+        let names: Vec<String> = table.ids().map(|e| table.name(e).to_owned()).collect();
+        for (e, ident) in table.ids().zip(event_idents(&names)) {
+            let kind = if table.is_controllable(e) { "controllable" } else { "uncontrollable" };
+            let _ = writeln!(out, "    /// `{}` ({kind}).", table.name(e));
+            let _ = writeln!(out, "    pub const {ident}: u8 = {};", e.index());
+        }
+        let _ = writeln!(out, "}}");
+        let _ = writeln!(out);
+        let consts: [(&str, &str, String, &str); 6] = [
+            ("Words of an event bitset.", "EVENT_WORDS", self.words.to_string(), "usize"),
+            (
+                "State-vector components (the plants).",
+                "COMPONENTS",
+                self.components.len().to_string(),
+                "usize",
+            ),
+            (
+                "Choice sites: component states with two or more commands leaving.",
+                "SITES",
+                self.sites.len().to_string(),
+                "usize",
+            ),
+            ("Signals in the word.", "SIGNALS", self.signals.len().to_string(), "usize"),
+            (
+                "Slots of the input queue (capacity + 1).",
+                "INPUT_SLOTS",
+                (runtime.input_buffer + 1).to_string(),
+                "usize",
+            ),
+            (
+                "Entropy seed of the random policies (QEMU; a board reseeds).",
+                "SEED",
+                runtime.seed.to_string(),
+                "u64",
+            ),
+        ];
+        for (doc, name, value, ty) in consts {
+            let _ = writeln!(out, "/// {doc}\npub const {name}: {ty} = {value};");
+        }
+        let _ = writeln!(out, "/// The choice policy ({}).", runtime.policy);
+        let _ = writeln!(out, "pub type Policy = {};", rust_type(runtime.policy));
+        let _ = writeln!(out, "/// Run-time configuration.");
+        let _ = writeln!(out, "pub const CONFIG: firmware::runtime::Config = firmware::runtime::Config {{");
+        let _ = writeln!(out, "    guard: {},", runtime.guard);
+        let _ = writeln!(out, "    on_fault: {},", fault_value(runtime.on_fault));
+        let _ = writeln!(out, "    reseed_every: {},", runtime.reseed_every);
+        let _ = writeln!(out, "}};");
+        let _ = writeln!(
+            out,
+            "/// The state-based runtime over these tables, choosing with `P` and drawing entropy from `E`."
+        );
+        let _ = writeln!(
+            out,
+            "pub type Runtime<P, E> = firmware::state::StateRuntime<'static, P, E, EVENT_WORDS, COMPONENTS>;"
+        );
+        let quoted = |names: &[String]| names.iter().map(|n| format!("{n:?}")).collect::<Vec<_>>().join(", ");
+        let _ = writeln!(out, "/// Event names by global id, for logs (the tables hold none).");
+        let _ = writeln!(out, "pub static EVENT_NAMES: [&str; {}] = [{}];", names.len(), quoted(&names));
+        let _ = writeln!(out, "/// Component names (the plants), for logs.");
+        let _ = writeln!(
+            out,
+            "pub static AUTOMATON_NAMES: [&str; {}] = [{}];",
+            self.components.len(),
+            quoted(&self.components)
+        );
+        let _ = writeln!(out, "/// Signal names by bit of the word, for logs.");
+        let _ = writeln!(
+            out,
+            "pub static SIGNAL_NAMES: [&str; {}] = [{}];",
+            self.signals.len(),
+            quoted(&self.signals)
+        );
+        let _ = writeln!(out);
+        let _ = writeln!(out, "/// Per controllable event in id order: the end of its cubes in `CUBES`.");
+        let _ = writeln!(out, "static RULES: [firmware::state::Rule; {}] = [", self.rules.len());
+        for r in &self.rules {
+            let _ = writeln!(
+                out,
+                "    firmware::state::Rule {{ event: {}, end: {} }}, // {}",
+                r.event,
+                r.end,
+                names.get(usize::from(r.event)).map_or("", String::as_str)
+            );
+        }
+        let _ = writeln!(out, "];");
+        let _ = writeln!(
+            out,
+            "/// F_σ of every rule, cube after cube: a cube holds when `word & mask == value`."
+        );
+        let _ = writeln!(out, "static CUBES: [firmware::state::Cube; {}] = [", self.cubes.len());
+        let mut start = 0;
+        for r in &self.rules {
+            let event = names.get(usize::from(r.event)).map_or("", String::as_str);
+            for c in self.cubes.get(start..usize::from(r.end)).unwrap_or_default() {
+                let _ = writeln!(out, "    {}, // {event}", cube(c));
+            }
+            start = usize::from(r.end);
+        }
+        let _ = writeln!(out, "];");
+        let _ = writeln!(
+            out,
+            "/// Per event id: what it writes into the word (a command its outputs, a sensor event its virtual \
+             pins)."
+        );
+        let _ = writeln!(out, "static WRITES: [firmware::state::Cube; {}] = [", self.writes.len());
+        for (w, n) in self.writes.iter().zip(&names) {
+            let _ = writeln!(out, "    {}, // {n}", cube(w));
+        }
+        let _ = writeln!(out, "];");
+        let ends: Vec<String> = self.ends.iter().map(u16::to_string).collect();
+        let _ = writeln!(out, "/// Per component, the end of its states in `READINGS`.");
+        let _ = writeln!(out, "static COMPONENT_ENDS: [u16; {}] = [{}];", ends.len(), ends.join(", "));
+        let _ = writeln!(out, "/// Every component's states: formula, commands leaving, code.");
+        let _ = writeln!(
+            out,
+            "static READINGS: [firmware::state::Reading<EVENT_WORDS>; {}] = [",
+            self.readings.len()
+        );
+        for (code, (label, c, offered)) in self.readings.iter().enumerate() {
+            let _ = writeln!(
+                out,
+                "    firmware::state::Reading {{ cube: {}, offered: [{}], code: {code} }}, // {label}",
+                cube(c),
+                hex(offered)
+            );
+        }
+        let _ = writeln!(out, "];");
+        let owned: Vec<String> = self.plant_events.iter().map(|w| format!("[{}]", hex(w))).collect();
+        let _ = writeln!(out, "/// Per component: the commands it owns.");
+        let _ = writeln!(
+            out,
+            "static PLANT_EVENTS: [[u32; EVENT_WORDS]; {}] = [{}];",
+            owned.len(),
+            owned.join(", ")
+        );
+        let sites: Vec<String> = self.sites.iter().map(u16::to_string).collect();
+        let _ = writeln!(out, "/// The choice sites, as reading codes.");
+        let _ = writeln!(out, "static CHOICE_SITES: [u16; {}] = [{}];", sites.len(), sites.join(", "));
+        let _ = writeln!(out);
+        let _ = writeln!(out, "/// The tables the state-based runtime takes.");
+        let _ = writeln!(
+            out,
+            "pub static TABLES: firmware::state::StateTables<'static, EVENT_WORDS> = firmware::state::StateTables {{"
+        );
+        let _ = writeln!(out, "    initial: 0x{:08x},", self.initial);
+        for field in ["rules: &RULES", "cubes: &CUBES", "writes: &WRITES", "components: &COMPONENT_ENDS"] {
+            let _ = writeln!(out, "    {field},");
+        }
+        let _ = writeln!(out, "    readings: &READINGS,");
+        let _ = writeln!(out, "    choice: firmware::table::SupervisorSet {{");
+        let _ = writeln!(out, "        controllable: [{}],", hex(&self.controllable));
+        let _ = writeln!(out, "        plants: {},", self.components.len());
+        let _ = writeln!(out, "        plant_events: &PLANT_EVENTS,");
+        let _ = writeln!(out, "        sites: &CHOICE_SITES,");
+        let _ = writeln!(out, "        ..firmware::state::no_tables()");
+        let _ = writeln!(out, "    }},");
+        let _ = writeln!(out, "}};");
+        let _ = writeln!(out, "/// What the applications hand the runtime (the event-based tables' name).");
+        let _ = writeln!(
+            out,
+            "pub static CHECKED: &firmware::state::StateTables<'static, EVENT_WORDS> = &TABLES;"
+        );
+        out
+    }
+}
+
+/// [`StateTables`] lent to the runtime compiled for the host, in its types.
+#[derive(Clone, Debug)]
+pub struct HostStateTables<'a, const W: usize> {
+    tables: &'a StateTables,
+    controllable: [u32; W],
+    readings: Vec<Reading<W>>,
+    plant_events: Vec<[u32; W]>,
+}
+
+impl<const W: usize> HostStateTables<'_, W> {
+    /// The runtime's view of the tables.
+    pub fn tables(&self) -> firmware::state::StateTables<'_, W> {
+        firmware::state::StateTables {
+            initial: self.tables.initial,
+            rules: &self.tables.rules,
+            cubes: &self.tables.cubes,
+            writes: &self.tables.writes,
+            components: &self.tables.ends,
+            readings: &self.readings,
+            choice: SupervisorSet {
+                controllable: self.controllable,
+                plants: self.tables.components.len() as u8,
+                plant_events: &self.plant_events,
+                sites: &self.tables.sites,
+                ..firmware::state::no_tables()
+            },
+        }
+    }
+}
+
+/// The firmware tables of the feedback `f` with `rungs`, as Rust source: the names the applications use
+/// are those of the event-based tables — `NAME`, `event`, `EVENT_WORDS`, `INPUT_SLOTS`, `SEED`, `Policy`,
+/// `CONFIG`, `EVENT_NAMES`, `AUTOMATON_NAMES` (the components), `Runtime<P, E>` and `CHECKED` (here the
+/// `firmware::state::StateTables` the runtime takes) — with `SIGNAL_NAMES`, `COMPONENTS`, `SIGNALS` and
+/// `TABLES` besides. Deterministic.
 pub fn tables(
     set: &PackSet,
     vector: &Vector,
@@ -108,255 +500,8 @@ pub fn tables(
     runtime: &RuntimeConfig,
     provenance: &Provenance,
 ) -> Result<String, StateError> {
-    let signals = &vector.signals.signals;
-    if signals.len() > WORD_BITS {
-        return Err(refuse(
-            "state.components",
-            format!(
-                "{} signals: the firmware packs at most {WORD_BITS} into its word (mode = \"state\")",
-                signals.len()
-            ),
-        ));
-    }
-    if !f.conflicts.is_empty() || f.memory.is_some() {
-        return Err(StateError::Memory(format!(
-            "the supervisors' memory decides at {} plant state(s): the state-based firmware keeps no supervisor \
-             state (a [state] memory program is for PLCs only); run this set with mode = \"event\"",
-            f.conflicts.iter().map(|c| &c.state).collect::<std::collections::BTreeSet<_>>().len()
-        )));
-    }
     if runtime.input_buffer == 0 || runtime.input_buffer > usize::from(u16::MAX) {
         return Err(refuse("runtime.input_buffer", format!("{} slots: 1 to 65535", runtime.input_buffer)));
     }
-    let table = set.events();
-    if table.len() > usize::from(firmware::link::MAX_EVENT) + 1 {
-        return Err(refuse("runtime.mode", format!("{} events: the link carries at most 240", table.len())));
-    }
-    let writes = writes(set, vector)?;
-    let words = table.len().div_ceil(32).max(1);
-    let bits = |events: &mut dyn Iterator<Item = EventId>| {
-        let mut w = vec![0u32; words];
-        for e in events {
-            w[e.index() / 32] |= 1 << (e.index() % 32);
-        }
-        w.iter().map(|x| format!("0x{x:08x}")).collect::<Vec<_>>().join(", ")
-    };
-    let plants: Vec<_> = set.members().iter().filter(|m| m.role == Role::Plant).collect();
-
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "// @generated by codegen {} (`codegen emit`): do not edit.",
-        env!("CARGO_PKG_VERSION")
-    );
-    let _ = writeln!(out, "//");
-    let cube_count: usize = rungs.iter().map(|r| r.cubes.len()).sum();
-    let _ = writeln!(
-        out,
-        "// Set '{name}' state-based (mode = state): {} components, {} signals, {} events, {} rules of {} cubes; \
-         no supervisor tables.",
-        plants.len(),
-        signals.len(),
-        table.len(),
-        rungs.len(),
-        cube_count
-    );
-    for line in provenance.lines() {
-        let _ = writeln!(out, "// {line}");
-    }
-    let _ = writeln!(
-        out,
-        "// Options: mode=state policy={} seed={} guard={} on_fault={} input_buffer={} reseed_every={}",
-        runtime.policy,
-        runtime.seed,
-        runtime.guard,
-        runtime.on_fault,
-        runtime.input_buffer,
-        runtime.reseed_every
-    );
-    let layout: Vec<String> = signals.iter().enumerate().map(|(i, s)| format!("{i} {}", s.name)).collect();
-    let _ = writeln!(out, "// Signal word, bit by bit: {}.", layout.join(", "));
-    let _ = writeln!(out);
-    let _ = writeln!(out, "/// Name of the supervisor set.");
-    let _ = writeln!(out, "pub const NAME: &str = {name:?};");
-    let _ = writeln!(out);
-    let _ = writeln!(out, "/// Global event ids.");
-    let _ = writeln!(out, "pub mod event {{");
-    let names: Vec<String> = table.ids().map(|e| table.name(e).to_owned()).collect();
-    for (e, ident) in table.ids().zip(event_idents(&names)) {
-        let kind = if table.is_controllable(e) { "controllable" } else { "uncontrollable" };
-        let _ = writeln!(out, "    /// `{}` ({kind}).", table.name(e));
-        let _ = writeln!(out, "    pub const {ident}: u8 = {};", e.index());
-    }
-    let _ = writeln!(out, "}}");
-    let _ = writeln!(out);
-    // Sites: component states with two or more commands leaving; a reading's code is its index.
-    let mut readings = Vec::new();
-    let mut ends = Vec::new();
-    let mut sites = Vec::new();
-    for (p, plant) in plants.iter().enumerate() {
-        for s in 0..plant.state_count() {
-            let offered: Vec<EventId> =
-                plant.out(s).map(|(e, _)| e).filter(|&e| table.is_controllable(e)).collect();
-            let code = readings.len();
-            if offered.len() >= 2 {
-                sites.push(code);
-            }
-            let (mask, value) = word(vector.cubes[p][s]);
-            readings.push(format!(
-                "    // {}.{}\n    firmware::state::Reading {{ cube: firmware::state::Cube {{ mask: 0x{mask:08x}, value: 0x{value:08x} }}, offered: [{}], code: {code} }},",
-                plant.automaton.name,
-                plant.automaton.states[s].name,
-                bits(&mut offered.into_iter())
-            ));
-        }
-        ends.push(readings.len());
-    }
-    let consts: [(&str, &str, String, &str); 6] = [
-        ("Words of an event bitset.", "EVENT_WORDS", words.to_string(), "usize"),
-        ("State-vector components (the plants).", "COMPONENTS", plants.len().to_string(), "usize"),
-        (
-            "Choice sites: component states with two or more commands leaving.",
-            "SITES",
-            sites.len().to_string(),
-            "usize",
-        ),
-        ("Signals in the word.", "SIGNALS", signals.len().to_string(), "usize"),
-        (
-            "Slots of the input queue (capacity + 1).",
-            "INPUT_SLOTS",
-            (runtime.input_buffer + 1).to_string(),
-            "usize",
-        ),
-        (
-            "Entropy seed of the random policies (QEMU; a board reseeds).",
-            "SEED",
-            runtime.seed.to_string(),
-            "u64",
-        ),
-    ];
-    for (doc, name, value, ty) in consts {
-        let _ = writeln!(out, "/// {doc}\npub const {name}: {ty} = {value};");
-    }
-    let _ = writeln!(out, "/// The choice policy ({}).", runtime.policy);
-    let _ = writeln!(out, "pub type Policy = {};", rust_type(runtime.policy));
-    let _ = writeln!(out, "/// Run-time configuration.");
-    let _ = writeln!(out, "pub const CONFIG: firmware::runtime::Config = firmware::runtime::Config {{");
-    let _ = writeln!(out, "    guard: {},", runtime.guard);
-    let _ = writeln!(out, "    on_fault: {},", fault_value(runtime.on_fault));
-    let _ = writeln!(out, "    reseed_every: {},", runtime.reseed_every);
-    let _ = writeln!(out, "}};");
-    let _ = writeln!(
-        out,
-        "/// The state-based runtime over these tables, choosing with `P` and drawing entropy from `E`."
-    );
-    let _ = writeln!(
-        out,
-        "pub type Runtime<P, E> = firmware::state::StateRuntime<'static, P, E, EVENT_WORDS, COMPONENTS>;"
-    );
-    let quoted = |names: &mut dyn Iterator<Item = &str>| names.map(|n| format!("{n:?}")).collect::<Vec<_>>();
-    let events = quoted(&mut names.iter().map(String::as_str));
-    let _ = writeln!(out, "/// Event names by global id, for logs (the tables hold none).");
-    let _ = writeln!(out, "pub static EVENT_NAMES: [&str; {}] = [{}];", events.len(), events.join(", "));
-    let comps = quoted(&mut plants.iter().map(|p| p.automaton.name.as_str()));
-    let _ = writeln!(out, "/// Component names (the plants), for logs.");
-    let _ = writeln!(out, "pub static AUTOMATON_NAMES: [&str; {}] = [{}];", comps.len(), comps.join(", "));
-    let sig = quoted(&mut signals.iter().map(|s| s.name.as_str()));
-    let _ = writeln!(out, "/// Signal names by bit of the word, for logs.");
-    let _ = writeln!(out, "pub static SIGNAL_NAMES: [&str; {}] = [{}];", sig.len(), sig.join(", "));
-    let _ = writeln!(out);
-
-    let _ = writeln!(out, "/// Per controllable event in id order: the end of its cubes in `CUBES`.");
-    let _ = writeln!(out, "static RULES: [firmware::state::Rule; {}] = [", rungs.len());
-    let mut end = 0;
-    for (r, e) in rungs.iter().zip(&f.controllable) {
-        end += r.cubes.len();
-        let _ = writeln!(out, "    // {}: {} cube(s)", r.event, r.cubes.len());
-        let _ = writeln!(out, "    firmware::state::Rule {{ event: {}, end: {end} }},", e.index());
-    }
-    let _ = writeln!(out, "];");
-    let _ =
-        writeln!(out, "/// F_σ of every rule, cube after cube: a cube holds when `word & mask == value`.");
-    let _ = writeln!(out, "static CUBES: [firmware::state::Cube; {cube_count}] = [");
-    for r in rungs {
-        for &c in &r.cubes {
-            let (mask, value) = word(c);
-            let _ = writeln!(
-                out,
-                "    firmware::state::Cube {{ mask: 0x{mask:08x}, value: 0x{value:08x} }}, // {}",
-                r.event
-            );
-        }
-    }
-    let _ = writeln!(out, "];");
-    let _ = writeln!(
-        out,
-        "/// Per event id: what it writes into the word (a command its outputs, a sensor event its virtual pins)."
-    );
-    let _ = writeln!(out, "static WRITES: [firmware::state::Cube; {}] = [", writes.len());
-    for (e, &c) in table.ids().zip(&writes) {
-        let (mask, value) = word(c);
-        let _ = writeln!(
-            out,
-            "    firmware::state::Cube {{ mask: 0x{mask:08x}, value: 0x{value:08x} }}, // {}",
-            table.name(e)
-        );
-    }
-    let _ = writeln!(out, "];");
-    let ends: Vec<String> = ends.iter().map(usize::to_string).collect();
-    let _ = writeln!(out, "/// Per component, the end of its states in `READINGS`.");
-    let _ = writeln!(out, "static COMPONENT_ENDS: [u16; {}] = [{}];", ends.len(), ends.join(", "));
-    let _ = writeln!(out, "/// Every component's states: formula, commands leaving, code.");
-    let _ = writeln!(out, "static READINGS: [firmware::state::Reading<EVENT_WORDS>; {}] = [", readings.len());
-    for r in &readings {
-        let _ = writeln!(out, "{r}");
-    }
-    let _ = writeln!(out, "];");
-    let owned: Vec<String> = (0..plants.len())
-        .map(|p| {
-            let mut own = f
-                .controllable
-                .iter()
-                .copied()
-                .filter(|e| vector.commands[e.index()].is_some_and(|(q, _)| q == p));
-            format!("[{}]", bits(&mut own))
-        })
-        .collect();
-    let _ = writeln!(out, "/// Per component: the commands it owns.");
-    let _ =
-        writeln!(out, "static PLANT_EVENTS: [[u32; EVENT_WORDS]; {}] = [{}];", owned.len(), owned.join(", "));
-    let sites: Vec<String> = sites.iter().map(usize::to_string).collect();
-    let _ = writeln!(out, "/// The choice sites, as reading codes.");
-    let _ = writeln!(out, "static CHOICE_SITES: [u16; {}] = [{}];", sites.len(), sites.join(", "));
-    let _ = writeln!(out);
-    // At most WORD_BITS signals (checked above): the initial values fit the word.
-    let initial = vector.initial as u32;
-    let _ = writeln!(out, "/// The tables the state-based runtime takes.");
-    let _ = writeln!(out, "pub static TABLES: firmware::state::StateTables<'static, EVENT_WORDS> = firmware::state::StateTables {{");
-    let _ = writeln!(out, "    initial: 0x{initial:08x},");
-    let _ = writeln!(out, "    rules: &RULES,");
-    let _ = writeln!(out, "    cubes: &CUBES,");
-    let _ = writeln!(out, "    writes: &WRITES,");
-    let _ = writeln!(out, "    components: &COMPONENT_ENDS,");
-    let _ = writeln!(out, "    readings: &READINGS,");
-    let _ = writeln!(out, "    choice: firmware::table::SupervisorSet {{");
-    let _ = writeln!(out, "        controllable: [{}],", bits(&mut f.controllable.iter().copied()));
-    let _ = writeln!(out, "        plants: {},", plants.len());
-    let _ = writeln!(out, "        automata: &[],");
-    let _ = writeln!(out, "        block: &[],");
-    let _ = writeln!(out, "        wide: false,");
-    let _ = writeln!(out, "        masks: &[],");
-    let _ = writeln!(out, "        mask_bytes: 0,");
-    let _ = writeln!(out, "        layout: firmware::table::layout::RANKED,");
-    let _ = writeln!(out, "        initials: &[],");
-    let _ = writeln!(out, "        holder_lists: &[],");
-    let _ = writeln!(out, "        holders: &[],");
-    let _ = writeln!(out, "        plant_events: &PLANT_EVENTS,");
-    let _ = writeln!(out, "        sites: &CHOICE_SITES,");
-    let _ = writeln!(out, "    }},");
-    let _ = writeln!(out, "}};");
-    let _ = writeln!(out, "/// What the applications hand the runtime (the event-based tables' name).");
-    let _ =
-        writeln!(out, "pub static CHECKED: &firmware::state::StateTables<'static, EVENT_WORDS> = &TABLES;");
-    Ok(out)
+    Ok(StateTables::build(set, vector, f, rungs)?.rust(set, name, runtime, provenance))
 }
