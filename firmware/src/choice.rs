@@ -63,6 +63,10 @@ impl<const W: usize> View<'_, W> {
 
 /// A choice policy: picks one event of the enabled set, keeping what memory its rule needs.
 pub trait Choose<const W: usize> {
+    /// Whether the policy reads the plants' states (`View::records` and `View::allowed`): the local
+    /// policies do; a decider that must compute them (`crate::state`) skips that for the others.
+    const READS_SITES: bool = false;
+
     /// One event of `enabled`, or `None` when `enabled` is empty.
     fn choose<E: Entropy>(
         &mut self,
@@ -159,6 +163,8 @@ impl<const S: usize> Default for LocalQueue<S> {
 }
 
 impl<const W: usize, const S: usize> Choose<W> for LocalQueue<S> {
+    const READS_SITES: bool = true;
+
     fn choose<E: Entropy>(&mut self, view: View<'_, W>, enabled: &EventSet<W>, _: &mut Rng<E>) -> Option<u8> {
         let plants = view.plants();
         for i in 0..plants {
@@ -202,6 +208,8 @@ impl<const W: usize, const S: usize> Default for RandomLocalQueue<W, S> {
 }
 
 impl<const W: usize, const S: usize> Choose<W> for RandomLocalQueue<W, S> {
+    const READS_SITES: bool = true;
+
     fn choose<E: Entropy>(
         &mut self,
         view: View<'_, W>,

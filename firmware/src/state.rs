@@ -63,8 +63,9 @@ pub struct Rule {
 pub struct Reading<const W: usize> {
     /// The state's formula.
     pub cube: Cube,
-    /// The commands of its component that leave it (physically possible there).
-    pub offered: [u32; W],
+    /// The events that leave it: its commands (physically possible there) and its sensor events (what
+    /// the plant may do next; the cost harness's plant reads them).
+    pub leaving: [u32; W],
     /// Its code, an entry of the choice view's `sites` when it is a choice site.
     pub code: u16,
 }
@@ -112,17 +113,24 @@ pub struct StateTables<'t, const W: usize> {
 }
 
 impl<const W: usize> StateTables<'_, W> {
-    /// The events whose formula holds on `word`.
+    /// The events whose formula holds on `word`. Every cube of every rule is evaluated, none skipped, so
+    /// the time does not depend on the word (a PLC scan's property); a rule whose end lies before its
+    /// start takes no cube, one past the cubes the cubes there are.
     #[inline(never)]
     pub fn enabled(&self, word: u32) -> EventSet<W> {
         let mut enabled = EventSet::EMPTY;
-        let mut start = 0;
+        // Rules past the cubes end with them.
+        let (mut at, last) = (0, self.cubes.len());
         for rule in self.rules {
-            let end = usize::from(rule.end);
-            if self.cubes.get(start..end).is_some_and(|cubes| cubes.iter().any(|c| c.holds(word))) {
+            let end = usize::from(rule.end).min(last);
+            let mut holds = false;
+            while at < end {
+                holds |= self.cubes.get(at).is_some_and(|c| c.holds(word));
+                at += 1;
+            }
+            if holds {
                 enabled.insert(rule.event);
             }
-            start = end;
         }
         enabled.and(&EventSet(self.choice.controllable))
     }
@@ -144,7 +152,8 @@ pub struct StateRuntime<'t, P, E, const W: usize, const C: usize> {
     word: u32,
     /// Per component, its state's code at the last decision (`u16::MAX`: none reads).
     records: [u16; C],
-    /// Per component, the commands its state offers at the last decision.
+    /// Per component, the events leaving its state at the last decision (the choice view keeps its
+    /// commands).
     allowed: [[u32; W]; C],
     counters: Counters,
     overflow_mark: u32,
@@ -203,10 +212,10 @@ impl<'t, P: Choose<W>, E: Entropy, const W: usize, const C: usize> StateRuntime<
     /// Reads every component's state off the word for the choice view.
     fn read_components(&mut self) {
         let all = self.records.iter_mut().zip(&mut self.allowed).enumerate();
-        for (c, (code, offered)) in all {
+        for (c, (code, leaving)) in all {
             match self.tables.reading(c, self.word) {
-                Some(r) => (*code, *offered) = (r.code, r.offered),
-                None => (*code, *offered) = (u16::MAX, [0; W]),
+                Some(r) => (*code, *leaving) = (r.code, r.leaving),
+                None => (*code, *leaving) = (u16::MAX, [0; W]),
             }
         }
     }
@@ -226,6 +235,7 @@ impl<'t, P: Choose<W>, E: Entropy, const W: usize, const C: usize> StateRuntime<
 
 impl<P: Choose<W>, E: Entropy, const W: usize, const C: usize> Decide for StateRuntime<'_, P, E, W, C> {
     /// Writes the virtual pins of uncontrollable `event` into the word.
+    #[inline(never)]
     fn apply(&mut self, event: u8) -> Applied {
         let Some(&write) = self.tables.writes.get(usize::from(event)) else {
             return self.unknown();
@@ -238,6 +248,7 @@ impl<P: Choose<W>, E: Entropy, const W: usize, const C: usize> Decide for StateR
         Applied::Taken
     }
 
+    #[inline(never)]
     fn decide(&mut self, pending: impl FnOnce() -> bool) -> Decision {
         if self.safe {
             return Decision::Halted;
@@ -246,7 +257,9 @@ impl<P: Choose<W>, E: Entropy, const W: usize, const C: usize> Decide for StateR
         if enabled.is_empty() {
             return Decision::Idle;
         }
-        self.read_components();
+        if P::READS_SITES {
+            self.read_components();
+        }
         let view = View { set: &self.tables.choice, records: &self.records, allowed: &self.allowed };
         let Some(c) = self.policy.choose(view, &enabled, &mut self.rng) else {
             return Decision::Idle;
@@ -309,7 +322,7 @@ mod tests {
         Cube { mask: 0b01, value: 0b00 },
     ];
     static READINGS: [Reading<1>; 1] =
-        [Reading { cube: Cube { mask: 0, value: 0 }, offered: [0b101], code: 0 }];
+        [Reading { cube: Cube { mask: 0, value: 0 }, leaving: [0b1111], code: 0 }];
     static TABLES: StateTables<'static, 1> = StateTables {
         initial: 0,
         rules: &RULES,
@@ -368,7 +381,11 @@ mod tests {
         static BAD_RULES: [Rule; 2] = [Rule { event: 0, end: 7 }, Rule { event: 2, end: 1 }];
         static BAD: StateTables<'static, 1> = StateTables { rules: &BAD_RULES, components: &[5], ..TABLES };
         let mut rt = runtime(&BAD, FaultPolicy::Continue);
-        assert_eq!(rt.decide(|| false), Decision::Idle);
+        // Rule 0 takes both cubes there are, rule 2 (ending before it starts) none.
+        assert_eq!(rt.decide(|| false), Decision::Fired(0));
+        assert_eq!(rt.apply(1), Applied::Taken);
+        assert_eq!(rt.decide(|| false), Decision::Fired(0));
+        assert_eq!(BAD.enabled(0b11), EventSet([0b001]));
         assert_eq!(BAD.reading(0, 0), None);
         assert_eq!(BAD.reading(3, 0), None);
     }

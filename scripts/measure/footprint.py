@@ -25,12 +25,15 @@ sys.path.insert(0, os.path.dirname(__file__))
 import expect  # noqa: E402
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(__file__), "..", ".."))
-RUNTIME_MODULES = ("runtime", "choice", "rng", "table", "event_set", "input_queue")
+RUNTIME_MODULES = ("runtime", "choice", "rng", "table", "event_set", "input_queue", "state")
+# Supervisor tables, then the state tables of `[runtime] mode = "state"` (firmware::state).
 TABLES = ("BLOCK", "MASKS", "DESCRIPTORS", "HOLDERS", "PLANT_EVENTS", "CHOICE_SITES", "HOLDER_LISTS", "INITIALS",
-          "SET")
-# Tables every layout has (the others may be empty, and an empty static has no symbol).
+          "SET", "RULES", "CUBES", "WRITES", "COMPONENT_ENDS", "READINGS", "TABLES")
+# Tables every layout has (the others may be empty, and an empty static has no symbol); state tables have
+# their own.
 REQUIRED_TABLES = ("BLOCK", "DESCRIPTORS", "HOLDERS", "PLANT_EVENTS", "SET")
-NAMES = ("EVENT_NAMES", "AUTOMATON_NAMES")
+REQUIRED_STATE_TABLES = ("RULES", "CUBES", "WRITES", "READINGS", "TABLES")
+NAMES = ("EVENT_NAMES", "AUTOMATON_NAMES", "SIGNAL_NAMES")
 # Entry points the runtime keeps out of line; each must be found, or the code figure means nothing.
 ENTRY_POINTS = ("apply", "decide")
 # lm3s6965evb: flash at 0, 256 KiB; SRAM at 0x2000_0000, 64 KiB.
@@ -148,7 +151,7 @@ def measure(elf):
         if entry not in code_names:
             missing.append(f"runtime entry point '{entry}'")
     table_names = [last_segment(n) for _, n in kinds["tables"]]
-    for table in REQUIRED_TABLES:
+    for table in REQUIRED_STATE_TABLES if "TABLES" in table_names else REQUIRED_TABLES:
         if table not in table_names:
             missing.append(f"table '{table}'")
     if not kinds["runtime RAM"]:

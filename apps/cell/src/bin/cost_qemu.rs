@@ -1,11 +1,13 @@
 //! Cost of the runtime on the emitted tables, for the table in docs/measurements.md: SysTick ticks per
-//! uncontrollable event applied and per controllable decision (enabled set, choice, firing), under
+//! uncontrollable event applied and per controllable decision (enabled set, choice, firing), on supervisor
+//! tables or on state tables (`mode = "state"`: the same names, `firmware::state`'s runtime), under
 //! `qemu-system-arm -icount shift=7,sleep=off` (`cargo qemu-cost`), where virtual time is exact and
 //! repeatable: one instruction is 128 ns and one SysTick tick 1/12 µs, so instructions ≈ ticks × 83.33 / 128;
 //! the binary calibrates the ratio on a loop of exactly 2 000 instructions and converts with it.
 //!
 //! A plant runs inside the firmware: at each step, when an uncontrollable event is possible (every
-//! automaton holding it has the transition), it is produced with probability ½; otherwise the runtime
+//! automaton holding it has the transition; on state tables, it leaves a component's state as the word
+//! reads), it is produced with probability ½; otherwise the runtime
 //! decides. A decision is also timed in parts: the enabled set alone, then the whole `decide` (which
 //! computes the enabled set again, chooses, checks the guard and fires).
 //! Prints plain text over semihosting and exits.
@@ -25,9 +27,11 @@ mod tables {
     include!(env!("SCT_TABLES_FILE"));
 }
 
+use firmware::choice::Choose;
 use firmware::event_set::EventSet;
-use firmware::rng::{Rng, SeedEntropy};
-use firmware::runtime::Decision;
+use firmware::rng::{Entropy, Rng, SeedEntropy};
+use firmware::runtime::{Decide, Decision, Runtime};
+use firmware::state::StateRuntime;
 
 type Rt = tables::Runtime<tables::Policy, SeedEntropy>;
 
@@ -71,21 +75,54 @@ fn elapsed(t0: u32, t1: u32) -> u32 {
     t0.wrapping_sub(t1) & 0x00FF_FFFF
 }
 
-/// Uncontrollable events every automaton holding them can take now.
-#[inline(never)]
-fn possible_inputs(rt: &Rt) -> EventSet<{ tables::EVENT_WORDS }> {
-    let set = rt.set();
-    let mut out = EventSet::EMPTY;
-    for e in 0..set.events() {
-        let Ok(e) = u8::try_from(e) else { break };
-        let holders = set.holders_of(e, set.holder_bytes()).unwrap_or(0);
-        let takes = |a: usize| set.step(a, rt.states()[a], e).is_some();
-        let held = (0..set.automata.len()).filter(|a| holders & (1 << a) != 0);
-        if !firmware::table::bit(&set.controllable, e) && held.into_iter().all(takes) {
-            out.insert(e);
+/// What the plant inside the firmware may send next, read off the decider's own tables.
+trait Plant {
+    /// The uncontrollable events possible now.
+    fn possible_inputs(&self) -> EventSet<{ tables::EVENT_WORDS }>;
+}
+
+/// Supervisor tables: the events every automaton holding them can take now.
+impl<
+        P: Choose<{ tables::EVENT_WORDS }>,
+        E: Entropy,
+        const N: usize,
+        const WIDE: bool,
+        const MASK: usize,
+        const LAYOUT: u8,
+    > Plant for Runtime<'_, P, E, { tables::EVENT_WORDS }, N, WIDE, MASK, LAYOUT>
+{
+    #[inline(never)]
+    fn possible_inputs(&self) -> EventSet<{ tables::EVENT_WORDS }> {
+        let set = self.set();
+        let mut out = EventSet::EMPTY;
+        for e in 0..set.events() {
+            let Ok(e) = u8::try_from(e) else { break };
+            let holders = set.holders_of(e, set.holder_bytes()).unwrap_or(0);
+            let takes = |a: usize| set.step(a, self.states()[a], e).is_some();
+            let held = (0..set.automata.len()).filter(|a| holders & (1 << a) != 0);
+            if !firmware::table::bit(&set.controllable, e) && held.into_iter().all(takes) {
+                out.insert(e);
+            }
         }
+        out
     }
-    out
+}
+
+/// State tables (`mode = "state"`): the sensor events leaving each component's state as the word reads.
+impl<P: Choose<{ tables::EVENT_WORDS }>, E: Entropy, const C: usize> Plant
+    for StateRuntime<'_, P, E, { tables::EVENT_WORDS }, C>
+{
+    #[inline(never)]
+    fn possible_inputs(&self) -> EventSet<{ tables::EVENT_WORDS }> {
+        let t = self.tables();
+        let mut out = EventSet::EMPTY;
+        for c in 0..C {
+            if let Some(r) = t.reading(c, self.word()) {
+                out = out.or(&EventSet(r.leaving));
+            }
+        }
+        out.and_not(&EventSet(t.choice.controllable))
+    }
 }
 
 // The measured calls sit behind `#[inline(never)]`: otherwise the optimiser may move parts of the inlined
@@ -93,7 +130,7 @@ fn possible_inputs(rt: &Rt) -> EventSet<{ tables::EVENT_WORDS }> {
 
 #[inline(never)]
 fn measured_apply(rt: &mut Rt, u: u8) {
-    rt.apply(u);
+    Decide::apply(rt, u);
 }
 
 #[inline(never)]
@@ -103,7 +140,7 @@ fn measured_enabled(rt: &Rt) -> EventSet<{ tables::EVENT_WORDS }> {
 
 #[inline(never)]
 fn measured_decide(rt: &mut Rt) -> Decision {
-    rt.decide(|| false)
+    Decide::decide(rt, || false)
 }
 
 #[entry]
@@ -125,7 +162,7 @@ fn main() -> ! {
         let t0 = now();
         let t1 = now();
         empty.add(elapsed(t0, t1));
-        let possible = possible_inputs(&rt);
+        let possible = rt.possible_inputs();
         if !possible.is_empty() && plant.below(2) == 0 {
             let u = possible.nth(plant.below(possible.len())).unwrap_or(0);
             let t0 = now();

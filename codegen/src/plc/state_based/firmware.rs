@@ -110,7 +110,7 @@ pub struct StateTables {
     pub writes: Vec<WordCube>,
     /// Per component, the end of its states in `readings`.
     pub ends: Vec<u16>,
-    /// Per component state: its label (`Injector.I2B`), formula and the commands leaving it (bitset).
+    /// Per component state: its label (`Injector.I2B`), formula and the events leaving it (bitset).
     pub readings: Vec<(String, WordCube, Vec<u32>)>,
     /// Per component: the commands it owns (bitset).
     pub plant_events: Vec<Vec<u32>>,
@@ -179,13 +179,12 @@ impl StateTables {
         let mut sites = Vec::new();
         for (p, plant) in plants.iter().enumerate() {
             for s in 0..plant.state_count() {
-                let offered: Vec<EventId> =
-                    plant.out(s).map(|(e, _)| e).filter(|&e| table.is_controllable(e)).collect();
-                if offered.len() >= 2 {
+                let leaving: Vec<EventId> = plant.out(s).map(|(e, _)| e).collect();
+                if leaving.iter().filter(|&&e| table.is_controllable(e)).count() >= 2 {
                     sites.push(readings.len() as u16);
                 }
                 let label = format!("{}.{}", plant.automaton.name, plant.automaton.states[s].name);
-                readings.push((label, word_cube(vector.cubes[p][s]), bitset(words, offered)));
+                readings.push((label, word_cube(vector.cubes[p][s]), bitset(words, leaving)));
             }
             ends.push(readings.len() as u16);
         }
@@ -226,8 +225,8 @@ impl StateTables {
             .readings
             .iter()
             .enumerate()
-            .map(|(code, (_, cube, offered))| {
-                Some(Reading { cube: *cube, offered: fixed(offered)?, code: code as u16 })
+            .map(|(code, (_, cube, leaving))| {
+                Some(Reading { cube: *cube, leaving: fixed(leaving)?, code: code as u16 })
             })
             .collect::<Option<Vec<_>>>()?;
         let plant_events = self.plant_events.iter().map(fixed).collect::<Option<Vec<_>>>()?;
@@ -402,18 +401,18 @@ impl StateTables {
         let ends: Vec<String> = self.ends.iter().map(u16::to_string).collect();
         let _ = writeln!(out, "/// Per component, the end of its states in `READINGS`.");
         let _ = writeln!(out, "static COMPONENT_ENDS: [u16; {}] = [{}];", ends.len(), ends.join(", "));
-        let _ = writeln!(out, "/// Every component's states: formula, commands leaving, code.");
+        let _ = writeln!(out, "/// Every component's states: formula, events leaving, code.");
         let _ = writeln!(
             out,
             "static READINGS: [firmware::state::Reading<EVENT_WORDS>; {}] = [",
             self.readings.len()
         );
-        for (code, (label, c, offered)) in self.readings.iter().enumerate() {
+        for (code, (label, c, leaving)) in self.readings.iter().enumerate() {
             let _ = writeln!(
                 out,
-                "    firmware::state::Reading {{ cube: {}, offered: [{}], code: {code} }}, // {label}",
+                "    firmware::state::Reading {{ cube: {}, leaving: [{}], code: {code} }}, // {label}",
                 cube(c),
-                hex(offered)
+                hex(leaving)
             );
         }
         let _ = writeln!(out, "];");
