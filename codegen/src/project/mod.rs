@@ -465,14 +465,26 @@ impl Project {
     }
 
     /// The firmware-image stage: emits the tables into `dir/tables.rs` and builds the QEMU firmware on
-    /// them; returns the ELF, `dir/firmware.elf`.
+    /// them (`cell-qemu`, which runs supervisor tables and, with `mode = "state"`, state tables alike);
+    /// returns the ELF, `dir/firmware.elf`.
     pub fn image(&self, dir: &Path) -> Result<PathBuf, ProjectError> {
         Ok(build_qemu_image(&self.tables_file(dir)?, &dir.join("firmware.elf"))?)
     }
 
     /// The same stage for the Raspberry Pi Pico: the tables, with the board's pin map, built into the
     /// Pico firmware (`cell-pico`); returns the ELF, `dir/firmware.elf`.
+    /// The state-based tables (`mode = "state"`) are refused: the Pico application drives the supervisor
+    /// runtime from its pins' edges.
     pub fn pico_image(&self, dir: &Path) -> Result<PathBuf, ProjectError> {
+        if self.runtime.mode == Mode::State {
+            return Err(self.in_file(StateError::Vector {
+                key: "runtime.mode".into(),
+                message:
+                    "the state-based firmware runs under QEMU (cell-qemu) only; the Pico application \
+                          feeds its pins' edges to the supervisor runtime: use mode = \"event\" on the RP2040"
+                        .into(),
+            }));
+        }
         Ok(build_pico_image(&self.tables_file(dir)?, &dir.join("firmware.elf"))?)
     }
 
