@@ -229,3 +229,20 @@ fn a_feedback_decided_by_supervisor_memory_is_refused_on_the_firmware() {
     assert!(err.contains("the supervisors' memory decides at 1 plant state(s)"), "{err}");
     assert!(err.contains("mode = \"event\""), "{err}");
 }
+
+#[test]
+fn more_signals_than_the_word_holds_are_refused_with_the_count() {
+    let dir = scratch("wide");
+    let gen = "<Generator>\n\"P\"\n<Alphabet>\n\"u\" \"c\" +C+\n</Alphabet>\n<States>\n\"s\"\n</States>\n<TransRel>\n\"s\" \"u\" \"s\"\n\"s\" \"c\" \"s\"\n</TransRel>\n<InitStates>\n\"s\"\n</InitStates>\n<MarkedStates>\n\"s\"\n</MarkedStates>\n</Generator>\n";
+    std::fs::write(dir.join("P.gen"), gen).unwrap();
+    let inputs: Vec<String> = (0..33).map(|i| format!("{{ name = \"X{i}\" }}")).collect();
+    let manifest = format!(
+        "name = \"wide\"\nplants = [\"P.gen\"]\nsupervisors = [\"P.gen\"]\n[runtime]\nmode = \"state\"\n\
+         [state.components.P]\ninputs = [{}]\noutputs = [{{ name = \"Y\" }}]\nstates = {{ s = [] }}\ncommands = {{ c = [\"Y\"] }}\n",
+        inputs.join(", ")
+    );
+    std::fs::write(dir.join("wide.toml"), manifest).unwrap();
+    let err = Project::load(&dir.join("wide.toml")).unwrap().emit().unwrap_err().to_string();
+    assert!(err.contains("wide.toml"), "{err}");
+    assert!(err.contains("34 signals: the firmware packs at most 32 into its word"), "{err}");
+}
