@@ -48,6 +48,19 @@ class Footprint(unittest.TestCase):
         self.assertEqual(legacy["names"], [(184, "EVENT_NAMES")])
         self.assertEqual(legacy["runtime RAM"], [(120, "__rtic_internal_local_resource_runtime")])
 
+    def test_state_tables_and_the_state_runtime_are_counted(self):
+        symbols = [
+            (82, "t", "<firmware::state::StateRuntime<firmware::choice::Random, firmware::rng::SeedEntropy, 1, 4> as firmware::runtime::Decide>::apply"),
+            (280, "t", "_$LT$firmware..state..StateRuntime$LT$P$C$E$C$_$C$_$GT$$u20$as$u20$firmware..runtime..Decide$GT$::decide::h0123456789abcdef"),
+            (64, "r", "cell_qemu::tables::CUBES"),
+            (56, "r", "cell_qemu::tables::TABLES"),
+            (44, "r", "cell_qemu::tables::SIGNAL_NAMES"),
+        ]
+        got = summary(symbols)
+        self.assertEqual(got["code"], [(82, "apply"), (280, "decide")])
+        self.assertEqual(got["tables"], [(56, "TABLES"), (64, "CUBES")])
+        self.assertEqual(got["names"], [(44, "SIGNAL_NAMES")])
+
     def test_interface_code_is_not_runtime_code(self):
         names = [n for _, n in footprint.classify(V0)["code"]]
         self.assertFalse(any("UartPort" in n and "note" in n for n in names), names)
