@@ -16,7 +16,7 @@ use firmware::choice::Choose;
 use firmware::choice::{First, GlobalQueue, LocalQueue, Random, RandomGlobalQueue, RandomLocalQueue};
 use firmware::fault::FaultPolicy;
 use firmware::rng::{Rng, SeedEntropy};
-use firmware::runtime::{Config, Decide, Decision};
+use firmware::runtime::{Applied, Config, Decide, Decision};
 use firmware::state::StateRuntime;
 use proptest::prelude::*;
 
@@ -111,7 +111,7 @@ fn walk<P: Choose<1>>(policy: P, seed: u32, steps: usize) -> std::collections::B
             .collect();
         if !sensors.is_empty() && dice.next_u32() & 1 == 0 {
             let (p, e, t) = sensors[dice.next_u32() as usize % sensors.len()];
-            rt.apply(e.index() as u8);
+            assert_eq!(rt.apply(e.index() as u8), Applied::Taken, "{} at {x:?}", table.name(e));
             x[p] = t.index() as u32;
             continue;
         }

@@ -102,6 +102,8 @@ pub struct StateTables<'t, const W: usize> {
     /// Per event id, what it writes into the word: a controllable event its command's outputs, an
     /// uncontrollable one its virtual pins (the inputs its target state fixes).
     pub writes: &'t [Cube],
+    /// Per event id, the components whose plant has it (bit `c`: component `c`; at most 32 components).
+    pub holders: &'t [u32],
     /// Per component, one past its last state in [`StateTables::readings`] (the first starts at 0).
     pub components: &'t [u16],
     /// Every component's states, component after component.
@@ -137,9 +139,29 @@ impl<const W: usize> StateTables<'_, W> {
 
     /// The reading of component `c`'s state on `word`: the first of its states whose formula holds.
     pub fn reading(&self, c: usize, word: u32) -> Option<&Reading<W>> {
+        self.states(c)?.iter().find(|r| r.cube.holds(word))
+    }
+
+    /// Component `c`'s states.
+    fn states(&self, c: usize) -> Option<&[Reading<W>]> {
         let start = if c == 0 { 0 } else { usize::from(*self.components.get(c - 1)?) };
         let end = usize::from(*self.components.get(c)?);
-        self.readings.get(start..end)?.iter().find(|r| r.cube.holds(word))
+        self.readings.get(start..end)
+    }
+
+    /// Whether uncontrollable `event` may happen at `word`: every component holding it reads as a state
+    /// it leaves. The first holder that does not, if any.
+    pub fn unexpected(&self, event: u8, word: u32) -> Option<u8> {
+        let mut holders = self.holders.get(usize::from(event)).copied().unwrap_or(0);
+        while holders != 0 {
+            let c = holders.trailing_zeros();
+            holders &= holders - 1;
+            if !self.reading(c as usize, word).is_some_and(|r| EventSet(r.leaving).contains(event)) {
+                // Below 32.
+                return Some(c as u8);
+            }
+        }
+        None
     }
 }
 
@@ -234,7 +256,8 @@ impl<'t, P: Choose<W>, E: Entropy, const W: usize, const C: usize> StateRuntime<
 }
 
 impl<P: Choose<W>, E: Entropy, const W: usize, const C: usize> Decide for StateRuntime<'_, P, E, W, C> {
-    /// Writes the virtual pins of uncontrollable `event` into the word.
+    /// Writes the virtual pins of uncontrollable `event` into the word; an event no state of a component
+    /// holding it leaves as the word reads is unexpected (counted, a fault), as in the supervisor runtime.
     #[inline(never)]
     fn apply(&mut self, event: u8) -> Applied {
         let Some(&write) = self.tables.writes.get(usize::from(event)) else {
@@ -244,8 +267,17 @@ impl<P: Choose<W>, E: Entropy, const W: usize, const C: usize> Decide for StateR
             return self.unknown();
         }
         self.counters.events_in = self.counters.events_in.wrapping_add(1);
+        let unexpected = self.tables.unexpected(event, self.word);
+        // The sensor changed whatever the tables expected: the word follows the plant.
         self.word = write.write(self.word);
-        Applied::Taken
+        match unexpected {
+            None => Applied::Taken,
+            Some(automaton) => {
+                self.counters.unexpected = self.counters.unexpected.wrapping_add(1);
+                self.fault();
+                Applied::Unexpected { automaton }
+            }
+        }
     }
 
     #[inline(never)]
@@ -328,6 +360,7 @@ mod tests {
         rules: &RULES,
         cubes: &CUBES,
         writes: &WRITES,
+        holders: &[0, 1, 0, 1],
         components: &[1],
         readings: &READINGS,
         choice: SupervisorSet { controllable: [0b101], plants: 1, plant_events: &[[0b101]], ..no_tables() },
@@ -377,13 +410,30 @@ mod tests {
     }
 
     #[test]
+    fn a_sensor_event_the_state_does_not_leave_is_unexpected_and_still_written() {
+        // The component reads as idle (!X) or ended (X); `done` (1) leaves idle only, `reset` (3) ended only.
+        static TWO: [Reading<1>; 2] = [
+            Reading { cube: Cube { mask: 0b01, value: 0b00 }, leaving: [0b0011], code: 0 },
+            Reading { cube: Cube { mask: 0b01, value: 0b01 }, leaving: [0b1100], code: 1 },
+        ];
+        static T: StateTables<'static, 1> = StateTables { components: &[2], readings: &TWO, ..TABLES };
+        let mut rt = runtime(&T, FaultPolicy::Continue);
+        assert_eq!(rt.apply(3), Applied::Unexpected { automaton: 0 });
+        assert_eq!(rt.apply(1), Applied::Taken);
+        assert_eq!(rt.word(), 0b01);
+        assert_eq!(rt.apply(1), Applied::Unexpected { automaton: 0 });
+        assert_eq!((rt.counters().events_in, rt.counters().unexpected), (3, 2));
+    }
+
+    #[test]
     fn rules_past_the_cubes_and_components_past_the_readings_disable_never_panic() {
         static BAD_RULES: [Rule; 2] = [Rule { event: 0, end: 7 }, Rule { event: 2, end: 1 }];
         static BAD: StateTables<'static, 1> = StateTables { rules: &BAD_RULES, components: &[5], ..TABLES };
         let mut rt = runtime(&BAD, FaultPolicy::Continue);
-        // Rule 0 takes both cubes there are, rule 2 (ending before it starts) none.
+        // Rule 0 takes both cubes there are, rule 2 (ending before it starts) none; the component reads
+        // as no state, so its sensor event is unexpected (and still written).
         assert_eq!(rt.decide(|| false), Decision::Fired(0));
-        assert_eq!(rt.apply(1), Applied::Taken);
+        assert_eq!(rt.apply(1), Applied::Unexpected { automaton: 0 });
         assert_eq!(rt.decide(|| false), Decision::Fired(0));
         assert_eq!(BAD.enabled(0b11), EventSet([0b001]));
         assert_eq!(BAD.reading(0, 0), None);

@@ -28,7 +28,7 @@ ROOT = os.path.normpath(os.path.join(os.path.dirname(__file__), "..", ".."))
 RUNTIME_MODULES = ("runtime", "choice", "rng", "table", "event_set", "input_queue", "state")
 # Supervisor tables, then the state tables of `[runtime] mode = "state"` (firmware::state).
 TABLES = ("BLOCK", "MASKS", "DESCRIPTORS", "HOLDERS", "PLANT_EVENTS", "CHOICE_SITES", "HOLDER_LISTS", "INITIALS",
-          "SET", "RULES", "CUBES", "WRITES", "COMPONENT_ENDS", "READINGS", "TABLES")
+          "SET", "RULES", "CUBES", "WRITES", "COMPONENT_ENDS", "READINGS", "TABLES")  # HOLDERS: both
 # Tables every layout has (the others may be empty, and an empty static has no symbol); state tables have
 # their own.
 REQUIRED_TABLES = ("BLOCK", "DESCRIPTORS", "HOLDERS", "PLANT_EVENTS", "SET")

@@ -108,6 +108,8 @@ pub struct StateTables {
     pub cubes: Vec<WordCube>,
     /// Per event id, its write into the word.
     pub writes: Vec<WordCube>,
+    /// Per event id, the components whose plant has it (bit per component).
+    pub holders: Vec<u32>,
     /// Per component, the end of its states in `readings`.
     pub ends: Vec<u16>,
     /// Per component state: its label (`Injector.I2B`), formula and the events leaving it (bitset).
@@ -174,6 +176,18 @@ impl StateTables {
         }
         let words = table.len().div_ceil(32).max(1);
         let plants: Vec<_> = set.members().iter().filter(|m| m.role == Role::Plant).collect();
+        if plants.len() > 32 {
+            return Err(refuse(
+                "plants",
+                format!("{} plants: the state-based firmware holds at most 32 components", plants.len()),
+            ));
+        }
+        let mut holders = vec![0u32; table.len()];
+        for (p, plant) in plants.iter().enumerate() {
+            for e in plant.alphabet() {
+                holders[e.index()] |= 1 << p;
+            }
+        }
         let mut readings = Vec::new();
         let mut ends = Vec::new();
         let mut sites = Vec::new();
@@ -207,6 +221,7 @@ impl StateTables {
             rules,
             cubes,
             writes: writes(set, vector)?.into_iter().map(word_cube).collect(),
+            holders,
             ends,
             readings,
             plant_events,
@@ -398,6 +413,9 @@ impl StateTables {
             let _ = writeln!(out, "    {}, // {n}", cube(w));
         }
         let _ = writeln!(out, "];");
+        let holders: Vec<String> = self.holders.iter().map(|h| format!("0x{h:x}")).collect();
+        let _ = writeln!(out, "/// Per event id, the components whose plant has it (bit per component).");
+        let _ = writeln!(out, "static HOLDERS: [u32; {}] = [{}];", holders.len(), holders.join(", "));
         let ends: Vec<String> = self.ends.iter().map(u16::to_string).collect();
         let _ = writeln!(out, "/// Per component, the end of its states in `READINGS`.");
         let _ = writeln!(out, "static COMPONENT_ENDS: [u16; {}] = [{}];", ends.len(), ends.join(", "));
@@ -434,7 +452,13 @@ impl StateTables {
             "pub static TABLES: firmware::state::StateTables<'static, EVENT_WORDS> = firmware::state::StateTables {{"
         );
         let _ = writeln!(out, "    initial: 0x{:08x},", self.initial);
-        for field in ["rules: &RULES", "cubes: &CUBES", "writes: &WRITES", "components: &COMPONENT_ENDS"] {
+        for field in [
+            "rules: &RULES",
+            "cubes: &CUBES",
+            "writes: &WRITES",
+            "holders: &HOLDERS",
+            "components: &COMPONENT_ENDS",
+        ] {
             let _ = writeln!(out, "    {field},");
         }
         let _ = writeln!(out, "    readings: &READINGS,");
@@ -472,6 +496,7 @@ impl<const W: usize> HostStateTables<'_, W> {
             rules: &self.tables.rules,
             cubes: &self.tables.cubes,
             writes: &self.tables.writes,
+            holders: &self.tables.holders,
             components: &self.tables.ends,
             readings: &self.readings,
             choice: SupervisorSet {
