@@ -213,6 +213,13 @@ commands = { go = ["Y"], back = ["!Y"] }
     assert!(err.contains("valve.toml"), "{err}");
     assert!(err.contains("the inputs u sets depend on its source state"), "{err}");
     assert!(err.contains("from opening it sets X, from closing !X"), "{err}");
+    // The command line prints it and exits 2.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_codegen"))
+        .args(["emit", dir.join("valve.toml").to_str().unwrap(), "-o", dir.join("t.rs").to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("depend on its source state"));
 }
 
 #[test]
