@@ -1,5 +1,6 @@
 //! The runtime of local modular supervisors on a microcontroller: product system (plants), supervisors and
-//! interface in one event-driven loop over tables packed by `codegen`.
+//! interface in one event-driven loop over tables packed by `codegen` — or, with `[runtime] mode =
+//! "state"`, state feedback control over the plant's packed signals and no supervisor tables ([`state`]).
 //!
 //! The library is `no_std`, allocates nothing and touches no hardware, so the exact code that ships also
 //! runs on the host, where the virtual plant, property tests and benchmarks exercise it. The crate holds no
