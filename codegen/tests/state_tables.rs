@@ -74,6 +74,23 @@ fn the_firmware_enables_exactly_f_on_every_reachable_state_and_every_valuation_r
 }
 
 #[test]
+fn on_every_word_the_firmware_evaluates_the_rungs_codegen_wrote() {
+    // Beyond the reachable states: all 2^11 values of the station's signals, the firmware's evaluation
+    // of its (mask, value) cubes against codegen's rungs (the PLC program's F_σ) evaluated on 64 bits.
+    let (project, vector, f, tables) = station();
+    let rungs = rungs(&project.set, &vector, &f, &Default::default(), false);
+    let host = tables.host::<1>().unwrap();
+    let t = host.tables();
+    for word in 0..1u32 << tables.signals.len() {
+        let enabled = t.enabled(word);
+        for (r, ev) in rungs.iter().zip(&f.controllable) {
+            let holds = r.cubes.iter().any(|c| c.holds(u64::from(word)));
+            assert_eq!(enabled.contains(ev.index() as u8), holds, "{} at {word:#b}", r.event);
+        }
+    }
+}
+
+#[test]
 fn the_tables_are_the_same_bytes_every_time() {
     let a = Project::load(&repo("examples/distribution/distribution-state.toml")).unwrap().emit().unwrap();
     let b = Project::load(&repo("examples/distribution/distribution-state.toml")).unwrap().emit().unwrap();
