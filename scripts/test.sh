@@ -21,6 +21,8 @@ python3 -m unittest discover -s scripts/measure
 python3 scripts/measure/cost.py
 python3 scripts/measure/pico_cost.py
 python3 scripts/measure/footprint.py
+# The station's state feedback against its event-based tables on the Cortex-M3 (flash, RAM, instructions).
+python3 scripts/measure/state.py
 python3 scripts/measure/footprint.py --target-dir target/v0-mangling \
   --cargo-config 'target.thumbv7m-none-eabi.rustflags=["-Csymbol-mangling-version=v0"]' | tail -n 20
 # A machine without the thumb targets builds and runs the firmware (from rust-src).
