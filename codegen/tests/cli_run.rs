@@ -38,10 +38,22 @@ fn a_model_file_is_no_project_to_run() {
 
 #[test]
 fn an_emulator_that_cannot_start_is_exit_2_naming_it() {
-    // cargo (to build the firmware) stays reachable; qemu-system-arm does not.
+    // cargo and the host's C toolchain (a cold firmware build links build scripts with `cc`) stay
+    // reachable; qemu-system-arm does not.
+    let tools = std::env::temp_dir().join(format!("sct-no-qemu-{}", std::process::id()));
+    std::fs::create_dir_all(&tools).unwrap();
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    for tool in ["cc", "gcc", "ld", "ar", "as"] {
+        let found = std::env::split_paths(&path).map(|d| d.join(tool)).find(|p| p.is_file());
+        if let Some(found) = found {
+            let _ = std::os::unix::fs::symlink(found, tools.join(tool));
+        }
+    }
     let cargo = std::env::var("CARGO").unwrap();
-    let cargo_dir = Path::new(&cargo).parent().unwrap().display().to_string();
-    let out = codegen(&["run", &repo("examples/factory/factory.toml"), "--events", "10"], Some(&cargo_dir));
+    let cargo_dir = Path::new(&cargo).parent().unwrap().display();
+    let search = format!("{}:{cargo_dir}", tools.display());
+    let out = codegen(&["run", &repo("examples/factory/factory.toml"), "--events", "10"], Some(&search));
+    let _ = std::fs::remove_dir_all(&tools);
     assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("cannot start qemu-system-arm"), "{err}");
