@@ -4,7 +4,8 @@
 //! workspace root), else the committed `src/generated/cell.rs` (which a codegen test keeps
 //! byte-identical to `codegen emit examples/cell/cell.toml`). The applications read the chosen path from
 //! `SCT_TABLES_FILE`. Memory layout: `boards/lm3s6965/memory.x` for thumbv7m, `boards/pico/memory.x` for
-//! the RP2040 (thumbv6m), `boards/nucleo-f401re/memory.x` with the `nucleo` feature. None may sit at
+//! the RP2040 (thumbv6m), `boards/nucleo-f401re/memory.x` with the `nucleo` feature,
+//! `boards/nrf52840-dk/memory.x` with the `nrf52840` feature. None may sit at
 //! the workspace root: the linker looks for `memory.x` in its working directory (where cargo runs rustc)
 //! before the search paths, so a root file would be linked into every target's image.
 
@@ -28,6 +29,8 @@ fn main() {
         "boards/pico"
     } else if env::var_os("CARGO_FEATURE_NUCLEO").is_some() {
         "boards/nucleo-f401re"
+    } else if env::var_os("CARGO_FEATURE_NRF52840").is_some() {
+        "boards/nrf52840-dk"
     } else {
         "boards/lm3s6965"
     };

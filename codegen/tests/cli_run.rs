@@ -58,3 +58,54 @@ fn an_emulator_that_cannot_start_is_exit_2_naming_it() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("cannot start qemu-system-arm"), "{err}");
 }
+
+/// `run --project` and `plant --project` on a project `codegen new` wrote (no build: its board has no
+/// emulator here). `run` refuses the board with exit 2 before building anything; the positional manifest
+/// cannot be given beside `--project`; `plant` takes the project's manifest (it loads, and the run stops
+/// at the socket that does not exist; broken, it is named).
+#[test]
+fn a_project_of_your_own_is_run_on_its_boards_emulator_or_refused() {
+    let temp = std::env::temp_dir().join(format!("codegen-cli-project-{}", std::process::id()));
+    std::fs::create_dir_all(&temp).unwrap();
+    let dir = temp.join("nrf");
+    let dir_arg = dir.display().to_string();
+    let codegen_in = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_codegen"))
+            .args(args)
+            .env("SCT_CODEGEN_CACHE", repo("target/new-project/cache"))
+            .output()
+            .expect("run codegen")
+    };
+    let stderr = |out: &Output| String::from_utf8_lossy(&out.stderr).into_owned();
+    let out = codegen_in(&["new", &dir_arg, "--board", "nrf52840-dk"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+
+    let out = codegen_in(&["run", "--project", &dir_arg]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("for the nrf52840-dk board, which has no emulator here"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!dir.join("target").exists(), "refused before building");
+
+    let out = codegen_in(&["run", "--project", &dir_arg, &repo("examples/cell/cell.toml")]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("cannot be used with"), "{}", stderr(&out));
+
+    let socket = temp.join("no-such-socket");
+    let connect = format!("unix:{}", socket.display());
+    let out = codegen_in(&["plant", "--project", &dir_arg, "--connect", &connect]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("connecting to") && stderr(&out).contains("no-such-socket"),
+        "{}",
+        stderr(&out)
+    );
+
+    std::fs::write(dir.join("model/cell.toml"), "name = ").unwrap();
+    let out = codegen_in(&["plant", "--project", &dir_arg, "--connect", &connect]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains(&format!("{}", dir.join("model/cell.toml").display())), "{}", stderr(&out));
+    std::fs::remove_dir_all(&temp).ok();
+}

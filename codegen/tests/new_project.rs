@@ -1,6 +1,6 @@
 //! A firmware project of the user's own: `codegen new DIR --board pico` with DIR outside the checkout,
-//! `cargo build --release` inside it (the tables emitted by its build script, codegen a
-//! build-dependency), the ELF run closed loop on the emulated RP2040 by `codegen run --elf`; then the
+//! built and run closed loop on the emulated RP2040 by `codegen run --project DIR` (`cargo build
+//! --release` inside it: the tables emitted by its build script, codegen a build-dependency); then the
 //! manifest edited (a specification dropped) and the project built again with no other step changes
 //! its tables and its image; and a broken model fails the build with the file named.
 //!
@@ -29,27 +29,29 @@ fn shared() -> (PathBuf, PathBuf) {
     (dir.join("target"), dir.join("cache"))
 }
 
-/// `codegen ARGS` in `dir`, with the shared cache.
-fn codegen(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_codegen"))
+/// `program ARGS` in `dir` as a user runs it in a shell (the cargo on `PATH`, none of the test's cargo
+/// settings), with the shared cache and target directory.
+fn user(program: &str, dir: &Path, args: &[&str]) -> Output {
+    Command::new(program)
         .args(args)
-        .current_dir(dir)
-        .env("SCT_CODEGEN_CACHE", shared().1)
-        .output()
-        .unwrap()
-}
-
-/// `cargo build --release` in the project `dir`, as a user runs it (the cargo on `PATH`).
-fn cargo_build(dir: &Path) -> Output {
-    Command::new("cargo")
-        .args(["build", "--release"])
         .current_dir(dir)
         .env_remove("CARGO")
         .env_remove("RUSTFLAGS")
         .env_remove("CARGO_BUILD_TARGET")
+        .env("SCT_CODEGEN_CACHE", shared().1)
         .env("CARGO_TARGET_DIR", shared().0)
         .output()
         .unwrap()
+}
+
+/// `codegen ARGS` in `dir`.
+fn codegen(dir: &Path, args: &[&str]) -> Output {
+    user(env!("CARGO_BIN_EXE_codegen"), dir, args)
+}
+
+/// `cargo build --release` in the project `dir`.
+fn cargo_build(dir: &Path) -> Output {
+    user("cargo", dir, &["build", "--release"])
 }
 
 /// The emitted tables of the newest build of package `name` (its build script's `OUT_DIR`).
@@ -77,9 +79,16 @@ fn a_new_pico_project_builds_outside_the_checkout_runs_closed_loop_and_follows_i
     let dir = temp.0.join("cell-pico");
     let out = codegen(&temp.0, &["new", "cell-pico", "--board", "pico"]);
     assert!(out.status.success(), "{}", text(&out));
-    for file in
-        ["Cargo.toml", "Cargo.lock", "memory.x", ".cargo/config.toml", "build.rs", "src/main.rs", "README.md"]
-    {
+    for file in [
+        "Cargo.toml",
+        "Cargo.lock",
+        "memory.x",
+        ".cargo/config.toml",
+        "build.rs",
+        "src/main.rs",
+        "src/board_app.rs",
+        "README.md",
+    ] {
         assert!(dir.join(file).is_file(), "{file} missing");
     }
     let config = std::fs::read_to_string(dir.join(".cargo/config.toml")).unwrap();
@@ -92,31 +101,18 @@ fn a_new_pico_project_builds_outside_the_checkout_runs_closed_loop_and_follows_i
         "a second new over it"
     );
 
-    let built = cargo_build(&dir);
-    assert!(built.status.success(), "{}", text(&built));
+    // Built by `codegen run --project` (cargo build --release in it), run on the emulated RP2040
+    // against the project's own manifest.
+    let ran = codegen(&temp.0, &["run", "--project", "cell-pico", "--events", "5000", "--json"]);
+    assert_eq!(ran.status.code(), Some(0), "{}", text(&ran));
+    let json: serde_json::Value = serde_json::from_slice(&ran.stdout).unwrap();
+    assert_eq!((json["target"].as_str(), json["name"].as_str()), (Some("rp2040"), Some("cell")), "{json}");
+    assert_eq!(json["violations"].as_u64(), Some(0), "{json}");
+    assert!(json["full_coverage_at"].is_u64(), "coverage not complete: {}", json["coverage"]);
     let target = shared().0;
     let elf = target.join("thumbv6m-none-eabi/release/cell-pico");
     let image = std::fs::read(&elf).unwrap();
     let before = tables(&target, "cell-pico");
-
-    let ran = codegen(
-        &dir,
-        &[
-            "run",
-            "--target",
-            "rp2040",
-            "--elf",
-            elf.to_str().unwrap(),
-            "model/cell.toml",
-            "--events",
-            "5000",
-            "--json",
-        ],
-    );
-    assert_eq!(ran.status.code(), Some(0), "{}", text(&ran));
-    let json: serde_json::Value = serde_json::from_slice(&ran.stdout).unwrap();
-    assert_eq!(json["violations"].as_u64(), Some(0), "{json}");
-    assert!(json["full_coverage_at"].is_u64(), "coverage not complete: {}", json["coverage"]);
 
     // Edit the manifest (E7 dropped), build again: new tables, new image, no other step.
     let manifest = dir.join("model/cell.toml");
@@ -198,7 +194,10 @@ fn check_expected(name: &str, measured: &[(&str, u64)]) {
 }
 
 /// The boards with no emulator here: `codegen new`'s name, the Rust target, probe-rs's chip.
-const OTHER_BOARDS: &[(&str, &str, &str)] = &[("nucleo-f401re", "thumbv7em-none-eabihf", "STM32F401RETx")];
+const OTHER_BOARDS: &[(&str, &str, &str)] = &[
+    ("nucleo-f401re", "thumbv7em-none-eabihf", "STM32F401RETx"),
+    ("nrf52840-dk", "thumbv7em-none-eabihf", "nRF52840_xxAA"),
+];
 
 /// The boards with no emulator here: each project is written from the starter manifest outside the
 /// checkout, builds for its target with the chip's probe-rs runner, and its flash and RAM stay within

@@ -10,6 +10,7 @@ use codegen::config::RuntimeConfig;
 use codegen::link::Endpoint;
 use codegen::monitor::{ChoiceModel, Report};
 use codegen::plant::PlantConfig;
+use codegen::project::user_project::UserProject;
 use codegen::project::Project;
 
 use super::Error;
@@ -17,13 +18,17 @@ use super::Error;
 /// Run the virtual plant against a running firmware: it answers the firmware's commands with the plant
 /// models' events, judges every event against plants ‖ supervisors and prints the closed-loop report.
 ///
-/// The firmware must run the tables of the same manifest (`codegen emit`). Exit status 1 when the run
-/// saw a safety violation.
+/// The firmware must run the tables of the same manifest (`codegen emit`, or a project of your own
+/// built from it: `--project DIR`). Exit status 1 when the run saw a safety violation.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The project manifest (plants, specifications or supervisors, `[runtime]`).
     #[arg(default_value = "examples/cell/cell.toml")]
     manifest: PathBuf,
+    /// A project of your own (`codegen new DIR --board B`) running on its board: the plant and the
+    /// monitor take DIR's manifest (`model/*.toml`), the one its tables were built from.
+    #[arg(long, value_name = "DIR", conflicts_with = "manifest")]
+    project: Option<PathBuf>,
     /// The firmware's link: unix:PATH (QEMU's UART socket), tcp:HOST:PORT or serial:DEVICE[@BAUD].
     #[arg(long, value_name = "ENDPOINT", env = "CODEGEN_CONNECT")]
     connect: Endpoint,
@@ -127,7 +132,11 @@ impl RunArgs {
 
 /// Runs `plant`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
-    let project = Project::load(&args.manifest)?;
+    let manifest = match &args.project {
+        Some(dir) => UserProject::open(dir)?.manifest,
+        None => args.manifest,
+    };
+    let project = Project::load(&manifest)?;
     let options = args.run.options(&project.runtime);
     let mut link = args.connect.connect().map_err(|e| format!("connecting to {:?}: {e}", args.connect))?;
     let mut progress = Progress::new(options.events);

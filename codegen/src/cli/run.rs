@@ -6,6 +6,8 @@ use std::process::ExitCode;
 
 use codegen::closed_loop::{run_on_rp2040, run_under_qemu};
 use codegen::config::{Layout, SamplingSpec};
+use codegen::project::new_project::Board;
+use codegen::project::user_project::UserProject;
 use codegen::project::Project;
 use codegen::target::rp2040::pin_map;
 
@@ -16,7 +18,8 @@ use super::Error;
 /// it, attach the virtual plant and run the closed loop; print the report (safety, liveness, coverage
 /// per supervisor, link). With `--target rp2040`, build the Pico firmware instead and run it on an
 /// emulated RP2040, the plant on its pins (`[board]`). Exit status 1 when the run saw a safety
-/// violation. With `--elf`, run that firmware (a project of your own) instead of building one.
+/// violation. With `--project DIR`, build and run a project of your own (`codegen new`) on its board's
+/// emulator; with `--elf`, run that firmware instead of building one.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The project manifest (plants, specifications or supervisors, `[runtime]`, `[board]`) or a
@@ -41,6 +44,11 @@ pub struct Args {
     /// `cargo build --release`), built from the same manifest.
     #[arg(long, value_name = "ELF")]
     elf: Option<PathBuf>,
+    /// Build and run a project of your own (`codegen new DIR --board B`): `cargo build --release` in
+    /// DIR, then its ELF on the board's emulator (the Pico's: an emulated RP2040), judged by DIR's
+    /// manifest (`model/*.toml`). A board with no emulator here is refused.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["manifest", "elf", "target"])]
+    project: Option<PathBuf>,
     /// Save the raw defmt frames the Pico firmware writes over RTT to FILE (`defmt-print -e ELF < FILE`).
     #[arg(long, value_name = "FILE")]
     rtt: Option<PathBuf>,
@@ -71,7 +79,25 @@ enum Sampling {
 }
 
 /// Runs `run`.
-pub fn run(args: Args) -> Result<ExitCode, Error> {
+pub fn run(mut args: Args) -> Result<ExitCode, Error> {
+    if let Some(dir) = args.project.take() {
+        let user = UserProject::open(&dir)?;
+        args.target = match user.board {
+            Board::Pico => Target::Rp2040,
+            other => {
+                return Err(format!(
+                    "{}: the project is for the {} board, which has no emulator here: build it \
+                     (`cargo build --release` in {0}) and flash it (`cargo run --release`, probe-rs)",
+                    dir.display(),
+                    other.name()
+                )
+                .into())
+            }
+        };
+        eprintln!("codegen run: building {} (cargo build --release in {})", user.name, dir.display());
+        args.elf = Some(user.build()?);
+        args.manifest = user.manifest;
+    }
     if args.manifest.as_os_str() == DEFAULT_MANIFEST && !args.manifest.exists() {
         return Err(format!(
             "no project named, and the default {DEFAULT_MANIFEST} is not here (it is in the repository's \

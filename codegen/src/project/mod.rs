@@ -13,6 +13,7 @@
 //! | firmware image | an ELF | [`Project::image`] (QEMU), [`Project::pico_image`] |
 //! | tables at build time | `$OUT_DIR/tables.rs` | [`build_script::main`] (a project's `build.rs`) |
 //! | a project of the user's own | a directory | [`new_project::new_project`] (`codegen new`) |
+//! | its ELF and manifest | [`user_project::UserProject`] | [`user_project::UserProject::open`], `build` (`run`/`plant --project`) |
 //!
 //! A [`Project`] carries a supervisor set with what the later stages need besides it: its name, the
 //! run-time configuration, the board's pin map and where it came from (the emitted header's inputs and
@@ -22,6 +23,7 @@ pub mod build_script;
 pub mod comparison;
 pub mod new_project;
 mod sources;
+pub mod user_project;
 
 pub use sources::{Loaded, Sources};
 

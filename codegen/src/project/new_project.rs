@@ -5,7 +5,8 @@
 //!
 //! Nothing is written twice: every piece comes from the sources this binary carries ([`crate::target::sources`],
 //! unpacked into the cache). The application is the cell's for the board (`apps/cell/src/bin/`), which
-//! reads its tables from `SCT_TABLES_FILE` as the build script sets it; the dependencies are those the
+//! reads its tables from `SCT_TABLES_FILE` as the build script sets it, with the module every board
+//! application shares beside it (`src/board_app.rs`); the dependencies are those the
 //! board's feature of `apps/cell/Cargo.toml` enables, at the same versions (the carried `Cargo.lock`
 //! comes along); the link flags and runner are the carried `.cargo/config.toml`'s for the board's
 //! target; the release profile is the workspace's. The runtime (`firmware`) and `codegen` are path
@@ -13,6 +14,8 @@
 //! the binary came from — and a newer `codegen` unpacks beside, never over, the sources a project uses.
 
 use std::path::{Component, Path, PathBuf};
+
+use clap::ValueEnum;
 
 use crate::target::sources::{self, SourcesError};
 
@@ -22,11 +25,15 @@ use super::{Project, ProjectError};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Board {
     /// Raspberry Pi Pico (RP2040, Cortex-M0+, thumbv6m-none-eabi; rp2040-hal). Runs on the RP2040
-    /// emulator here (`codegen run --target rp2040 --elf …`).
+    /// emulator here (`codegen run --project DIR`).
     Pico,
     /// ST Nucleo-F401RE (STM32F401RE, Cortex-M4F, thumbv7em-none-eabihf; stm32f4xx-hal's device crate).
     /// Built, not run: no emulator for it here.
     NucleoF401re,
+    /// Nordic nRF52840 DK (nRF52840, Cortex-M4F, thumbv7em-none-eabihf; nrf52840-hal). Built, not run:
+    /// no emulator for it here.
+    #[value(name = "nrf52840-dk")]
+    Nrf52840Dk,
 }
 
 /// What a board's project is made of, each named by where it lies in the carried sources.
@@ -60,6 +67,13 @@ impl Board {
                 main: "apps/cell/src/bin/cell_nucleo.rs",
                 memory: "apps/cell/boards/nucleo-f401re/memory.x",
             },
+            Board::Nrf52840Dk => Parts {
+                feature: "nrf52840",
+                target: "thumbv7em-none-eabihf",
+                chip: "nRF52840_xxAA",
+                main: "apps/cell/src/bin/cell_nrf52840.rs",
+                memory: "apps/cell/boards/nrf52840-dk/memory.x",
+            },
         }
     }
 
@@ -67,7 +81,21 @@ impl Board {
     pub fn target(self) -> &'static str {
         self.parts().target
     }
+
+    /// probe-rs's name of the board's chip (the runner's `--chip`).
+    pub fn chip(self) -> &'static str {
+        self.parts().chip
+    }
+
+    /// The board's name on the command line (`--board NAME`).
+    pub fn name(self) -> String {
+        self.to_possible_value().map(|v| v.get_name().to_owned()).unwrap_or_default()
+    }
 }
+
+/// What every board application shares (`apps/cell/src/bin/board_app.rs`): written beside `main.rs`,
+/// which declares it as `mod board_app;`.
+const BOARD_APP: &str = "apps/cell/src/bin/board_app.rs";
 
 /// The manifest of a project made without `--manifest`: the manufacturing cell, with its Pico pin map.
 pub const STARTER: &str = "examples/cell/cell.toml";
@@ -180,6 +208,7 @@ pub fn new_project(dir: &Path, board: Board, manifest: Option<&Path>) -> Result<
     write(".cargo/config.toml", &cargo_config(&parts, &carried)?)?;
     write("memory.x", &carried(parts.memory)?)?;
     write("src/main.rs", &carried(parts.main)?)?;
+    write("src/board_app.rs", &carried(BOARD_APP)?)?;
     write("build.rs", &build_rs(&manifest_rel))?;
     write("README.md", &readme(&name, &manifest_rel, board))?;
     write(".gitignore", "/target\n")?;
@@ -378,7 +407,8 @@ fn readme(name: &str, manifest: &str, board: Board) -> String {
          - Build: `cargo build --release` (the ELF is `target/{target}/release/{name}`). `build.rs` emits the\n  \
            tables from the manifest at build time: edit the manifest or a model file and build again.\n\
          - Flash and run, defmt logs on the terminal: `cargo run --release` (probe-rs, a debug probe on SWD).\n\
-         - Closed loop on the RP2040 emulator (Pico only): `codegen run --target rp2040 --elf target/{target}/release/{name} {manifest}`.\n\
+         - Closed loop on the emulated RP2040 (Pico only): `codegen run --project .` (builds, then runs the ELF against the manifest's plant).\n\
+         - The virtual plant of the manifest against a firmware that speaks codegen's link on a serial port: `codegen plant --project . --connect serial:DEVICE`.\n\
          - The pin map is the manifest's `[board]` section.\n"
     )
 }

@@ -43,7 +43,15 @@ pub enum ImageError {
     },
     /// Cargo succeeded but named no executable.
     #[error("cargo built no {0} executable")]
-    NoExecutable(&'static str),
+    NoExecutable(String),
+    /// `cargo build --release` in a project of the user's own failed (cargo's messages were shown).
+    #[error("{}: `cargo build --release` failed ({status}): its errors are above", dir.display())]
+    ProjectBuild {
+        /// The project's directory.
+        dir: PathBuf,
+        /// Cargo's exit status.
+        status: std::process::ExitStatus,
+    },
     /// The firmware's sources could not be unpacked.
     #[error(transparent)]
     Sources(#[from] SourcesError),
@@ -67,7 +75,7 @@ fn build_image(
     out: &Path,
     feature: &str,
     target: &str,
-    binary: &'static str,
+    binary: &str,
 ) -> Result<PathBuf, ImageError> {
     let io = |what: String| move |source| ImageError::Io { what, source };
     let tables = std::fs::canonicalize(tables).map_err(io(format!("tables {}", tables.display())))?;
@@ -104,12 +112,36 @@ fn build_image(
             stderr: String::from_utf8_lossy(&output.stderr).into_owned(),
         });
     }
-    let elf = String::from_utf8_lossy(&output.stdout)
+    let elf = executable(&output.stdout, binary)?;
+    std::fs::copy(&elf, out).map_err(io(format!("copying {} to {}", elf.display(), out.display())))?;
+    Ok(out.to_path_buf())
+}
+
+/// `cargo build --release` in `dir`, a firmware project of the user's own (`codegen new`), as the user
+/// runs it there: its own `.cargo/config.toml` (target, link flags) and target directory. Cargo's
+/// progress and messages go to stderr as they come (a first build takes minutes). Returns the ELF of
+/// the binary `binary`, where cargo wrote it.
+pub fn build_project(dir: &Path, binary: &str) -> Result<PathBuf, ImageError> {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let output = Command::new(cargo)
+        .current_dir(dir)
+        .args(["build", "--release", "--bin", binary, "--message-format=json-render-diagnostics"])
+        .stdin(Stdio::null())
+        .stderr(Stdio::inherit())
+        .output()
+        .map_err(|source| ImageError::Io { what: "running cargo".to_owned(), source })?;
+    if !output.status.success() {
+        return Err(ImageError::ProjectBuild { dir: dir.to_path_buf(), status: output.status });
+    }
+    executable(&output.stdout, binary)
+}
+
+/// The executable of `binary` among cargo's JSON messages `stdout`.
+fn executable(stdout: &[u8], binary: &str) -> Result<PathBuf, ImageError> {
+    String::from_utf8_lossy(stdout)
         .lines()
         .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
         .filter(|m| m["reason"] == "compiler-artifact" && m["target"]["name"] == binary)
         .find_map(|m| m["executable"].as_str().map(PathBuf::from))
-        .ok_or(ImageError::NoExecutable(binary))?;
-    std::fs::copy(&elf, out).map_err(io(format!("copying {} to {}", elf.display(), out.display())))?;
-    Ok(out.to_path_buf())
+        .ok_or_else(|| ImageError::NoExecutable(binary.to_owned()))
 }

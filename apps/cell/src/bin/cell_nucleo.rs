@@ -19,13 +19,12 @@ mod tables {
     include!(env!("SCT_TABLES_FILE"));
 }
 
+mod board_app;
+
 use core::convert::Infallible;
 
 use firmware::board::{Outputs, Pull};
-use firmware::event_loop::{Note, Port};
-use firmware::link::{Hold, SAFE};
 use firmware::rng::SeedEntropy;
-use firmware::status::Published;
 use stm32f4xx_hal::pac;
 
 /// The core clock as reset leaves it (HSI).
@@ -33,13 +32,6 @@ const CORE_HZ: u32 = 16_000_000;
 
 /// GPIO ports A to E.
 const PORTS: u8 = 5;
-
-/// Never set: the board has no host link to send HOLD.
-static HOLD: Hold = Hold::new();
-
-/// The runtime's counters after every turn of the loop, for a debugger (`firmware::status`).
-#[no_mangle]
-static SCT_STATUS: Published = Published::new();
 
 type Outs = Outputs<Gpio, { tables::OUTPUT_PINS.len() }>;
 
@@ -90,11 +82,6 @@ impl Gpio {
         // so no two `Gpio` share a line, and BSRR/IDR accesses touch this line only.
         unsafe { &*(at as *const pac::gpioa::RegisterBlock) }
     }
-
-    /// The pin's number as the manifest gives it.
-    fn num(&self) -> u8 {
-        self.port * 16 + self.line
-    }
 }
 
 impl embedded_hal::digital::ErrorType for Gpio {
@@ -125,48 +112,13 @@ impl embedded_hal::digital::InputPin for Gpio {
     }
 }
 
-/// Stops for good after a configuration error (logged); the outputs stay as they are.
-fn halt(why: &str) -> ! {
-    defmt::error!("halt: {=str}", why);
-    loop {
-        cortex_m::asm::wfi();
-    }
-}
-
-/// The outputs as the event loop's port: a fired event runs its actions; SAFE turns everything off.
-struct Driver<'a, L>(&'a mut L);
-
-impl<L: rtic::Mutex<T = Outs>> Port for Driver<'_, L> {
-    fn send(&mut self, byte: u8) {
-        let ok = self.0.lock(|o| if byte == SAFE { o.all_off() } else { o.fire(&tables::BOARD, byte) });
-        if ok.is_err() {
-            defmt::error!("output pin error");
-        }
-    }
-
-    fn note(&mut self, note: Note) {
-        match note {
-            Note::Unexpected { event, automaton } => {
-                defmt::warn!("unexpected event {=u8} in automaton {=u8}", event, automaton)
-            }
-            Note::Unknown(byte) => defmt::warn!("unknown event {=u8}", byte),
-            Note::Safe => defmt::error!("fault: safe state, outputs off, deciding stopped"),
-            Note::Redecided => defmt::debug!("guard: input arrived while choosing"),
-        }
-    }
-}
-
 #[rtic::app(device = stm32f4xx_hal::pac)]
 mod app {
-    use super::{halt, tables, Driver, Gpio, Outs, Rt, CORE_HZ, HOLD, SCT_STATUS};
-    use embedded_hal::digital::InputPin;
-    use firmware::board::{Outputs, Pull, Sampling};
-    use firmware::event_loop::{EventLoop, Poll};
+    use super::board_app::{self, halt, Driver, Sampler, TICK_US};
+    use super::{tables, Gpio, Outs, Rt, CORE_HZ};
+    use firmware::board::{Outputs, Pull};
     use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
     use firmware::rng::SeedEntropy;
-
-    /// The SysTick period: pulses are timed in it, inputs sampled every `period_us` of it.
-    const TICK_US: u32 = 1_000;
 
     #[shared]
     struct Shared {
@@ -179,9 +131,7 @@ mod app {
         producer: InputProducer<'static>,
         inputs: [Gpio; tables::INPUT_PINS.len()],
         runtime: Rt,
-        event_loop: EventLoop,
-        levels: u32,
-        ticks: u32,
+        sampler: Sampler,
     }
 
     #[init(local = [queue: InputQueue<{ tables::INPUT_SLOTS }> = InputQueue::new()])]
@@ -213,73 +163,24 @@ mod app {
             tables::Policy::default(),
             SeedEntropy::new(tables::SEED),
         );
-        let levels = sample(&mut inputs);
-        defmt::info!(
-            "{=str} on {=str}: {=usize} automata, {=usize} inputs, {=usize} outputs",
-            tables::NAME,
-            tables::BOARD.name,
-            tables::SET.automata.len(),
-            tables::BOARD.inputs.len(),
-            tables::BOARD.outputs.len()
-        );
-        (
-            Shared { outputs },
-            Local { consumer, producer, inputs, runtime, event_loop: EventLoop::new(), levels, ticks: 0 },
-        )
-    }
-
-    /// Bit `n` set when pin `n` of the inputs reads high.
-    fn sample(inputs: &mut [Gpio]) -> u32 {
-        let mut levels = 0;
-        for p in inputs {
-            if p.is_high().unwrap_or(false) {
-                levels |= 1u32.checked_shl(u32::from(p.num())).unwrap_or(0);
-            }
-        }
-        levels
-    }
-
-    /// Queues `event`; counts it as an overflow when the buffer is full (never silent).
-    fn push(q: &mut InputProducer<'static>, event: u8) {
-        if q.push(event).is_err() {
-            q.count_overflow();
-        }
+        // No EXTI edge interrupts: the tick samples in interrupt mode too, every tick.
+        let sampler = Sampler::new(board_app::levels(&mut inputs), false);
+        board_app::announce(tables::SET.automata.len());
+        (Shared { outputs }, Local { consumer, producer, inputs, runtime, sampler })
     }
 
     /// The 1 ms tick: ends pulses; samples the inputs every period (every tick in interrupt mode).
-    #[task(binds = SysTick, shared = [outputs], local = [producer, inputs, levels, ticks])]
+    #[task(binds = SysTick, shared = [outputs], local = [producer, inputs, sampler])]
     fn tick(mut cx: tick::Context) {
-        if cx.shared.outputs.lock(|o| o.tick_ms()).is_err() {
-            defmt::error!("output pin error");
-        }
-        let period = match tables::BOARD.sampling {
-            Sampling::Timer { period_us } => (period_us / TICK_US).max(1),
-            Sampling::Interrupt => 1,
-        };
-        *cx.local.ticks += 1;
-        if *cx.local.ticks >= period {
-            *cx.local.ticks = 0;
-            let now = sample(cx.local.inputs);
-            let before = core::mem::replace(cx.local.levels, now);
-            let q = cx.local.producer;
-            tables::BOARD.changes(before, now, |e| push(q, e));
+        board_app::tick_outputs(&mut cx.shared.outputs);
+        if cx.local.sampler.due() {
+            cx.local.sampler.update(board_app::levels(cx.local.inputs), cx.local.producer);
         }
     }
 
     /// The decision loop; sleeps in `wfi` while there is nothing to do.
-    #[idle(shared = [outputs], local = [consumer, runtime, event_loop])]
+    #[idle(shared = [outputs], local = [consumer, runtime])]
     fn idle(mut cx: idle::Context) -> ! {
-        let (rx, rt, event_loop) = (cx.local.consumer, cx.local.runtime, cx.local.event_loop);
-        loop {
-            let poll = event_loop.turn(rt, rx, &HOLD, &mut Driver(&mut cx.shared.outputs));
-            SCT_STATUS.store(&rt.counters().to_array(), rt.is_safe());
-            if poll != Poll::Busy {
-                cortex_m::interrupt::free(|_| {
-                    if poll.may_sleep(rx, &HOLD) {
-                        cortex_m::asm::wfi();
-                    }
-                });
-            }
-        }
+        board_app::decide(cx.local.runtime, cx.local.consumer, &mut Driver(&mut cx.shared.outputs), || ())
     }
 }

@@ -18,13 +18,13 @@ mod tables {
     include!(env!("SCT_TABLES_FILE"));
 }
 
+mod board_app;
+
 use core::sync::atomic::{AtomicU32, Ordering};
 
+use board_app::halt;
 use firmware::board::Outputs;
-use firmware::event_loop::{Note, Port};
-use firmware::link::{Hold, SAFE};
 use firmware::rng::Entropy;
-use firmware::status::Published;
 use rp2040_hal::gpio::{new_pin, DynBankId, DynPinId, DynPullType, FunctionSioInput, FunctionSioOutput, Pin};
 use rp2040_hal::pac;
 
@@ -35,14 +35,6 @@ static BOOT2: [u8; 256] = rp2040_boot2::BOOT_LOADER_W25Q080;
 
 /// The Pico's crystal.
 const XOSC_HZ: u32 = 12_000_000;
-
-/// Never set: the board has no host link to send HOLD.
-static HOLD: Hold = Hold::new();
-
-/// The runtime's counters after every turn of the loop, for an emulator harness or a debugger
-/// (`firmware::status`; `harness/rp2040/` reads it by this name).
-#[no_mangle]
-static SCT_STATUS: Published = Published::new();
 
 type InPin = Pin<DynPinId, FunctionSioInput, DynPullType>;
 type OutPin = Pin<DynPinId, FunctionSioOutput, DynPullType>;
@@ -87,14 +79,6 @@ impl Entropy for Rosc {
     }
 }
 
-/// Stops for good after a configuration error (logged); the outputs stay as reset left them (low).
-fn halt(why: &str) -> ! {
-    defmt::error!("halt: {=str}", why);
-    loop {
-        cortex_m::asm::wfi();
-    }
-}
-
 /// GPIO `num` of bank 0 with function `F`.
 fn pin<F: rp2040_hal::gpio::Function>(num: u8) -> Pin<DynPinId, F, DynPullType> {
     // SAFETY: `codegen emit` writes each GPIO once, either in INPUT_PINS or in OUTPUT_PINS, and this
@@ -103,44 +87,17 @@ fn pin<F: rp2040_hal::gpio::Function>(num: u8) -> Pin<DynPinId, F, DynPullType> 
     p.into_pull_type::<DynPullType>().try_into_function::<F>().unwrap_or_else(|_| halt("pin function"))
 }
 
-/// The outputs as the event loop's port: a fired event runs its actions; SAFE turns everything off.
-struct Driver<'a, L>(&'a mut L);
-
-impl<L: rtic::Mutex<T = Outs>> Port for Driver<'_, L> {
-    fn send(&mut self, byte: u8) {
-        let ok = self.0.lock(|o| if byte == SAFE { o.all_off() } else { o.fire(&tables::BOARD, byte) });
-        if ok.is_err() {
-            defmt::error!("output pin error");
-        }
-    }
-
-    fn note(&mut self, note: Note) {
-        match note {
-            Note::Unexpected { event, automaton } => {
-                defmt::warn!("unexpected event {=u8} in automaton {=u8}", event, automaton)
-            }
-            Note::Unknown(byte) => defmt::warn!("unknown event {=u8}", byte),
-            Note::Safe => defmt::error!("fault: safe state, outputs off, deciding stopped"),
-            Note::Redecided => defmt::debug!("guard: input arrived while choosing"),
-        }
-    }
-}
-
 #[rtic::app(device = rp2040_hal::pac)]
 mod app {
-    use super::{halt, pin, tables, Driver, InPin, Outs, Rosc, Rt, HOLD, SCT_STATUS, XOSC_HZ};
-    use embedded_hal::digital::InputPin;
+    use super::board_app::{self, halt, Driver, Sampler, TICK_US};
+    use super::{pin, tables, InPin, Outs, Rosc, Rt, XOSC_HZ};
     use firmware::board::{Edge, Outputs, Pull, Sampling};
-    use firmware::event_loop::{EventLoop, Poll};
     use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
     use rp2040_hal::clocks::init_clocks_and_plls;
     use rp2040_hal::fugit::MicrosDurationU32;
     use rp2040_hal::gpio::{DynPullType, FunctionSioInput, FunctionSioOutput, Interrupt};
     use rp2040_hal::timer::{Alarm, Alarm0, Timer};
     use rp2040_hal::{Sio, Watchdog};
-
-    /// The timer tick: pulses are timed in it, sampling happens every `sample_ticks` of it.
-    const TICK_US: u32 = 1_000;
 
     #[shared]
     struct Shared {
@@ -153,10 +110,8 @@ mod app {
     struct Local {
         consumer: InputConsumer<'static>,
         runtime: Rt,
-        event_loop: EventLoop,
         alarm: Alarm0,
-        levels: u32,
-        ticks: u32,
+        sampler: Sampler,
     }
 
     #[init(local = [queue: InputQueue<{ tables::INPUT_SLOTS }> = InputQueue::new()])]
@@ -213,37 +168,10 @@ mod app {
         // The tables were checked when they were compiled (`tables::m0plus::CHECKED`).
         let runtime =
             Rt::new(tables::m0plus::CHECKED, tables::CONFIG, tables::Policy::default(), Rosc::new());
-        let levels = sample(&mut inputs);
-        defmt::info!(
-            "{=str} on {=str}: {=usize} automata, {=usize} inputs, {=usize} outputs",
-            tables::NAME,
-            tables::BOARD.name,
-            tables::m0plus::SET.automata.len(),
-            tables::BOARD.inputs.len(),
-            tables::BOARD.outputs.len()
-        );
-        (
-            Shared { producer, outputs, inputs },
-            Local { consumer, runtime, event_loop: EventLoop::new(), alarm, levels, ticks: 0 },
-        )
-    }
-
-    /// Bit `n` set when GPIO `n` of the inputs reads high.
-    fn sample(inputs: &mut [InPin]) -> u32 {
-        let mut levels = 0;
-        for p in inputs {
-            if p.is_high().unwrap_or(false) {
-                levels |= 1u32.checked_shl(u32::from(p.id().num)).unwrap_or(0);
-            }
-        }
-        levels
-    }
-
-    /// Queues `event`; counts it as an overflow when the buffer is full (never silent).
-    fn push(q: &mut InputProducer<'static>, event: u8) {
-        if q.push(event).is_err() {
-            q.count_overflow();
-        }
+        // Edges come by GPIO interrupt in interrupt mode: the tick samples in timer mode only.
+        let sampler = Sampler::new(board_app::levels(&mut inputs), true);
+        board_app::announce(tables::m0plus::SET.automata.len());
+        (Shared { producer, outputs, inputs }, Local { consumer, runtime, alarm, sampler })
     }
 
     /// Edge interrupts: every configured edge of every input pin becomes its event.
@@ -254,7 +182,7 @@ mod app {
                 for (kind, rising) in [(Interrupt::EdgeHigh, true), (Interrupt::EdgeLow, false)] {
                     if p.interrupt_status(kind) {
                         p.clear_interrupt(kind);
-                        tables::BOARD.edge(p.id().num, rising, |e| push(q, e));
+                        tables::BOARD.edge(p.id().num, rising, |e| board_app::push(q, e));
                     }
                 }
             }
@@ -262,42 +190,29 @@ mod app {
     }
 
     /// The 1 ms tick: ends pulses; in sampling mode, samples the inputs every period.
-    #[task(binds = TIMER_IRQ_0, shared = [producer, outputs, inputs], local = [alarm, levels, ticks])]
+    #[task(binds = TIMER_IRQ_0, shared = [producer, outputs, inputs], local = [alarm, sampler])]
     fn tick(mut cx: tick::Context) {
         let alarm = cx.local.alarm;
         alarm.clear_interrupt();
         if alarm.schedule(MicrosDurationU32::micros(TICK_US)).is_err() {
             defmt::error!("alarm schedule");
         }
-        if cx.shared.outputs.lock(|o| o.tick_ms()).is_err() {
-            defmt::error!("output pin error");
-        }
-        if let Sampling::Timer { period_us } = tables::BOARD.sampling {
-            *cx.local.ticks += 1;
-            if *cx.local.ticks >= (period_us / TICK_US).max(1) {
-                *cx.local.ticks = 0;
-                let now = cx.shared.inputs.lock(|inputs| sample(inputs));
-                let before = core::mem::replace(cx.local.levels, now);
-                cx.shared.producer.lock(|q| tables::BOARD.changes(before, now, |e| push(q, e)));
-            }
+        board_app::tick_outputs(&mut cx.shared.outputs);
+        let sampler = cx.local.sampler;
+        if sampler.due() {
+            let now = cx.shared.inputs.lock(|inputs| board_app::levels(inputs));
+            cx.shared.producer.lock(|q| sampler.update(now, q));
         }
     }
 
-    /// The decision loop; sleeps in `wfi` while there is nothing to do, after gathering one random bit.
-    #[idle(shared = [outputs], local = [consumer, runtime, event_loop])]
+    /// The decision loop; gathers one random bit whenever it is about to sleep.
+    #[idle(shared = [outputs], local = [consumer, runtime])]
     fn idle(mut cx: idle::Context) -> ! {
-        let (rx, rt, event_loop) = (cx.local.consumer, cx.local.runtime, cx.local.event_loop);
-        loop {
-            let poll = event_loop.turn(rt, rx, &HOLD, &mut Driver(&mut cx.shared.outputs));
-            SCT_STATUS.store(&rt.counters().to_array(), rt.is_safe());
-            if poll != Poll::Busy {
-                Rosc::sample();
-                cortex_m::interrupt::free(|_| {
-                    if poll.may_sleep(rx, &HOLD) {
-                        cortex_m::asm::wfi();
-                    }
-                });
-            }
-        }
+        board_app::decide(
+            cx.local.runtime,
+            cx.local.consumer,
+            &mut Driver(&mut cx.shared.outputs),
+            Rosc::sample,
+        )
     }
 }

@@ -1,0 +1,176 @@
+//! What every board application shares (the Pico's, the Nucleo's, the nRF52840 DK's): the runtime's
+//! published status, the outputs as the event loop's port, input sampling on a tick, the decision loop.
+//! Each application (`cell_<board>.rs`, a `codegen new` project's `src/main.rs`) declares it as
+//! `mod board_app;` beside its own `mod tables` and keeps only its board's wiring: clocks, pins, timer.
+//!
+//! It is a module of the application, not of the `firmware` library, because it ties the runtime to
+//! what only an application has: the emitted tables (`crate::tables`), RTIC's resource locks, defmt's
+//! transport and the core's `wfi`. `codegen new` writes it beside `main.rs` (`src/board_app.rs`).
+
+use embedded_hal::digital::{InputPin, OutputPin};
+use firmware::board::{Outputs, Sampling};
+use firmware::choice::Choose;
+use firmware::event_loop::{EventLoop, Note, Poll, Port};
+use firmware::input_queue::{InputConsumer, InputProducer};
+use firmware::link::{Hold, SAFE};
+use firmware::rng::Entropy;
+use firmware::runtime::Runtime;
+use firmware::status::Published;
+
+use crate::tables;
+
+/// Never set: a board has no host link to send HOLD.
+pub static HOLD: Hold = Hold::new();
+
+/// The runtime's counters after every turn of the loop, for an emulator harness or a debugger
+/// (`firmware::status`; `harness/rp2040/` reads it by this name).
+#[no_mangle]
+pub static SCT_STATUS: Published = Published::new();
+
+/// The timer tick every board application runs on: pulses are timed in it, inputs sampled in it.
+pub const TICK_US: u32 = 1_000;
+
+/// Stops for good after a configuration error (logged); the outputs stay as they are.
+pub fn halt(why: &str) -> ! {
+    defmt::error!("halt: {=str}", why);
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
+
+/// Logs what runs where, once at boot: the set's name, the board's, the number of automata and pins.
+pub fn announce(automata: usize) {
+    defmt::info!(
+        "{=str} on {=str}: {=usize} automata, {=usize} inputs, {=usize} outputs",
+        tables::NAME,
+        tables::BOARD.name,
+        automata,
+        tables::BOARD.inputs.len(),
+        tables::BOARD.outputs.len()
+    );
+}
+
+/// The outputs, behind the RTIC lock `L`, as the event loop's port: a fired event runs its actions;
+/// SAFE turns everything off.
+pub struct Driver<'a, L>(pub &'a mut L);
+
+impl<P: OutputPin, const K: usize, L: rtic::Mutex<T = Outputs<P, K>>> Port for Driver<'_, L> {
+    fn send(&mut self, byte: u8) {
+        let ok = self.0.lock(|o| if byte == SAFE { o.all_off() } else { o.fire(&tables::BOARD, byte) });
+        if ok.is_err() {
+            defmt::error!("output pin error");
+        }
+    }
+
+    fn note(&mut self, note: Note) {
+        match note {
+            Note::Unexpected { event, automaton } => {
+                defmt::warn!("unexpected event {=u8} in automaton {=u8}", event, automaton)
+            }
+            Note::Unknown(byte) => defmt::warn!("unknown event {=u8}", byte),
+            Note::Safe => defmt::error!("fault: safe state, outputs off, deciding stopped"),
+            Note::Redecided => defmt::debug!("guard: input arrived while choosing"),
+        }
+    }
+}
+
+/// The input pins' levels: bit `n` set when GPIO `n` (the manifest's number) reads high. `inputs` are
+/// the pins of `tables::INPUT_PINS`, in its order.
+pub fn levels<P: InputPin>(inputs: &mut [P]) -> u32 {
+    let mut levels = 0;
+    for (p, num) in inputs.iter_mut().zip(tables::INPUT_PINS) {
+        if p.is_high().unwrap_or(false) {
+            levels |= 1u32.checked_shl(u32::from(num)).unwrap_or(0);
+        }
+    }
+    levels
+}
+
+/// Queues `event`; counts it as an overflow when the buffer is full (never silent).
+pub fn push(q: &mut InputProducer<'static>, event: u8) {
+    if q.push(event).is_err() {
+        q.count_overflow();
+    }
+}
+
+/// Input sampling on the [`TICK_US`] tick: every `[board] sampling` period, the new levels are compared
+/// with the last ones and every change is queued as its event ([`firmware::board::Board::changes`]).
+pub struct Sampler {
+    /// The levels last read.
+    levels: u32,
+    /// Ticks since the last sample.
+    ticks: u32,
+    /// Ticks between samples; 0: never (the board's edge interrupts queue the events).
+    every: u32,
+}
+
+impl Sampler {
+    /// A sampler starting from `levels`. In interrupt mode a board with `edge_interrupts` never samples;
+    /// one without samples every tick.
+    pub fn new(levels: u32, edge_interrupts: bool) -> Self {
+        let every = match tables::BOARD.sampling {
+            Sampling::Timer { period_us } => (period_us / TICK_US).max(1),
+            Sampling::Interrupt if edge_interrupts => 0,
+            Sampling::Interrupt => 1,
+        };
+        Sampler { levels, ticks: 0, every }
+    }
+
+    /// One tick passed: whether a sample is due now ([`Sampler::update`] it then).
+    pub fn due(&mut self) -> bool {
+        if self.every == 0 {
+            return false;
+        }
+        self.ticks += 1;
+        if self.ticks < self.every {
+            return false;
+        }
+        self.ticks = 0;
+        true
+    }
+
+    /// Takes the levels `now`, queueing the events of the changes since the last sample.
+    pub fn update(&mut self, now: u32, q: &mut InputProducer<'static>) {
+        let before = core::mem::replace(&mut self.levels, now);
+        tables::BOARD.changes(before, now, |e| push(q, e));
+    }
+}
+
+/// One millisecond passed for the outputs behind `outputs`: ends the pulses that are due.
+pub fn tick_outputs<P: OutputPin, const K: usize>(outputs: &mut impl rtic::Mutex<T = Outputs<P, K>>) {
+    if outputs.lock(|o| o.tick_ms()).is_err() {
+        defmt::error!("output pin error");
+    }
+}
+
+/// The decision loop of `idle`: drains the inputs into the runtime, decides, drives the outputs behind
+/// `outputs`, publishes the counters ([`SCT_STATUS`]); when there is nothing to do, calls `on_idle` and
+/// sleeps in `wfi` unless an input came in meanwhile.
+pub fn decide<
+    P: Choose<W>,
+    E: Entropy,
+    const W: usize,
+    const N: usize,
+    const WIDE: bool,
+    const MASK: usize,
+    const LAYOUT: u8,
+>(
+    rt: &mut Runtime<'_, P, E, W, N, WIDE, MASK, LAYOUT>,
+    rx: &mut InputConsumer<'static>,
+    outputs: &mut impl Port,
+    mut on_idle: impl FnMut(),
+) -> ! {
+    let mut event_loop = EventLoop::new();
+    loop {
+        let poll = event_loop.turn(rt, rx, &HOLD, outputs);
+        SCT_STATUS.store(&rt.counters().to_array(), rt.is_safe());
+        if poll != Poll::Busy {
+            on_idle();
+            cortex_m::interrupt::free(|_| {
+                if poll.may_sleep(rx, &HOLD) {
+                    cortex_m::asm::wfi();
+                }
+            });
+        }
+    }
+}
