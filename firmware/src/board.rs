@@ -110,11 +110,12 @@ pub struct Board<'t> {
 
 impl Board<'_> {
     /// Sampling mode: the events of every input whose pin changed from `before` to `now` (bit `n` = level
-    /// of GPIO `n`) in its edge's direction, in input order.
-    pub fn changes(&self, before: u32, now: u32, mut emit: impl FnMut(u8)) {
+    /// of GPIO `n`, 0 to 63: a chip with two ports of 32, the nRF52840's, numbers them all) in its edge's
+    /// direction, in input order.
+    pub fn changes(&self, before: u64, now: u64, mut emit: impl FnMut(u8)) {
         let (rose, fell) = (!before & now, before & !now);
         for i in self.inputs {
-            let bit = 1u32.checked_shl(u32::from(i.pin)).unwrap_or(0);
+            let bit = 1u64.checked_shl(u32::from(i.pin)).unwrap_or(0);
             let hit = match i.edge {
                 Edge::Rising => rose & bit,
                 Edge::Falling => fell & bit,
@@ -272,6 +273,10 @@ mod tests {
         assert_eq!(events(|e| BOARD.changes(0, 0b10010, e)), [10, 12]);
         assert_eq!(events(|e| BOARD.changes(0b10010, 0, e)), [11, 12]);
         assert_eq!(events(|e| BOARD.changes(0b10010, 0b10010, e)), []);
+        static HIGH: [Input; 1] = [Input { pin: 45, edge: Edge::Rising, pull: Pull::Up, event: 13 }];
+        let high = Board { inputs: &HIGH, ..BOARD };
+        assert_eq!(events(|e| high.changes(0, 1 << 45, e)), [13], "a pin past 31 (P1.13 on an nRF52840)");
+        assert_eq!(events(|e| high.changes(0, 1 << 13, e)), []);
         assert_eq!(events(|e| BOARD.edge(1, true, e)), [10]);
         assert_eq!(events(|e| BOARD.edge(1, false, e)), [11]);
         assert_eq!(events(|e| BOARD.edge(4, false, e)), [12]);

@@ -9,8 +9,9 @@ use crate::config::{BoardSpec, SamplingSpec};
 use crate::model::suggest::did_you_mean;
 use crate::pack::ranked::Packed;
 
-/// Highest GPIO number a board table may name (one bit per pin in a `u32` sample).
-pub const MAX_PIN: u8 = 31;
+/// Highest GPIO number a board table may name (one bit per pin in a `u64` sample: two ports of 32, as
+/// the nRF52840 numbers P1.n as 32 + n).
+pub const MAX_PIN: u8 = 63;
 
 /// A `[board]` section that does not fit the set.
 #[derive(Debug, thiserror::Error, PartialEq, Eq)]
@@ -222,7 +223,7 @@ mod tests {
                 OK.replace("event = \"done\"", "event = \"go\""),
                 BoardError::WrongKind { event: "go".into(), what: "controllable: it cannot be an input" },
             ),
-            (OK.replace("pin = 3", "pin = 40"), BoardError::Pin(40)),
+            (OK.replace("pin = 3", "pin = 64"), BoardError::Pin(64)),
             (OK.replace("pin = 3", "pin = 5"), BoardError::PinConflict(5)),
         ];
         for (text, err) in cases {

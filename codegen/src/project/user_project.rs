@@ -170,7 +170,9 @@ mod tests {
     fn what_codegen_new_would_not_write_is_refused_naming_the_file() {
         let nucleo = config("thumbv7em-none-eabihf", "STM32F401RETx");
         let unknown = config("thumbv7em-none-eabihf", "nRF52832_xxAA");
-        let cases: [(&str, Vec<(&str, &str)>, &str); 4] = [
+        /// A directory's tag, its files (path, text), a word its error must hold.
+        type Case<'a> = (&'a str, Vec<(&'a str, &'a str)>, &'a str);
+        let cases: [Case; 4] = [
             ("no-cargo", vec![], "Cargo.toml"),
             ("chip", vec![("Cargo.toml", CARGO), (".cargo/config.toml", &unknown)], ".cargo/config.toml"),
             (

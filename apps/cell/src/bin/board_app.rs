@@ -50,6 +50,18 @@ pub fn announce(automata: usize) {
     );
 }
 
+/// The output pins `pins` (those of `tables::OUTPUT_PINS`, in its order) as the outputs the tables
+/// drive, every one low; halts when a pin cannot be driven.
+pub fn outputs<P: OutputPin>(
+    pins: [P; tables::OUTPUT_PINS.len()],
+) -> Outputs<P, { tables::OUTPUT_PINS.len() }> {
+    let mut outputs = Outputs::new(pins, tables::OUTPUT_PINS);
+    if outputs.all_off().is_err() {
+        halt("output pins");
+    }
+    outputs
+}
+
 /// The outputs, behind the RTIC lock `L`, as the event loop's port: a fired event runs its actions;
 /// SAFE turns everything off.
 pub struct Driver<'a, L>(pub &'a mut L);
@@ -76,11 +88,11 @@ impl<P: OutputPin, const K: usize, L: rtic::Mutex<T = Outputs<P, K>>> Port for D
 
 /// The input pins' levels: bit `n` set when GPIO `n` (the manifest's number) reads high. `inputs` are
 /// the pins of `tables::INPUT_PINS`, in its order.
-pub fn levels<P: InputPin>(inputs: &mut [P]) -> u32 {
+pub fn levels<P: InputPin>(inputs: &mut [P]) -> u64 {
     let mut levels = 0;
     for (p, num) in inputs.iter_mut().zip(tables::INPUT_PINS) {
         if p.is_high().unwrap_or(false) {
-            levels |= 1u32.checked_shl(u32::from(num)).unwrap_or(0);
+            levels |= 1u64.checked_shl(u32::from(num)).unwrap_or(0);
         }
     }
     levels
@@ -97,7 +109,7 @@ pub fn push(q: &mut InputProducer<'static>, event: u8) {
 /// with the last ones and every change is queued as its event ([`firmware::board::Board::changes`]).
 pub struct Sampler {
     /// The levels last read.
-    levels: u32,
+    levels: u64,
     /// Ticks since the last sample.
     ticks: u32,
     /// Ticks between samples; 0: never (the board's edge interrupts queue the events).
@@ -107,7 +119,7 @@ pub struct Sampler {
 impl Sampler {
     /// A sampler starting from `levels`. In interrupt mode a board with `edge_interrupts` never samples;
     /// one without samples every tick.
-    pub fn new(levels: u32, edge_interrupts: bool) -> Self {
+    pub fn new(levels: u64, edge_interrupts: bool) -> Self {
         let every = match tables::BOARD.sampling {
             Sampling::Timer { period_us } => (period_us / TICK_US).max(1),
             Sampling::Interrupt if edge_interrupts => 0,
@@ -130,7 +142,7 @@ impl Sampler {
     }
 
     /// Takes the levels `now`, queueing the events of the changes since the last sample.
-    pub fn update(&mut self, now: u32, q: &mut InputProducer<'static>) {
+    pub fn update(&mut self, now: u64, q: &mut InputProducer<'static>) {
         let before = core::mem::replace(&mut self.levels, now);
         tables::BOARD.changes(before, now, |e| push(q, e));
     }

@@ -5,9 +5,9 @@
 //! `cargo run --release` in a `codegen new --board nrf52840-dk` project (probe-rs, the on-board J-Link).
 //!
 //! Pins are numbered as the manifest's `[board]` numbers them, which is the chip's PSEL numbering: P0.n
-//! is `n`, P1.n is `32 + n` (the pin map reaches GPIO 31, so P0 today). The core runs on the 64 MHz
-//! internal oscillator as reset leaves it. Tables: `SCT_TABLES_FILE` (see `build.rs`). Randomness: the
-//! manifest's seed.
+//! is `n`, P1.n is `32 + n` (the DK's buttons are 11, 12, 24, 25, its LEDs 13 to 16). The core runs on
+//! the 64 MHz internal oscillator as reset leaves it. Tables: `SCT_TABLES_FILE` (see `build.rs`).
+//! Randomness: the manifest's seed.
 #![no_std]
 #![no_main]
 
@@ -93,7 +93,7 @@ impl InputPin for InPin {
 mod app {
     use super::board_app::{self, halt, Driver, Sampler, TICK_US};
     use super::{pin, tables, InPin, Outs, Rt, CORE_HZ};
-    use firmware::board::{Outputs, Pull};
+    use firmware::board::Pull;
     use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
     use firmware::rng::SeedEntropy;
     use nrf52840_hal::gpio::Level;
@@ -122,10 +122,7 @@ mod app {
             let p = pin(n).unwrap_or_else(|| halt("output pin past P1.15"));
             p.into_push_pull_output(Level::Low)
         });
-        let mut outputs = Outputs::new(out_pins, tables::OUTPUT_PINS);
-        if outputs.all_off().is_err() {
-            halt("output pins");
-        }
+        let outputs = board_app::outputs(out_pins);
         let mut syst = cx.core.SYST;
         syst.set_clock_source(cortex_m::peripheral::syst::SystClkSource::Core);
         syst.set_reload(CORE_HZ / 1_000_000 * TICK_US - 1);

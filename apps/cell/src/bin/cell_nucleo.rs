@@ -116,7 +116,7 @@ impl embedded_hal::digital::InputPin for Gpio {
 mod app {
     use super::board_app::{self, halt, Driver, Sampler, TICK_US};
     use super::{tables, Gpio, Outs, Rt, CORE_HZ};
-    use firmware::board::{Outputs, Pull};
+    use firmware::board::Pull;
     use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
     use firmware::rng::SeedEntropy;
 
@@ -144,10 +144,7 @@ mod app {
         });
         let out_pins = tables::OUTPUT_PINS
             .map(|n| Gpio::new(n, true, Pull::Floating).unwrap_or_else(|| halt("output pin past port E")));
-        let mut outputs = Outputs::new(out_pins, tables::OUTPUT_PINS);
-        if outputs.all_off().is_err() {
-            halt("output pins");
-        }
+        let outputs = board_app::outputs(out_pins);
         let mut syst = cx.core.SYST;
         syst.set_clock_source(cortex_m::peripheral::syst::SystClkSource::Core);
         syst.set_reload(CORE_HZ / 1_000_000 * TICK_US - 1);

@@ -91,7 +91,7 @@ fn pin<F: rp2040_hal::gpio::Function>(num: u8) -> Pin<DynPinId, F, DynPullType> 
 mod app {
     use super::board_app::{self, halt, Driver, Sampler, TICK_US};
     use super::{pin, tables, InPin, Outs, Rosc, Rt, XOSC_HZ};
-    use firmware::board::{Edge, Outputs, Pull, Sampling};
+    use firmware::board::{Edge, Pull, Sampling};
     use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
     use rp2040_hal::clocks::init_clocks_and_plls;
     use rp2040_hal::fugit::MicrosDurationU32;
@@ -153,10 +153,7 @@ mod app {
             }
         }
         let out_pins = tables::OUTPUT_PINS.map(pin::<FunctionSioOutput>);
-        let mut outputs = Outputs::new(out_pins, tables::OUTPUT_PINS);
-        if outputs.all_off().is_err() {
-            halt("output pins");
-        }
+        let outputs = board_app::outputs(out_pins);
         let mut timer = Timer::new(pac.TIMER, &mut pac.RESETS, &clocks);
         let Some(mut alarm) = timer.alarm_0() else { halt("alarm 0") };
         if alarm.schedule(MicrosDurationU32::micros(TICK_US)).is_err() {
