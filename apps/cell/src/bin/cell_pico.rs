@@ -79,10 +79,16 @@ impl Entropy for Rosc {
     }
 }
 
-/// GPIO `num` of bank 0 with function `F`.
+/// The last GPIO of bank 0.
+const LAST_GPIO: u8 = 29;
+
+/// GPIO `num` of bank 0 with function `F`; halts past GPIO 29 (the pin map numbers up to 63).
 fn pin<F: rp2040_hal::gpio::Function>(num: u8) -> Pin<DynPinId, F, DynPullType> {
-    // SAFETY: `codegen emit` writes each GPIO once, either in INPUT_PINS or in OUTPUT_PINS, and this
-    // firmware takes no other pin, so no second instance of this pin exists.
+    if num > LAST_GPIO {
+        halt("pin past GPIO 29");
+    }
+    // SAFETY: `num` is a GPIO of bank 0; `codegen emit` writes each GPIO once, either in INPUT_PINS or
+    // in OUTPUT_PINS, and this firmware takes no other pin, so no second instance of this pin exists.
     let p = unsafe { new_pin(DynPinId { bank: DynBankId::Bank0, num }) };
     p.into_pull_type::<DynPullType>().try_into_function::<F>().unwrap_or_else(|_| halt("pin function"))
 }

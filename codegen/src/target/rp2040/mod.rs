@@ -85,7 +85,13 @@ pub enum PinMapError {
         /// `input pin` or `output pin`.
         pin: &'static str,
     },
+    /// A pin the RP2040 does not have (its GPIOs are 0 to [`LAST_GPIO`]).
+    #[error("board: pin {0}: the RP2040 has GPIO 0 to {LAST_GPIO}")]
+    NoSuchPin(u8),
 }
+
+/// The RP2040's last GPIO of bank 0.
+pub const LAST_GPIO: u8 = 29;
 
 /// The harness could not be run, or its figures not read.
 #[derive(Debug, thiserror::Error)]
@@ -150,6 +156,10 @@ pub enum HarnessError {
 /// output pin, or the closed loop could not carry it.
 pub fn pin_map(board: &BoardSpec, events: &EventTable) -> Result<String, PinMapError> {
     let id = |name: &str| events.id(name).ok_or_else(|| PinMapError::UnknownEvent(name.to_owned()));
+    let pins = board.inputs.iter().map(|i| i.pin).chain(board.outputs.iter().map(|o| o.pin));
+    if let Some(pin) = pins.into_iter().find(|&p| p > LAST_GPIO) {
+        return Err(PinMapError::NoSuchPin(pin));
+    }
     let mut inputs = Vec::new();
     for i in &board.inputs {
         inputs.push(json!({ "event": id(&i.event)?.as_u32(), "name": i.event, "pin": i.pin, "edge": i.edge, "pull": i.pull }));
@@ -325,6 +335,9 @@ mod tests {
         let mut stranger = board();
         stranger.inputs[0].event = "nope".into();
         assert_eq!(pin_map(&stranger, &events()), Err(PinMapError::UnknownEvent("nope".into())));
+        let mut past = board();
+        past.outputs[0].pin = 30;
+        assert_eq!(pin_map(&past, &events()), Err(PinMapError::NoSuchPin(30)));
     }
 
     #[test]
