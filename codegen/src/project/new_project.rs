@@ -5,8 +5,9 @@
 //!
 //! Nothing is written twice: every piece comes from the sources this binary carries ([`crate::target::sources`],
 //! unpacked into the cache). The application is the cell's for the board (`apps/cell/src/bin/`), which
-//! reads its tables from `SCT_TABLES_FILE` as the build script sets it, with the module every board
-//! application shares beside it (`src/board_app.rs`); the dependencies are those the
+//! reads its tables from `SCT_TABLES_FILE` as the build script sets it, with the modules it shares with
+//! the other boards' applications beside it (`src/board_app.rs`, and `src/systick_board.rs` for the
+//! boards that tick on SysTick); the dependencies are those the
 //! board's feature of `apps/cell/Cargo.toml` enables, at the same versions (the carried `Cargo.lock`
 //! comes along); the link flags and runner are the carried `.cargo/config.toml`'s for the board's
 //! target; the release profile is the workspace's. The runtime (`firmware`) and `codegen` are path
@@ -48,6 +49,8 @@ struct Parts {
     main: &'static str,
     /// The memory layout (becomes `memory.x`).
     memory: &'static str,
+    /// The modules the application shares with the other boards' (each becomes `src/NAME.rs`).
+    shared: &'static [&'static str],
 }
 
 impl Board {
@@ -59,6 +62,7 @@ impl Board {
                 chip: "RP2040",
                 main: "apps/cell/src/bin/cell_pico.rs",
                 memory: "apps/cell/boards/pico/memory.x",
+                shared: &[BOARD_APP],
             },
             Board::NucleoF401re => Parts {
                 feature: "nucleo",
@@ -66,6 +70,7 @@ impl Board {
                 chip: "STM32F401RETx",
                 main: "apps/cell/src/bin/cell_nucleo.rs",
                 memory: "apps/cell/boards/nucleo-f401re/memory.x",
+                shared: &[BOARD_APP, SYSTICK_BOARD],
             },
             Board::Nrf52840Dk => Parts {
                 feature: "nrf52840",
@@ -73,6 +78,7 @@ impl Board {
                 chip: "nRF52840_xxAA",
                 main: "apps/cell/src/bin/cell_nrf52840.rs",
                 memory: "apps/cell/boards/nrf52840-dk/memory.x",
+                shared: &[BOARD_APP, SYSTICK_BOARD],
             },
         }
     }
@@ -96,6 +102,9 @@ impl Board {
 /// What every board application shares (`apps/cell/src/bin/board_app.rs`): written beside `main.rs`,
 /// which declares it as `mod board_app;`.
 const BOARD_APP: &str = "apps/cell/src/bin/board_app.rs";
+
+/// What the boards that tick on SysTick share (the Nucleo's and the nRF52840's applications).
+const SYSTICK_BOARD: &str = "apps/cell/src/bin/systick_board.rs";
 
 /// The manifest of a project made without `--manifest`: the manufacturing cell, with its Pico pin map.
 pub const STARTER: &str = "examples/cell/cell.toml";
@@ -208,7 +217,11 @@ pub fn new_project(dir: &Path, board: Board, manifest: Option<&Path>) -> Result<
     write(".cargo/config.toml", &cargo_config(&parts, &carried)?)?;
     write("memory.x", &carried(parts.memory)?)?;
     write("src/main.rs", &carried(parts.main)?)?;
-    write("src/board_app.rs", &carried(BOARD_APP)?)?;
+    for &module in parts.shared {
+        let name =
+            Path::new(module).file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        write(&format!("src/{name}"), &carried(module)?)?;
+    }
     write("build.rs", &build_rs(&manifest_rel))?;
     write("README.md", &readme(&name, &manifest_rel, board))?;
     write(".gitignore", "/target\n")?;

@@ -21,12 +21,12 @@ mod tables {
 }
 
 mod board_app;
+mod systick_board;
 
 use core::convert::Infallible;
 
 use embedded_hal::digital::InputPin;
 use firmware::board::{Outputs, Pull};
-use firmware::rng::SeedEntropy;
 use nrf52840_hal::gpio::{Disconnected, Floating, Input, Output, Pin, PullDown, PullUp, PushPull};
 
 /// The core clock as reset leaves it (HFINT).
@@ -36,9 +36,6 @@ const CORE_HZ: u32 = 64_000_000;
 const PINS: u8 = 48;
 
 type Outs = Outputs<Pin<Output<PushPull>>, { tables::OUTPUT_PINS.len() }>;
-
-/// The runtime on the tables' default layout, seeded from the manifest.
-type Rt = tables::Runtime<tables::Policy, SeedEntropy>;
 
 /// GPIO `num` (PSEL numbering), not configured yet; `None` past P1.15.
 fn pin(num: u8) -> Option<Pin<Disconnected>> {
@@ -91,11 +88,11 @@ impl InputPin for InPin {
 
 #[rtic::app(device = nrf52840_hal::pac)]
 mod app {
-    use super::board_app::{self, halt, Driver, Sampler, TICK_US};
-    use super::{pin, tables, InPin, Outs, Rt, CORE_HZ};
+    use super::board_app::{self, halt, Driver, Sampler};
+    use super::systick_board::{self, Rt};
+    use super::{pin, tables, InPin, Outs, CORE_HZ};
     use firmware::board::Pull;
     use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
-    use firmware::rng::SeedEntropy;
     use nrf52840_hal::gpio::Level;
 
     #[shared]
@@ -123,23 +120,10 @@ mod app {
             p.into_push_pull_output(Level::Low)
         });
         let outputs = board_app::outputs(out_pins);
-        let mut syst = cx.core.SYST;
-        syst.set_clock_source(cortex_m::peripheral::syst::SystClkSource::Core);
-        syst.set_reload(CORE_HZ / 1_000_000 * TICK_US - 1);
-        syst.clear_current();
-        syst.enable_interrupt();
-        syst.enable_counter();
-
+        systick_board::start(cx.core.SYST, CORE_HZ);
         let (producer, consumer) = cx.local.queue.split();
-        // The tables were checked when they were compiled (`tables::CHECKED`).
-        let runtime = Rt::new(
-            tables::CHECKED,
-            tables::CONFIG,
-            tables::Policy::default(),
-            SeedEntropy::new(tables::SEED),
-        );
-        // No GPIOTE edge events: the tick samples in interrupt mode too, every tick.
-        let sampler = Sampler::new(board_app::levels(&mut inputs), false);
+        let runtime = systick_board::runtime();
+        let sampler = systick_board::sampler(&mut inputs);
         board_app::announce(tables::SET.automata.len());
         (Shared { outputs }, Local { consumer, producer, inputs, runtime, sampler })
     }
@@ -147,10 +131,8 @@ mod app {
     /// The 1 ms tick: ends pulses; samples the inputs every period (every tick in interrupt mode).
     #[task(binds = SysTick, shared = [outputs], local = [producer, inputs, sampler])]
     fn tick(mut cx: tick::Context) {
-        board_app::tick_outputs(&mut cx.shared.outputs);
-        if cx.local.sampler.due() {
-            cx.local.sampler.update(board_app::levels(cx.local.inputs), cx.local.producer);
-        }
+        let l = cx.local;
+        systick_board::tick(&mut cx.shared.outputs, l.sampler, l.inputs, l.producer);
     }
 
     /// The decision loop; sleeps in `wfi` while there is nothing to do.

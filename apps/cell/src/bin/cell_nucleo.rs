@@ -20,11 +20,11 @@ mod tables {
 }
 
 mod board_app;
+mod systick_board;
 
 use core::convert::Infallible;
 
 use firmware::board::{Outputs, Pull};
-use firmware::rng::SeedEntropy;
 use stm32f4xx_hal::pac;
 
 /// The core clock as reset leaves it (HSI).
@@ -34,9 +34,6 @@ const CORE_HZ: u32 = 16_000_000;
 const PORTS: u8 = 5;
 
 type Outs = Outputs<Gpio, { tables::OUTPUT_PINS.len() }>;
-
-/// The runtime on the tables' default layout, seeded from the manifest.
-type Rt = tables::Runtime<tables::Policy, SeedEntropy>;
 
 /// One GPIO line by number, driven through its port's registers: the embedded-hal pin the runtime's
 /// `Outputs` and the sampling take. The HAL's pins are typed by port and line at compile time; the
@@ -114,11 +111,11 @@ impl embedded_hal::digital::InputPin for Gpio {
 
 #[rtic::app(device = stm32f4xx_hal::pac)]
 mod app {
-    use super::board_app::{self, halt, Driver, Sampler, TICK_US};
-    use super::{tables, Gpio, Outs, Rt, CORE_HZ};
+    use super::board_app::{self, halt, Driver, Sampler};
+    use super::systick_board::{self, Rt};
+    use super::{tables, Gpio, Outs, CORE_HZ};
     use firmware::board::Pull;
     use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
-    use firmware::rng::SeedEntropy;
 
     #[shared]
     struct Shared {
@@ -145,23 +142,10 @@ mod app {
         let out_pins = tables::OUTPUT_PINS
             .map(|n| Gpio::new(n, true, Pull::Floating).unwrap_or_else(|| halt("output pin past port E")));
         let outputs = board_app::outputs(out_pins);
-        let mut syst = cx.core.SYST;
-        syst.set_clock_source(cortex_m::peripheral::syst::SystClkSource::Core);
-        syst.set_reload(CORE_HZ / 1_000_000 * TICK_US - 1);
-        syst.clear_current();
-        syst.enable_interrupt();
-        syst.enable_counter();
-
+        systick_board::start(cx.core.SYST, CORE_HZ);
         let (producer, consumer) = cx.local.queue.split();
-        // The tables were checked when they were compiled (`tables::CHECKED`).
-        let runtime = Rt::new(
-            tables::CHECKED,
-            tables::CONFIG,
-            tables::Policy::default(),
-            SeedEntropy::new(tables::SEED),
-        );
-        // No EXTI edge interrupts: the tick samples in interrupt mode too, every tick.
-        let sampler = Sampler::new(board_app::levels(&mut inputs), false);
+        let runtime = systick_board::runtime();
+        let sampler = systick_board::sampler(&mut inputs);
         board_app::announce(tables::SET.automata.len());
         (Shared { outputs }, Local { consumer, producer, inputs, runtime, sampler })
     }
@@ -169,10 +153,8 @@ mod app {
     /// The 1 ms tick: ends pulses; samples the inputs every period (every tick in interrupt mode).
     #[task(binds = SysTick, shared = [outputs], local = [producer, inputs, sampler])]
     fn tick(mut cx: tick::Context) {
-        board_app::tick_outputs(&mut cx.shared.outputs);
-        if cx.local.sampler.due() {
-            cx.local.sampler.update(board_app::levels(cx.local.inputs), cx.local.producer);
-        }
+        let l = cx.local;
+        systick_board::tick(&mut cx.shared.outputs, l.sampler, l.inputs, l.producer);
     }
 
     /// The decision loop; sleeps in `wfi` while there is nothing to do.
