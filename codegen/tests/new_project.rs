@@ -7,21 +7,12 @@
 //! The projects build into one target directory under the checkout's (`target/new-project`), with the
 //! carried sources unpacked beside it, so the dependencies compile once across runs.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-/// A directory removed when dropped.
-struct Temp(PathBuf);
-
-impl Drop for Temp {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn repo(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(rel)
-}
+use common::{repo, Temp};
 
 /// The shared target directory and cache of the generated projects.
 fn shared() -> (PathBuf, PathBuf) {
