@@ -413,14 +413,19 @@ fn main() {{
 
 /// The project's README: the flash command and how the tables are made.
 fn readme(name: &str, manifest: &str, board: Board) -> String {
-    let target = board.target();
+    let closed_loop = if board == Board::Pico {
+        "Closed loop on the emulated RP2040: `codegen run --project .` (builds, then runs the ELF against the manifest's plant)."
+    } else {
+        "There is no emulator for this board here (`codegen run --project .` refuses it): flash it to run it."
+    };
+    let (target, board) = (board.target(), board.name());
     format!(
         "# {name}\n\n\
-         The local modular supervisors of `{manifest}` on a {board:?} board, written by `codegen new`.\n\n\
+         The local modular supervisors of `{manifest}` on a `{board}` board, written by `codegen new`.\n\n\
          - Build: `cargo build --release` (the ELF is `target/{target}/release/{name}`). `build.rs` emits the\n  \
            tables from the manifest at build time: edit the manifest or a model file and build again.\n\
          - Flash and run, defmt logs on the terminal: `cargo run --release` (probe-rs, a debug probe on SWD).\n\
-         - Closed loop on the emulated RP2040 (Pico only): `codegen run --project .` (builds, then runs the ELF against the manifest's plant).\n\
+         - {closed_loop}\n\
          - The virtual plant of the manifest against a firmware that speaks codegen's link on a serial port: `codegen plant --project . --connect serial:DEVICE`.\n\
          - The pin map is the manifest's `[board]` section.\n"
     )
