@@ -142,6 +142,52 @@ impl Board<'_> {
     }
 }
 
+/// Input sampling on an application's periodic tick: when a sample is due, and the events of the level
+/// changes since the last one ([`Board::changes`]). The application reads the pins; this keeps the
+/// count and the last levels, so that every board application samples the same way.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Sampler {
+    /// The levels last read (bit `n`: GPIO `n`).
+    levels: u64,
+    /// Ticks since the last sample.
+    ticks: u32,
+    /// Ticks between samples; 0: never (the application's edge interrupts make the events).
+    every: u32,
+}
+
+impl Sampler {
+    /// Sampling as `sampling` says on a tick of `tick_us`, from the levels `levels`: every period in
+    /// timer mode (at least every tick); in interrupt mode never when the application has edge
+    /// interrupts (`edge_interrupts`), else every tick. A `tick_us` of 0 is read as 1.
+    pub fn new(sampling: Sampling, tick_us: u32, levels: u64, edge_interrupts: bool) -> Self {
+        let every = match sampling {
+            Sampling::Timer { period_us } => (period_us / tick_us.max(1)).max(1),
+            Sampling::Interrupt if edge_interrupts => 0,
+            Sampling::Interrupt => 1,
+        };
+        Sampler { levels, ticks: 0, every }
+    }
+
+    /// One tick passed: whether a sample is due now ([`Sampler::update`] it then).
+    pub fn due(&mut self) -> bool {
+        if self.every == 0 {
+            return false;
+        }
+        self.ticks += 1;
+        if self.ticks < self.every {
+            return false;
+        }
+        self.ticks = 0;
+        true
+    }
+
+    /// Takes the levels `now`: the events of `board`'s inputs that changed since the last sample.
+    pub fn update(&mut self, board: &Board<'_>, now: u64, emit: impl FnMut(u8)) {
+        let before = core::mem::replace(&mut self.levels, now);
+        board.changes(before, now, emit);
+    }
+}
+
 /// The output pins of a board, `K` distinct GPIOs, with the pulses in progress.
 ///
 /// A pulse fired again while its pin is still high would only stretch the running pulse: the plant
@@ -281,6 +327,32 @@ mod tests {
         assert_eq!(events(|e| BOARD.edge(1, false, e)), [11]);
         assert_eq!(events(|e| BOARD.edge(4, false, e)), [12]);
         assert_eq!(events(|e| BOARD.edge(31, true, e)), []);
+    }
+
+    /// The ticks of the first `n` on which a sample is due.
+    fn due_ticks(mut sampler: Sampler, n: u32) -> Vec<u32> {
+        (1..=n).filter(|_| sampler.due()).collect()
+    }
+
+    #[test]
+    fn a_sample_is_due_every_period_or_every_tick_or_never() {
+        let timer = |us| Sampling::Timer { period_us: us };
+        assert_eq!(due_ticks(Sampler::new(timer(3000), 1000, 0, true), 9), [3, 6, 9]);
+        assert_eq!(due_ticks(Sampler::new(timer(3500), 1000, 0, false), 8), [3, 6], "whole ticks");
+        assert_eq!(due_ticks(Sampler::new(timer(200), 1000, 0, true), 3), [1, 2, 3], "at least a tick");
+        assert_eq!(due_ticks(Sampler::new(Sampling::Interrupt, 1000, 0, false), 3), [1, 2, 3]);
+        assert_eq!(due_ticks(Sampler::new(Sampling::Interrupt, 1000, 0, true), 5), []);
+        assert_eq!(due_ticks(Sampler::new(timer(3), 0, 0, true), 6), [3, 6], "a 0 µs tick read as 1 µs");
+    }
+
+    #[test]
+    fn each_sample_gives_the_changes_since_the_one_before() {
+        let mut sampler = Sampler::new(BOARD.sampling, 1000, 0b10, false);
+        let mut update = |now| events(|e| sampler.update(&BOARD, now, e));
+        assert_eq!(update(0b10), [], "pin 1 was high from the start");
+        assert_eq!(update(0b10000), [11, 12]);
+        assert_eq!(update(0b10010), [10]);
+        assert_eq!(update(0b10010), []);
     }
 
     #[test]

@@ -8,7 +8,7 @@
 //! transport and the core's `wfi`. `codegen new` writes it beside `main.rs` (`src/board_app.rs`).
 
 use embedded_hal::digital::{InputPin, OutputPin};
-use firmware::board::{Outputs, Sampling};
+use firmware::board::{Outputs, Sampler};
 use firmware::choice::Choose;
 use firmware::event_loop::{EventLoop, Note, Poll, Port};
 use firmware::input_queue::{InputConsumer, InputProducer};
@@ -105,47 +105,15 @@ pub fn push(q: &mut InputProducer<'static>, event: u8) {
     }
 }
 
-/// Input sampling on the [`TICK_US`] tick: every `[board] sampling` period, the new levels are compared
-/// with the last ones and every change is queued as its event ([`firmware::board::Board::changes`]).
-pub struct Sampler {
-    /// The levels last read.
-    levels: u64,
-    /// Ticks since the last sample.
-    ticks: u32,
-    /// Ticks between samples; 0: never (the board's edge interrupts queue the events).
-    every: u32,
+/// The sampler of the inputs whose levels are `levels` now, on the [`TICK_US`] tick: every `[board]
+/// sampling` period; in interrupt mode never on a board with `edge_interrupts`, else every tick.
+pub fn sampler(levels: u64, edge_interrupts: bool) -> Sampler {
+    Sampler::new(tables::BOARD.sampling, TICK_US, levels, edge_interrupts)
 }
 
-impl Sampler {
-    /// A sampler starting from `levels`. In interrupt mode a board with `edge_interrupts` never samples;
-    /// one without samples every tick.
-    pub fn new(levels: u64, edge_interrupts: bool) -> Self {
-        let every = match tables::BOARD.sampling {
-            Sampling::Timer { period_us } => (period_us / TICK_US).max(1),
-            Sampling::Interrupt if edge_interrupts => 0,
-            Sampling::Interrupt => 1,
-        };
-        Sampler { levels, ticks: 0, every }
-    }
-
-    /// One tick passed: whether a sample is due now ([`Sampler::update`] it then).
-    pub fn due(&mut self) -> bool {
-        if self.every == 0 {
-            return false;
-        }
-        self.ticks += 1;
-        if self.ticks < self.every {
-            return false;
-        }
-        self.ticks = 0;
-        true
-    }
-
-    /// Takes the levels `now`, queueing the events of the changes since the last sample.
-    pub fn update(&mut self, now: u64, q: &mut InputProducer<'static>) {
-        let before = core::mem::replace(&mut self.levels, now);
-        tables::BOARD.changes(before, now, |e| push(q, e));
-    }
+/// Takes the levels `now` into `sampler`, queueing the events of the changes since its last sample.
+pub fn update(sampler: &mut Sampler, now: u64, q: &mut InputProducer<'static>) {
+    sampler.update(&tables::BOARD, now, |e| push(q, e));
 }
 
 /// One millisecond passed for the outputs behind `outputs`: ends the pulses that are due.

@@ -88,10 +88,10 @@ impl InputPin for InPin {
 
 #[rtic::app(device = nrf52840_hal::pac)]
 mod app {
-    use super::board_app::{self, halt, Driver, Sampler};
+    use super::board_app::{self, halt, Driver};
     use super::systick_board::{self, Rt};
     use super::{pin, tables, InPin, Outs, CORE_HZ};
-    use firmware::board::Pull;
+    use firmware::board::{Pull, Sampler};
     use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
     use nrf52840_hal::gpio::Level;
 

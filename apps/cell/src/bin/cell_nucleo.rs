@@ -111,10 +111,10 @@ impl embedded_hal::digital::InputPin for Gpio {
 
 #[rtic::app(device = stm32f4xx_hal::pac)]
 mod app {
-    use super::board_app::{self, halt, Driver, Sampler};
+    use super::board_app::{self, halt, Driver};
     use super::systick_board::{self, Rt};
     use super::{tables, Gpio, Outs, CORE_HZ};
-    use firmware::board::Pull;
+    use firmware::board::{Pull, Sampler};
     use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
 
     #[shared]

@@ -95,9 +95,9 @@ fn pin<F: rp2040_hal::gpio::Function>(num: u8) -> Pin<DynPinId, F, DynPullType> 
 
 #[rtic::app(device = rp2040_hal::pac)]
 mod app {
-    use super::board_app::{self, halt, Driver, Sampler, TICK_US};
+    use super::board_app::{self, halt, Driver, TICK_US};
     use super::{pin, tables, InPin, Outs, Rosc, Rt, XOSC_HZ};
-    use firmware::board::{Edge, Pull, Sampling};
+    use firmware::board::{Edge, Pull, Sampler, Sampling};
     use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
     use rp2040_hal::clocks::init_clocks_and_plls;
     use rp2040_hal::fugit::MicrosDurationU32;
@@ -172,7 +172,7 @@ mod app {
         let runtime =
             Rt::new(tables::m0plus::CHECKED, tables::CONFIG, tables::Policy::default(), Rosc::new());
         // Edges come by GPIO interrupt in interrupt mode: the tick samples in timer mode only.
-        let sampler = Sampler::new(board_app::levels(&mut inputs), true);
+        let sampler = board_app::sampler(board_app::levels(&mut inputs), true);
         board_app::announce(tables::m0plus::SET.automata.len());
         (Shared { producer, outputs, inputs }, Local { consumer, runtime, alarm, sampler })
     }
@@ -204,7 +204,7 @@ mod app {
         let sampler = cx.local.sampler;
         if sampler.due() {
             let now = cx.shared.inputs.lock(|inputs| board_app::levels(inputs));
-            cx.shared.producer.lock(|q| sampler.update(now, q));
+            cx.shared.producer.lock(|q| board_app::update(sampler, now, q));
         }
     }
 

@@ -7,11 +7,11 @@
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m::peripheral::SYST;
 use embedded_hal::digital::{InputPin, OutputPin};
-use firmware::board::Outputs;
+use firmware::board::{Outputs, Sampler};
 use firmware::input_queue::InputProducer;
 use firmware::rng::SeedEntropy;
 
-use crate::board_app::{self, Sampler, TICK_US};
+use crate::board_app::{self, TICK_US};
 use crate::tables;
 
 /// The runtime on the tables' default layout, seeded from the manifest.
@@ -34,7 +34,7 @@ pub fn runtime() -> Rt {
 
 /// The sampler of `inputs`: every tick, whatever `[board] sampling` says, when it says interrupts.
 pub fn sampler<P: InputPin>(inputs: &mut [P]) -> Sampler {
-    Sampler::new(board_app::levels(inputs), false)
+    board_app::sampler(board_app::levels(inputs), false)
 }
 
 /// One SysTick: ends the pulses that are due, and samples the inputs when a sample is due.
@@ -46,6 +46,6 @@ pub fn tick<P: OutputPin, I: InputPin>(
 ) {
     board_app::tick_outputs(outputs);
     if sampler.due() {
-        sampler.update(board_app::levels(inputs), q);
+        board_app::update(sampler, board_app::levels(inputs), q);
     }
 }
