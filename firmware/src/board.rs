@@ -158,7 +158,9 @@ pub struct Sampler {
 impl Sampler {
     /// Sampling as `sampling` says on a tick of `tick_us`, from the levels `levels`: every period in
     /// timer mode (at least every tick); in interrupt mode never when the application has edge
-    /// interrupts (`edge_interrupts`), else every tick. A `tick_us` of 0 is read as 1.
+    /// interrupts (`edge_interrupts`), else every tick. A `tick_us` of 0 is read as 1. Inline, so that
+    /// an application whose sampling is a constant keeps no sampling code it never runs.
+    #[inline]
     pub fn new(sampling: Sampling, tick_us: u32, levels: u64, edge_interrupts: bool) -> Self {
         let every = match sampling {
             Sampling::Timer { period_us } => (period_us / tick_us.max(1)).max(1),
