@@ -8,9 +8,11 @@ cargo fmt --all -- --check
 cargo clippy --workspace --all-targets -- -D warnings
 cargo test --workspace
 bash scripts/reference/differential.sh
-# The firmware for both targets (lints included).
+# The firmware for every target and board (lints included).
 cargo clippy -p cell --features qemu --target thumbv7m-none-eabi --release --bins -- -D warnings
 cargo clippy -p cell --features pico --target thumbv6m-none-eabi --release --bins -- -D warnings
+cargo clippy -p cell --features nucleo --target thumbv7em-none-eabihf --release --bins -- -D warnings
+cargo clippy -p cell --features nrf52840 --target thumbv7em-none-eabihf --release --bins -- -D warnings
 cargo qemu-build
 cargo pico-build
 # Measurements, checked against .ci/expected/ (the scripts' own tests first): the runtime's cost under QEMU

@@ -45,6 +45,7 @@ impl From<ProjectError> for BuildScriptError {
 /// files cargo must watch (the manifest and every model file it names).
 pub fn emit_into(manifest: &Path, out_dir: &Path) -> Result<(PathBuf, Vec<String>), BuildScriptError> {
     let project = Project::load(manifest)?;
+    project.for_board()?;
     let text = project.emit()?;
     let path = out_dir.join(TABLES_FILE);
     // Written only when changed, so a build that changed nothing recompiles nothing.
@@ -133,5 +134,19 @@ mod tests {
         assert!(text.contains("p.gen"), "{text}");
         assert!(!dir.join(TABLES_FILE).exists());
         std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// A state-based manifest is refused by name: no board application runs state tables.
+    #[test]
+    fn a_state_based_manifest_is_refused_naming_the_mode() {
+        let out = scratch("state");
+        let manifest: PathBuf =
+            [env!("CARGO_MANIFEST_DIR"), "..", "examples", "distribution", "distribution-state.toml"]
+                .iter()
+                .collect();
+        let text = chain(&emit_into(&manifest, &out).unwrap_err());
+        assert!(text.contains("distribution-state.toml") && text.contains("runtime.mode"), "{text}");
+        assert!(!out.join(TABLES_FILE).exists());
+        std::fs::remove_dir_all(out).unwrap();
     }
 }

@@ -474,20 +474,28 @@ impl Project {
     }
 
     /// The same stage for the Raspberry Pi Pico: the tables, with the board's pin map, built into the
-    /// Pico firmware (`cell-pico`); returns the ELF, `dir/firmware.elf`.
-    /// The state-based tables (`mode = "state"`) are refused: the Pico application drives the supervisor
-    /// runtime from its pins' edges.
+    /// Pico firmware (`cell-pico`); returns the ELF, `dir/firmware.elf`. State-based tables are refused
+    /// ([`Project::for_board`]).
     pub fn pico_image(&self, dir: &Path) -> Result<PathBuf, ProjectError> {
+        self.for_board()?;
+        Ok(build_pico_image(&self.tables_file(dir)?, &dir.join("firmware.elf"))?)
+    }
+
+    /// Refuses `mode = "state"` for a board's application (the Pico image, a `codegen new` project's
+    /// build script), naming the key: the board applications feed their pins' edges to the supervisor
+    /// runtime, and none samples its pins into the state runtime's signal word yet, so the state tables
+    /// would fail to compile there with no word of why.
+    pub fn for_board(&self) -> Result<(), ProjectError> {
         if self.runtime.mode == Mode::State {
             return Err(self.in_file(StateError::Vector {
                 key: "runtime.mode".into(),
-                message:
-                    "the state-based firmware runs under QEMU (cell-qemu) only; the Pico application \
-                          feeds its pins' edges to the supervisor runtime: use mode = \"event\" on the RP2040"
-                        .into(),
+                message: "the state-based firmware runs under QEMU (cell-qemu) only; the board \
+                          applications feed their pins' edges to the supervisor runtime: use mode = \"event\" \
+                          on a board"
+                    .into(),
             }));
         }
-        Ok(build_pico_image(&self.tables_file(dir)?, &dir.join("firmware.elf"))?)
+        Ok(())
     }
 
     /// Emits the tables into `dir/tables.rs`.
