@@ -131,44 +131,15 @@ fn header(
 
 fn body(out: &mut String, packed: &Packed, side: &SideTables, name: &str, runtime: &RuntimeConfig) {
     let words = packed.words();
-    let _ = writeln!(out, "/// Name of the supervisor set.");
-    let _ = writeln!(out, "pub const NAME: &str = {name:?};");
-    let _ = writeln!(out);
-    let _ = writeln!(out, "/// Global event ids.");
-    let _ = writeln!(out, "pub mod event {{");
-    for (e, ident) in event_idents(&packed.event_names).iter().enumerate() {
-        let kind = if bitset::contains(&packed.controllable, e) { "controllable" } else { "uncontrollable" };
-        let _ = writeln!(out, "    /// `{}` ({kind}).", packed.event_names[e]);
-        let _ = writeln!(out, "    pub const {ident}: u8 = {e};");
-    }
-    let _ = writeln!(out, "}}");
-    let _ = writeln!(out);
-    let consts: [(&str, &str, String); 5] = [
-        ("Words of an event bitset.", "EVENT_WORDS", words.to_string()),
-        ("Automata in the set (plants first).", "AUTOMATA", packed.automata.len().to_string()),
-        ("Choice sites with two or more controllable out-events.", "SITES", side.sites.len().to_string()),
-        ("Slots of the input queue (capacity + 1).", "INPUT_SLOTS", (runtime.input_buffer + 1).to_string()),
-        ("Entropy seed of the random policies (QEMU; a board reseeds).", "SEED", runtime.seed.to_string()),
+    let consts = [
+        Const::size("Words of an event bitset.", "EVENT_WORDS", words),
+        Const::size("Automata in the set (plants first).", "AUTOMATA", packed.automata.len()),
+        Const::size("Choice sites with two or more controllable out-events.", "SITES", side.sites.len()),
+        Const::size("Slots of the input queue (capacity + 1).", "INPUT_SLOTS", runtime.input_buffer + 1),
     ];
-    for (doc, name, value) in consts {
-        let ty = if name == "SEED" { "u64" } else { "usize" };
-        let _ = writeln!(out, "/// {doc}\npub const {name}: {ty} = {value};");
-    }
-    let _ = writeln!(out, "/// The choice policy ({}).", runtime.policy);
-    let _ = writeln!(out, "pub type Policy = {};", rust_type(runtime.policy));
-    let _ = writeln!(out, "/// Run-time configuration.");
-    let _ = writeln!(out, "pub const CONFIG: firmware::runtime::Config = firmware::runtime::Config {{");
-    let _ = writeln!(out, "    guard: {},", runtime.guard);
-    let _ = writeln!(out, "    on_fault: {},", fault_value(runtime.on_fault));
-    let _ = writeln!(out, "    reseed_every: {},", runtime.reseed_every);
-    let _ = writeln!(out, "}};");
-    let _ = writeln!(out);
-    let quoted =
-        |names: &mut dyn Iterator<Item = &String>| names.map(|n| format!("{n:?}")).collect::<Vec<_>>();
-    let events = quoted(&mut packed.event_names.iter());
-    let _ = writeln!(out, "/// Event names by global id, for logs (the tables hold no names).");
-    let _ = writeln!(out, "pub static EVENT_NAMES: [&str; {}] = [{}];", events.len(), events.join(", "));
-    let automata = quoted(&mut packed.automata.iter().map(|b| &b.name));
+    let controllable = |e: usize| bitset::contains(&packed.controllable, e);
+    preamble(out, name, &packed.event_names, &controllable, &consts, runtime);
+    let automata: Vec<String> = packed.automata.iter().map(|b| format!("{:?}", b.name)).collect();
     let _ = writeln!(out, "/// Automaton names, plants first, for logs.");
     let _ =
         writeln!(out, "pub static AUTOMATON_NAMES: [&str; {}] = [{}];", automata.len(), automata.join(", "));
@@ -191,6 +162,67 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, name: &str, runtim
     let _ = writeln!(out);
     let _ = writeln!(out, "// The tables of cores with unaligned loads (the QEMU board's Cortex-M3).");
     tables(out, packed, side);
+}
+
+/// One `pub const` of an emitted file's preamble: its doc line, name, type and value.
+pub(crate) struct Const {
+    doc: &'static str,
+    name: &'static str,
+    ty: &'static str,
+    value: String,
+}
+
+impl Const {
+    /// A `usize` size constant.
+    pub(crate) fn size(doc: &'static str, name: &'static str, value: usize) -> Self {
+        Const { doc, name, ty: "usize", value: value.to_string() }
+    }
+}
+
+/// The items every emitted tables file opens with, supervisor tables and state tables alike: `NAME`, the
+/// module `event` of event ids, the size constants `consts` then `SEED`, the `Policy` type, `CONFIG`, and
+/// `EVENT_NAMES` for logs. One writer, so the applications find the same names in either file.
+pub(crate) fn preamble(
+    out: &mut String,
+    name: &str,
+    events: &[String],
+    controllable: &dyn Fn(usize) -> bool,
+    consts: &[Const],
+    runtime: &RuntimeConfig,
+) {
+    let _ = writeln!(out, "/// Name of the supervisor set.");
+    let _ = writeln!(out, "pub const NAME: &str = {name:?};");
+    let _ = writeln!(out);
+    let _ = writeln!(out, "/// Global event ids.");
+    let _ = writeln!(out, "pub mod event {{");
+    for ((e, ident), event) in event_idents(events).iter().enumerate().zip(events) {
+        let kind = if controllable(e) { "controllable" } else { "uncontrollable" };
+        let _ = writeln!(out, "    /// `{event}` ({kind}).");
+        let _ = writeln!(out, "    pub const {ident}: u8 = {e};");
+    }
+    let _ = writeln!(out, "}}");
+    let _ = writeln!(out);
+    let seed = Const {
+        doc: "Entropy seed of the random policies (QEMU; a board reseeds).",
+        name: "SEED",
+        ty: "u64",
+        value: runtime.seed.to_string(),
+    };
+    for c in consts.iter().chain([&seed]) {
+        let _ = writeln!(out, "/// {}\npub const {}: {} = {};", c.doc, c.name, c.ty, c.value);
+    }
+    let _ = writeln!(out, "/// The choice policy ({}).", runtime.policy);
+    let _ = writeln!(out, "pub type Policy = {};", rust_type(runtime.policy));
+    let _ = writeln!(out, "/// Run-time configuration.");
+    let _ = writeln!(out, "pub const CONFIG: firmware::runtime::Config = firmware::runtime::Config {{");
+    let _ = writeln!(out, "    guard: {},", runtime.guard);
+    let _ = writeln!(out, "    on_fault: {},", fault_value(runtime.on_fault));
+    let _ = writeln!(out, "    reseed_every: {},", runtime.reseed_every);
+    let _ = writeln!(out, "}};");
+    let _ = writeln!(out);
+    let quoted: Vec<String> = events.iter().map(|n| format!("{n:?}")).collect();
+    let _ = writeln!(out, "/// Event names by global id, for logs (the tables hold no names).");
+    let _ = writeln!(out, "pub static EVENT_NAMES: [&str; {}] = [{}];", quoted.len(), quoted.join(", "));
 }
 
 /// The module `m0plus`: the tables the Cortex-M0+ runs — `m0plus` (the set in the `indexed` layout by

@@ -16,8 +16,7 @@ use firmware::state::{Cube as WordCube, Reading, Rule};
 use firmware::table::SupervisorSet;
 
 use crate::config::{Cube, RuntimeConfig};
-use crate::emit::policy::{fault_value, rust_type};
-use crate::emit::rust::event_idents;
+use crate::emit::rust::{preamble, Const};
 use crate::emit::Provenance;
 use crate::model::EventId;
 use crate::pack::{PackSet, Role};
@@ -299,58 +298,21 @@ impl StateTables {
         let layout: Vec<String> = self.signals.iter().enumerate().map(|(i, s)| format!("{i} {s}")).collect();
         let _ = writeln!(out, "// Signal word, bit by bit: {}.", layout.join(", "));
         let _ = writeln!(out);
-        let _ = writeln!(out, "/// Name of the supervisor set.");
-        let _ = writeln!(out, "pub const NAME: &str = {name:?};");
-        let _ = writeln!(out);
-        let _ = writeln!(out, "/// Global event ids.");
-        let _ = writeln!(out, "pub mod event {{");
         let names: Vec<String> = table.ids().map(|e| table.name(e).to_owned()).collect();
-        for (e, ident) in table.ids().zip(event_idents(&names)) {
-            let kind = if table.is_controllable(e) { "controllable" } else { "uncontrollable" };
-            let _ = writeln!(out, "    /// `{}` ({kind}).", table.name(e));
-            let _ = writeln!(out, "    pub const {ident}: u8 = {};", e.index());
-        }
-        let _ = writeln!(out, "}}");
-        let _ = writeln!(out);
-        let consts: [(&str, &str, String, &str); 6] = [
-            ("Words of an event bitset.", "EVENT_WORDS", self.words.to_string(), "usize"),
-            (
-                "State-vector components (the plants).",
-                "COMPONENTS",
-                self.components.len().to_string(),
-                "usize",
-            ),
-            (
+        let consts = [
+            Const::size("Words of an event bitset.", "EVENT_WORDS", self.words),
+            Const::size("State-vector components (the plants).", "COMPONENTS", self.components.len()),
+            Const::size(
                 "Choice sites: component states with two or more commands leaving.",
                 "SITES",
-                self.sites.len().to_string(),
-                "usize",
+                self.sites.len(),
             ),
-            ("Signals in the word.", "SIGNALS", self.signals.len().to_string(), "usize"),
-            (
-                "Slots of the input queue (capacity + 1).",
-                "INPUT_SLOTS",
-                (runtime.input_buffer + 1).to_string(),
-                "usize",
-            ),
-            (
-                "Entropy seed of the random policies (QEMU; a board reseeds).",
-                "SEED",
-                runtime.seed.to_string(),
-                "u64",
-            ),
+            Const::size("Signals in the word.", "SIGNALS", self.signals.len()),
+            Const::size("Slots of the input queue (capacity + 1).", "INPUT_SLOTS", runtime.input_buffer + 1),
         ];
-        for (doc, name, value, ty) in consts {
-            let _ = writeln!(out, "/// {doc}\npub const {name}: {ty} = {value};");
-        }
-        let _ = writeln!(out, "/// The choice policy ({}).", runtime.policy);
-        let _ = writeln!(out, "pub type Policy = {};", rust_type(runtime.policy));
-        let _ = writeln!(out, "/// Run-time configuration.");
-        let _ = writeln!(out, "pub const CONFIG: firmware::runtime::Config = firmware::runtime::Config {{");
-        let _ = writeln!(out, "    guard: {},", runtime.guard);
-        let _ = writeln!(out, "    on_fault: {},", fault_value(runtime.on_fault));
-        let _ = writeln!(out, "    reseed_every: {},", runtime.reseed_every);
-        let _ = writeln!(out, "}};");
+        let kinds: Vec<bool> = table.ids().map(|e| table.is_controllable(e)).collect();
+        let controllable = |e: usize| kinds.get(e).copied().unwrap_or(false);
+        preamble(&mut out, name, &names, &controllable, &consts, runtime);
         let _ = writeln!(
             out,
             "/// The state-based runtime over these tables, choosing with `P` and drawing entropy from `E`."
@@ -360,8 +322,6 @@ impl StateTables {
             "pub type Runtime<P, E> = firmware::state::StateRuntime<'static, P, E, EVENT_WORDS, COMPONENTS>;"
         );
         let quoted = |names: &[String]| names.iter().map(|n| format!("{n:?}")).collect::<Vec<_>>().join(", ");
-        let _ = writeln!(out, "/// Event names by global id, for logs (the tables hold none).");
-        let _ = writeln!(out, "pub static EVENT_NAMES: [&str; {}] = [{}];", names.len(), quoted(&names));
         let _ = writeln!(out, "/// Component names (the plants), for logs.");
         let _ = writeln!(
             out,
