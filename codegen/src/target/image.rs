@@ -84,6 +84,7 @@ fn build_image(
     std::fs::create_dir_all(&target_dir).map_err(io(format!("creating {}", target_dir.display())))?;
     let lock_path = target_dir.join("codegen-firmware-build.lock");
     let _lock = FileLock::exclusive(&lock_path).map_err(io(format!("locking {}", lock_path.display())))?;
+    sources::make_current(&root, &target_dir)?;
 
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let output = Command::new(cargo)

@@ -132,6 +132,44 @@ fn unpack_into(cache: &Path) -> Result<PathBuf, SourcesError> {
     Ok(root)
 }
 
+/// Makes cargo see the sources at `root` as newer than anything built in `target_dir` from other sources.
+/// The target directory is shared by every version's sources, and cargo names a path package's
+/// artifacts by its path relative to the workspace, so two versions share artifact names; cargo then
+/// judges freshness by modification times alone, and sources unpacked *before* another version was
+/// built would pass as built (an old application linked with a newer runtime). When the last build in
+/// `target_dir` was from other sources (a stamp file names them), every file under `root` gets the
+/// current time. Call it holding the build lock.
+pub fn make_current(root: &Path, target_dir: &Path) -> Result<(), SourcesError> {
+    let stamp = target_dir.join("codegen-last-sources");
+    let name = root.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    if std::fs::read_to_string(&stamp).is_ok_and(|last| last == name) {
+        return Ok(());
+    }
+    let now = std::time::SystemTime::now();
+    let mut dirs = vec![root.to_path_buf()];
+    while let Some(dir) = dirs.pop() {
+        let entries = std::fs::read_dir(&dir).map_err(|source| SourcesError::Io {
+            what: "listing",
+            path: dir.clone(),
+            source,
+        })?;
+        for entry in entries.flatten() {
+            let path = entry.path();
+            match entry.file_type() {
+                // A harness's installed packages are not the firmware's sources.
+                Ok(t) if t.is_dir() && entry.file_name() != "node_modules" => dirs.push(path),
+                Ok(t) if t.is_file() => std::fs::File::options()
+                    .write(true)
+                    .open(&path)
+                    .and_then(|f| f.set_modified(now))
+                    .map_err(|source| SourcesError::Io { what: "touching", path, source })?,
+                _ => {}
+            }
+        }
+    }
+    std::fs::write(&stamp, name).map_err(|source| SourcesError::Io { what: "writing", path: stamp, source })
+}
+
 /// The unpacked RP2040 harness's entry point (`harness/rp2040/src/main.js`), its Node packages installed
 /// (`npm ci`, from npm's cache when it has them) the first time.
 pub fn harness_script() -> Result<PathBuf, SourcesError> {
@@ -162,6 +200,33 @@ pub fn harness_script() -> Result<PathBuf, SourcesError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Switching the target directory to other sources makes every one of their files newer than the
+    /// switch; building from the same sources again touches nothing.
+    #[test]
+    fn other_sources_are_made_newer_than_the_last_build_and_the_same_are_left_alone() {
+        let base = std::env::temp_dir().join(format!("sct-make-current-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&base);
+        let (a, b, target) = (base.join("firmware-a"), base.join("firmware-b"), base.join("target"));
+        for dir in [a.join("src"), b.join("src"), target.clone()] {
+            std::fs::create_dir_all(dir).unwrap();
+        }
+        let old = std::time::SystemTime::UNIX_EPOCH + std::time::Duration::from_secs(1_000_000);
+        for root in [&a, &b] {
+            let file = root.join("src/lib.rs");
+            std::fs::write(&file, "").unwrap();
+            std::fs::File::options().write(true).open(&file).unwrap().set_modified(old).unwrap();
+        }
+        let mtime = |root: &Path| std::fs::metadata(root.join("src/lib.rs")).unwrap().modified().unwrap();
+        make_current(&a, &target).unwrap();
+        assert!(mtime(&a) > old && mtime(&b) == old);
+        let touched = mtime(&a);
+        make_current(&a, &target).unwrap();
+        assert_eq!(mtime(&a), touched, "the same sources again: nothing touched");
+        make_current(&b, &target).unwrap();
+        assert!(mtime(&b) > old);
+        std::fs::remove_dir_all(&base).unwrap();
+    }
 
     /// The files the firmware build, a project's build script and the harness need are carried, and
     /// nothing of the end-to-end tests.
