@@ -2,32 +2,15 @@
 
 mod common;
 
-use common::{livelock, A, B, TO1, TO4};
+use common::{livelock, Wire, A, B, TO1, TO4};
 use firmware::choice::LocalQueue;
-use firmware::event_loop::{EventLoop, Note, Poll, Port};
+use firmware::event_loop::{EventLoop, Note, Poll};
 use firmware::fault::FaultPolicy;
 use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
 use firmware::link::{self, Hold};
 use firmware::rng::SeedEntropy;
 use firmware::runtime::{Config, Runtime};
 use firmware::table::{CheckedSet, SupervisorSet};
-
-/// Records what the link sends and notes.
-#[derive(Default)]
-struct Wire {
-    sent: Vec<u8>,
-    notes: Vec<Note>,
-}
-
-impl Port for Wire {
-    fn send(&mut self, byte: u8) {
-        self.sent.push(byte);
-    }
-
-    fn note(&mut self, note: Note) {
-        self.notes.push(note);
-    }
-}
 
 type Rt = Runtime<'static, LocalQueue<2>, SeedEntropy, 1, 1, false, 1, { firmware::table::layout::RANKED }>;
 

@@ -2,8 +2,11 @@
 //! (`firmware::runtime::Decide`): commands out, STATUS, RESET back to the initial word, STEP's one decision,
 //! an unexpected sensor event noted and counted, SAFE under the safe-state policy.
 
+mod common;
+
+use common::Wire;
 use firmware::choice::First;
-use firmware::event_loop::{EventLoop, Note, Poll, Port};
+use firmware::event_loop::{EventLoop, Note, Poll};
 use firmware::fault::FaultPolicy;
 use firmware::input_queue::InputQueue;
 use firmware::link::{self, Hold};
@@ -42,22 +45,6 @@ const OPEN: u8 = 0;
 const OPENED: u8 = 1;
 const CLOSE: u8 = 2;
 const CLOSED: u8 = 3;
-
-#[derive(Default)]
-struct Wire {
-    sent: Vec<u8>,
-    notes: Vec<Note>,
-}
-
-impl Port for Wire {
-    fn send(&mut self, byte: u8) {
-        self.sent.push(byte);
-    }
-
-    fn note(&mut self, note: Note) {
-        self.notes.push(note);
-    }
-}
 
 /// Runs the loop on `bytes` from the host until it settles; what it sent and noted.
 fn session(on_fault: FaultPolicy, bytes: &[&[u8]]) -> (Wire, Counters, u32) {

@@ -1,8 +1,10 @@
 //! Tables for the runtime's host tests, built with the crate's own encoder (`firmware::build`) from
-//! small automata given as transition lists, and the livelock example of the design notes.
+//! small automata given as transition lists, the livelock example of the design notes, and a recording
+//! link port.
 #![allow(dead_code)]
 
 use firmware::build::{encode_as, HostTables, Layout, Source, SourceAutomaton};
+use firmware::event_loop::{Note, Port};
 use firmware::table::SupervisorSet;
 
 /// `default` proptest cases, or `PROPTEST_CASES` when set: each suite picks its own count, and an
@@ -119,4 +121,21 @@ pub fn livelock() -> (&'static SupervisorSet<'static, 1>, Spec) {
         alphabet: vec![A, B, TO4, TO1],
     };
     (set, spec)
+}
+
+/// A link port that records what the event loop sends and notes (the link tests of both runtimes).
+#[derive(Default)]
+pub struct Wire {
+    pub sent: Vec<u8>,
+    pub notes: Vec<Note>,
+}
+
+impl Port for Wire {
+    fn send(&mut self, byte: u8) {
+        self.sent.push(byte);
+    }
+
+    fn note(&mut self, note: Note) {
+        self.notes.push(note);
+    }
 }
