@@ -71,4 +71,18 @@ pub enum SynthError {
         /// Most BDD variables the library holds.
         max: usize,
     },
+    /// A chosen supervisor set (`[runtime] supervisors`) does not give the plants the full set's closed
+    /// loop, so it is not used.
+    #[error(
+        "supervisors = \"{choice}\": the closed loop of {what} differs from the full set's: {}",
+        super::deploy::describe(difference)
+    )]
+    ClosedLoopDiffers {
+        /// The choice.
+        choice: String,
+        /// The closed loop compared (the supervisor and its plants).
+        what: String,
+        /// A shortest string on which they differ.
+        difference: Box<super::language::Difference>,
+    },
 }
