@@ -29,9 +29,10 @@ pub enum SynthError {
     NoSupervisor(Box<super::verify::NoSupervisor>),
     /// A product grew the process past [`Config::memory_limit`](super::Config::memory_limit).
     #[error(
-        "{what}: {states} states so far took the process to {} resident, past the memory limit of {} \
-         (--memory-limit)",
+        "{what}: {states} states so far took the process to {} resident, and {} more would pass the \
+         memory limit of {} (--memory-limit)",
         super::memory::human(*resident),
+        super::memory::human(*extra),
         super::memory::human(*limit)
     )]
     MemoryLimit {
@@ -43,6 +44,8 @@ pub enum SynthError {
         resident: u64,
         /// The limit in force, bytes.
         limit: u64,
+        /// The bytes the next step was about to take.
+        extra: u64,
     },
     /// A symbolic fixed point grew the process past [`Config::memory_limit`](super::Config::memory_limit).
     #[error(
