@@ -18,6 +18,7 @@ mod plc;
 mod plc_state;
 mod race;
 mod safe_state;
+mod stalls;
 mod state_firmware;
 mod station;
 mod wide;

@@ -229,6 +229,14 @@ impl Monitor {
         self.steering.rank_after(next)
     }
 
+    /// Whether plants ‖ supervisors enable a command in the physical state: a controller in step with
+    /// the monitor, having read every event, has one to fire (the session tells a blocked loop from a
+    /// slow controller by it).
+    pub fn commands_enabled(&self) -> bool {
+        let allows = |e: usize| self.closed.allows(&self.physical, EventId::from_u32(e as u32));
+        self.controllable.iter().enumerate().any(|(e, &c)| c && allows(e))
+    }
+
     /// Whether the monitor is steering: it could explore the closed loop and some reachable transition
     /// is not taken yet.
     pub fn is_steering(&self) -> bool {
