@@ -6,6 +6,10 @@ bash scripts/setup.sh
 bash scripts/thumb-targets.sh path
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets -- -D warnings
+# The API docs of the host crates (codegen, the firmware runtime with its host-side `build` feature, the
+# end-to-end support library), broken intra-doc links and every other rustdoc warning denied. (The cell
+# applications are Cortex-M binaries, linted below for each board.)
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --workspace --exclude cell
 cargo test --workspace
 bash scripts/reference/differential.sh
 # The firmware for every target and board (lints included).

@@ -44,10 +44,11 @@ impl Ticker {
         Ticker { project, qemu, link, plant, monitor, _scratch: scratch }
     }
 
-    /// A session on the firmware, synchronised.
+    /// A session on the firmware, synchronised, in the plant's own timing (no lock-step rounds): a
+    /// burst is the subject, and what the firmware sends after it is its answer alone, no SYNC.
     fn session(&mut self) -> Session<'_, StreamLink> {
         let mut session =
-            Session::new(&mut self.link, &mut self.plant, &mut self.monitor, SessionConfig::default());
+            Session::new(&mut self.link, &mut self.plant, &mut self.monitor, SessionConfig::realtime());
         session.sync(false).unwrap();
         session
     }
@@ -81,7 +82,8 @@ fn a_burst_that_fills_the_buffer_is_decided_on_when_go_comes_last() {
     assert_eq!(session.burst(CAPACITY).unwrap(), CAPACITY);
     drop(session);
     // The counter is odd: the firmware acks with nothing more from the host (a loop that slept through
-    // GO would wait for the next byte, which the host, waiting for the ack, never sends).
+    // GO would wait for the next byte, which the host, waiting for the ack, never sends). The ack comes
+    // within milliseconds; the 10 s of the session's answer timeout are margin for a loaded machine.
     let deadline = Instant::now() + SessionConfig::default().answer_timeout;
     let mut got = Vec::new();
     while got.is_empty() && Instant::now() < deadline {

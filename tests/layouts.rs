@@ -2,7 +2,7 @@
 //! layout (`[runtime] layout`), each run in lock-step rounds with the same seeds — clean, and the same
 //! event trace (`trace_sha256`) in every layout. The readers differ; what the firmware decides must not.
 
-use codegen::closed_loop::{Options, SessionConfig};
+use codegen::closed_loop::Options;
 use codegen::pack::Layout;
 use codegen::project::Project;
 use end_to_end::{assert_clean, example, qemu_closed_loop};
@@ -15,11 +15,8 @@ const SEED: u64 = 3;
 /// Runs `manifest` once per layout, two at a time, and checks the runs alike.
 fn same_trace_in_every_layout(manifest: &str) {
     let project = Project::load(&example(manifest)).unwrap_or_else(|e| panic!("{manifest}: {e}"));
-    let mut options = Options {
-        events: EVENTS,
-        session: SessionConfig { lockstep: true, ..SessionConfig::default() },
-        ..Options::default()
-    };
+    // In lock-step rounds (the default): the trace a function of the seeds, whatever the timing.
+    let mut options = Options { events: EVENTS, ..Options::default() };
     options.plant.seed = SEED;
     let run = |layout: Layout| {
         let mut project = project.clone();

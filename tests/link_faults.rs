@@ -7,7 +7,7 @@ use std::time::Duration;
 
 use codegen::closed_loop::{attach, Options};
 use codegen::link::memory::{self, MemoryLink};
-use codegen::link::protocol::{GO, HOLD, READY, RESET, STATUS, STATUS_BYTES};
+use codegen::link::protocol::{GO, HOLD, READY, RESET, STATUS, STATUS_BYTES, STEP, SYNC};
 use codegen::link::ByteLink;
 use codegen::monitor::Report;
 use codegen::pack::PackSet;
@@ -24,7 +24,8 @@ enum Fault {
 }
 
 /// A stand-in firmware for the ticker: takes every event, never decides on its own, answers STATUS
-/// with its events count, RESET with READY — and commits `fault`. Ends when the host hangs up.
+/// with its events count, RESET with READY, SYNC and STEP with SYNC (it is always idle) — and commits
+/// `fault`. Ends when the host hangs up.
 fn stand_in(mut link: MemoryLink, tick: u8, fault: Fault) -> JoinHandle<()> {
     std::thread::spawn(move || {
         let mut events_in = 0u32;
@@ -53,6 +54,7 @@ fn stand_in(mut link: MemoryLink, tick: u8, fault: Fault) -> JoinHandle<()> {
                         answer.extend([0u8; STATUS_BYTES - 8]);
                         answer
                     }
+                    SYNC | STEP => vec![SYNC],
                     HOLD | GO => vec![],
                     _ => {
                         events_in += 1;

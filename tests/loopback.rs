@@ -93,8 +93,10 @@ fn a_burst_up_to_the_buffer_loses_nothing_and_beyond_it_the_overflow_is_reported
 }
 
 /// A firmware whose choices can never cover the cell (`first` takes the lowest enabled command, so a
-/// choice site's other commands never come): the steering, stuck, restarts the closed loop after 2 000
-/// events without a new transition — and that is neither a violation nor a link resync.
+/// choice site's other commands never come), steered as if it chose at random: the steering, stuck,
+/// restarts the closed loop after [`STEERING_RESET`] events without a new transition — and that is
+/// neither a violation nor a link resync. In lock-step, so the run is a function of the seeds: the same
+/// restarts on any machine, loaded or not.
 #[test]
 fn a_stuck_steering_restarts_the_closed_loop() {
     let set = published_cell();
@@ -104,8 +106,8 @@ fn a_stuck_steering_restarts_the_closed_loop() {
         spawn_host_firmware::<_, 1, 10, false, 3, { layout::RANKED }, 33>(tables, CONFIG, First, 7, target);
     // Without steps: in steps the plant's answers after every command find new transitions under
     // `first` too (339 of 365 in 12 000 events), too slowly for a test to wait for the plateaus.
-    let session = SessionConfig { step: false, ..SessionConfig::default() };
-    let options = Options { events: 12_000, session, ..Options::default() };
+    let session = SessionConfig { step: false, steering_reset: STEERING_RESET, ..SessionConfig::default() };
+    let options = Options { events: 4 * STEERING_RESET, session, ..Options::default() };
     let report = attach(&mut host, &set, "cell", &options, &mut |_| {}).unwrap();
     host.send(&[EXIT]).unwrap();
     assert_eq!(firmware.join().unwrap(), Some(0));
@@ -113,6 +115,10 @@ fn a_stuck_steering_restarts_the_closed_loop() {
     assert!(report.steering_resets >= 1, "{report}");
     assert_eq!((report.violations, report.resyncs, report.stalls), (0, 0, 0), "{report}");
 }
+
+/// Events without a new transition after which [`a_stuck_steering_restarts_the_closed_loop`]'s steering
+/// restarts (2 000 in a run of `codegen run`): short, so the test is.
+const STEERING_RESET: u64 = 500;
 
 /// The distribution station under its own `first` policy (the state-based paper's rung order): every
 /// transition `first` can fire taken, and the marked state visited throughout — the steering chases no
@@ -126,10 +132,9 @@ fn the_distribution_station_under_first_is_covered_and_comes_home() {
     // 14 events (one bitset word, 2-byte masks), 4 plants + 6 supervisors, 2-byte fields.
     let firmware =
         spawn_host_firmware::<_, 1, 10, true, 2, { layout::RANKED }, 33>(tables, CONFIG, First, 1, target);
-    // In lock-step, as `codegen run` runs it.
-    let session = SessionConfig { lockstep: true, ..SessionConfig::default() };
+    // In lock-step (the default), as `codegen run` runs it.
     let choices = ChoiceModel::of(project.runtime.policy);
-    let options = Options { events: 10_000, choices, session, ..Options::default() };
+    let options = Options { events: 10_000, choices, ..Options::default() };
     let report = attach(&mut host, &project.set, "distribution", &options, &mut |_| {}).unwrap();
     host.send(&[EXIT]).unwrap();
     assert_eq!(firmware.join().unwrap(), Some(0));

@@ -1,6 +1,15 @@
 //! The cell's board firmware — the Pico application users flash — on an emulated RP2040
 //! (`harness/rp2040/`), the virtual plant on its pins: 20 000 events with GPIO edge interrupts and
 //! 20 000 with timer sampling. And the harness refuses an image linked for another chip.
+//!
+//! The harness speaks no SYNC, so these runs take the plant's own timing (realtime), the one mode whose
+//! verdicts time could touch. A stall is judged on the closed loop's state, not the clock (asked, the
+//! firmware fired nothing while no command is enabled), and the steering waits for the command it
+//! prefers however long it takes, so load makes no stall and steers no worse. The margins left: the
+//! monitor's read window (0.5 s between an event and a command decided before it was read — the
+//! firmware reads an edge within a millisecond of emulated time), 10 s of silence with a command
+//! enabled, and full coverage within the 20 000 events: reached after 2 070–2 260 events with edge
+//! interrupts and 7 900–8 040 with timer sampling on the loaded 2-core machine (27 Nov 2026).
 
 use codegen::closed_loop::Options;
 use codegen::config::SamplingSpec;

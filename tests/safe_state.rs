@@ -6,7 +6,7 @@ use std::time::{Duration, Instant};
 
 use codegen::closed_loop::Options;
 use codegen::config::OnFault;
-use codegen::link::protocol::{Counters, Decoder, Frame, EXIT, GO, RESET, STATUS};
+use codegen::link::protocol::{Counters, Decoder, Frame, EXIT, GO, RESET, STATUS, SYNC};
 use codegen::link::ByteLink;
 use codegen::project::Project;
 use codegen::target::qemu::Qemu;
@@ -32,8 +32,10 @@ fn unexpected_at_start(project: &Project) -> u8 {
 }
 
 /// Boots the cell built with `on_fault` (on hold), resets it, sends the unexpected event, asks for STATUS,
-/// lets it decide for a while and tells it to leave; returns (frames before the STATUS answer, the
-/// counters, frames after it, QEMU's exit code).
+/// lets it decide until it has nothing left to decide (SYNC: answered once nothing is enabled, or in the
+/// safe state) and tells it to leave; returns (frames before the STATUS answer, the counters, frames
+/// after it up to the SYNC answer, QEMU's exit code). Each answer is awaited for up to 20 s: QEMU gives
+/// it in milliseconds, and the margin is for a loaded machine.
 fn run(on_fault: OnFault) -> (Vec<Frame>, Counters, Vec<Frame>, Option<i32>) {
     let mut project = Project::load(&example("cell/cell.toml")).unwrap();
     project.runtime.on_fault = on_fault;
@@ -65,10 +67,10 @@ fn run(on_fault: OnFault) -> (Vec<Frame>, Counters, Vec<Frame>, Option<i32>) {
     let before = frames[..at].to_vec();
     // What came after the answer, in the same read, is the first of what follows.
     frames.drain(..=at);
-    // Let it decide for a moment: the cell's first commands are enabled at the start.
-    link.send(&[GO]).unwrap();
-    let until = Instant::now() + Duration::from_millis(300);
-    read(&mut link, &mut frames, &|_| Instant::now() > until);
+    // Let it decide until it is idle: the cell's first commands are enabled at the start.
+    link.send(&[SYNC, GO]).unwrap();
+    read(&mut link, &mut frames, &|f| f.contains(&Frame::Sync));
+    assert_eq!(frames.pop(), Some(Frame::Sync), "nothing after the SYNC answer, before EXIT");
     link.send(&[EXIT]).unwrap();
     let code = qemu.wait(Duration::from_secs(10)).and_then(|s| s.code());
     assert!(!frames.contains(&Frame::Ready), "{frames:?}");

@@ -3,15 +3,22 @@
 //! PLC program as they judge the firmware under QEMU.
 //!
 //! Event bytes from the plant become edges of the program's input variables (or `EVENTS` members), as
-//! the report's I/O map says: at most one change per input per scan, the input first brought to the
-//! level the edge starts from when it is not there. Changes of the output variables after a scan become
+//! the report's I/O map says: one event per scan, in the order sent (a PLC scans much faster than its
+//! plant moves, and the program takes the edges of one scan in its own order), the input first brought
+//! to the level the edge starts from when it is not there. Changes of the output variables after a scan become
 //! command bytes (a rising edge: the variable's `set` or `pulse` event, a falling edge: its `clear`
 //! event; where a variable has several, the block's `fired` output names it); `fired` alone gives the
-//! controllable events that drive no output. HOLD and GO drive the `hold` input at once (STEP, SYNC: not
-//! spoken here; a session with it runs with `SessionConfig::step` off); RESET,
-//! STATUS and EXIT are answered in order, once the events before them have been applied (no edge
-//! waiting, `pending` low): RESET by a scan with `reset` (and `hold`) set, then READY; STATUS from the
-//! block's counters. A rise of `safe` sends SAFE.
+//! controllable events that drive no output. HOLD sets the `hold` input at once; GO clears it in order,
+//! once the events before it have been applied, so that the events a host sends between HOLD and GO
+//! are all made before the program decides on any of them — as the firmware takes a whole write before
+//! it decides, though here one input changes once per scan (STEP: not spoken here; a session with it
+//! runs with `SessionConfig::step` off). RESET, STATUS and EXIT are answered in order, once the events
+//! before them have been applied (no edge waiting, `pending` low): RESET by a scan with `reset` (and
+//! `hold`) set, then READY; STATUS from the block's counters. SYNC, once the events before it have been applied, is answered after the first
+//! scan that runs with `hold` low, makes no edge, fires no command and leaves nothing pending: the
+//! program has decided all it can on every event before it — the lock-step rounds of a session. As in
+//! the firmware's event loop, the bytes after it do not wait for the answer. A rise of `safe` sends
+//! SAFE.
 
 use std::collections::{BTreeMap, VecDeque};
 use std::thread::JoinHandle;
@@ -21,7 +28,7 @@ use codegen::link::memory::MemoryLink;
 use codegen::link::ByteLink;
 use codegen::model::EventTable;
 use codegen::plc::Report;
-use firmware::link::{EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS};
+use firmware::link::{EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, SYNC};
 
 use crate::st::Plc;
 
@@ -211,12 +218,14 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
         let mut was_safe = false;
         let mut buf = [0u8; 512];
         let mut idle = false;
+        // A SYNC came in, in order, and waits for a scan that decides nothing.
+        let mut sync_asked = false;
         loop {
             let wait = if idle { Duration::from_millis(2) } else { Duration::ZERO };
             let n = link.recv(&mut buf, wait).map_err(io)?;
             for &b in &buf[..n] {
                 match b {
-                    HOLD | GO => driver.plc.set_bool("hold", b == HOLD)?,
+                    HOLD => driver.plc.set_bool("hold", true)?,
                     other => fifo.push_back(other),
                 }
             }
@@ -225,12 +234,22 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
             let mut answered = false;
             while let Some(&b) = fifo.front() {
                 match b {
-                    0..=MAX_EVENT if driver.has_input(b) => match driver.edge(b, &mut used)? {
-                        Edge::Made => {
+                    0..=MAX_EVENT if driver.has_input(b) => {
+                        if !used.is_empty() {
+                            break;
+                        }
+                        if driver.edge(b, &mut used)? == Edge::Made {
                             fifo.pop_front();
                         }
-                        Edge::Prepared | Edge::Busy => break,
-                    },
+                    }
+                    SYNC => {
+                        fifo.pop_front();
+                        sync_asked = true;
+                    }
+                    GO => {
+                        fifo.pop_front();
+                        driver.plc.set_bool("hold", false)?;
+                    }
                     RESET | STATUS | EXIT => {
                         if !used.is_empty() || driver.plc.get_bool(&format!("{FB}.pending"))? {
                             break;
@@ -262,8 +281,16 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
                     }
                 }
             }
+            let held = driver.plc.get_bool("hold")?;
             let commands = driver.scan()?;
             out.extend(&commands);
+            let pending = driver.plc.get_bool(&format!("{FB}.pending"))?;
+            let quiet = commands.is_empty() && used.is_empty() && !pending;
+            if sync_asked && quiet && !held {
+                sync_asked = false;
+                answered = true;
+                out.push(SYNC);
+            }
             let safe = driver.plc.get_bool(&format!("{FB}.safe"))?;
             if safe && !was_safe {
                 out.push(SAFE);
@@ -272,9 +299,7 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
             if !out.is_empty() {
                 link.send(&out).map_err(io)?;
             }
-            let pending = driver.plc.get_bool(&format!("{FB}.pending"))?;
-            idle =
-                n == 0 && fifo.is_empty() && commands.is_empty() && !answered && used.is_empty() && !pending;
+            idle = n == 0 && fifo.is_empty() && quiet && !answered;
         }
     })
 }

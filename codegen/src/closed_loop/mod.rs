@@ -20,6 +20,10 @@ use crate::plant::{PlantConfig, VirtualPlant};
 use crate::target::qemu::{Qemu, QemuConfig, QemuError};
 use crate::target::rp2040::{Harness, HarnessConfig, HarnessError};
 
+/// How long an emulator has to leave once the firmware was told to (EXIT): it takes milliseconds; the
+/// rest is margin for a loaded machine (the wait ends as soon as it is gone).
+const EXIT_WITHIN: Duration = Duration::from_secs(30);
+
 /// Everything a closed-loop run is configured by, besides the supervisor set.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Options {
@@ -151,13 +155,15 @@ pub fn run_under_qemu(
     // the monitor has counted as a violation. Anything else (a panic, a hang, a crash of the emulator)
     // fails the run.
     let sent = link.send(&[EXIT]);
-    let status = qemu.wait(Duration::from_secs(5));
+    let status = qemu.wait(EXIT_WITHIN);
     match status.and_then(|s| s.code()) {
         Some(0) if sent.is_ok() => Ok(report),
         Some(1) if sent.is_ok() && report.violations > 0 => Ok(report),
         _ => Err(ClosedLoopError::Exit {
-            status: status
-                .map_or_else(|| "still running 5 s after EXIT (killed)".to_owned(), |s| s.to_string()),
+            status: status.map_or_else(
+                || format!("still running {} s after EXIT (killed)", EXIT_WITHIN.as_secs()),
+                |s| s.to_string(),
+            ),
             stderr: qemu.stderr(),
         }),
     }
@@ -191,7 +197,7 @@ pub fn run_on_rp2040(
     report.target = "rp2040".into();
     let _ = link.send(&[EXIT]);
     drop(link);
-    harness.wait(Duration::from_secs(10));
+    harness.wait(EXIT_WITHIN);
     report.board = Some(harness.figures()?);
     Ok(report)
 }

@@ -7,11 +7,19 @@
 //! and may be answered at once (a race). A violation, an unresolved desynchronisation, a firmware fault
 //! or a stall resets both sides and the run goes on; all of it is counted.
 //!
-//! In lock-step ([`SessionConfig::lockstep`]) time plays no part: every round the plant's emission goes
-//! out while the firmware is held, followed by a SYNC request and GO, and the next round starts when
-//! the firmware answers SYNC (it decided until nothing was enabled). So every decision is taken on every
-//! event sent before it, and the trace is a function of the seeds alone — the same whatever the table
-//! layout or the machine's load. Commands are judged as taken after the round's events were read.
+//! A stall — the closed loop blocked — is judged on what the two sides did, never on how long they
+//! took, so that a loaded machine cannot make one: in lock-step a round in which neither the plant nor
+//! the firmware moved, in steps a step in which neither moved, in realtime a firmware that, asked
+//! (HOLD, STATUS: every command it fired is judged), fired nothing while plants ‖ supervisors enable
+//! no command. Time limits only catch a firmware that stopped answering or deciding
+//! ([`SessionConfig`]).
+//!
+//! In lock-step ([`SessionConfig::lockstep`], the default) time plays no part: every round the plant's
+//! emission goes out while the firmware is held, followed by a SYNC request and GO, and the next round
+//! starts when the firmware answers SYNC (it decided until nothing was enabled). So every decision is
+//! taken on every event sent before it, and the trace is a function of the seeds alone — the same
+//! whatever the table layout or the machine's load. Commands are judged as taken after the round's
+//! events were read.
 //!
 //! In steps ([`SessionConfig::step`]), while the plant steers towards transitions not taken yet and
 //! whatever the timing, the firmware stays on hold and the plant takes a turn before each of its
@@ -34,20 +42,16 @@ use crate::plant::VirtualPlant;
 
 /// Longest single wait on the link, so the plant's timers stay accurate.
 const POLL: Duration = Duration::from_millis(2);
+/// Realtime: how long a firmware may be silent, while the plant has nothing to do, before the plant
+/// asks where it is ([`Session::probe`]). Only the speed of the run depends on it, never a verdict.
+const PROBE_AFTER: Duration = Duration::from_millis(100);
 /// How often the progress callback runs.
 const PROGRESS_EVERY: Duration = Duration::from_millis(200);
-/// How long the plant holds its next event when the steering prefers the controller to choose first;
-/// a command ends the wait at once, and without one the plant goes on after this.
-const PATIENCE: Duration = Duration::from_millis(3);
 /// Most events the steering adds to an emission to get ahead of the controller's decision.
 const MAX_STEERED_BURST: usize = 8;
 /// Events without a new transition after which the plant starts to mix its own timing into the
 /// steering, and per how many more events the mix grows by a tenth (up to a half).
 const STAGNATION: u64 = 250;
-/// Events without a new transition after which the steering restarts the closed loop: the monitor's
-/// mirror of the controller's choice rounds may have lost step (a choice the guard dropped still counts
-/// in the firmware's round), and a reset puts both back in step.
-const STEERING_RESET: u64 = 2_000;
 /// Lock-step clock: a round's events are stamped at an even multiple of it and its commands one tick
 /// later, beyond any read window, so that the controller counts as having read them.
 const TICK_US: u64 = 1 << 32;
@@ -56,29 +60,53 @@ const MAX_ROUND_COMMANDS: usize = 4096;
 /// The time a step's command is judged at: after every event sent before its STEP, all of them read.
 const READ_ALL: u64 = u64::MAX;
 
-/// Timing of a session.
+/// How a session takes turns with the firmware, and how long it waits for it.
+///
+/// The default is what `codegen run` does: lock-step rounds, in steps while the plant steers. Every
+/// verdict of such a run — violations, stalls, coverage — is a function of the seeds alone, so a loaded
+/// machine makes it slower, never different. The time limits below only end a run whose firmware has
+/// stopped answering; they are far beyond anything load does to one that answers (QEMU and the
+/// host-compiled runtime answer in milliseconds).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SessionConfig {
-    /// How long to wait for a READY or STATUS answer.
+    /// How long to wait for a READY, STATUS or SYNC answer before the run fails
+    /// ([`SessionError::NoAnswer`]).
     pub answer_timeout: Duration,
-    /// With nothing for the plant to do and no command for this long, the loop is blocked: reset.
+    /// Realtime only: with nothing for the plant to do, and plants ‖ supervisors enabling a command the
+    /// firmware does not fire for this long, the firmware has stopped deciding — a stall (reset). A loop
+    /// that is blocked (no command enabled) is a stall as soon as the firmware, asked (HOLD, STATUS),
+    /// shows it fired nothing, whatever the time.
     pub stall_timeout: Duration,
     /// Lock-step rounds instead of the plant's timing (see the module documentation): a reproducible
-    /// trace, without races or stale decisions.
+    /// trace, without races or stale decisions. Off ([`SessionConfig::realtime`]) only where timing is
+    /// the subject (races, bursts) or the firmware does not answer SYNC (the RP2040 harness).
     pub lockstep: bool,
     /// While the plant steers, run in steps (see the module documentation): the firmware understands
     /// STEP — the QEMU and host-compiled firmware do; the RP2040 harness and the PLC driver do not.
     pub step: bool,
+    /// Events without a new transition after which the steering restarts the closed loop: the monitor's
+    /// mirror of the controller's choice rounds may have lost step (a choice the guard dropped still
+    /// counts in the firmware's round), and a reset puts both back in step.
+    pub steering_reset: u64,
 }
 
 impl Default for SessionConfig {
     fn default() -> Self {
         SessionConfig {
             answer_timeout: Duration::from_secs(10),
-            stall_timeout: Duration::from_secs(2),
-            lockstep: false,
+            stall_timeout: Duration::from_secs(10),
+            lockstep: true,
             step: true,
+            steering_reset: 2_000,
         }
+    }
+}
+
+impl SessionConfig {
+    /// The default with the plant's own timing instead of lock-step rounds (`--timing realtime`): its
+    /// delays, bursts and races against the firmware's decisions.
+    pub fn realtime() -> Self {
+        SessionConfig { lockstep: false, ..SessionConfig::default() }
     }
 }
 
@@ -109,7 +137,10 @@ pub struct Session<'a, L: ByteLink + ?Sized> {
     start: Instant,
     /// Times the plant's next emission is due; `None` while it has nothing to produce.
     next_emit: Option<Instant>,
+    /// Realtime: the firmware's last command or the plant's last emission.
     last_activity: Instant,
+    /// Realtime: the firmware was asked where it is ([`Session::probe`]) since `last_activity`.
+    probed: bool,
     /// Whether the plant already held back once since the controller's last command.
     waited: bool,
     /// Transitions taken so far, and the event count at which the last new one was taken.
@@ -149,6 +180,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             start: now,
             next_emit: Some(now),
             last_activity: now,
+            probed: false,
             waited: false,
             progress: (0, 0),
             garbled: 0,
@@ -190,7 +222,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         if self.stepping {
             // On hold (the RESET kept it) until the first step.
             self.settle = false;
-            self.last_activity = Instant::now();
+            self.active();
             return Ok(());
         }
         self.release()
@@ -204,7 +236,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         self.settle = self.config.lockstep;
         self.link.send(if self.settle { &[SYNC, GO][..] } else { &[GO][..] })?;
         self.next_emit = Some(Instant::now());
-        self.last_activity = Instant::now();
+        self.active();
         Ok(())
     }
 
@@ -261,9 +293,14 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
                     break;
                 }
             }
-            if self.next_emit.is_none() && self.last_activity.elapsed() > self.config.stall_timeout {
-                self.monitor.report_mut().stalls += 1;
-                self.sync(true)?;
+            if self.next_emit.is_none() {
+                let silent = self.last_activity.elapsed();
+                if !self.probed && silent > PROBE_AFTER {
+                    self.probe()?;
+                } else if silent > self.config.stall_timeout {
+                    self.monitor.report_mut().stalls += 1;
+                    self.sync(true)?;
+                }
             }
             if last_progress.elapsed() >= PROGRESS_EVERY {
                 last_progress = Instant::now();
@@ -313,7 +350,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         let sent = bytes.len();
         bytes.push(STEP);
         self.link.send(&bytes)?;
-        self.last_activity = Instant::now();
+        self.active();
         let commands = self.await_round(READ_ALL)?;
         self.idle_seen |= commands == Some(0);
         if commands == Some(0) && sent == 0 {
@@ -431,7 +468,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         let sent = bytes.len();
         bytes.push(GO);
         self.link.send(&bytes)?;
-        self.last_activity = Instant::now();
+        self.active();
         Ok(sent)
     }
 
@@ -440,8 +477,10 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
     }
 
     /// The plant's next emission: one event or a burst, sent as one write. When the plant steers (see
-    /// [`Move`]), it first lets the controller choose if that is better, and goes on past the drawn
-    /// length, holding the controller, while its own next event beats the controller's choice.
+    /// [`Move`]), it first lets the controller choose if that is better, waiting for its command however
+    /// long it takes (a slow controller, or a loaded machine, changes when the plant moves, not what it
+    /// chooses), and goes on past the drawn length, holding the controller, while its own next event
+    /// beats the controller's choice.
     ///
     /// While it steers, the plant first stops the controller ([`Session::pause`]) and decides on the
     /// state the controller really is in: a controller that never runs out of commands (actuators it may
@@ -460,8 +499,9 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             if paused {
                 self.link.send(&[GO])?;
             }
+            // The controller has a command to fire: its command ends the wait, however long it takes.
             self.waited = true;
-            self.next_emit = Some(Instant::now() + PATIENCE);
+            self.next_emit = None;
             return Ok(());
         }
         let (mut bytes, held, violated) = self.draw(self.micros());
@@ -482,7 +522,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         if violated {
             return self.out_of_step();
         }
-        self.last_activity = Instant::now();
+        self.active();
         self.next_emit = Some(Instant::now() + Duration::from_micros(self.plant.next_delay_us(false)));
         Ok(())
     }
@@ -515,12 +555,47 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
     /// Stops the controller deciding and judges every command it fired until then (HOLD, then STATUS,
     /// whose answer comes after the last of them; its counters are not added, for the firmware's
     /// counters since its reset are collected once, at the next reset or the end). The controller stays
-    /// on hold until the caller sends GO.
-    fn pause(&mut self) -> Result<(), SessionError> {
+    /// on hold until the caller sends GO. Returns whether it fired a command meanwhile.
+    fn pause(&mut self) -> Result<bool, SessionError> {
+        let commands = self.monitor.report().commands;
         self.link.send(&[HOLD, STATUS])?;
         self.await_frame("STATUS", true, |f| matches!(f, Frame::Status(_)))?;
-        self.last_activity = Instant::now();
+        let fired = self.monitor.report().commands != commands;
+        if fired {
+            self.active();
+        }
+        Ok(fired)
+    }
+
+    /// Realtime, the plant with nothing to do and the firmware silent for [`PROBE_AFTER`]: is the loop
+    /// blocked, or is the firmware only slow? The firmware is held and every command it fired is judged
+    /// ([`Session::pause`]); then it has read every event sent, so it is where the monitor is. A command
+    /// among them moves the loop on. Without one, plants ‖ supervisors enabling no command is a stall,
+    /// judged on the state and not on the time, so a loaded machine cannot make one; enabling one, the
+    /// firmware has it to fire and is let go, and only [`SessionConfig::stall_timeout`] of silence more
+    /// makes it a stall.
+    fn probe(&mut self) -> Result<(), SessionError> {
+        let fired = self.pause()?;
+        if !self.in_step {
+            return self.out_of_step();
+        }
+        if fired {
+            self.waited = false;
+            self.next_emit = Some(Instant::now());
+        } else if self.monitor.commands_enabled() {
+            self.probed = true;
+        } else {
+            self.monitor.report_mut().stalls += 1;
+            return self.sync(true);
+        }
+        self.link.send(&[GO])?;
         Ok(())
+    }
+
+    /// The firmware fired or the plant sent: the loop moves, and a new silence starts.
+    fn active(&mut self) {
+        self.last_activity = Instant::now();
+        self.probed = false;
     }
 
     /// Lets the plant mix its own timing into the steering while no new transition is taken, and
@@ -532,7 +607,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             self.progress = (taken, report.events);
         }
         let stuck = report.events - self.progress.1;
-        if stuck >= STEERING_RESET && self.monitor.is_steering() && self.plant.steers() {
+        if stuck >= self.config.steering_reset && self.monitor.is_steering() && self.plant.steers() {
             self.progress.1 = report.events;
             self.monitor.report_mut().steering_resets += 1;
             return self.restart(true);
@@ -545,7 +620,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
     fn handle(&mut self, frame: Frame) -> Result<(), SessionError> {
         match frame {
             Frame::Command(c) => {
-                self.last_activity = Instant::now();
+                self.active();
                 self.waited = false;
                 match self.judge(c, self.micros()) {
                     Verdict::Ok | Verdict::Desync { resolved: true } => {
@@ -595,7 +670,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
     /// A frame that arrived while [`Session::await_frame`] waited for another: with `judged`, what the
     /// firmware did up to the sync point is judged and counted (a command, SAFE, a restart, a garbled
     /// byte); without, it predates the monitored run and is dropped. Nothing here resynchronises: the
-    /// caller is on its way to a reset or to the end.
+    /// caller is on its way to a reset or to the end, or finds the monitor out of step (`in_step`).
     fn late(&mut self, frame: Frame, judged: bool) {
         if !judged {
             return;
@@ -610,8 +685,14 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
                     self.in_step = false;
                 }
             }
-            Frame::Safe => self.monitor.firmware_safe(),
-            Frame::Ready => self.monitor.report_mut().reboots += 1,
+            Frame::Safe => {
+                self.monitor.firmware_safe();
+                self.in_step = false;
+            }
+            Frame::Ready => {
+                self.monitor.report_mut().reboots += 1;
+                self.in_step = false;
+            }
             Frame::Status(_) | Frame::Sync => {}
             Frame::Unknown(_) => self.garbled += 1,
         }

@@ -220,13 +220,21 @@ impl Monitor {
 
     /// How good the plant's `event` is now for reaching a controllable supervisor transition the run has
     /// not taken yet: the expected events from the state it leads to (in sixteenths; lower is better,
-    /// see [`Steering`]); `None` when no such transition is left (or the closed loop was too large to
+    /// see `Steering` in `steering.rs`); `None` when no such transition is left (or the closed loop was too large to
     /// explore). The plant uses it to steer towards what the run has not covered.
     pub fn rank_after(&mut self, event: EventId) -> Option<u32> {
         self.refresh_steering();
         let graph = self.graph.as_ref()?;
         let next = graph.next(graph.id(&self.physical)?, event)?;
         self.steering.rank_after(next)
+    }
+
+    /// Whether plants ‖ supervisors enable a command in the physical state: a controller in step with
+    /// the monitor, having read every event, has one to fire (the session tells a blocked loop from a
+    /// slow controller by it).
+    pub fn commands_enabled(&self) -> bool {
+        let allows = |e: usize| self.closed.allows(&self.physical, EventId::from_u32(e as u32));
+        self.controllable.iter().enumerate().any(|(e, &c)| c && allows(e))
     }
 
     /// Whether the monitor is steering: it could explore the closed loop and some reachable transition

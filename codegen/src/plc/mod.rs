@@ -3,7 +3,7 @@
 //!
 //! # Overview
 //!
-//! * [`spec`] — the manifest's `[plc]` section: input variables and their edges, output variables and
+//! * [`PlcSpec`] — the manifest's `[plc]` section: input variables and their edges, output variables and
 //!   their actions, the choice policy, the task's cycle.
 //! * [`io`] — that map checked against the set's events.
 //! * [`names`] — IEC identifiers for the models' names.

@@ -18,6 +18,10 @@
 //! A [`Project`] carries a supervisor set with what the later stages need besides it: its name, the
 //! run-time configuration, the board's pin map and where it came from (the emitted header's inputs and
 //! command). [`comparison`] runs the other two architectures of the same problem for the size report.
+//!
+//! [`Manifest`]: crate::manifest::Manifest
+//! [`Manifest::load`]: crate::manifest::Manifest::load
+//! [`Manifest::read_automata`]: crate::manifest::Manifest::read_automata
 
 pub mod build_script;
 pub mod comparison;

@@ -12,6 +12,10 @@ use std::time::{Duration, Instant};
 
 use crate::link::StreamLink;
 
+/// How long an emulator has to open its socket: it does so in well under a second; the rest is margin
+/// for a loaded machine (an emulator that exits instead is seen at once).
+pub const CONNECT_WITHIN: Duration = Duration::from_secs(60);
+
 /// The emulator's socket did not come up.
 #[derive(Debug)]
 pub enum ConnectError {
@@ -178,4 +182,24 @@ fn watchdog(child: Arc<Mutex<Child>>, done: Arc<(Mutex<bool>, Condvar)>, timeout
             }
         }
     });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Judged on order, not on the clock's margins, so that load cannot fail it: the process (one
+    /// that would live ten minutes) is killed no sooner than its deadline after it started, and seen
+    /// gone within a minute (the margin for a loaded machine; the kill takes milliseconds). A wait
+    /// that ran out would have killed it itself and returned `None`.
+    #[test]
+    fn the_watchdog_kills_a_hung_emulator_at_its_deadline() {
+        use std::os::unix::process::ExitStatusExt;
+        let deadline = Duration::from_secs(1);
+        let started = Instant::now();
+        let mut hung = Emulator::spawn(Command::new("sleep").arg("600"), deadline).unwrap();
+        let status = hung.wait(Duration::from_secs(60)).expect("killed by the watchdog, not by the wait");
+        assert!(started.elapsed() >= deadline, "killed before its deadline: {:?}", started.elapsed());
+        assert_eq!(status.signal(), Some(libc::SIGKILL), "{status}");
+    }
 }

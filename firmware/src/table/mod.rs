@@ -33,7 +33,7 @@
 //! # The `indexed` layout
 //!
 //! The same pool, block, handles and scales, with two differences that take the bit arithmetic out of
-//! a step ([`SupervisorSet::indexed`]):
+//! a step ([`SupervisorSet::layout`] [`layout::INDEXED`]):
 //!
 //! ```text
 //! [mask id]

@@ -1,4 +1,4 @@
-//! Structured Text for the tests: a parser of the subset `codegen plc` writes ([`parse`]), the static
+//! Structured Text for the tests: a parser of the subset `codegen plc` writes ([`parse`](mod@parse)), the static
 //! type check a strict compiler makes ([`check`]) and a scan-cycle interpreter ([`run`]). Strict as
 //! matiec and IronPLC are (IEC 61131-3 Ed. 3: no keyword as a name, located variables only in a
 //! `PROGRAM`'s own `VAR` block and bound once, no implicit narrowing, the grammar's semicolons), so a

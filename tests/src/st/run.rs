@@ -5,10 +5,10 @@
 //! assignment, so an overflow the PLC would wrap is an error here), arrays (index checked), structs and
 //! block instances. Unset variables start at their initial value or zero/FALSE, as on a PLC.
 //!
-//! Strict as a strict compiler is: [`Plc::load`] refuses what [`super::parse`] refuses (keywords as
-//! names, located variables outside a `PROGRAM`'s own `VAR` block or bound twice, a missing `;`) and
-//! what [`super::check`] refuses (an implicit conversion the standard does not allow, a write to an
-//! input or into a block instance).
+//! Strict as a strict compiler is: [`Plc::load`] refuses what [`super::parse`](fn@super::parse)
+//! refuses (keywords as names, located variables outside a `PROGRAM`'s own `VAR` block or bound twice, a
+//! missing `;`) and what [`super::check`] refuses (an implicit conversion the standard does not allow, a
+//! write to an input or into a block instance).
 
 use std::collections::BTreeMap;
 

@@ -18,7 +18,7 @@ use std::time::Duration;
 
 use serde_json::json;
 
-use super::child::{ConnectError, Emulator};
+use super::child::{ConnectError, Emulator, CONNECT_WITHIN};
 use super::sources::{self, SourcesError};
 use crate::config::{BoardSpec, SamplingSpec};
 use crate::link::StreamLink;
@@ -241,7 +241,7 @@ impl Harness {
         let process = Emulator::spawn(&mut cmd, config.timeout)
             .map_err(|source| HarnessError::Spawn { program: config.node.clone(), source })?;
         let mut harness = Harness { process, dir, stats };
-        let link = harness.process.connect(&socket, Duration::from_secs(20)).map_err(|e| match e {
+        let link = harness.process.connect(&socket, CONNECT_WITHIN).map_err(|e| match e {
             ConnectError::Exited { status, stderr } => HarnessError::Exited { status, stderr },
             ConnectError::Timeout { path, source } => HarnessError::Connect { path, source },
         })?;
