@@ -13,8 +13,10 @@
 // remembers each pin's level and latches an edge only when it changes.
 //
 // Pads at reset. The datasheet's reset value of PADS_BANK0 GPIOn is 0x56 (input enabled, 4 mA, pull-down,
-// Schmitt trigger; rp2040-pac's RESET_VALUE); rp2040js starts them at 0x36, input disabled, so that the
-// firmware's first pad write turned the input on and a pin resting high rose. The pads start at 0x56.
+// Schmitt trigger; rp2040-pac's RESET_VALUE); rp2040js starts them at 0x36, input disabled, so that a pin
+// resting high read low until the firmware turned its input on. The pads start at 0x56. (rp2040-hal turns
+// an input pad off and on again while it sets the pin up: a pin resting high then latches both edges, on
+// silicon as here.)
 //
 // Power-on. INTR resets to 0, and the firmware resets IO_BANK0 before it uses the pins: the levels the
 // pins have from power-on are no edges ([`powerOn`]). An edge that does latch while the firmware sets its
