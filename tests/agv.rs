@@ -41,17 +41,37 @@ fn the_reduced_agv_set_is_safe_live_and_fully_covered_under_qemu() {
     );
 }
 
-#[test]
-#[ignore = "fails today: on the emulated RP2040 the firmware's first command is judged disabled (a3_go_ws2 \
-            by S_WS1_WS2_WS3_IPS) and the board reboots at every event, in every layout, while the same \
-            tables run clean under QEMU; the pin map (two input events per pin, rising and falling) is the \
-            first suspect"]
-fn the_reduced_agv_set_runs_on_the_pico_through_its_pins() {
+/// The reduced set on the emulated RP2040 for `PICO_EVENTS` events, its inputs by edge interrupt.
+fn pico_run() -> Report {
     let project = Project::load(&example("agv/agv.toml")).unwrap();
-    let report = pico_closed_loop(&project, SamplingSpec::Interrupt, &Options::for_events(PICO_EVENTS));
-    check(&report, "agv reduced, RP2040", 60);
+    pico_closed_loop(&project, SamplingSpec::Interrupt, &Options::for_events(PICO_EVENTS))
+}
+
+/// Safe and in step through the pins: every command enabled when it came, no reboot, every edge taken
+/// as its event, every vehicle through every zone. Before the edges latched at boot were cleared, the
+/// first command was judged disabled and the board rebooted at every event.
+#[test]
+fn the_reduced_agv_set_runs_on_the_pico_through_its_pins() {
+    let report = pico_run();
+    eprintln!("agv reduced, RP2040: {report}");
+    assert_clean(&report, "agv reduced, RP2040");
     let board = report.board.as_ref().expect("the harness's figures");
     assert_eq!((board.missed, board.unmapped), (0, 0), "{report}");
+    let zones: Vec<_> = report.coverage.iter().filter(|l| l.supervisor.starts_with("S_Z")).collect();
+    assert_eq!(zones.len(), 4, "{report}");
+    for line in zones {
+        assert_eq!(Some(line.taken), line.reachable, "{}: {report}", line.supervisor);
+    }
+}
+
+#[test]
+#[ignore = "fails today: through pins the plant cannot make the firmware wait (the harness has no STEP), so \
+            the realtime closed loop settles into a cycle that never comes back to the marked state (marked \
+            only at the boots of the steering resets, 58 of the merged supervisor's 614 transitions); QEMU \
+            in realtime without steering does the same (`codegen run examples/agv/agv.toml --timing \
+            realtime --guide 0`: 1 marked visit in 4 000 events), with steering and STEP it is live"]
+fn the_reduced_agv_set_is_live_and_covered_on_the_pico() {
+    check(&pico_run(), "agv reduced, RP2040", 60);
 }
 
 #[test]

@@ -8,6 +8,7 @@
 import { GPIOPinState, RP2040 } from 'rp2040js';
 
 import { correctCore } from './core.js';
+import { correctGpio, powerOn } from './gpio.js';
 import { loadImage } from './image.js';
 import { installRom, ROM_TRAP } from './rom.js';
 import { installRosc } from './rosc.js';
@@ -84,6 +85,7 @@ export class Board {
       },
     };
     correctCore(mcu);
+    correctGpio(mcu);
     installRom(mcu);
     installRosc(mcu, bits);
     loadImage(mcu, image.elf);
@@ -92,7 +94,7 @@ export class Board {
       const why = pc === 0 && code === ROM_TRAP ? 'called a ROM routine the stand-in does not have' : `hit BKPT/UDF #${code}`;
       throw new BoardFault(`firmware ${why} at 0x${pc.toString(16)} (a panic or a fault: see the RTT log)`);
     };
-    for (const [pin, level] of pins.restLevels()) mcu.gpio[pin].setInputValue(level);
+    powerOn(mcu, pins.restLevels());
     for (const pin of pins.outputPins.keys()) {
       let last = false;
       mcu.gpio[pin].addListener((state) => {

@@ -21,15 +21,13 @@
 // reads them. For a given seed and the same bytes at the same instants, a run is the same.
 
 import { Board, Cost, CYCLE_NS } from './board.js';
+import { EDGE_HIGH, EDGE_LOW } from './gpio.js';
 import { PinMap } from './pins.js';
 import { EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, statusFrame } from './protocol.js';
 import { BitSource } from './rosc.js';
 
 const RUNNING = 1;
 const SAFE_FLAG = 2;
-/** IO_BANK0 INTR latch bits of one pin. */
-const EDGE_LOW = 1 << 2;
-const EDGE_HIGH = 1 << 3;
 /** Emulated time a STATUS or EXIT waits for unread edges at most (then it is answered anyway). */
 const BARRIER_LIMIT_NS = 100_000_000;
 /** Instructions per call of `step`, so the host's bytes are read often. */

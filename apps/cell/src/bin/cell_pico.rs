@@ -148,6 +148,13 @@ mod app {
             });
         }
         if tables::BOARD.sampling == Sampling::Interrupt {
+            // INTR latches edges whether or not their interrupt is enabled: one latched while the pins
+            // were set up (a pull moving a line nothing drives yet) would be taken as an event at once.
+            // Cleared before the interrupts are enabled, as pico-sdk's `gpio_set_irq_enabled` does.
+            for p in inputs.iter_mut() {
+                p.clear_interrupt(Interrupt::EdgeHigh);
+                p.clear_interrupt(Interrupt::EdgeLow);
+            }
             for i in tables::BOARD.inputs {
                 let Some(p) = inputs.iter().find(|p| p.id().num == i.pin) else { continue };
                 if matches!(i.edge, Edge::Rising | Edge::Both) {
