@@ -29,10 +29,13 @@ use super::xml;
 use super::{file_stem, ParseError};
 use crate::model::{Automaton, Kind, StateId};
 
-/// Whether `text` is a generator in libFAUDES's XML form rather than its token form.
+/// Whether `text` is a generator in libFAUDES's XML form rather than its token form: an XML prolog, or
+/// an element only the XML form has (the token form's markup is its section names alone).
 pub(crate) fn is_xml(text: &str) -> bool {
     let head = text.trim_start_matches('\u{feff}').trim_start();
-    head.starts_with("<?xml") || head.starts_with("<!DOCTYPE")
+    head.starts_with("<?xml")
+        || head.starts_with("<!DOCTYPE")
+        || ["<StateSet", "<TransitionRelation", "<Event "].iter().any(|m| text.contains(m))
 }
 
 /// Reads the automaton of a libFAUDES XML generator.
@@ -176,9 +179,9 @@ mod tests {
     fn errors_name_the_line() {
         let bad = SYSTEM.replace("x2=\"1\"", "x2=\"9\"");
         let e = read(&bad).unwrap_err().to_string();
-        assert!(e.starts_with("S.gen: line 25: transition refers to unknown state id 9 (x2)"), "{e}");
+        assert!(e.starts_with("S.gen: line 26: transition refers to unknown state id 9 (x2)"), "{e}");
         let typo = SYSTEM.replace("event=\"b\"", "event=\"bb\"");
-        assert!(read(&typo).unwrap_err().to_string().contains("line 25"), "the event's line");
+        assert!(read(&typo).unwrap_err().to_string().contains("line 26"), "the event's line");
         let entities = SYSTEM.replace("system.dtd\">", "system.dtd\" [<!ENTITY x \"y\">]>");
         assert!(read(&entities).unwrap_err().to_string().contains("line 2: unsupported: a document type"));
     }

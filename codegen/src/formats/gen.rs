@@ -509,8 +509,8 @@ mod tests {
             "b.gen: line 1: range 1 to 99999999999 has more than 10000000 states"
         );
         assert_eq!(
-            err("<Generator>\n<StateSet> </StateSet> </Generator>"),
-            "b.gen: line 2: unsupported: section <StateSet> (only <Alphabet>, <States>, <TransRel>, <InitStates>, <MarkedStates> are read)"
+            err("<Generator>\n<Attributes> </Attributes> </Generator>"),
+            "b.gen: line 2: unsupported: section <Attributes> (only <Alphabet>, <States>, <TransRel>, <InitStates>, <MarkedStates> are read)"
         );
     }
 }

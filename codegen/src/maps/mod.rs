@@ -132,24 +132,20 @@ pub fn check(manifest: &Manifest, models: &ModelSet, board: Option<Board>) -> Re
             return p.finish(&manifest.file);
         }
     };
+    let pins = manifest.board.as_ref().and_then(|spec| chosen(spec, board)).or(board);
     if let Some(spec) = &manifest.board {
-        board::check(spec, &events, chosen(spec, board), board, &mut p);
+        board::check(spec, &events, pins, board, &mut p);
     }
     if let Some(spec) = &manifest.plc {
         plc::check(spec, &events, &mut p);
     }
     if let Some(spec) = &manifest.state {
-        state::check(spec, models, chosen_for_state(manifest, board), &mut p);
+        state::check(spec, models, pins, &mut p);
     }
     if let (Some(spec), None) = (&manifest.net, &manifest.hybrid) {
         net::check(spec, &manifest.file, models, &mut p);
     }
     p.finish(&manifest.file)
-}
-
-/// The board `[state]` pins are checked against: the command's, else `[board] name`'s.
-fn chosen_for_state(manifest: &Manifest, board: Option<Board>) -> Option<Board> {
-    board.or_else(|| manifest.board.as_ref().and_then(|b| Board::named(&b.name)))
 }
 
 /// Checks a `[board]` section read from a file of its own (`codegen emit --board FILE`, whose text is

@@ -9,13 +9,12 @@ use crate::net::NetError;
 
 use super::Problems;
 
-/// Reads the net of `spec` (in the manifest `file`) and binds it to the events of `models`; its first
-/// problem, if any, joins the others (the binder stops at the first).
+/// Reads the net of `spec` (in the manifest `file`) and binds it to the events of `models`; the first
+/// problem of the section, if any, joins the others (the binder stops at the first). A net file that
+/// cannot be read is no map's problem: the command that reads the net reports it, naming the file.
 pub(super) fn check(spec: &NetSpec, file: &Path, models: &ModelSet, p: &mut Problems) {
     let automata: Vec<_> = super::members(models).collect();
-    match crate::net::interpretation(spec, file, &automata) {
-        Ok(_) => {}
-        Err(NetError::Spec { line, message, .. }) => p.at_line(Some(line), "net", message),
-        Err(e) => p.at_line(None, "net", e.to_string()),
+    if let Err(NetError::Spec { line, message, .. }) = crate::net::interpretation(spec, file, &automata) {
+        p.at_line(Some(line), "net", message);
     }
 }
