@@ -8,7 +8,7 @@ use crate::model::suggest::did_you_mean;
 use crate::model::EventTable;
 
 use super::pins::{Board, Pin};
-use super::Problems;
+use super::{Changes, Problems};
 
 /// Highest pin number a map may name: one bit per pin in the firmware's 64-bit sample.
 const MAX_PIN: u8 = 63;
@@ -64,7 +64,7 @@ pub(super) fn check(
         _ => {}
     }
     // Per pin: the entries on it with their edges, and its pull.
-    let mut on_pin: BTreeMap<u8, Vec<(usize, &str, (bool, bool))>> = BTreeMap::new();
+    let mut on_pin: BTreeMap<u8, Changes> = BTreeMap::new();
     let mut pulls: BTreeMap<u8, (usize, &str)> = BTreeMap::new();
     let mut sources: BTreeMap<&str, usize> = BTreeMap::new();
     for (i, input) in spec.inputs.iter().enumerate() {
@@ -100,22 +100,19 @@ pub(super) fn check(
             p.at(&key.field("edge"), format!("'{}': rising, falling or both", input.edge));
             continue;
         };
-        let here = on_pin.entry(input.pin).or_default();
-        for &(j, other, e) in here.iter() {
-            if (edge.0 && e.0) || (edge.1 && e.1) {
-                let which = if edge.0 && e.0 { "rising" } else { "falling" };
-                p.at(
-                    &key.field("edge"),
-                    format!(
-                        "the {which} edge of pin {} would make both '{other}' (board.inputs[{j}]) and '{}': \
-                         one edge, one event (a second sensor needs a pin of its own; one pin may carry \
-                         one event rising and another falling)",
-                        input.pin, input.event
-                    ),
-                );
-            }
+        if let Some((other, event, which)) =
+            on_pin.entry(input.pin).or_default().claim(key.clone(), &input.event, edge)
+        {
+            p.at(
+                &key.field("edge"),
+                format!(
+                    "the {which} edge of pin {} would make both '{event}' ({other}) and '{}': one edge, one \
+                     event (a second sensor needs a pin of its own; one pin may carry one event rising and \
+                     another falling)",
+                    input.pin, input.event
+                ),
+            );
         }
-        here.push((i, &input.event, edge));
     }
     // Per output pin: whether pulses drive it, and the first entry that says so.
     let mut driven: BTreeMap<u8, (usize, bool)> = BTreeMap::new();

@@ -105,6 +105,32 @@ impl Problems<'_> {
     }
 }
 
+/// The changes of one signal (a pin, a variable) that entries claim, so that one change makes one event:
+/// rising and falling claimed apart (one event each), or both by one entry.
+#[derive(Default)]
+struct Changes<'a> {
+    claimed: Vec<(Key, &'a str, (bool, bool))>,
+}
+
+impl<'a> Changes<'a> {
+    /// Claims the changes `(rising, falling)` for `event` at `key`; the entry (key and event) that
+    /// claimed one of them first, with the change's name, when one was.
+    fn claim(
+        &mut self,
+        key: Key,
+        event: &'a str,
+        change: (bool, bool),
+    ) -> Option<(Key, &'a str, &'static str)> {
+        let clash = self.claimed.iter().find_map(|(k, e, c)| match (change.0 && c.0, change.1 && c.1) {
+            (true, _) => Some((k.clone(), *e, "rising")),
+            (_, true) => Some((k.clone(), *e, "falling")),
+            _ => None,
+        });
+        self.claimed.push((key, event, change));
+        clash
+    }
+}
+
 /// Why a set's events could not be put in one table for the check (the loader refuses such a set
 /// first; this is for sets built otherwise).
 fn table(models: &ModelSet) -> Result<EventTable, ModelError> {

@@ -8,7 +8,7 @@ use crate::model::suggest::did_you_mean;
 use crate::model::EventTable;
 
 use super::address::{Address, Area};
-use super::Problems;
+use super::{Changes, Problems};
 
 /// Whether `area` is one a variable of this role may sit in: an input is read from `%I` (or memory),
 /// an output written to `%Q` (or memory).
@@ -111,7 +111,7 @@ pub(super) fn check(spec: &PlcSpec, events: &EventTable, p: &mut Problems) {
             }
         }
     };
-    let mut edges: BTreeMap<String, Vec<(usize, &str, (bool, bool))>> = BTreeMap::new();
+    let mut edges: BTreeMap<String, Changes> = BTreeMap::new();
     let mut sources: BTreeMap<&str, usize> = BTreeMap::new();
     for (i, input) in spec.inputs.iter().enumerate() {
         let key = base.field("inputs").item(i);
@@ -135,22 +135,17 @@ pub(super) fn check(spec: &PlcSpec, events: &EventTable, p: &mut Problems) {
             }
         }
         declare(&key, &input.variable, true, input.address.as_deref(), p);
-        let change = changes(input.edge);
         let here = edges.entry(input.variable.to_ascii_uppercase()).or_default();
-        for &(j, other, c) in here.iter() {
-            if (change.0 && c.0) || (change.1 && c.1) {
-                let which = if change.0 && c.0 { "rising" } else { "falling" };
-                p.at(
-                    &key.field("edge"),
-                    format!(
-                        "the {which} edge of '{}' would mean both '{other}' (plc.inputs[{j}]) and '{}': one \
-                         edge, one event (one variable may carry one event rising and another falling)",
-                        input.variable, input.event
-                    ),
-                );
-            }
+        if let Some((other, event, which)) = here.claim(key.clone(), &input.event, changes(input.edge)) {
+            p.at(
+                &key.field("edge"),
+                format!(
+                    "the {which} edge of '{}' would mean both '{event}' ({other}) and '{}': one edge, one \
+                     event (one variable may carry one event rising and another falling)",
+                    input.variable, input.event
+                ),
+            );
         }
-        here.push((i, &input.event, change));
     }
     let mut pulsed: BTreeMap<String, (usize, bool)> = BTreeMap::new();
     let mut driven: BTreeMap<(String, &str), usize> = BTreeMap::new();
