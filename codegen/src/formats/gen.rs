@@ -9,7 +9,7 @@
 //! </Consecutive>` declares anonymous states `a..=b`. Later sections refer to states by index (bare
 //! number) or by name. Anonymous states are named by their index. Other attribute flags (`+o+`, `+F+`)
 //! and attribute sections are skipped: they carry nothing this tool uses. The XML form libFAUDES also
-//! writes (`<?xml …?>`, `<StateSet>`, `<TransitionRelation>`) is read by [`super::faudes_xml`]. The
+//! writes (`<?xml …?>`, `<StateSet>`, `<TransitionRelation>`) is read by `faudes_xml`. The
 //! automaton is named after the file stem.
 
 use std::borrow::Cow;

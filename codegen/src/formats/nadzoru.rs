@@ -19,7 +19,7 @@
 //! event without a name (Nadzoru2's editor leaves new ones unnamed) is refused: an event is known by its
 //! name in every other automaton of a set. The automaton is named after the file stem, as for `.xmd` —
 //! the same root element, whose other dialect (IDES3's `<name>` and `<properties>` children) [`super::xmd`]
-//! reads; [`is_nadzoru`] tells them apart.
+//! reads; `is_nadzoru` tells them apart.
 
 use std::collections::HashMap;
 use std::fmt::Write as _;

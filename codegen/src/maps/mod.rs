@@ -5,22 +5,22 @@
 //!
 //! What each section must be:
 //!
-//! - **`[board]`** ([`board`]): every event one of the set's, inputs uncontrollable and outputs
+//! - **`[board]`** (`board`): every event one of the set's, inputs uncontrollable and outputs
 //!   controllable; one event per pin edge (two entries on the rising edge of one pin would make one
 //!   sensor two events), one input per event, one pull per pin, one direction per pin; the words
 //!   (`edge`, `pull`, `action`) and the pulse length as the section documents them; and every pin one
-//!   the board has and leaves free ([`pins`]) — the board a command builds for (`codegen new --board`,
+//!   the board has and leaves free (`pins`) — the board a command builds for (`codegen new --board`,
 //!   `run --target rp2040`, a project's build), else the one `[board] name` names.
-//! - **`[plc]`** ([`plc`]): events as for the board; one event per variable edge, one address per
+//! - **`[plc]`** (`plc`): events as for the board; one event per variable edge, one address per
 //!   variable and one variable per address; each address a `BOOL`'s located address of the standard's
-//!   grammar ([`address`]) in the area its role reads or writes (`%I` or `%M` for an input, `%Q` or
+//!   grammar (`address`) in the area its role reads or writes (`%I` or `%M` for an input, `%Q` or
 //!   `%M` for an output); pulses of 1 to 32 767 scans, never mixed with set/clear on one variable.
-//! - **`[state]`** ([`state`]): the section readable ([`crate::config::StateSpec::check`]); one
+//! - **`[state]`** (`state`): the section readable ([`crate::config::StateSpec::check`]); one
 //!   component per plant, one formula per state, one command per controllable event of the plant; the
 //!   signals' addresses as for `[plc]` (inputs `%I`, outputs `%Q`), one signal per address and per pin,
 //!   pins the board's.
-//! - **`[net]`** ([`net`]): the net read and its interpretation bound to the set's events
-//!   ([`crate::net::interpretation`]), unless `[hybrid]` makes the net the plant.
+//! - **`[net]`** (`net`): the net read and its interpretation bound to the set's events
+//!   ([`crate::net::interpretation()`]), unless `[hybrid]` makes the net the plant.
 //!
 //! `[events]` entries are checked where the automata are read ([`crate::manifest`]), as they must be
 //! before the alphabets are.
