@@ -476,3 +476,20 @@ fn a_state_based_scan_longer_than_the_cycle_is_a_finding() {
     let out = run("cycle_ms = 10");
     assert!(!stdout(&out).contains("finding: the scan"), "{}", stdout(&out));
 }
+
+// Found trying the press station as a user: a command with no output pin was emitted (exit 0), so the
+// firmware would fire it and the plant never see it; `plc` refused the same gap.
+#[test]
+fn a_command_without_a_pin_is_refused_unless_internal() {
+    let eject = "[[board.outputs]]\nevent = \"eject\"\npin = 18\naction = \"pulse\"\npulse_ms = 50\n";
+    let m = mistake("unmapped", &[(eject, "")]);
+    let out = codegen(&["emit", s(&m), "-o", s(&m.with_file_name("t.rs"))]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("board.outputs: command 'eject' drives no pin"), "{}", stderr(&out));
+    let m = mistake(
+        "internal",
+        &[(eject, ""), ("name = \"pico\"\n", "name = \"pico\"\ninternal = [\"eject\"]\n")],
+    );
+    let out = codegen(&["emit", s(&m), "-o", s(&m.with_file_name("t.rs"))]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+}

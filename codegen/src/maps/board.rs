@@ -30,6 +30,7 @@ pub(super) fn check(
     events: &EventTable,
     board: Option<Board>,
     chosen: Option<Board>,
+    every_command: bool,
     p: &mut Problems,
 ) {
     let base = Key::new("board");
@@ -173,6 +174,27 @@ pub(super) fn check(
             Some(_) => {}
             None => {
                 driven.insert(output.pin, (o, pulse));
+            }
+        }
+    }
+    for (i, name) in spec.internal.iter().enumerate() {
+        let key = base.field("internal").item(i);
+        event(&key, name, false, p);
+        if let Some(o) = spec.outputs.iter().position(|o| o.event == *name) {
+            p.at(&key, format!("'{name}' is listed in `internal` and drives a pin (board.outputs[{o}])"));
+        }
+    }
+    if every_command {
+        let mapped = |name: &str| spec.outputs.iter().any(|o| o.event == name);
+        for name in events.ids().filter(|&e| events.is_controllable(e)).map(|e| events.name(e)) {
+            if !mapped(name) && !spec.internal.iter().any(|i| i == name) {
+                p.at(
+                    &base.field("outputs"),
+                    format!(
+                        "command '{name}' drives no pin: the supervisors would fire it and the plant never \
+                         see it; map it in [[board.outputs]] or list it in [board] internal"
+                    ),
+                );
             }
         }
     }

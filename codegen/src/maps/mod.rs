@@ -160,7 +160,10 @@ pub fn check(manifest: &Manifest, models: &ModelSet, board: Option<Board>) -> Re
     };
     let pins = manifest.board.as_ref().and_then(|spec| chosen(spec, board)).or(board);
     if let Some(spec) = &manifest.board {
-        board::check(spec, &events, pins, board, &mut p);
+        // With [state], [net] or [hybrid] commands reach the plant otherwise: only the event-based
+        // runtime needs a pin (or `internal`) for every command.
+        let every_command = manifest.state.is_none() && manifest.net.is_none() && manifest.hybrid.is_none();
+        board::check(spec, &events, pins, board, every_command, &mut p);
     }
     if let Some(spec) = &manifest.plc {
         plc::check(spec, &events, &mut p);
@@ -185,7 +188,7 @@ pub fn check_board(
 ) -> Result<(), MapsError> {
     let mut p = Problems { lines, list: Vec::new() };
     match table(models) {
-        Ok(events) => board::check(spec, &events, chosen(spec, board), board, &mut p),
+        Ok(events) => board::check(spec, &events, chosen(spec, board), board, true, &mut p),
         Err(e) => p.at_line(None, "events", e.to_string()),
     }
     p.finish(file)

@@ -27,7 +27,37 @@ fn problems(text: &str, board: Option<Board>) -> Vec<String> {
 const BOARD: &str = "[board]\nname = \"pico\"\n\
     [[board.inputs]]\nevent = \"done1\"\npin = 2\nedge = \"rising\"\n\
     [[board.inputs]]\nevent = \"done2\"\npin = 3\nedge = \"rising\"\n\
-    [[board.outputs]]\nevent = \"start1\"\npin = 16\naction = \"set\"\n";
+    [[board.outputs]]\nevent = \"start1\"\npin = 16\naction = \"set\"\n\
+    [[board.outputs]]\nevent = \"start2\"\npin = 17\naction = \"clear\"\n";
+
+/// The entry of BOARD that maps start2.
+const START2: &str = "[[board.outputs]]\nevent = \"start2\"\npin = 17\naction = \"clear\"\n";
+
+#[test]
+fn every_command_drives_a_pin_or_is_internal() {
+    let unmapped = BOARD.replace(START2, "");
+    let p = problems(&unmapped, None);
+    assert_eq!(p.len(), 1, "{p:#?}");
+    assert!(
+        p[0].ends_with(
+            "board.outputs: command 'start2' drives no pin: the supervisors would fire it and the plant \
+             never see it; map it in [[board.outputs]] or list it in [board] internal"
+        ),
+        "{p:#?}"
+    );
+    let internal = |names: &str| {
+        unmapped.replace("name = \"pico\"\n", &format!("name = \"pico\"\ninternal = [{names}]\n"))
+    };
+    assert_eq!(problems(&internal("\"start2\""), None), Vec::<String>::new());
+    let p = problems(&internal("\"start2\", \"start1\", \"done1\""), None);
+    assert_eq!(p.len(), 2, "{p:#?}");
+    assert!(p.iter().all(|x| x.starts_with("4: board.internal[")), "{p:#?}");
+    assert!(
+        p.iter().any(|x| x.contains("'start1' is listed in `internal` and drives a pin (board.outputs[0])")),
+        "{p:#?}"
+    );
+    assert!(p.iter().any(|x| x.contains("'done1' is uncontrollable")), "{p:#?}");
+}
 
 #[test]
 fn a_fitting_map_passes() {
