@@ -26,6 +26,8 @@ const FILES: &[&str] = &[
     "codegen/Cargo.toml",
     "codegen/build.rs",
     "examples/cell/cell.toml",
+    "examples/cell/cell-nucleo-f401re.toml",
+    "examples/cell/cell-nrf52840-dk.toml",
     "harness/rp2040/package.json",
     "harness/rp2040/package-lock.json",
 ];

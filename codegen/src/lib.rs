@@ -17,6 +17,7 @@ pub mod emit;
 pub mod formats;
 pub mod link;
 pub mod manifest;
+pub mod maps;
 pub mod model;
 pub mod monitor;
 pub mod net;

@@ -38,6 +38,8 @@
 //! [`ModelSet`] and checks that they agree; synthesising supervisors from them and everything after is
 //! the pipeline's ([`crate::project`]).
 
+mod lines;
+
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
@@ -49,6 +51,8 @@ use crate::model::suggest::did_you_mean;
 use crate::model::{
     plantless_events, resolve_controllability, Automaton, EventTable, Kind, ModelError, PlantlessEvent,
 };
+
+pub use lines::{Key, Lines};
 
 /// Why a manifest could not be loaded or its automata read.
 #[derive(Debug, thiserror::Error)]
@@ -88,6 +92,15 @@ pub enum ManifestError {
         /// The manifest file.
         file: PathBuf,
         /// One line per entry: `LINE: events.NAME: what is wrong (did you mean …?)`.
+        problems: Vec<String>,
+    },
+    /// Automata that cannot be members of one set: an empty one (no states), two of one name. Every
+    /// one of the set is listed, each with the file (and the manifest key) it comes from.
+    #[error("{}the automata do not make a set:\n  {}", file.as_ref().map_or_else(String::new, |f| format!("{}: ", f.display())), problems.join("\n  "))]
+    Automata {
+        /// The manifest, when the set is one.
+        file: Option<PathBuf>,
+        /// One line per problem, naming the automaton and where it comes from.
         problems: Vec<String>,
     },
     /// Events of specifications or supervisors that no plant has.
@@ -198,6 +211,14 @@ pub struct Manifest {
     /// The manifest file itself (set by [`Manifest::load`]).
     #[serde(skip)]
     pub file: PathBuf,
+    /// The manifest's text, for the line of a key in messages (set by [`Manifest::parse`]; empty for a
+    /// module read as a project).
+    #[serde(skip)]
+    pub lines: Lines,
+    /// Whether this is a Supremica module read as a project ([`Manifest::of_module`]): errors then name
+    /// the module, not a manifest key the user never wrote.
+    #[serde(skip)]
+    module: bool,
 }
 
 /// The `[check]` section: which kinds of finding make `codegen check` fail (exit 1); the others are
@@ -279,6 +300,51 @@ fn line_of(path: &Path, name: &str) -> Option<usize> {
         .map(|i| i + 1)
 }
 
+/// Refuses automata that cannot be members of one set, every one of them: an automaton without states
+/// (the empty language: a plant that can do nothing, a specification that allows nothing — synthesis
+/// would blame whatever it meets first) and a second automaton of a name already taken (two
+/// specifications of one name would give two supervisors of one name). Each member comes with where
+/// it was read from (`specs[1] (Z1.gen)`, or the file).
+fn check_members(members: &[(&Automaton, &str)]) -> Result<(), Vec<String>> {
+    let mut problems = Vec::new();
+    let mut first: BTreeMap<&str, &str> = BTreeMap::new();
+    for &(a, origin) in members {
+        if a.states.is_empty() {
+            let role = match a.kind {
+                Kind::Plant | Kind::Unknown => "plant",
+                Kind::Spec => "specification",
+                Kind::Supervisor => "supervisor",
+            };
+            problems.push(format!(
+                "{origin}: {role} '{}' is empty (no states): it is the empty language, in which nothing \
+                 ever happens; give it its states and an initial one",
+                a.name
+            ));
+        }
+        match first.get(a.name.as_str()) {
+            Some(&earlier) if earlier == origin => problems.push(format!(
+                "{origin}: automaton '{}' a second time (the file is given twice?): one name, one \
+                 automaton (two specifications of one name would give two supervisors called S_{})",
+                a.name, a.name
+            )),
+            Some(&earlier) => problems.push(format!(
+                "{origin}: a second automaton called '{}' (the first: {earlier}): one name, one \
+                 automaton (a file listed twice? two specifications of one name would give two \
+                 supervisors called S_{})",
+                a.name, a.name
+            )),
+            None => {
+                first.insert(&a.name, origin);
+            }
+        }
+    }
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(problems)
+    }
+}
+
 /// Model files as a command line names them instead of a manifest: some read as their files say, the
 /// others in the role they are given in.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -331,6 +397,17 @@ impl ModelSet {
             }
         }
         set.supervisors.extend(read_role(&files.supervisors, Kind::Supervisor, &mut skipped, &mut sources)?);
+        // Every automaton read, in the order read, with its file (a name taken twice finds its first
+        // automaton twice: the second is reported for its name anyway).
+        let all: Vec<&Automaton> = set.plants.iter().chain(&set.specs).chain(&set.supervisors).collect();
+        let origins: Vec<(&Automaton, String)> = sources
+            .iter()
+            .filter_map(|(name, f)| {
+                all.iter().find(|a| a.name == *name).map(|a| (*a, f.display().to_string()))
+            })
+            .collect();
+        let members: Vec<(&Automaton, &str)> = origins.iter().map(|(a, f)| (*a, f.as_str())).collect();
+        check_members(&members).map_err(|problems| ManifestError::Automata { file: None, problems })?;
         set.sources = sources;
         set.check_alphabets(&BTreeSet::new())?;
         set.resolve_controllability()?;
@@ -379,8 +456,9 @@ pub fn has_extension(path: &Path, ext: &str) -> bool {
     path.extension().is_some_and(|e| e.eq_ignore_ascii_case(ext))
 }
 
-/// The `[board]` table of the TOML file at `path` (a pin map given apart from a manifest).
-pub fn read_board(path: &Path) -> Result<BoardSpec, ManifestError> {
+/// The `[board]` table of the TOML file at `path` (a pin map given apart from a manifest), with the
+/// file's text for the lines of its keys.
+pub fn read_board(path: &Path) -> Result<(BoardSpec, Lines), ManifestError> {
     #[derive(Deserialize)]
     struct File {
         board: BoardSpec,
@@ -388,7 +466,7 @@ pub fn read_board(path: &Path) -> Result<BoardSpec, ManifestError> {
     let text = std::fs::read_to_string(path)
         .map_err(|source| ManifestError::Read { file: path.to_owned(), source })?;
     let file: File = parse_toml(path, &text)?;
-    Ok(file.board)
+    Ok((file.board, Lines::new(text)))
 }
 
 /// `text` (from `path`) as TOML of type `T`; an error names the file and the line.
@@ -420,6 +498,7 @@ impl Manifest {
     pub fn parse(path: &Path, text: &str) -> Result<Manifest, ManifestError> {
         let mut m: Manifest = parse_toml(path, text)?;
         m.file = path.to_owned();
+        m.lines = Lines::new(text);
         if let Some(net) = &mut m.net {
             net.locate(text);
         }
@@ -446,7 +525,14 @@ impl Manifest {
             state: None,
             check: CheckSpec::default(),
             file: path.to_owned(),
+            lines: Lines::default(),
+            module: true,
         }
+    }
+
+    /// The line of `key` in the manifest, as a message prefix (`12: `), or nothing when unknown.
+    pub fn at(&self, key: &Key) -> String {
+        self.lines.line(key).map_or_else(String::new, |l| format!("{l}: "))
     }
 
     /// `p` relative to the manifest's folder (absolute paths stay as they are).
@@ -458,17 +544,25 @@ impl Manifest {
     /// event overrides and checks that every event has one controllability across the set.
     pub fn read_automata(&self) -> Result<ModelSet, ManifestError> {
         let mut sources = Vec::new();
-        // The automata of the files under `key`, each with the manifest key naming it in errors.
+        let mut origins = Vec::new();
+        // The automata of the files under `key`, each with the manifest key naming it in errors (a
+        // module read as a project is named by itself).
         let mut read = |key: &str, files: &[PathBuf]| -> Result<Vec<Automaton>, ManifestError> {
             let mut out = Vec::new();
             for (i, f) in files.iter().enumerate() {
                 let path = self.resolve(f);
-                let automata = read_path(&path).map_err(|source| ManifestError::Model {
-                    file: self.file.clone(),
-                    key: format!("{key}[{i}]"),
-                    source,
+                let automata = read_path(&path).map_err(|source| match self.module {
+                    true => ManifestError::File(source),
+                    false => {
+                        ManifestError::Model { file: self.file.clone(), key: format!("{key}[{i}]"), source }
+                    }
                 })?;
                 sources.extend(automata.iter().map(|a| (a.name.clone(), path.clone())));
+                let origin = match self.module {
+                    true => path.display().to_string(),
+                    false => format!("{key}[{i}] ({})", f.display()),
+                };
+                origins.extend(automata.iter().map(|_| origin.clone()));
                 out.extend(automata);
             }
             Ok(out)
@@ -476,13 +570,21 @@ impl Manifest {
         let as_kind = |kind: Kind, automata: Vec<Automaton>| -> Vec<Automaton> {
             automata.into_iter().map(|a| Automaton { kind, ..a }).collect()
         };
-        let mut set = ModelSet {
-            plants: as_kind(Kind::Plant, read("plants", &self.plants)?),
-            specs: as_kind(Kind::Spec, read("specs", &self.specs)?),
-            supervisors: as_kind(Kind::Supervisor, read("supervisors", &self.supervisors)?),
-            sources: Vec::new(),
-        };
-        for a in read("modules", &self.modules)? {
+        let plants = as_kind(Kind::Plant, read("plants", &self.plants)?);
+        let specs = as_kind(Kind::Spec, read("specs", &self.specs)?);
+        let supervisors = as_kind(Kind::Supervisor, read("supervisors", &self.supervisors)?);
+        let modules = read("modules", &self.modules)?;
+        let members: Vec<(&Automaton, &str)> = plants
+            .iter()
+            .chain(&specs)
+            .chain(&supervisors)
+            .chain(&modules)
+            .zip(origins.iter().map(String::as_str))
+            .collect();
+        let file = (!self.module).then(|| self.file.clone());
+        check_members(&members).map_err(|problems| ManifestError::Automata { file, problems })?;
+        let mut set = ModelSet { plants, specs, supervisors, sources: Vec::new() };
+        for a in modules {
             set.place(a);
         }
         set.sources = sources;

@@ -66,7 +66,10 @@ fn bad_input_exits_2_naming_the_problem() {
     let out = codegen(&["plc", &manifest.display().to_string(), "-o", &dir]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("plc: event '1' is controllable: it cannot be an input"), "{err}");
+    assert!(
+        err.contains("plc.inputs[0].event: '1' is controllable: an input's edge is an uncontrollable event"),
+        "{err}"
+    );
     assert!(!Path::new(&dir).exists(), "nothing written");
 }
 

@@ -173,7 +173,7 @@ fn a_state_section_that_cannot_be_read_back_exits_2_naming_the_key() {
                 "commands = { inject = [\"Y2\"], reset = [\"!Y2\"] }",
                 "commands = { inject = [\"Y2\"] }",
             ),
-            "controllable event reset has no command",
+            "controllable event 'reset' of Injector has no command",
         ),
         (
             state.replace("I2D = [\"Y2\", \"!X0\", \"X1\"]", "I2D = [\"Y2\", \"X0\", \"X1\"]"),

@@ -109,7 +109,10 @@ fn limits_and_bad_input_exit_2_with_a_message() {
     let line = bad.lines().position(|l| l.starts_with("t8 = ")).unwrap() + 1;
     assert_eq!(
         String::from_utf8_lossy(&out.stderr),
-        format!("error: {}:{line}: conditions.t8: unknown signal 'sx'\n", manifest.display())
+        format!(
+            "error: {}: a map does not fit the model:\n  {line}: net: conditions.t8: unknown signal 'sx'\n",
+            manifest.display()
+        )
     );
     assert_eq!(out.status.code(), Some(2));
 }

@@ -12,7 +12,7 @@ const CODEGEN: &[&[&str]] = &[
     &["formats", "config", "link"],
     &["manifest", "synth", "plant", "target"],
     &["problems", "pack", "monitor", "net", "symbolic"],
-    &["emit", "closed_loop"],
+    &["emit", "closed_loop", "maps"],
     &["plc"],
     &["project"],
 ];

@@ -64,6 +64,8 @@ fn compact_supervisors_fit_in_half_of_2347_with_every_side_table() {
     let total = compact.supervisors.as_ref().unwrap().total();
     assert!(total <= 2347 / 2, "compact supervisors take {total} bytes");
     let floor = report.supervisor_floor_bytes();
+    // log₂ C(s·a, t) + t·log₂ s bits per supervisor, in whole bytes: the figure docs/cli.md states.
+    assert_eq!(floor, 841);
     assert!(total as f64 <= 1.5 * floor as f64, "compact {total} bytes against a floor of {floor}");
     let paper = report.comparisons()[0].columns.as_ref().unwrap();
     assert_eq!((paper.matrix(), paper.chained_list(), paper.memory_safe()), (54_312, 3_974, 2_347));

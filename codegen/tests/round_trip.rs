@@ -4,7 +4,7 @@
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
-use codegen::formats::{ads, gen, read_bytes, read_path, wmod, xmd};
+use codegen::formats::{ads, gen, nadzoru, read_bytes, read_path, wmod, xmd};
 use codegen::model::{Automaton, EventId, Kind, StateId};
 use proptest::prelude::*;
 
@@ -27,7 +27,7 @@ fn collect(dir: &Path, out: &mut Vec<PathBuf>) {
             collect(&path, out);
         } else if matches!(
             path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref(),
-            Some("xmd" | "ads" | "gen" | "wmod")
+            Some("xmd" | "xml" | "ads" | "gen" | "wmod")
         ) {
             out.push(path);
         }
@@ -106,6 +106,11 @@ fn round_trip_all(a: &Automaton) {
     // a controllable event reads as saying nothing of controllability — all uncontrollable, as written.
     let unknown = Automaton { kind: Kind::Unknown, ..a.clone() };
     assert_eq!(xmd::read(&stem("xmd"), &xmd::write(a)).unwrap(), unknown);
+    // Nadzoru2 .xml keeps the same (every event observable, as the supervisors built here need).
+    assert_eq!(
+        read_bytes(&stem("xml"), nadzoru::write(a).as_bytes()).unwrap(),
+        std::slice::from_ref(&unknown)
+    );
     let gen_back = gen::read(&stem("gen"), &gen::write(a)).unwrap();
     assert_eq!(gen_back.controllability_unsaid, !a.events.iter().any(|e| e.controllable));
     assert_eq!(Automaton { controllability_unsaid: false, ..gen_back }, unknown);

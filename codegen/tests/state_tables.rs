@@ -214,9 +214,11 @@ fn a_sensor_event_whose_inputs_depend_on_its_source_state_is_refused_naming_it()
 </Generator>
 "#;
     std::fs::write(dir.join("P.gen"), gen).unwrap();
+    // The supervisor is the plant itself, under a name of its own (one name, one automaton).
+    std::fs::write(dir.join("S.gen"), gen).unwrap();
     let manifest = r#"name = "valve"
 plants = ["P.gen"]
-supervisors = ["P.gen"]
+supervisors = ["S.gen"]
 [runtime]
 mode = "state"
 [state.components.P]
@@ -259,9 +261,11 @@ fn more_signals_than_the_word_holds_are_refused_with_the_count() {
     let dir = scratch("wide");
     let gen = "<Generator>\n\"P\"\n<Alphabet>\n\"u\" \"c\" +C+\n</Alphabet>\n<States>\n\"s\"\n</States>\n<TransRel>\n\"s\" \"u\" \"s\"\n\"s\" \"c\" \"s\"\n</TransRel>\n<InitStates>\n\"s\"\n</InitStates>\n<MarkedStates>\n\"s\"\n</MarkedStates>\n</Generator>\n";
     std::fs::write(dir.join("P.gen"), gen).unwrap();
+    // The supervisor is the plant itself, under a name of its own (one name, one automaton).
+    std::fs::write(dir.join("S.gen"), gen).unwrap();
     let inputs: Vec<String> = (0..33).map(|i| format!("{{ name = \"X{i}\" }}")).collect();
     let manifest = format!(
-        "name = \"wide\"\nplants = [\"P.gen\"]\nsupervisors = [\"P.gen\"]\n[runtime]\nmode = \"state\"\n\
+        "name = \"wide\"\nplants = [\"P.gen\"]\nsupervisors = [\"S.gen\"]\n[runtime]\nmode = \"state\"\n\
          [state.components.P]\ninputs = [{}]\noutputs = [{{ name = \"Y\" }}]\nstates = {{ s = [] }}\ncommands = {{ c = [\"Y\"] }}\n",
         inputs.join(", ")
     );

@@ -36,6 +36,7 @@ impl Files {
             plants: self.plants.clone(),
             specs: self.specs.clone(),
             supervisors: self.supervisors.clone(),
+            board: None,
         }
     }
 

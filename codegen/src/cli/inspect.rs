@@ -13,16 +13,19 @@ use super::Error;
 ///
 /// Prints per automaton a line with file, name, kind (plant, spec, supervisor or unknown), states,
 /// transitions, events, controllable events, marked states and the initial state, then its alphabet: a
-/// line of its controllable events and one of its uncontrollable events, each in the file's order. A
-/// file that cannot be read is reported on stderr; the others are still shown, and the exit status is 2.
+/// line of its controllable events and one of its uncontrollable events, each in the file's order — or,
+/// when its file says nothing of controllability (a libFAUDES generator without +C+), one line of its
+/// events with controllability unsaid. A file that cannot be read is reported on stderr; the others are
+/// still shown, and the exit status is 2.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Model files (.xmd, .ads, .gen, .wmod; the format is taken from the extension, else the content).
     #[arg(required = true)]
     files: Vec<PathBuf>,
     /// Print a JSON array of objects with the fields file, name, kind, states, transitions, events,
-    /// controllable, marked, initial (the initial state's name, or null) and alphabet (an array of
-    /// objects name, controllable, in the file's order).
+    /// controllable (null when unsaid), marked, initial (the initial state's name, or null) and alphabet
+    /// (an array of objects name, controllable — null when the file says nothing of it — in the file's
+    /// order).
     #[arg(long)]
     json: bool,
 }
@@ -48,6 +51,12 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     } else {
         for (file, a) in &rows {
             writeln!(out, "{}", line(file, a))?;
+            if a.controllability_unsaid {
+                let names: Vec<&str> = a.events.iter().map(|e| e.name.as_str()).collect();
+                let names = if names.is_empty() { "(none)".to_owned() } else { names.join(", ") };
+                writeln!(out, "  controllability unsaid (taken from the plants it is used with): {names}")?;
+                continue;
+            }
             for (word, controllable) in [("controllable", true), ("uncontrollable", false)] {
                 let names: Vec<&str> = a
                     .events
@@ -69,14 +78,17 @@ fn initial_name(a: &Automaton) -> Option<&str> {
 }
 
 fn line(file: &str, a: &Automaton) -> String {
+    let controllable = match a.controllability_unsaid {
+        true => "controllability unsaid".to_owned(),
+        false => format!("{} controllable", a.controllable_count()),
+    };
     format!(
-        "{file}: {} ({}): {} states, {} transitions, {} events ({} controllable), {} marked, initial {}",
+        "{file}: {} ({}): {} states, {} transitions, {} events ({controllable}), {} marked, initial {}",
         a.name,
         a.kind.as_str(),
         a.states.len(),
         a.transitions.len(),
         a.events.len(),
-        a.controllable_count(),
         a.marked_count(),
         initial_name(a).map_or_else(|| "none".to_owned(), |s| format!("'{s}'")),
     )
@@ -90,12 +102,12 @@ fn to_json(file: &str, a: &Automaton) -> serde_json::Value {
         "states": a.states.len(),
         "transitions": a.transitions.len(),
         "events": a.events.len(),
-        "controllable": a.controllable_count(),
+        "controllable": (!a.controllability_unsaid).then(|| a.controllable_count()),
         "marked": a.marked_count(),
         "initial": initial_name(a),
         "alphabet": a.events.iter().map(|e| serde_json::json!({
             "name": e.name,
-            "controllable": e.controllable,
+            "controllable": (!a.controllability_unsaid).then_some(e.controllable),
         })).collect::<Vec<_>>(),
     })
 }

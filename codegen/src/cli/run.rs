@@ -110,7 +110,10 @@ pub fn run(mut args: Args) -> Result<ExitCode, Error> {
         )
         .into());
     }
-    let mut project = Project::load(&args.manifest)?;
+    let mut project = match args.target {
+        Target::Rp2040 => Project::load_for(&args.manifest, Board::Pico)?,
+        Target::Qemu => Project::load(&args.manifest)?,
+    };
     project.runtime.layout = args.layout.or(project.runtime.layout);
     super::deploy(&mut project, args.deploy, args.run.json)?;
     if args.target == Target::Rp2040 {

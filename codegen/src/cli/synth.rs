@@ -65,11 +65,13 @@ pub struct Args {
     /// unreduced_transitions and lower_bound; with --condat, condat: supervisor → state → disabled events).
     #[arg(long)]
     json: bool,
-    /// Write every supervisor to DIR/<name>.xmd (or, with --format wmod, all to one module).
+    /// Write every supervisor to DIR/<name>.xmd (or, with --format nadzoru2, DIR/<name>.xml; with
+    /// --format wmod, all to one module).
     #[arg(short = 'o', long = "out", value_name = "DIR")]
     out: Option<PathBuf>,
-    /// What -o writes: one IDES3 file per supervisor, or one Supremica module DIR/<project>.wmod holding
-    /// the plants (PLANT) and the supervisors (SUPERVISOR), itself a project the other commands run.
+    /// What -o writes: one IDES3 file per supervisor, one Nadzoru2 file per supervisor, or one Supremica
+    /// module DIR/<project>.wmod holding the plants (PLANT) and the supervisors (SUPERVISOR), itself a
+    /// project the other commands run.
     #[arg(long, value_enum, default_value_t = OutFormat::Xmd, requires = "out")]
     format: OutFormat,
 }
@@ -79,6 +81,8 @@ pub struct Args {
 enum OutFormat {
     /// DIR/<supervisor>.xmd, one per supervisor.
     Xmd,
+    /// DIR/<supervisor>.xml, one Nadzoru2 file per supervisor.
+    Nadzoru2,
     /// DIR/<project>.wmod: plants and supervisors in one Supremica module.
     Wmod,
 }
@@ -157,18 +161,26 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     }
     if let Some(dir) = &args.out {
         match args.format {
-            OutFormat::Xmd => write_all(dir, &rows)?,
+            OutFormat::Xmd => write_all(dir, &rows, "xmd")?,
+            OutFormat::Nadzoru2 => write_all(dir, &rows, "xml")?,
             OutFormat::Wmod => write_module(dir, &name, &plants, &rows)?,
         }
     }
+    let conflict = if nonconflicting { None } else { Some(Conflict::find(&rows, &cfg)?) };
     let mut out = std::io::stdout().lock();
     if args.json {
         let mut value = to_json(&name, &rows, nonconflicting, &merged);
         value["engine"] = json!(if ran_symbolic { "symbolic" } else { "explicit" });
+        if let Some(c) = &conflict {
+            value["conflict"] = json!({ "supervisors": c.supervisors, "trace": c.trace, "state": c.state });
+        }
         let text = serde_json::to_string_pretty(&value)?;
         writeln!(out, "{text}")?;
     } else {
         write_table(&mut out, &rows, nonconflicting, &merged)?;
+        if let Some(c) = &conflict {
+            writeln!(out, "{c}")?;
+        }
         for r in &rows {
             if let Some(data) = &r.condat {
                 write_condat(&mut out, &r.supervisor.automaton, data)?;
@@ -179,11 +191,12 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     Ok(if nonconflicting { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }
 
-fn write_all(dir: &Path, rows: &[Row]) -> Result<(), Error> {
+/// `DIR/<supervisor>.EXT`, one file per supervisor in the format of `ext`.
+fn write_all(dir: &Path, rows: &[Row], ext: &str) -> Result<(), Error> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     for r in rows {
         let a = &r.supervisor.automaton;
-        write_path(&dir.join(format!("{}.xmd", a.name)), std::slice::from_ref(a))?;
+        write_path(&dir.join(format!("{}.{ext}", a.name)), std::slice::from_ref(a))?;
     }
     Ok(())
 }
@@ -201,6 +214,56 @@ fn write_module(dir: &Path, name: &str, plants: &[Automaton], rows: &[Row]) -> R
         .collect();
     write_path(&dir.join(format!("{name}.wmod")), &module)?;
     Ok(())
+}
+
+/// Why supervisors synthesised without merging (`--no-merge`) conflict: the fewest of them whose
+/// product blocks (two, when two do), and a shortest trace into a state of that product from which no
+/// marked state can be reached.
+struct Conflict {
+    /// The supervisors whose product blocks.
+    supervisors: Vec<String>,
+    /// A shortest string of events into the blocking state.
+    trace: Vec<String>,
+    /// The blocking state, as the tuple of the supervisors' states.
+    state: String,
+}
+
+impl Conflict {
+    /// The first pair of `rows`' supervisors (in order) whose product blocks, else all of them.
+    fn find(rows: &[Row], cfg: &Config) -> Result<Conflict, Error> {
+        let sups: Vec<&Automaton> = rows.iter().map(|r| &r.supervisor.automaton).collect();
+        let blocks = |group: &[&Automaton]| -> Result<Option<Conflict>, Error> {
+            let automata: Vec<Automaton> = group.iter().map(|a| (*a).clone()).collect();
+            Ok(synth::verify::nonblocking(&automata, cfg)?.map(|b| Conflict {
+                supervisors: group.iter().map(|a| a.name.clone()).collect(),
+                trace: b.trace,
+                state: b.state,
+            }))
+        };
+        for (i, a) in sups.iter().enumerate() {
+            for b in &sups[i + 1..] {
+                if let Some(c) = blocks(&[a, b])? {
+                    return Ok(c);
+                }
+            }
+        }
+        Ok(blocks(&sups)?.ok_or("the conflict check and its trace disagree: please report")?)
+    }
+}
+
+impl std::fmt::Display for Conflict {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let trace =
+            if self.trace.is_empty() { "ε (the initial state)".to_owned() } else { self.trace.join(" ") };
+        write!(
+            f,
+            "  {} block together: after {trace} their product is at state ({}), from which no marked state \
+             can be reached\n  merge them (run without --no-merge: their specifications are synthesised as one) \
+             or change the specifications",
+            self.supervisors.join(" and "),
+            self.state
+        )
+    }
 }
 
 fn totals(rows: &[Row]) -> (usize, usize) {

@@ -43,7 +43,9 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     let Some(spec) = &manifest.net else {
         return Err(format!("{}: no [net] section: nothing to verify", args.manifest.display()).into());
     };
-    let models = supervisors(manifest.read_automata()?)?;
+    let read = manifest.read_automata()?;
+    codegen::maps::check(&manifest, &read, None)?;
+    let models = supervisors(read)?;
     let automata: Vec<_> = models.plants.iter().chain(&models.supervisors).collect();
     let limits =
         Limits { state_limit: args.state_limit, memory_limit: limits::memory_limit(args.memory_limit) };

@@ -36,6 +36,10 @@ pub struct BoardSpec {
     /// Output actions.
     #[serde(default)]
     pub outputs: Vec<OutputSpec>,
+    /// Controllable events that drive no pin (the supervisors fire them, nothing outside sees them):
+    /// every other command must drive a pin, or the tables would believe the plant moved when it did not.
+    #[serde(default)]
+    pub internal: Vec<String>,
 }
 
 /// How inputs are read.

@@ -106,11 +106,12 @@ pub fn rust(spec: &BoardSpec, packed: &Packed) -> Result<String, BoardError> {
             ("set", None) => "Set".to_string(),
             ("clear", None) => "Clear".to_string(),
             ("pulse", Some(ms)) => format!("Pulse {{ ms: {ms} }}"),
-            (other, _) => {
+            (other, ms) => {
+                let ms =
+                    ms.map_or_else(|| "without pulse_ms".to_owned(), |ms| format!("with pulse_ms = {ms}"));
                 return Err(BoardError::Value(format!(
-                    "action '{other}' with pulse_ms {:?} (set, clear, or pulse with pulse_ms)",
-                    o.pulse_ms
-                )))
+                    "action '{other}' {ms} (set, clear, or pulse with pulse_ms)"
+                )));
             }
         };
         let p = pin(o.pin)?;

@@ -47,6 +47,7 @@ pub fn emit(
         sample_period_us: None,
         inputs: Vec::new(),
         outputs: Vec::new(),
+        internal: Vec::new(),
     };
     out.push('\n');
     out.push_str(&super::board::rust(board.unwrap_or(&none), packed)?);

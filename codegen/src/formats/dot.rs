@@ -2,8 +2,9 @@
 //!
 //! States are circles labelled with their names, marked states double circles, and the initial state
 //! has an arrow coming from nowhere. Controllable transitions are solid with a bar across the tail of
-//! the arrow (the textbook "tick"); uncontrollable ones are dashed. Several automata go into one graph,
-//! one box (cluster) each.
+//! the arrow (the textbook "tick"); uncontrollable ones are dashed; those of an automaton whose file says
+//! nothing of controllability (a libFAUDES generator without `+C+`) are dotted, the automaton's label
+//! saying so. Several automata go into one graph, one box (cluster) each.
 
 use std::fmt::Write as _;
 
@@ -15,10 +16,11 @@ pub fn write(automata: &[Automaton]) -> String {
     let clustered = automata.len() > 1;
     for (i, a) in automata.iter().enumerate() {
         let indent = if clustered { "\t\t" } else { "\t" };
+        let unsaid = if a.controllability_unsaid { " (controllability unsaid)" } else { "" };
         if clustered {
-            let _ = writeln!(out, "\tsubgraph cluster_{i} {{\n\t\tlabel=\"{}\";", quote(&a.name));
+            let _ = writeln!(out, "\tsubgraph cluster_{i} {{\n\t\tlabel=\"{}{unsaid}\";", quote(&a.name));
         } else {
-            let _ = writeln!(out, "\tlabel=\"{}\";", quote(&a.name));
+            let _ = writeln!(out, "\tlabel=\"{}{unsaid}\";", quote(&a.name));
         }
         if let Some(init) = a.initial {
             let _ = writeln!(out, "{indent}a{i}_init [shape=point, style=invis];");
@@ -30,7 +32,11 @@ pub fn write(automata: &[Automaton]) -> String {
         }
         for t in &a.transitions {
             let e = &a.events[t.event.index()];
-            let style = if e.controllable { "dir=both, arrowtail=tee" } else { "style=dashed" };
+            let style = match (a.controllability_unsaid, e.controllable) {
+                (true, _) => "style=dotted",
+                (false, true) => "dir=both, arrowtail=tee",
+                (false, false) => "style=dashed",
+            };
             let _ = writeln!(
                 out,
                 "{indent}a{i}_s{} -> a{i}_s{} [label=\"{}\", {style}];",

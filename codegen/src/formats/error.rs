@@ -121,6 +121,22 @@ pub enum WriteError {
         /// How many automata were given.
         count: usize,
     },
+    /// Automata leave unsaid what the format must say (controllability, a component's role): writing
+    /// them would invent it.
+    #[error(
+        "{}: {format} says {}, and {}",
+        .file.display(),
+        what_it_says(.unsaid),
+        .unsaid.iter().map(Unsaid::describe).collect::<Vec<_>>().join("; ")
+    )]
+    Unsaid {
+        /// Output file.
+        file: PathBuf,
+        /// The format, as named to the user (`TCT .ADS`).
+        format: &'static str,
+        /// Each automaton and what it leaves unsaid.
+        unsaid: Vec<Unsaid>,
+    },
     /// The automaton cannot be expressed in the format.
     #[error("{}: {msg}", .file.display())]
     Unrepresentable {
@@ -137,4 +153,38 @@ pub enum WriteError {
         /// The operating system's error.
         source: std::io::Error,
     },
+}
+
+/// What an automaton leaves unsaid that a format must say.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Unsaid {
+    /// The automaton.
+    pub automaton: String,
+    /// Its role: its file says neither plant, specification nor supervisor.
+    pub role: bool,
+    /// Its events' controllability: its file says nothing of it (a libFAUDES generator without `+C+`,
+    /// which takes it from the plant).
+    pub controllability: bool,
+}
+
+impl Unsaid {
+    fn describe(&self) -> String {
+        let what = match (self.role, self.controllability) {
+            (true, true) => "its role (plant, specification or supervisor) and its events' controllability",
+            (true, false) => "its role (plant, specification or supervisor)",
+            _ => "its events' controllability (its file takes it from the plant, as libFAUDES does)",
+        };
+        format!("'{}' leaves unsaid {what}", self.automaton)
+    }
+}
+
+/// What a format says that `unsaid` leaves unsaid.
+fn what_it_says(unsaid: &[Unsaid]) -> &'static str {
+    let role = unsaid.iter().any(|u| u.role);
+    let controllability = unsaid.iter().any(|u| u.controllability);
+    match (role, controllability) {
+        (true, true) => "every component's role and every event's controllability",
+        (true, false) => "every component's role (PLANT, SPEC, SUPERVISOR)",
+        _ => "every event's controllability",
+    }
 }

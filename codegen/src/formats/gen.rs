@@ -8,14 +8,16 @@
 //! gets the next index in order (or the one after a `#` suffix, `"idle#7"`), and `<Consecutive> a b
 //! </Consecutive>` declares anonymous states `a..=b`. Later sections refer to states by index (bare
 //! number) or by name. Anonymous states are named by their index. Other attribute flags (`+o+`, `+F+`)
-//! and attribute sections are skipped: they carry nothing this tool uses. The XML variant (`<StateSet>`,
-//! `<TransitionRelation>`) is refused by name. The automaton is named after the file stem.
+//! and attribute sections are skipped: they carry nothing this tool uses. The XML form libFAUDES also
+//! writes (`<?xml …?>`, `<StateSet>`, `<TransitionRelation>`) is read by `faudes_xml`. The
+//! automaton is named after the file stem.
 
 use std::borrow::Cow;
 
 use std::path::Path;
 
 use super::builder::Builder;
+use super::faudes_xml;
 use super::gen_tokens::{quote, Token, Tokens};
 use super::hash::FastMap;
 use super::{file_stem, ParseError};
@@ -30,6 +32,9 @@ const SECTIONS: [&str; 5] = ["Alphabet", "States", "TransRel", "InitStates", "Ma
 
 /// Reads one automaton from the text of a `.gen` file; `file` names it in errors and gives its name.
 pub fn read(file: &Path, text: &str) -> Result<Automaton, ParseError> {
+    if faudes_xml::is_xml(text) {
+        return faudes_xml::read(file, text);
+    }
     let mut r = Reader {
         t: Tokens::new(file, text),
         b: Builder::new(file, file_stem(file), Kind::Unknown),
@@ -504,8 +509,8 @@ mod tests {
             "b.gen: line 1: range 1 to 99999999999 has more than 10000000 states"
         );
         assert_eq!(
-            err("<Generator>\n<StateSet> </StateSet> </Generator>"),
-            "b.gen: line 2: unsupported: section <StateSet> (only <Alphabet>, <States>, <TransRel>, <InitStates>, <MarkedStates> are read)"
+            err("<Generator>\n<Attributes> </Attributes> </Generator>"),
+            "b.gen: line 2: unsupported: section <Attributes> (only <Alphabet>, <States>, <TransRel>, <InitStates>, <MarkedStates> are read)"
         );
     }
 }

@@ -2,19 +2,22 @@
 //!
 //! | format | extension | reads | writes | automata per file |
 //! |---|---|---|---|---|
-//! | IDES3 / Nadzoru | `.xmd` | [`xmd::read`] | [`xmd::write`] | one |
-//! | libFAUDES / DESTool | `.gen` | [`gen::read`] | [`gen::write`] | one |
+//! | IDES3 | `.xmd` | [`xmd::read`] | [`xmd::write`] | one |
+//! | Nadzoru2 | `.xml` (also `.xmd`) | [`xmd::read`] ([`nadzoru`]) | [`nadzoru::write`] | one |
+//! | libFAUDES / DESTool | `.gen` (token or XML form) | [`gen::read`] | [`gen::write`] (token form) | one |
 //! | Supremica / Waters | `.wmod` | [`wmod::read`] | [`wmod::write`] | one per component |
 //! | TCT | `.ads` / `.ADS` (+ event map) | [`ads::read`] | [`ads::write`] | one |
 //! | Graphviz | `.dot` | — | [`dot::write`] | any |
 //!
 //! [`read_path`] picks the format from the extension (case-insensitive) and, failing that, from the
-//! content. Every reader returns automata that pass [`Automaton::validate`] and are
-//! [canonical](Automaton::canonicalize), or a [`ParseError`] naming the file and the line; no input
-//! makes a reader panic ([`check_reader`] states this contract as code, for the fuzz targets and tests).
-//! Single-automaton formats name the automaton after the file stem; [`write_path`] refuses, with a
-//! [`WriteError`], what a format cannot hold (several automata in a single-automaton format, names the
-//! format would change).
+//! content (a `.xml` file always by its content: Nadzoru2, IDES3, libFAUDES or Supremica). Every reader
+//! returns automata that pass [`Automaton::validate`] and are [canonical](Automaton::canonicalize), or a
+//! [`ParseError`] naming the file and the line; no input makes a reader panic ([`check_reader`] states
+//! this contract as code, for the fuzz targets and tests). Single-automaton formats name the automaton
+//! after the file stem; [`write_path`] refuses, with a [`WriteError`], what a format cannot hold (several
+//! automata in a single-automaton format, names the format would change) and what a format must say that
+//! the automaton leaves unsaid (controllability, for every format but `.gen`; the role, for `.wmod`) —
+//! a writer never invents a fact.
 
 pub mod ads;
 mod builder;
@@ -22,9 +25,11 @@ mod contract;
 mod decode;
 pub mod dot;
 mod error;
+mod faudes_xml;
 pub mod gen;
 mod gen_tokens;
 pub(crate) mod hash;
+pub mod nadzoru;
 pub mod wmod;
 pub mod xmd;
 mod xml;
@@ -34,10 +39,10 @@ use std::path::{Path, PathBuf};
 pub use contract::check_reader;
 pub(crate) use decode::decode;
 use error::ErrorKind;
-pub use error::{ParseError, WriteError};
+pub use error::{ParseError, Unsaid, WriteError};
 pub(crate) use xml::{escape as xml_escape, line as xml_line, parse as parse_xml};
 
-use crate::model::Automaton;
+use crate::model::{Automaton, Kind};
 
 /// A file format this module knows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -65,10 +70,14 @@ impl Format {
         }
     }
 
-    /// The format the content looks like, if any.
+    /// The format the content looks like, if any (a Nadzoru2 file reads as [`Format::Xmd`], whose
+    /// reader tells the two dialects of `<model>` apart).
     pub fn sniff(text: &str) -> Option<Format> {
         let head = text.trim_start();
         if head.starts_with("<Generator") || text.contains("<TransRel>") {
+            return Some(Format::Gen);
+        }
+        if head.starts_with('<') && (text.contains("<Generator ") || text.contains("<Generator>")) {
             return Some(Format::Gen);
         }
         if head.starts_with('<') && text.contains("<Module") {
@@ -160,24 +169,55 @@ pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, ParseError> {
     std::fs::read(path).map_err(|e| ParseError::new(path, None, ErrorKind::Io(e)))
 }
 
-/// Writes `automata` to `path` in the format its extension names (`.dot` too).
+/// Writes `automata` to `path` in the format its extension names (`.dot` too; `.xml` is Nadzoru2's).
+/// Refuses automata that leave unsaid what the format must say: controllability (every format but
+/// `.gen`, which can leave it unsaid, and `.dot`, which draws it as unsaid) and, for `.wmod`, the role.
 pub fn write_path(path: &Path, automata: &[Automaton]) -> Result<(), WriteError> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     let unrepresentable = |msg| WriteError::Unrepresentable { file: path.to_path_buf(), msg };
+    let said = |format: &'static str, role: bool| {
+        let unsaid: Vec<Unsaid> = automata
+            .iter()
+            .filter_map(|a| {
+                let what = Unsaid {
+                    automaton: a.name.clone(),
+                    role: role && a.kind == Kind::Unknown,
+                    controllability: a.controllability_unsaid,
+                };
+                (what.role || what.controllability).then_some(what)
+            })
+            .collect();
+        match unsaid.is_empty() {
+            true => Ok(()),
+            false => Err(WriteError::Unsaid { file: path.to_path_buf(), format, unsaid }),
+        }
+    };
     let text = match ext.as_deref() {
         Some("dot") => dot::write(automata),
         Some("xmd") => {
             let a = single(path, "xmd", automata)?;
+            said("IDES3 .xmd", false)?;
             xml::check_names(a).map_err(unrepresentable)?;
             xmd::write(a)
+        }
+        Some("xml") => {
+            let a = single(path, "xml", automata)?;
+            said("Nadzoru2 .xml", false)?;
+            xml::check_names(a).map_err(unrepresentable)?;
+            nadzoru::write(a)
         }
         Some("gen") => {
             let a = single(path, "gen", automata)?;
             gen::check(a).map_err(unrepresentable)?;
             gen::write(a)
         }
-        Some("ads") => return ads::write_files(path, single(path, "ads", automata)?),
+        Some("ads") => {
+            let a = single(path, "ads", automata)?;
+            said("TCT .ADS", false)?;
+            return ads::write_files(path, a);
+        }
         Some("wmod") => {
+            said("Supremica .wmod", true)?;
             automata.iter().try_for_each(xml::check_names).map_err(unrepresentable)?;
             wmod::write(&file_stem(path), automata).map_err(unrepresentable)?
         }

@@ -96,6 +96,9 @@ pub fn read(file: &Path, text: &str) -> Result<Vec<Automaton>, ParseError> {
     let mut seen: HashMap<&str, usize> = HashMap::new();
     for c in root.descendants().filter(|n| n.has_tag_name("SimpleComponent")) {
         let name = attr(file, &doc, c, "Name")?;
+        if name.trim().is_empty() {
+            return Err(ParseError::syntax(file, line(c), format!("{} has an empty name", element(c))));
+        }
         if let Some(first) = seen.insert(name, line(c)) {
             return Err(ParseError::syntax(
                 file,

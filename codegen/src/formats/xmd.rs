@@ -1,5 +1,6 @@
-//! IDES3 `.xmd` (also written by Nadzoru): `<model type="FSA">` with `<state>`, `<event>` and
-//! `<transition>` elements inside `<data>`.
+//! IDES3 `.xmd`: `<model type="FSA">` with `<state>`, `<event>` and `<transition>` elements inside
+//! `<data>`. Nadzoru2 writes the same root with its automaton in attributes (`<state id name initial
+//! marked/>`); a document in that dialect is read by [`super::nadzoru`], whatever its extension.
 //!
 //! States and events carry an `id` attribute that transitions refer to and a `<name>` child (the id
 //! stands in when the name is missing or empty). Flags live in `<properties>`: `<initial/>`,
@@ -15,6 +16,7 @@ use std::path::Path;
 use roxmltree::{Document, Node};
 
 use super::builder::Builder;
+use super::nadzoru;
 use super::xml::{self, escape};
 use super::{file_stem, ParseError};
 use crate::model::{Automaton, EventId, Kind, StateId};
@@ -41,6 +43,9 @@ pub fn read(file: &Path, text: &str) -> Result<Automaton, ParseError> {
     let mut data = root.children().filter(|n| n.has_tag_name("data"));
     let data =
         data.next().ok_or_else(|| ParseError::syntax(file, line(root), "<model> has no <data> element"))?;
+    if nadzoru::is_nadzoru(data) {
+        return nadzoru::read_data(file, &doc, data);
+    }
 
     let mut b = Builder::new(file, file_stem(file), Kind::Unknown);
     let mut states: HashMap<&str, StateId> = HashMap::new();

@@ -14,6 +14,15 @@ use super::{Automaton, ModelError};
 pub fn resolve_controllability<'a>(
     automata: impl IntoIterator<Item = &'a mut Automaton>,
 ) -> Result<(), ModelError> {
+    resolve_controllability_or(automata, None)
+}
+
+/// [`resolve_controllability`], with `otherwise` the controllability of the events no file says
+/// (`codegen convert --assume`); `None` refuses them as [`resolve_controllability`] does.
+pub fn resolve_controllability_or<'a>(
+    automata: impl IntoIterator<Item = &'a mut Automaton>,
+    otherwise: Option<bool>,
+) -> Result<(), ModelError> {
     let mut automata: Vec<&mut Automaton> = automata.into_iter().collect();
     let mut said: BTreeMap<String, (bool, String)> = BTreeMap::new();
     for a in automata.iter().filter(|a| !a.controllability_unsaid) {
@@ -40,8 +49,16 @@ pub fn resolve_controllability<'a>(
             unsaid.entry(e.name.clone()).or_default().push(a.name.clone());
         }
     }
-    if let Some((event, automata)) = unsaid.into_iter().next() {
-        return Err(ModelError::UnsaidControllability { event, automata });
+    match (unsaid.into_iter().next(), otherwise) {
+        (Some((event, automata)), None) => return Err(ModelError::UnsaidControllability { event, automata }),
+        (Some(_), Some(c)) => {
+            for a in automata.iter().filter(|a| a.controllability_unsaid) {
+                for e in &a.events {
+                    said.entry(e.name.clone()).or_insert((c, String::new()));
+                }
+            }
+        }
+        (None, _) => {}
     }
     for a in automata.iter_mut().filter(|a| a.controllability_unsaid) {
         for e in &mut a.events {
@@ -82,6 +99,15 @@ mod tests {
         assert!(matches!(&err, ModelError::UnsaidControllability { event, automata }
             if event == "z" && automata == &["E1", "E2"]));
         assert!(err.to_string().contains("E1, E2 all leave it unsaid"), "{err}");
+    }
+
+    #[test]
+    fn what_no_file_says_takes_what_is_assumed() {
+        let mut plant = build("G", &["0"], &["a"], &[("0", "a", "0")]);
+        let mut spec = unsaid(build("E", &["0"], &[], &[("0", "a", "0"), ("0", "z", "0")]));
+        resolve_controllability_or([&mut plant, &mut spec], Some(false)).unwrap();
+        let c: Vec<bool> = spec.events.iter().map(|e| e.controllable).collect();
+        assert_eq!(c, [true, false], "the plant says a; z is assumed");
     }
 
     #[test]

@@ -29,7 +29,7 @@ pub(crate) mod testing;
 pub use alphabet::{plantless_events, PlantlessEvent};
 pub use automaton::{Automaton, Event, Kind, State, Transition};
 pub use composition::Composition;
-pub use controllability::resolve_controllability;
+pub use controllability::{resolve_controllability, resolve_controllability_or};
 pub use dfa::Dfa;
 pub(crate) use dfa::{DfaBuilder, NONE};
 pub use error::ModelError;

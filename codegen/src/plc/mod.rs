@@ -46,7 +46,7 @@ pub mod xml;
 
 use std::fmt::Write as _;
 
-use crate::config::{ChoicePolicy, OnFault, RuntimeConfig};
+use crate::config::{OnFault, RuntimeConfig};
 use crate::emit::Provenance;
 use crate::pack::PackSet;
 
@@ -127,8 +127,8 @@ impl Default for PlcOptions {
 impl PlcOptions {
     /// The options of a set named `name` with the run-time configuration `runtime` (guard, seed, fault
     /// reaction) and the `[plc]` section `spec`; the policy is `policy` when given, else `[plc] policy`,
-    /// else `runtime`'s when it has a scan-cycle form. The encoding and avalanche option stay at their
-    /// defaults.
+    /// else `runtime`'s when it has a scan-cycle form, else local-queue (the program header names it).
+    /// The encoding and avalanche option stay at their defaults.
     pub fn new(
         name: &str,
         runtime: &RuntimeConfig,
@@ -140,7 +140,7 @@ impl PlcOptions {
         let spec = spec.cloned().unwrap_or_default();
         let policy = match (policy.or(spec.policy), ScanPolicy::of_runtime(runtime.policy)) {
             (Some(p), _) | (None, Some(p)) => p,
-            (None, None) => return Err(PlcError::Policy(runtime.policy)),
+            (None, None) => ScanPolicy::LocalQueue,
         };
         Ok(PlcOptions {
             name: name.to_owned(),
@@ -205,9 +205,6 @@ pub enum PlcError {
         /// The cycle is in the union with other ordered events.
         conflict: bool,
     },
-    /// The manifest's policy has no scan-cycle form and `[plc]` names none.
-    #[error("[runtime] policy {0} has no scan-cycle form; set [plc] policy (first, global-queue, local-queue or random)")]
-    Policy(ChoicePolicy),
     /// The program breaks a rule of the standard: a bug of the writer, never of the input.
     #[error("internal error, please report: the program is not strict IEC 61131-3: {0}")]
     Strict(#[from] strict::Violation),

@@ -484,10 +484,21 @@ pub fn beside(net: &Interpretation, program: &Program, name: &str) -> Result<Seq
     declare(&mut own, Var::new("seq", Type::Named(block.name.clone()), "the sequence net"))?;
     let mut args = Vec::new();
     let mut lamps = Vec::new();
+    // The sensors a condition reads and the actuators a place action names: only theirs are passed
+    // (the block's other inputs are read by nothing), so only they need a variable in [plc].
+    let read: Vec<usize> = net.conditions.iter().flat_map(|c| c.vars()).copied().collect();
+    let demanded: Vec<usize> = (0..net.signals.len())
+        .filter(|&k| net.actions.iter().any(|a| a.iter().any(|&(s, _)| s == k)))
+        .collect();
     for (k, s) in net.signals.iter().enumerate() {
         match (s.direction, s.carried) {
-            (Direction::Input, true) => args.push((id.signal[k].clone(), level(net, program, k)?)),
-            (Direction::Output, true) => args.push((id.feedback[k].clone(), level(net, program, k)?)),
+            (Direction::Input, true) if read.contains(&k) => {
+                args.push((id.signal[k].clone(), level(net, program, k)?))
+            }
+            (Direction::Output, true) if demanded.contains(&k) => {
+                args.push((id.feedback[k].clone(), level(net, program, k)?))
+            }
+            (_, true) => {}
             (Direction::Input, false) => {
                 let mut v = Var::new(
                     &id.signal[k],
@@ -509,9 +520,6 @@ pub fn beside(net: &Interpretation, program: &Program, name: &str) -> Result<Seq
             }
         }
     }
-    let demanded: Vec<usize> = (0..net.signals.len())
-        .filter(|&k| net.actions.iter().any(|a| a.iter().any(|&(s, _)| s == k)))
-        .collect();
     let mut requests = Vec::new();
     for (e, req) in &program.requests {
         let (k, value) = net.edges[e.index()];

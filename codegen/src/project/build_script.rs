@@ -11,7 +11,9 @@
 use std::error::Error as StdError;
 use std::path::{Path, PathBuf};
 
+use super::user_project::UserProject;
 use super::{Project, ProjectError};
+use crate::maps::Board;
 
 /// Name of the emitted file in `$OUT_DIR`.
 pub const TABLES_FILE: &str = "tables.rs";
@@ -41,10 +43,18 @@ impl From<ProjectError> for BuildScriptError {
     }
 }
 
-/// Emits the tables of the manifest at `manifest` into `out_dir/tables.rs`; returns that path and the
-/// files cargo must watch (the manifest and every model file it names).
-pub fn emit_into(manifest: &Path, out_dir: &Path) -> Result<(PathBuf, Vec<String>), BuildScriptError> {
-    let project = Project::load(manifest)?;
+/// Emits the tables of the manifest at `manifest` into `out_dir/tables.rs`, its pins checked against
+/// `board`'s when the project is built for one; returns that path and the files cargo must watch (the
+/// manifest and every model file it names).
+pub fn emit_into(
+    manifest: &Path,
+    out_dir: &Path,
+    board: Option<Board>,
+) -> Result<(PathBuf, Vec<String>), BuildScriptError> {
+    let project = match board {
+        Some(board) => Project::load_for(manifest, board)?,
+        None => Project::load(manifest)?,
+    };
     project.for_board()?;
     let text = project.emit()?;
     let path = out_dir.join(TABLES_FILE);
@@ -61,7 +71,11 @@ pub fn emit_into(manifest: &Path, out_dir: &Path) -> Result<(PathBuf, Vec<String
 /// causes, as the CLI does, and fails the build (exit status 2).
 pub fn main(manifest: &str) {
     let out_dir = std::env::var_os("OUT_DIR").map(PathBuf::from).ok_or(BuildScriptError::NoOutDir);
-    match out_dir.and_then(|dir| emit_into(Path::new(manifest), &dir)) {
+    // The board of the package being built, as `codegen new` wrote it (its `.cargo/config.toml`).
+    let board = std::env::var_os("CARGO_MANIFEST_DIR")
+        .and_then(|dir| UserProject::open(Path::new(&dir)).ok())
+        .map(|p| p.board);
+    match out_dir.and_then(|dir| emit_into(Path::new(manifest), &dir, board)) {
         Ok((tables, inputs)) => {
             println!("cargo:rerun-if-changed={manifest}");
             for input in inputs {
@@ -114,7 +128,7 @@ mod tests {
     #[test]
     fn writes_the_emitted_tables_and_names_every_input() {
         let out = scratch("ok");
-        let (path, inputs) = emit_into(&cell(), &out).unwrap();
+        let (path, inputs) = emit_into(&cell(), &out, None).unwrap();
         assert_eq!(path, out.join(TABLES_FILE));
         let expected = Project::load(&cell()).unwrap().emit().unwrap();
         assert_eq!(std::fs::read_to_string(&path).unwrap(), expected);
@@ -129,7 +143,7 @@ mod tests {
         let dir = scratch("bad");
         std::fs::write(dir.join("p.gen"), "not an automaton\n").unwrap();
         std::fs::write(dir.join("sct.toml"), "name = \"x\"\nplants = [\"p.gen\"]\n").unwrap();
-        let e = emit_into(&dir.join("sct.toml"), &dir).unwrap_err();
+        let e = emit_into(&dir.join("sct.toml"), &dir, None).unwrap_err();
         let text = chain(&e);
         assert!(text.contains("p.gen"), "{text}");
         assert!(!dir.join(TABLES_FILE).exists());
@@ -144,7 +158,7 @@ mod tests {
             [env!("CARGO_MANIFEST_DIR"), "..", "examples", "distribution", "distribution-state.toml"]
                 .iter()
                 .collect();
-        let text = chain(&emit_into(&manifest, &out).unwrap_err());
+        let text = chain(&emit_into(&manifest, &out, None).unwrap_err());
         assert!(text.contains("distribution-state.toml") && text.contains("runtime.mode"), "{text}");
         assert!(!out.join(TABLES_FILE).exists());
         std::fs::remove_dir_all(out).unwrap();

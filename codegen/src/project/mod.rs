@@ -38,6 +38,7 @@ use crate::config::{
 };
 use crate::emit::{self, EmitError, Input, Provenance};
 use crate::manifest::{is_manifest, read_board, ManifestError, ModelSet};
+use crate::maps::{self, Board, MapsError};
 use crate::model::Automaton;
 use crate::pack::ranked::{self, Packed};
 use crate::pack::{PackError, PackSet, Role};
@@ -92,6 +93,10 @@ pub enum ProjectError {
     /// not fit together.
     #[error(transparent)]
     Manifest(#[from] ManifestError),
+    /// A map of the manifest (`[board]`, `[plc]`, `[state]`, `[net]`) does not fit the automata or the
+    /// board: every problem, each with its line.
+    #[error(transparent)]
+    Maps(#[from] MapsError),
     /// A manifest given together with other files: a manifest is a whole project.
     #[error("{}: a manifest is a whole project: give it alone, or name its model files instead", file.display())]
     ManifestAmongFiles {
@@ -208,10 +213,20 @@ impl Project {
     /// [`Project::load`] with the supervisors synthesised under `cfg` (for example with the symbolic
     /// conflict check, when the supervisors' product is too large to build state by state).
     pub fn load_with(path: &Path, cfg: &Config) -> Result<Project, ProjectError> {
+        Project::load_from(path, cfg, None)
+    }
+
+    /// [`Project::load`] for a command that builds for `board`: the manifest's pins are checked
+    /// against that board's ([`maps::check`]), whatever `[board] name` says.
+    pub fn load_for(path: &Path, board: Board) -> Result<Project, ProjectError> {
+        Project::load_from(path, &Config::default(), Some(board))
+    }
+
+    fn load_from(path: &Path, cfg: &Config, board: Option<Board>) -> Result<Project, ProjectError> {
         if !is_manifest(path) {
             return Err(ManifestError::NotAProject { file: path.to_owned() }.into());
         }
-        let loaded = Sources::project(&[path.to_owned()]).load()?;
+        let loaded = Sources { board, ..Sources::project(&[path.to_owned()]) }.load()?;
         let choice =
             loaded.manifest.as_ref().map_or_else(SupervisorChoice::default, |m| m.runtime.supervisors);
         let (set, deployed) = deployed_set(&loaded, cfg, choice)?;
@@ -258,7 +273,7 @@ impl Project {
         runtime: RuntimeConfig,
     ) -> Result<Project, ProjectError> {
         if let (Some(path), None) = (sources.manifest(), board) {
-            return Project::load(path);
+            return Project::load_from(path, &Config::default(), sources.board);
         }
         let loaded = sources.load()?;
         let (set, deployed) = deployed_set(&loaded, &Config::default(), runtime.supervisors)?;
@@ -266,7 +281,9 @@ impl Project {
         let board_spec = match board {
             Some(path) => {
                 inputs.push(hash(path)?);
-                Some(read_board(path)?)
+                let (spec, lines) = read_board(path)?;
+                maps::check_board(&spec, path, &lines, &loaded.models, sources.board)?;
+                Some(spec)
             }
             None => None,
         };
@@ -433,7 +450,7 @@ impl Project {
 
     /// The PLC stage: the Structured Text and PLCopen XML program of the set with its report, under the
     /// same provenance header as the tables. The policy is `policy` when given, else the manifest's
-    /// (`[plc]`, else `[runtime]` when it has a scan-cycle form), else local-queue for model files.
+    /// (`[plc]`, else `[runtime]` when it has a scan-cycle form), else local-queue.
     pub fn plc(
         &self,
         encoding: Encoding,
@@ -452,14 +469,10 @@ impl Project {
         policy: Option<ScanPolicy>,
         net: Option<&crate::net::Interpretation>,
     ) -> Result<plc::Output, PlcError> {
-        let fallback = match self.origin {
-            Origin::Manifest { .. } => None,
-            Origin::Files { .. } | Origin::Code => Some(ScanPolicy::LocalQueue),
-        };
         let opts = PlcOptions {
             encoding,
             avalanche,
-            ..PlcOptions::new(&self.name, &self.runtime, self.plc.as_ref(), policy.or(fallback))?
+            ..PlcOptions::new(&self.name, &self.runtime, self.plc.as_ref(), policy)?
         };
         let provenance = self.provenance(self.plc_command(&opts));
         match net {

@@ -16,26 +16,11 @@
 
 use std::path::{Component, Path, PathBuf};
 
-use clap::ValueEnum;
-
 use crate::target::sources::{self, SourcesError};
 
 use super::{Project, ProjectError};
 
-/// A board `codegen new` writes a project for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum Board {
-    /// Raspberry Pi Pico (RP2040, Cortex-M0+, thumbv6m-none-eabi; rp2040-hal). Runs on the RP2040
-    /// emulator here (`codegen run --project DIR`).
-    Pico,
-    /// ST Nucleo-F401RE (STM32F401RE, Cortex-M4F, thumbv7em-none-eabihf; stm32f4xx-hal's device crate).
-    /// Built, not run: no emulator for it here.
-    NucleoF401re,
-    /// Nordic nRF52840 DK (nRF52840, Cortex-M4F, thumbv7em-none-eabihf; nrf52840-hal). Built, not run:
-    /// no emulator for it here.
-    #[value(name = "nrf52840-dk")]
-    Nrf52840Dk,
-}
+pub use crate::maps::Board;
 
 /// What a board's project is made of, each named by where it lies in the carried sources.
 struct Parts {
@@ -92,11 +77,6 @@ impl Board {
     pub fn chip(self) -> &'static str {
         self.parts().chip
     }
-
-    /// The board's name on the command line (`--board NAME`).
-    pub fn name(self) -> String {
-        self.to_possible_value().map(|v| v.get_name().to_owned()).unwrap_or_default()
-    }
 }
 
 /// What every board application shares (`apps/cell/src/bin/board_app.rs`): written beside `main.rs`,
@@ -106,8 +86,18 @@ const BOARD_APP: &str = "apps/cell/src/bin/board_app.rs";
 /// What the boards that tick on SysTick share (the Nucleo's and the nRF52840's applications).
 const SYSTICK_BOARD: &str = "apps/cell/src/bin/systick_board.rs";
 
-/// The manifest of a project made without `--manifest`: the manufacturing cell, with its Pico pin map.
-pub const STARTER: &str = "examples/cell/cell.toml";
+impl Board {
+    /// The manifest of a project made without `--manifest`: the manufacturing cell with a pin map of
+    /// this board's (`examples/cell/cell.toml` is the Pico's, `cell-nucleo-f401re.toml`,
+    /// `cell-nrf52840-dk.toml` the others').
+    pub fn starter(self) -> &'static str {
+        match self {
+            Board::Pico => "examples/cell/cell.toml",
+            Board::NucleoF401re => "examples/cell/cell-nucleo-f401re.toml",
+            Board::Nrf52840Dk => "examples/cell/cell-nrf52840-dk.toml",
+        }
+    }
+}
 
 /// Where the project's manifest and model files go, relative to its root.
 pub const MODEL_DIR: &str = "model";
@@ -176,8 +166,8 @@ pub fn new_project(dir: &Path, board: Board, manifest: Option<&Path>) -> Result<
         return Err(NewError::NotEmpty(dir.to_path_buf()));
     }
     let root = sources::unpacked()?;
-    let manifest = manifest.map_or_else(|| root.join(STARTER), Path::to_path_buf);
-    let project = Project::load(&manifest)?;
+    let manifest = manifest.map_or_else(|| root.join(board.starter()), Path::to_path_buf);
+    let project = Project::load_for(&manifest, board)?;
     let parts = board.parts();
     let name = package_name(dir);
 

@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::manifest::{has_extension, FileRoles, Manifest, ModelSet};
+use crate::maps::{self, Board};
 
 use super::ProjectError;
 
@@ -22,6 +23,10 @@ pub struct Sources {
     pub specs: Vec<PathBuf>,
     /// `--sup` files.
     pub supervisors: Vec<PathBuf>,
+    /// The board the command builds for (`codegen new --board`, `run --target rp2040`, a project's
+    /// build), if it builds for one: a manifest's `[board]` and `[state]` pins are checked against it
+    /// (else against the board `[board] name` names).
+    pub board: Option<Board>,
 }
 
 /// A project's models as loaded, before any synthesis.
@@ -82,12 +87,14 @@ impl Sources {
     }
 
     /// Reads the project: its automata, each set checked where its files meet — events of
-    /// specifications and supervisors that no plant has refused, controllability resolved. A manifest
-    /// among several files, or given with files in roles, is refused.
+    /// specifications and supervisors that no plant has refused, controllability resolved — and a
+    /// manifest's maps checked against them ([`maps::check`]). A manifest among several files, or given
+    /// with files in roles, is refused.
     pub fn load(&self) -> Result<Loaded, ProjectError> {
         if let Some(path) = self.manifest() {
             let m = Manifest::load(path)?;
             let models = m.read_automata()?;
+            maps::check(&m, &models, self.board)?;
             let named = m.plants.iter().chain(&m.specs).chain(&m.supervisors).chain(&m.modules);
             // A module loaded as a project is its own manifest: one input.
             let inputs = std::iter::once(m.file.clone())

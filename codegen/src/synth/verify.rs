@@ -39,10 +39,10 @@ pub enum Forbidden {
 /// synthesis when supC is empty.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 #[error(
-    "no supervisor exists for specification {} (plant {}): uncontrollable events, which no controller \
+    "no supervisor exists for specification {} ({}): uncontrollable events, which no controller \
      can prevent, lead from the initial state into what it forbids\n{}",
     specs.join(" + "),
-    plants.join(", "),
+    if plants.is_empty() { "no plant shares an event with it".to_owned() } else { format!("plant {}", plants.join(", ")) },
     self.explain()
 )]
 pub struct NoSupervisor {

@@ -225,6 +225,7 @@ pub fn generate(
     let g = product_size(&plants)?;
     let mut report = Report::new(set, &vector, &f, &rungs, g, ns, event_based);
     report.choice = policy.map(ScanPolicy::name);
+    report.cycle_ms = opts.cycle_ms;
     Ok(Output { files, report, rungs, vector, sfbc: f, memory, one })
 }
 

@@ -88,6 +88,8 @@ pub struct Report {
     pub instruction_ns: u32,
     /// Scan time: instructions × time per instruction, in microseconds.
     pub scan_us: f64,
+    /// The task's cycle (`[plc] cycle_ms`), in milliseconds: a scan longer than it is a finding.
+    pub cycle_ms: u32,
     /// The supervisors kept as memory, when the plant state does not decide.
     pub memory: Option<MemoryFigures>,
     /// The policy choosing one command per scan (`[state] choice`), when the program fires one.
@@ -138,6 +140,7 @@ impl Report {
             il_instructions: il,
             instruction_ns: ns,
             scan_us: il as f64 * f64::from(ns) / 1000.0,
+            cycle_ms: 10,
             choice: None,
             per_rung,
             event_based: event_based.map(|r| EventBased {
@@ -166,6 +169,16 @@ impl Report {
             "{} rungs over {} signals: {} IL instructions, stack depth {}, scan {:.1} us at {} ns per instruction",
             self.rungs, self.signals, self.il_instructions, self.stack_depth, self.scan_us, self.instruction_ns
         );
+        if self.scan_us > f64::from(self.cycle_ms) * 1000.0 {
+            let _ = writeln!(
+                out,
+                "finding: the scan ({:.1} ms) is longer than the task's cycle ({} ms, [plc] cycle_ms): the PLC \
+                 cannot run the program every cycle; raise cycle_ms, or set instruction_ns to the PLC's own \
+                 figure if it is faster",
+                self.scan_us / 1000.0,
+                self.cycle_ms
+            );
+        }
         if let Some(policy) = self.choice {
             let _ = writeln!(
                 out,

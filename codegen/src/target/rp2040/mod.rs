@@ -307,6 +307,7 @@ mod tests {
                 action: "pulse".into(),
                 pulse_ms: Some(20),
             }],
+            internal: vec![],
         }
     }
 
