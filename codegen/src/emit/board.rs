@@ -170,6 +170,7 @@ mod tests {
             plants: 0,
             masks: vec![],
             wide: false,
+            position_bytes: 2,
             layout: firmware::build::Layout::Ranked,
             automata: vec![],
         }

@@ -196,7 +196,7 @@ mod tests {
             masks: &masks,
             mask_bytes: packed.mask_width() as u8,
             layout: packed.layout.id(),
-            initials: &packed.initials(),
+            initials: &packed.initials().iter().map(|&h| h as u16).collect::<Vec<_>>(),
             holder_lists: &holder_lists,
             holders: &holders,
             plant_events: &vec![[0]; plants],

@@ -5,8 +5,10 @@
 //! [`main`] loads the project's manifest (paths relative to the package, where cargo runs build
 //! scripts), emits its tables into `$OUT_DIR/tables.rs`, tells cargo to run it again when the manifest or
 //! any model file it names changes, and hands the file to the application as `SCT_TABLES_FILE` (the name
-//! the cell's applications in `apps/cell/` read, so one `main.rs` serves both). A bad manifest or model
-//! fails the build with the message the CLI prints, file and line included.
+//! the cell's applications in `apps/cell/` read, so one `main.rs` serves both), with the digests of the
+//! table images it checked as `SCT_TABLES_CHECKED` (`firmware::table::image`: the emitted tables do not
+//! compile without them). A bad manifest or model fails the build with the message the CLI prints, file
+//! and line included.
 
 use std::error::Error as StdError;
 use std::path::{Path, PathBuf};
@@ -33,6 +35,25 @@ pub enum BuildScriptError {
         /// Why.
         source: std::io::Error,
     },
+    /// The tables written fail the runtime's check (a fault of codegen: it checks them as it emits).
+    #[error("{}: {source}", path.display())]
+    Check {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: firmware::build::image::SourceError,
+    },
+}
+
+/// What [`emit_into`] wrote.
+#[derive(Debug)]
+pub struct Emitted {
+    /// The tables file.
+    pub tables: PathBuf,
+    /// The files cargo must watch: the manifest and every model file it names.
+    pub inputs: Vec<String>,
+    /// The digests of the table images checked (`SCT_TABLES_CHECKED`).
+    pub checked: String,
 }
 
 impl From<ProjectError> for BuildScriptError {
@@ -41,9 +62,9 @@ impl From<ProjectError> for BuildScriptError {
     }
 }
 
-/// Emits the tables of the manifest at `manifest` into `out_dir/tables.rs`; returns that path and the
-/// files cargo must watch (the manifest and every model file it names).
-pub fn emit_into(manifest: &Path, out_dir: &Path) -> Result<(PathBuf, Vec<String>), BuildScriptError> {
+/// Emits the tables of the manifest at `manifest` into `out_dir/tables.rs` and checks them as the
+/// firmware compiles them.
+pub fn emit_into(manifest: &Path, out_dir: &Path) -> Result<Emitted, BuildScriptError> {
     let project = Project::load(manifest)?;
     project.for_board()?;
     let text = project.emit()?;
@@ -53,21 +74,24 @@ pub fn emit_into(manifest: &Path, out_dir: &Path) -> Result<(PathBuf, Vec<String
         std::fs::write(&path, &text)
             .map_err(|source| BuildScriptError::Write { path: path.clone(), source })?;
     }
-    Ok((path, project.input_paths()))
+    let checked = firmware::build::image::check_source(&text)
+        .map_err(|source| BuildScriptError::Check { path: path.clone(), source })?;
+    Ok(Emitted { tables: path, inputs: project.input_paths(), checked })
 }
 
 /// A firmware project's whole `build.rs`: emits the tables of `manifest` into `$OUT_DIR`, prints the
-/// cargo directives (watch the inputs, `SCT_TABLES_FILE`), and on error prints `error: …` with its
-/// causes, as the CLI does, and fails the build (exit status 2).
+/// cargo directives (watch the inputs, `SCT_TABLES_FILE`, `SCT_TABLES_CHECKED`), and on error prints
+/// `error: …` with its causes, as the CLI does, and fails the build (exit status 2).
 pub fn main(manifest: &str) {
     let out_dir = std::env::var_os("OUT_DIR").map(PathBuf::from).ok_or(BuildScriptError::NoOutDir);
     match out_dir.and_then(|dir| emit_into(Path::new(manifest), &dir)) {
-        Ok((tables, inputs)) => {
+        Ok(emitted) => {
             println!("cargo:rerun-if-changed={manifest}");
-            for input in inputs {
+            for input in emitted.inputs {
                 println!("cargo:rerun-if-changed={input}");
             }
-            println!("cargo:rustc-env=SCT_TABLES_FILE={}", tables.display());
+            println!("cargo:rustc-env=SCT_TABLES_FILE={}", emitted.tables.display());
+            println!("cargo:rustc-env=SCT_TABLES_CHECKED={}", emitted.checked);
         }
         Err(e) => {
             // Watch the manifest even now: fixing it must rerun the script.
@@ -114,10 +138,14 @@ mod tests {
     #[test]
     fn writes_the_emitted_tables_and_names_every_input() {
         let out = scratch("ok");
-        let (path, inputs) = emit_into(&cell(), &out).unwrap();
+        let Emitted { tables: path, inputs, checked } = emit_into(&cell(), &out).unwrap();
         assert_eq!(path, out.join(TABLES_FILE));
         let expected = Project::load(&cell()).unwrap().emit().unwrap();
         assert_eq!(std::fs::read_to_string(&path).unwrap(), expected);
+        // Two images (the Cortex-M3's and the Cortex-M0+'s), each a digest the emitted file names.
+        let digests: Vec<&str> = checked.split(' ').collect();
+        assert_eq!(digests.len(), 2, "{checked}");
+        assert!(digests.iter().all(|d| expected.contains(&format!("const DIGEST: &str = \"{d}\";"))));
         assert!(inputs[0].ends_with("cell/cell.toml"), "{inputs:?}");
         assert!(inputs.len() > 1 && inputs[1..].iter().all(|i| !i.ends_with(".toml")), "{inputs:?}");
         std::fs::remove_dir_all(out).unwrap();

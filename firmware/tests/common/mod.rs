@@ -69,7 +69,8 @@ pub fn handles_in(layout: Layout, spec: &Spec) -> Vec<u16> {
         spec.alphabet.iter().chain(spec.transitions.iter().map(|t| &t.1)).max().map_or(0, |&e| e + 1);
     let names = (0..events).map(|e| format!("e{e}")).collect();
     let source = source(names, &vec![false; usize::from(events)], std::slice::from_ref(spec));
-    encode_as(&source, layout).unwrap().handles(0).unwrap()
+    let handles = encode_as(&source, layout).unwrap().handles(0).unwrap();
+    handles.into_iter().map(|h| u16::try_from(h).unwrap()).collect()
 }
 
 /// Encodes `specs` (plants first) over `names.len()` events, `controllable` flags per event, in one-word
