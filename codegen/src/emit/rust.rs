@@ -9,7 +9,7 @@ use super::policy::{fault_value, ram_bytes, rust_type};
 use super::provenance::Provenance;
 use super::EmitError;
 use crate::config::{BoardSpec, ChoicePolicy, RuntimeConfig, SamplingSpec};
-use crate::pack::ranked::Packed;
+use crate::pack::tables::Packed;
 use firmware::table::layout::name as layout_name;
 
 /// Rust source for `firmware`'s applications (`include!`d inside a module): constants `NAME`,

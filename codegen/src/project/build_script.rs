@@ -14,6 +14,8 @@ use std::error::Error as StdError;
 use std::path::{Path, PathBuf};
 
 use super::{Project, ProjectError};
+use crate::pack::fit::Core;
+use crate::target::flash::Flash;
 
 /// Name of the emitted file in `$OUT_DIR`.
 pub const TABLES_FILE: &str = "tables.rs";
@@ -63,10 +65,17 @@ impl From<ProjectError> for BuildScriptError {
 }
 
 /// Emits the tables of the manifest at `manifest` into `out_dir/tables.rs` and checks them as the
-/// firmware compiles them.
-pub fn emit_into(manifest: &Path, out_dir: &Path) -> Result<Emitted, BuildScriptError> {
+/// firmware compiles them; with `board`, refuses first tables its core cannot run within its flash.
+pub fn emit_into(
+    manifest: &Path,
+    out_dir: &Path,
+    board: Option<(Core, Flash)>,
+) -> Result<Emitted, BuildScriptError> {
     let project = Project::load(manifest)?;
     project.for_board()?;
+    if let Some((core, flash)) = board {
+        project.fit(core, &flash)?;
+    }
     let text = project.emit()?;
     let path = out_dir.join(TABLES_FILE);
     // Written only when changed, so a build that changed nothing recompiles nothing.
@@ -84,7 +93,7 @@ pub fn emit_into(manifest: &Path, out_dir: &Path) -> Result<Emitted, BuildScript
 /// `error: …` with its causes, as the CLI does, and fails the build (exit status 2).
 pub fn main(manifest: &str) {
     let out_dir = std::env::var_os("OUT_DIR").map(PathBuf::from).ok_or(BuildScriptError::NoOutDir);
-    match out_dir.and_then(|dir| emit_into(Path::new(manifest), &dir)) {
+    match out_dir.and_then(|dir| emit_into(Path::new(manifest), &dir, board())) {
         Ok(emitted) => {
             println!("cargo:rerun-if-changed={manifest}");
             for input in emitted.inputs {
@@ -100,6 +109,17 @@ pub fn main(manifest: &str) {
             std::process::exit(2);
         }
     }
+}
+
+/// The board a build script builds for: its core from cargo's `TARGET` (the Cortex-M0+ for thumbv6m,
+/// else the Cortex-M3's tables) and its flash from the project's `memory.x`, if there is one.
+fn board() -> Option<(Core, Flash)> {
+    let dir = PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR")?);
+    let memory = std::fs::read_to_string(dir.join("memory.x")).ok()?;
+    println!("cargo:rerun-if-changed={}", dir.join("memory.x").display());
+    let target = std::env::var("TARGET").unwrap_or_default();
+    let core = if target.starts_with("thumbv6m") { Core::CortexM0Plus } else { Core::CortexM3 };
+    Some((core, Flash::of("this project's board", &memory)?))
 }
 
 /// `e` followed by each of its causes, separated by `: ` (a cause its parent's text already ends with
@@ -138,7 +158,7 @@ mod tests {
     #[test]
     fn writes_the_emitted_tables_and_names_every_input() {
         let out = scratch("ok");
-        let Emitted { tables: path, inputs, checked } = emit_into(&cell(), &out).unwrap();
+        let Emitted { tables: path, inputs, checked } = emit_into(&cell(), &out, None).unwrap();
         assert_eq!(path, out.join(TABLES_FILE));
         let expected = Project::load(&cell()).unwrap().emit().unwrap();
         assert_eq!(std::fs::read_to_string(&path).unwrap(), expected);
@@ -157,7 +177,7 @@ mod tests {
         let dir = scratch("bad");
         std::fs::write(dir.join("p.gen"), "not an automaton\n").unwrap();
         std::fs::write(dir.join("sct.toml"), "name = \"x\"\nplants = [\"p.gen\"]\n").unwrap();
-        let e = emit_into(&dir.join("sct.toml"), &dir).unwrap_err();
+        let e = emit_into(&dir.join("sct.toml"), &dir, None).unwrap_err();
         let text = chain(&e);
         assert!(text.contains("p.gen"), "{text}");
         assert!(!dir.join(TABLES_FILE).exists());
@@ -172,7 +192,7 @@ mod tests {
             [env!("CARGO_MANIFEST_DIR"), "..", "examples", "distribution", "distribution-state.toml"]
                 .iter()
                 .collect();
-        let text = chain(&emit_into(&manifest, &out).unwrap_err());
+        let text = chain(&emit_into(&manifest, &out, None).unwrap_err());
         assert!(text.contains("distribution-state.toml") && text.contains("runtime.mode"), "{text}");
         assert!(!out.join(TABLES_FILE).exists());
         std::fs::remove_dir_all(out).unwrap();

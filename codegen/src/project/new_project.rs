@@ -18,6 +18,8 @@ use std::path::{Component, Path, PathBuf};
 
 use clap::ValueEnum;
 
+use crate::pack::fit::Core;
+use crate::target::flash::Flash;
 use crate::target::sources::{self, SourcesError};
 
 use super::{Project, ProjectError};
@@ -97,6 +99,25 @@ impl Board {
     pub fn name(self) -> String {
         self.to_possible_value().map(|v| v.get_name().to_owned()).unwrap_or_default()
     }
+
+    /// The core whose tables the board's application runs: the Pico's Cortex-M0+ its own (`m0plus`),
+    /// the Cortex-M4 boards the Cortex-M3's.
+    pub fn core(self) -> Core {
+        match self {
+            Board::Pico => Core::CortexM0Plus,
+            Board::NucleoF401re | Board::Nrf52840Dk => Core::CortexM3,
+        }
+    }
+
+    /// The board's flash, as the `memory.x` its project links with says.
+    pub fn flash(self) -> Flash {
+        let board = match self {
+            Board::Pico => "RP2040 (Pico)",
+            Board::NucleoF401re => "STM32F401RE (Nucleo-F401RE)",
+            Board::Nrf52840Dk => "nRF52840 (nRF52840 DK)",
+        };
+        Flash::board(board, self.parts().memory)
+    }
 }
 
 /// What every board application shares (`apps/cell/src/bin/board_app.rs`): written beside `main.rs`,
@@ -166,7 +187,9 @@ pub struct NewProject {
 }
 
 /// Writes a project for `board` into `dir` (which must not exist or be empty), from the manifest
-/// `manifest` with its model files, or from the starter one.
+/// `manifest` with its model files, or from the starter one. A manifest the board's firmware cannot run
+/// — state-based, or tables its layout cannot hold or its flash cannot fit — is refused at once, with
+/// nothing written.
 pub fn new_project(dir: &Path, board: Board, manifest: Option<&Path>) -> Result<NewProject, NewError> {
     let io = |path: &Path| {
         let path = path.to_path_buf();
@@ -178,6 +201,8 @@ pub fn new_project(dir: &Path, board: Board, manifest: Option<&Path>) -> Result<
     let root = sources::unpacked()?;
     let manifest = manifest.map_or_else(|| root.join(STARTER), Path::to_path_buf);
     let project = Project::load(&manifest)?;
+    project.for_board()?;
+    project.fit(board.core(), &board.flash())?;
     let parts = board.parts();
     let name = package_name(dir);
 

@@ -25,8 +25,14 @@ pub const SECTION_NAMES: [&str; SECTIONS] = [
     "holders",
 ];
 
+/// Index of the plant events among the sections.
+pub const PLANT_EVENTS: usize = 2;
+/// Index of the choice sites among the sections.
+pub const SITES: usize = 4;
 /// Index of the blocks among the sections.
 pub const BLOCKS: usize = 6;
+/// Index of the holders among the sections.
+pub const HOLDERS: usize = 7;
 
 /// The image of `packed` with its side tables `side`: header, then the sections, each aligned, the last
 /// padded to 4 bytes.
@@ -45,8 +51,8 @@ pub fn write(packed: &Packed, side: &SideTables) -> Vec<u8> {
     for (b, &start) in packed.automata.iter().zip(&starts) {
         let d = &mut sections[1];
         let at = d.len();
-        for w in &b.alphabet {
-            d.extend_from_slice(&w.to_le_bytes());
+        for w in 0..words {
+            d.extend_from_slice(&b.alphabet.get(w).copied().unwrap_or(0).to_le_bytes());
         }
         le_position(start, d);
         d.push(b.scale);
@@ -95,8 +101,8 @@ pub fn write(packed: &Packed, side: &SideTables) -> Vec<u8> {
         packed.mask_width() as u8,
         0,
     ]);
-    for w in &packed.controllable {
-        image.extend_from_slice(&w.to_le_bytes());
+    for w in 0..words {
+        image.extend_from_slice(&packed.controllable.get(w).copied().unwrap_or(0).to_le_bytes());
     }
     for len in lengths {
         image.extend_from_slice(&(len as u32).to_le_bytes());

@@ -176,9 +176,9 @@ pub struct Record {
 }
 
 impl Packed {
-    /// Words of an event bitset.
+    /// Words of an event bitset in the runtime: enough for the events, and one for a set without any.
     pub fn words(&self) -> usize {
-        self.controllable.len()
+        self.controllable.len().max(1)
     }
 
     /// Bytes of a mask id or a target handle (`ranked`, `indexed`).
