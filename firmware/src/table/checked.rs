@@ -347,8 +347,9 @@ impl<'t, const W: usize, Q: Position> SupervisorSet<'t, W, Q> {
         let aut = &self.automata[a];
         let (start, end) = self.part(a);
         let scale = aut.scale as usize;
-        // Handles are 16-bit; an empty part has no initial state.
-        if scale == 0 || start == end || (end - start).div_ceil(scale) > 1 << 16 {
+        // An empty part has no initial state; `ranked` and `indexed` handles are 16-bit.
+        let units = (end - start).div_ceil(scale.max(1));
+        if scale == 0 || start == end || layout::has_pool(self.layout) && units > 1 << 16 {
             return false;
         }
         // The alphabet holds events only: the runtime's mask reads are exact on them.
