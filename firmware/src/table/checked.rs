@@ -318,20 +318,9 @@ impl<'t, const W: usize, Q: Position> SupervisorSet<'t, W, Q> {
     /// The `ranked` record at byte `at`, if it ends by `end` and names a mask: mask id, target count and
     /// the byte after it.
     pub(super) fn record_at(&self, at: usize, end: usize) -> Option<(usize, usize, usize)> {
-        let id = match field(self.block, self.wide, at, 0) {
-            Some(id) => id as usize,
-            None => return None,
-        };
-        let mask = match self.mask_of(id) {
-            Some(mask) => mask,
-            None => return None,
-        };
-        let mut n = 0;
-        let mut w = 0;
-        while w < W {
-            n += mask[w].count_ones() as usize;
-            w += 1;
-        }
+        let id = field(self.block, self.wide, at, 0)? as usize;
+        let mask = self.mask_of(id)?;
+        let n: usize = mask.iter().map(|word| word.count_ones() as usize).sum();
         let next = at + (n + 1) * if self.wide { 2 } else { 1 };
         if next <= end {
             Some((id, n, next))

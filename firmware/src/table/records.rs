@@ -121,7 +121,7 @@ impl<const W: usize, Q: Position> SupervisorSet<'_, W, Q> {
         let mut at = start;
         while at < end {
             for r in 0..usize::from(self.block[at]) {
-                if !self.target_field(at, r).is_some_and(|t| t < states) {
+                if self.target_field(at, r).is_none_or(|t| t >= states) {
                     return false;
                 }
             }
