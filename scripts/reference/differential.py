@@ -313,6 +313,63 @@ def module_case(codegen, work):
           f"{ref.Size()}/{ref.TransRelSize()}")
 
 
+def agv_case(codegen, work):
+    """Wonham's AGV system (examples/agv/agv.wmod, TCT's "agv" example), read by the script itself: the
+    monolithic supervisor against TCT supcon (4 406 / 11 338, minimal forms isomorphic) and libFAUDES
+    SupCon; the local modular set merges WS1, WS2, WS3 and IPS into one supervisor of 7 800 / 26 248 that
+    is TCT's supcon of those specifications and libFAUDES' SupCon on its plant; its condat, full and
+    reduced, is TCT's; its reduction keeps the closed loop (libFAUDES) and is no larger than TCT's
+    supreduce, both on our supervisor and on TCT's own supcon (206 states, the bar of issue 33)."""
+    module = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "examples", "agv", "agv.wmod")
+    parts = tools.read_wmod(module)
+    plants, specs = parts["PLANT"], parts["SPEC"]
+    out = os.path.join(work, "agv")
+    tct = tools.Tct(os.path.join(work, "agv-tct"), plants + specs)
+    mono = tools.codegen_json(codegen, ["--monolithic", "-o", out + "/mono", module])
+    ours = tools.read_xmd(os.path.join(out, "mono", "S_monolithic.xmd"))
+    ref = tools.faudes_supc(plants, specs)
+    tct.supc("SUP", plants, specs)
+    tct.create("OURS", ours)
+    pitct.minstate("OURSM", "OURS")
+    pitct.minstate("SUPM", "SUP")
+    check((mono["total_states"], mono["total_transitions"]) == (4406, 11338)
+          and faudes.LanguageEquality(tools.to_faudes(ours), ref) and pitct.isomorph("OURSM", "SUPM"),
+          f"agv: monolithic {mono['total_states']}/{mono['total_transitions']} = TCT supcon "
+          f"{pitct.statenum('SUP')}/{pitct.transnum('SUP')} (minimal forms isomorphic) = libFAUDES SupCon (language)")
+    red = tools.codegen_json(codegen, ["--reduce", "--condat", "-o", out + "/red", module])
+    full = tools.codegen_json(codegen, ["--condat", "-o", out + "/full", module])
+    merged = next(s for s in full["supervisors"] if len(s["specs"]) > 1)
+    name = merged["name"]
+    group = [a for a in specs if a.name in merged["specs"]]
+    local = [a for a in plants if a.name in merged["plants"]]
+    sup = tools.read_xmd(os.path.join(out, "full", name + ".xmd"))
+    tct.supc("MSUP", local, group)
+    check(sorted(merged["specs"]) == ["IPS", "WS1", "WS2", "WS3"]
+          and (merged["states"], merged["transitions"]) == (7800, 26248)
+          and (pitct.statenum("MSUP"), pitct.transnum("MSUP")) == (7800, 26248)
+          and faudes.LanguageEquality(tools.to_faudes(sup), tools.faudes_supc(local, group)),
+          f"agv: merged {'+'.join(merged['specs'])} {merged['states']}/{merged['transitions']} = TCT supcon "
+          f"{pitct.statenum('MSUP')}/{pitct.transnum('MSUP')} = libFAUDES SupCon (language)")
+    universe = {e for a in local + [sup] for e in a.events}
+    everything = tools.Fsa("all", [("0", True)], 0, {e: False for e in universe}, [(0, e, 0) for e in universe])
+    tct.product("AG", local + [everything])
+    tct.create("AS", sup, universe)
+    check(full["condat"][name] == tct.condat("AS", "AG", sup), f"agv: condat of {name} = TCT condat")
+    r = tools.read_xmd(os.path.join(out, "red", name + ".xmd"))
+    rs = next(s for s in red["supervisors"] if s["name"] == name)
+    tct.create("AR", r, universe)
+    check(red["condat"][name] == tct.condat("AR", "AG", r), f"agv: condat of reduced {name} = TCT condat")
+    check(closed_loop_equal(local, r, sup),
+          f"agv: reduced {name} {rs['unreduced_states']} -> {rs['states']} states keeps the closed loop")
+    pitct.supreduce("ARED", "AG", "AS", "AS_DAT")
+    pitct.condat("MSUP_DAT", "MSUP_G", "MSUP")
+    pitct.supreduce("MRED", "MSUP_G", "MSUP", "MSUP_DAT")
+    on_ours, on_theirs = pitct.statenum("ARED"), pitct.statenum("MRED")
+    check(rs["states"] <= min(on_ours, on_theirs) and rs["lower_bound"] <= rs["states"],
+          f"agv: reduced {name} {rs['states']}/{rs['transitions']} states (lower bound {rs['lower_bound']}) <= "
+          f"TCT supreduce {on_ours} on our supervisor, {on_theirs}/{pitct.transnum('MRED')} on TCT's supcon")
+
+
 def main():
     codegen, families, work = sys.argv[1:4]
     cases = []
@@ -334,6 +391,7 @@ def main():
         run_case(codegen, label, manifest, d)
     libfaudes_pairs(codegen, work)
     module_case(codegen, work)
+    agv_case(codegen, work)
     for label, manifest, d in cases:
         if label in ("cell", "factory-3") or label.startswith("random-3 "):
             readers(codegen, label, manifest, os.path.join(d, "readers"))

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use codegen::config::{ChoicePolicy, Layout, OnFault, RuntimeConfig};
+use codegen::config::{ChoicePolicy, Layout, OnFault, RuntimeConfig, SupervisorChoice};
 use codegen::project::Project;
 
 use super::files::{Files, NO_INPUT};
@@ -48,6 +48,11 @@ pub struct Args {
     /// the Cortex-M3 and `indexed` on the Cortex-M0+].
     #[arg(long, value_enum)]
     layout: Option<Layout>,
+    /// Which supervisors to deploy: the full set, each supervisor reduced, or one monolithic supervisor,
+    /// full or reduced; proven to give the plants the full set's closed loop first [default: the
+    /// manifest's `[runtime] supervisors`, else full].
+    #[arg(long = "supervisors", id = "deploy", value_enum, value_name = "CHOICE")]
+    deploy: Option<SupervisorChoice>,
     /// A TOML file with a `[board]` table: the pin map of a real board.
     #[arg(long, value_name = "FILE")]
     board: Option<PathBuf>,
@@ -82,6 +87,7 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
         guard: args.guard.unwrap_or(d.guard),
         on_fault: args.on_fault.unwrap_or(d.on_fault),
         input_buffer: args.input_buffer.unwrap_or(d.input_buffer),
+        supervisors: args.deploy.unwrap_or(d.supervisors),
         ..d
     };
     let mut project = Project::from_sources(&args.name, &sources, args.board.as_deref(), runtime)?;
@@ -92,6 +98,7 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     if args.layout.is_some() {
         project.runtime.layout = args.layout;
     }
+    super::deploy(&mut project, args.deploy, false)?;
     let text = project.emit()?;
     std::fs::write(&args.output, &text).map_err(|e| format!("{}: {e}", args.output.display()))?;
     for line in text.lines().take_while(|l| l.starts_with("//")) {

@@ -21,8 +21,10 @@ use std::error::Error as StdError;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+use codegen::config::SupervisorChoice;
+use codegen::project::Project;
 use codegen::synth::verify::NoSupervisor;
-use codegen::synth::SynthError;
+use codegen::synth::{Config, SynthError};
 
 /// Any error a subcommand reports; `main` prints it with its causes and exits 2.
 pub type Error = Box<dyn StdError + Send + Sync>;
@@ -103,6 +105,20 @@ pub fn say_skipped(skipped: &[String]) {
     for s in skipped {
         eprintln!("note: {s} left out: not of the role its module was given in");
     }
+}
+
+/// Deploys the supervisors `choice` names, when given (`--supervisors`), and says which the project
+/// runs: on stdout as the report's first line, or on stderr when stdout carries JSON.
+pub fn deploy(project: &mut Project, choice: Option<SupervisorChoice>, json: bool) -> Result<(), Error> {
+    if let Some(choice) = choice {
+        project.choose_supervisors(choice, &Config::default())?;
+    }
+    if json {
+        eprintln!("supervisors: {}", project.deployed);
+    } else {
+        println!("supervisors: {}", project.deployed);
+    }
+    Ok(())
 }
 
 /// Whether `e` (or one of its causes) is a write to a closed pipe.

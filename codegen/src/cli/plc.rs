@@ -4,7 +4,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use codegen::config::{RuntimeConfig, ScanPolicy};
+use codegen::config::{RuntimeConfig, ScanPolicy, SupervisorChoice};
 use codegen::manifest::{is_manifest, Manifest};
 use codegen::net::{interpretation, Interpretation};
 use codegen::plc::state_based::{StateError, StateOptions};
@@ -83,6 +83,11 @@ pub struct Args {
     /// Choice policy (default: the manifest's `[plc]` or `[runtime]` policy, else local-queue).
     #[arg(long, value_enum)]
     policy: Option<ScanPolicy>,
+    /// Which supervisors to deploy: the full set, each supervisor reduced, or one monolithic supervisor,
+    /// full or reduced; proven to give the plants the full set's closed loop first [default: the
+    /// manifest's `[runtime] supervisors`, else full].
+    #[arg(long = "supervisors", id = "deploy", value_enum, value_name = "CHOICE")]
+    deploy: Option<SupervisorChoice>,
     /// Print the report as JSON (schema 1).
     #[arg(long)]
     json: bool,
@@ -261,7 +266,7 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
             return hybrid(&manifest, &args);
         }
     }
-    let project = match (sources.manifest(), args.encoding, args.engine) {
+    let mut project = match (sources.manifest(), args.encoding, args.engine) {
         // Guards off the BDDs are for sets too large to list: the local modular set's conflict check
         // runs on BDDs too.
         (Some(one), EncodingArg::State, StateEngine::Symbolic) => {
@@ -271,6 +276,7 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
         _ => Project::from_sources(&args.name, &sources, None, RuntimeConfig::default())?,
     };
     super::say_skipped(&project.left_out);
+    super::deploy(&mut project, args.deploy, true)?;
     let encoding = match args.encoding {
         EncodingArg::Int => Encoding::Int,
         EncodingArg::Bits => Encoding::Bits,

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use codegen::closed_loop::{run_on_rp2040, run_under_qemu};
-use codegen::config::{Layout, SamplingSpec};
+use codegen::config::{Layout, SamplingSpec, SupervisorChoice};
 use codegen::pack::fit::Core;
 use codegen::project::new_project::Board;
 use codegen::project::user_project::UserProject;
@@ -41,6 +41,11 @@ pub struct Args {
     /// target: `ranked` on QEMU's Cortex-M3, `indexed` on the RP2040].
     #[arg(long, value_enum)]
     layout: Option<Layout>,
+    /// Which supervisors to deploy: the full set, each supervisor reduced, or one monolithic supervisor,
+    /// full or reduced; proven to give the plants the full set's closed loop first [default: the
+    /// manifest's `[runtime] supervisors`, else full].
+    #[arg(long = "supervisors", id = "deploy", value_enum, value_name = "CHOICE")]
+    deploy: Option<SupervisorChoice>,
     /// Run this firmware ELF instead of building one: a project of your own (`codegen new`, then
     /// `cargo build --release`), built from the same manifest.
     #[arg(long, value_name = "ELF")]
@@ -108,6 +113,7 @@ pub fn run(mut args: Args) -> Result<ExitCode, Error> {
     }
     let mut project = Project::load(&args.manifest)?;
     project.runtime.layout = args.layout.or(project.runtime.layout);
+    super::deploy(&mut project, args.deploy, args.run.json)?;
     if args.target == Target::Rp2040 {
         return run_rp2040(args, project);
     }

@@ -19,7 +19,7 @@ pub use board::{BoardSpec, InputSpec, OutputSpec, SamplingSpec};
 pub use hybrid::HybridSpec;
 pub use net::{EventEdge, Level, NetSpec};
 pub use plc::{Action, Edge, PlcInput, PlcOutput, PlcSpec, ScanPolicy};
-pub use runtime::{ChoicePolicy, Layout, Mode, OnFault, RuntimeConfig};
+pub use runtime::{ChoicePolicy, Layout, Mode, OnFault, RuntimeConfig, SupervisorChoice};
 pub use signals::{
     Component, ComponentSpec, Cube, Direction, Signal, SignalSpec, Signals, SignalsError, StateSpec,
     MAX_SIGNALS,

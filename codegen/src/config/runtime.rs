@@ -1,6 +1,6 @@
 //! This module is the home of [`RuntimeConfig`]: what the firmware runs its tables with besides the
 //! tables — the choice policy, the fault reaction, the seed, the guard, the input buffer, the reseed
-//! period and the tables' [`Layout`].
+//! period, the tables' [`Layout`] and which supervisors run ([`SupervisorChoice`]).
 
 use std::fmt;
 
@@ -110,6 +110,33 @@ impl fmt::Display for Mode {
     }
 }
 
+/// Which supervisors a project deploys (`[runtime] supervisors`, `--supervisors`): the set as
+/// synthesised, each of its supervisors reduced, or one monolithic supervisor, full or reduced. Every
+/// choice but `full` is proven to give the plants the full set's closed loop before it is used
+/// (`synth::deploy`). Named in kebab case like [`ChoicePolicy`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SupervisorChoice {
+    /// The local modular supervisors as synthesised (conflicting specifications merged), with the ready
+    /// supervisors.
+    #[default]
+    Full,
+    /// Each supervisor of the full set reduced against its local plant (supervisor reduction, as TCT
+    /// `supreduce`).
+    Reduced,
+    /// One supervisor: supC of all plants and all specifications (ready supervisors counted as
+    /// specifications).
+    Monolithic,
+    /// The monolithic supervisor reduced against the whole plant.
+    MonolithicReduced,
+}
+
+impl fmt::Display for SupervisorChoice {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        kebab(self, f)
+    }
+}
+
 /// The run-time configuration of a firmware: the manifest's `[runtime]` section, which `codegen emit`'s
 /// options override and the emitted tables carry (`CONFIG`, `SEED`, `INPUT_SLOTS`, the `Policy` type).
 /// Every key is optional; unknown keys are refused.
@@ -133,6 +160,8 @@ pub struct RuntimeConfig {
     pub layout: Option<Layout>,
     /// Event-based tables or the state feedback (default: event-based).
     pub mode: Mode,
+    /// Which supervisors run (default: the full set).
+    pub supervisors: SupervisorChoice,
 }
 
 impl RuntimeConfig {
@@ -157,6 +186,7 @@ impl Default for RuntimeConfig {
             reseed_every: 1024,
             layout: None,
             mode: Mode::Event,
+            supervisors: SupervisorChoice::Full,
         }
     }
 }
@@ -187,6 +217,8 @@ mod tests {
         reads_back(OnFault::value_variants());
         reads_back(Layout::value_variants());
         reads_back(Mode::value_variants());
+        reads_back(SupervisorChoice::value_variants());
+        assert_eq!(SupervisorChoice::MonolithicReduced.to_string(), "monolithic-reduced");
         assert_eq!(Layout::MemorySafe.to_string(), "memory-safe");
         assert_eq!(ChoicePolicy::RandomGlobalQueue.to_string(), "random-global-queue");
         assert_eq!(OnFault::SafeState.to_string(), "safe-state");

@@ -36,12 +36,18 @@ pub struct Provenance {
     pub inputs: Vec<Input>,
     /// The command line that reproduces the file (without the output path).
     pub command: String,
+    /// Which supervisors the file holds and how they were proven to keep the full set's closed loop
+    /// (`[runtime] supervisors`), when a project says.
+    pub supervisors: Option<String>,
 }
 
 impl Provenance {
-    /// The header's lines, without comment markers: the command, then every input with its SHA-256.
+    /// The header's lines, without comment markers: the command, the supervisors, then every input
+    /// with its SHA-256.
     pub fn lines(&self) -> Vec<String> {
-        let mut out = vec![format!("Command: {}", self.command), String::from("Inputs (SHA-256):")];
+        let mut out = vec![format!("Command: {}", self.command)];
+        out.extend(self.supervisors.iter().map(|s| format!("Supervisors: {s}")));
+        out.push(String::from("Inputs (SHA-256):"));
         out.extend(self.inputs.iter().map(|i| format!("  {}  {}", i.sha256, i.path)));
         out
     }

@@ -29,16 +29,19 @@ pub use sources::{Loaded, Sources};
 
 use std::path::{Path, PathBuf};
 
-use crate::config::{BoardSpec, Mode, PlcSpec, RuntimeConfig, ScanPolicy, Signals, StateSpec};
+use crate::config::{
+    BoardSpec, Mode, PlcSpec, RuntimeConfig, ScanPolicy, Signals, StateSpec, SupervisorChoice,
+};
 use crate::emit::{self, EmitError, Input, Provenance};
 use crate::manifest::{is_manifest, read_board, ManifestError, ModelSet};
 use crate::model::Automaton;
 use crate::pack::fit::{self, Core, Refusal};
-use crate::pack::{PackError, PackSet};
+use crate::pack::{PackError, PackSet, Role};
 use crate::plc::state_based::guards::GuardProgram;
 use crate::plc::state_based::{self, StateError};
 use crate::plc::{self, Avalanche, Encoding, PlcError, PlcOptions};
 use crate::symbolic::{self, Guards};
+use crate::synth::deploy::{self, Summary};
 use crate::synth::{local_modular, Config, Supervisor, SynthError};
 use crate::target::image::{build_pico_image, build_qemu_image, ImageError};
 
@@ -59,6 +62,9 @@ pub struct Project {
     pub state: Option<StateSpec>,
     /// Components of Supremica modules given in a role of another kind, left out (`module: name (kind)`).
     pub left_out: Vec<String>,
+    /// Which supervisors the set holds ([`RuntimeConfig::supervisors`]), their sizes and the proof that
+    /// they give the full set's closed loop; every report and the emitted provenance print it.
+    pub deployed: Summary,
     origin: Origin,
     /// Every input file with its SHA-256, in the order read.
     inputs: Vec<Input>,
@@ -153,12 +159,32 @@ pub fn supervisor_set(loaded: &Loaded) -> Result<PackSet, ProjectError> {
 
 /// [`supervisor_set`] with the supervisors synthesised under `cfg` (its limits, its conflict check).
 pub fn supervisor_set_with(loaded: &Loaded, cfg: &Config) -> Result<PackSet, ProjectError> {
-    let models = synthesise(loaded.models.clone(), cfg)?.0;
+    let choice = loaded.manifest.as_ref().map_or_else(SupervisorChoice::default, |m| m.runtime.supervisors);
+    Ok(deployed_set(loaded, cfg, choice)?.0)
+}
+
+/// The set `choice` deploys ([`deploy::deploy`]): the full set of [`supervisor_set_with`] (ready
+/// supervisors, then the synthesised ones), each supervisor reduced, or the monolithic supervisor, full
+/// or reduced — proven to give the plants the full set's closed loop — with its summary.
+pub fn deployed_set(
+    loaded: &Loaded,
+    cfg: &Config,
+    choice: SupervisorChoice,
+) -> Result<(PackSet, Summary), ProjectError> {
+    let ready = loaded.models.supervisors.len();
+    let (mut models, synthesised) = synthesise(loaded.models.clone(), cfg)?;
     if models.supervisors.is_empty() && models.plants.is_empty() {
         let file = loaded.inputs.first().cloned().unwrap_or_default();
         return Err(ProjectError::Nothing { file });
     }
-    Ok(PackSet::new(models.plants, models.supervisors)?)
+    let full: Vec<Supervisor> = models.supervisors[..ready]
+        .iter()
+        .map(|a| deploy::ready(&models.plants, a))
+        .chain(synthesised)
+        .collect();
+    let (chosen, summary) = deploy::deploy(&models.plants, &models.specs, full, choice, cfg)?;
+    models.supervisors = chosen.into_iter().map(|s| s.automaton).collect();
+    Ok((PackSet::new(models.plants, models.supervisors)?, summary))
 }
 
 /// The command-line words of a state-based program's choice policy (` --choice POLICY`, or none).
@@ -185,13 +211,16 @@ impl Project {
             return Err(ManifestError::NotAProject { file: path.to_owned() }.into());
         }
         let loaded = Sources::project(&[path.to_owned()]).load()?;
-        let set = supervisor_set_with(&loaded, cfg)?;
+        let choice =
+            loaded.manifest.as_ref().map_or_else(SupervisorChoice::default, |m| m.runtime.supervisors);
+        let (set, deployed) = deployed_set(&loaded, cfg, choice)?;
         let inputs = loaded.inputs.iter().map(|f| hash(f)).collect::<Result<_, _>>()?;
         let Some(m) = loaded.manifest else {
             return Err(ManifestError::NotAProject { file: path.to_owned() }.into());
         };
         Ok(Project {
             set,
+            deployed,
             origin: Origin::Manifest { path: path.to_owned(), runtime: m.runtime.clone() },
             name: m.name,
             runtime: m.runtime,
@@ -231,7 +260,7 @@ impl Project {
             return Project::load(path);
         }
         let loaded = sources.load()?;
-        let set = supervisor_set(&loaded)?;
+        let (set, deployed) = deployed_set(&loaded, &Config::default(), runtime.supervisors)?;
         let mut inputs: Vec<Input> = loaded.inputs.iter().map(|f| hash(f)).collect::<Result<_, _>>()?;
         let board_spec = match board {
             Some(path) => {
@@ -243,6 +272,7 @@ impl Project {
         Ok(Project {
             name: name.to_owned(),
             set,
+            deployed,
             runtime,
             board: board_spec,
             plc: None,
@@ -260,9 +290,11 @@ impl Project {
         supervisors: Vec<Automaton>,
         runtime: RuntimeConfig,
     ) -> Result<Project, PackError> {
+        let deployed = Summary::full(&supervisors);
         Ok(Project {
             name: name.to_owned(),
             set: PackSet::new(plants, supervisors)?,
+            deployed,
             runtime,
             board: None,
             plc: None,
@@ -271,6 +303,45 @@ impl Project {
             origin: Origin::Code,
             inputs: Vec::new(),
         })
+    }
+
+    /// Deploys the supervisors `choice` names instead of the ones the project was loaded with
+    /// (`--supervisors`): the set is built again from the project's sources ([`deployed_set`]) and the
+    /// run-time configuration records the choice.
+    pub fn choose_supervisors(&mut self, choice: SupervisorChoice, cfg: &Config) -> Result<(), ProjectError> {
+        if choice == self.deployed.choice {
+            self.runtime.supervisors = choice;
+            return Ok(());
+        }
+        let loaded = match &self.origin {
+            Origin::Manifest { path, .. } => Sources::project(std::slice::from_ref(path)).load()?,
+            Origin::Files { sources, .. } => sources.load()?,
+            Origin::Code => {
+                let of = |role| {
+                    self.set.members().iter().filter(move |m| m.role == role).map(|m| m.automaton.clone())
+                };
+                Loaded {
+                    name: self.name.clone(),
+                    models: ModelSet {
+                        plants: of(Role::Plant).collect(),
+                        specs: Vec::new(),
+                        supervisors: of(Role::Supervisor).collect(),
+                        sources: Vec::new(),
+                    },
+                    manifest: None,
+                    left_out: Vec::new(),
+                    inputs: Vec::new(),
+                }
+            }
+        };
+        (self.set, self.deployed) = deployed_set(&loaded, cfg, choice)?;
+        self.runtime.supervisors = choice;
+        Ok(())
+    }
+
+    /// The provenance of a file this project writes with `command`.
+    fn provenance(&self, command: String) -> Provenance {
+        Provenance { inputs: self.inputs.clone(), command, supervisors: Some(self.deployed.to_string()) }
     }
 
     /// The command that reproduces the emitted tables, paths as given, every option spelt out.
@@ -282,8 +353,15 @@ impl Project {
                 if let Some(layout) = r.layout.filter(|_| r.layout != runtime.layout) {
                     line.push_str(&format!(" --layout {layout}"));
                 }
-                let same =
-                    RuntimeConfig { reseed_every: runtime.reseed_every, layout: runtime.layout, ..r.clone() };
+                if r.supervisors != runtime.supervisors {
+                    line.push_str(&format!(" --supervisors {}", r.supervisors));
+                }
+                let same = RuntimeConfig {
+                    reseed_every: runtime.reseed_every,
+                    layout: runtime.layout,
+                    supervisors: runtime.supervisors,
+                    ..r.clone()
+                };
                 if *runtime != same {
                     line.push_str(" (then its [runtime] changed in code)");
                 }
@@ -300,6 +378,9 @@ impl Project {
                 words.push(format!("--reseed-every {}", r.reseed_every));
                 if let Some(layout) = r.layout {
                     words.push(format!("--layout {layout}"));
+                }
+                if r.supervisors != SupervisorChoice::Full {
+                    words.push(format!("--supervisors {}", r.supervisors));
                 }
                 if let Some(board) = board {
                     words.push(format!("--board {}", board.display()));
@@ -324,7 +405,7 @@ impl Project {
     /// the state feedback of the `[state]` section as cubes over the signal word, no supervisor tables
     /// ([`state_based::firmware_tables`]).
     pub fn emit(&self) -> Result<String, ProjectError> {
-        let provenance = Provenance { inputs: self.inputs.clone(), command: self.command() };
+        let provenance = self.provenance(self.command());
         if self.runtime.mode == Mode::State {
             let signals = self.state.as_ref().ok_or(StateError::Missing).and_then(|s| Ok(s.check()?));
             return signals
@@ -374,7 +455,7 @@ impl Project {
             avalanche,
             ..PlcOptions::new(&self.name, &self.runtime, self.plc.as_ref(), policy.or(fallback))?
         };
-        let provenance = Provenance { inputs: self.inputs.clone(), command: self.plc_command(&opts) };
+        let provenance = self.provenance(self.plc_command(&opts));
         match net {
             Some(net) => plc::generate_with_sequence(&self.set, &opts, &provenance, net),
             None => plc::generate(&self.set, &opts, &provenance),
@@ -444,7 +525,7 @@ impl Project {
         for (_, word) in flags.iter().filter(|(on, _)| *on) {
             words.push_str(word);
         }
-        Ok((signals, opts, Provenance { inputs: self.inputs.clone(), command: words }))
+        Ok((signals, opts, self.provenance(words)))
     }
 
     /// The command that reproduces a PLC program, paths as given, every option spelt out.
@@ -457,6 +538,13 @@ impl Project {
                 words.extend(sources.words());
             }
             Origin::Code => words.push(format!("(automata of '{}' built in code)", self.name)),
+        }
+        let manifest_choice = match &self.origin {
+            Origin::Manifest { runtime, .. } => runtime.supervisors,
+            Origin::Files { .. } | Origin::Code => SupervisorChoice::Full,
+        };
+        if self.runtime.supervisors != manifest_choice {
+            words.push(format!("--supervisors {}", self.runtime.supervisors));
         }
         words.push(format!("--encoding {}", opts.encoding.name()));
         words.push(format!("--avalanche {}", opts.avalanche.name()));

@@ -132,11 +132,34 @@ impl Run<'_> {
         &self.cache[group].1.dfa
     }
 
+    /// Whether the product of the groups' supervisors blocks, checked one independent subsystem at a
+    /// time: supervisors that share no event, directly or through others, form independent products,
+    /// and a product of independent nonempty automata is nonblocking exactly when each is. So the
+    /// product of the whole set — the product of the subsystems' sizes — is never built.
     fn conflicting(&self, groups: &[&Vec<usize>]) -> Result<bool, SynthError> {
         let dfas: Vec<&Dfa> = groups.iter().map(|g| self.supervisor(g)).collect();
-        let what = "supervisor product";
-        let explicit =
-            |cfg: &Config| first_blocking(&dfas, &self.inputs, cfg, what).map(|(_, b)| b.is_some());
+        if dfas.iter().any(|d| d.initial.is_none()) {
+            // An empty supervisor empties the product: nothing reachable blocks.
+            return Ok(false);
+        }
+        let parts = subsystems(&dfas);
+        for (k, part) in parts.iter().enumerate() {
+            let members: Vec<&Dfa> = part.iter().map(|&i| dfas[i]).collect();
+            let what = if parts.len() == 1 {
+                String::from("supervisor product")
+            } else {
+                format!("supervisor product, subsystem {} of {}", k + 1, parts.len())
+            };
+            if self.conflicting_product(&members, &what)? {
+                return Ok(true);
+            }
+        }
+        Ok(false)
+    }
+
+    /// Whether the product of `dfas` blocks (explicitly, or by the configured engine).
+    fn conflicting_product(&self, dfas: &[&Dfa], what: &str) -> Result<bool, SynthError> {
+        let explicit = |cfg: &Config| first_blocking(dfas, &self.inputs, cfg, what).map(|(_, b)| b.is_some());
         let Some(check) = &self.cfg.nonblocking else { return explicit(self.cfg) };
         let first = check.explicit_states().min(self.cfg.state_limit);
         if first > 0 {
@@ -145,7 +168,7 @@ impl Run<'_> {
                 decided => return decided,
             }
         }
-        check.nonblocking(&dfas, self.cfg, what).map(|nonblocking| !nonblocking)
+        check.nonblocking(dfas, self.cfg, what).map(|nonblocking| !nonblocking)
     }
 
     /// The smallest conflicting group of supervisors, searched by size (sets whose supervisors are not
@@ -207,6 +230,34 @@ impl Run<'_> {
             .collect();
         LocalModularResult { supervisors, nonconflicting, merged }
     }
+}
+
+/// The automata of `dfas` grouped into the components of the "shares an event" graph (indices, each
+/// component ascending, components by their first member).
+fn subsystems(dfas: &[&Dfa]) -> Vec<Vec<usize>> {
+    let mut component = vec![usize::MAX; dfas.len()];
+    let mut parts: Vec<Vec<usize>> = Vec::new();
+    for start in 0..dfas.len() {
+        if component[start] != usize::MAX {
+            continue;
+        }
+        component[start] = parts.len();
+        let mut part = vec![start];
+        let mut k = 0;
+        while k < part.len() {
+            let a = dfas[part[k]];
+            for j in 0..dfas.len() {
+                if component[j] == usize::MAX && a.alphabet.iter().any(|&e| dfas[j].has_event(e)) {
+                    component[j] = parts.len();
+                    part.push(j);
+                }
+            }
+            k += 1;
+        }
+        part.sort_unstable();
+        parts.push(part);
+    }
+    parts
 }
 
 /// Whether the members of `subset` form one component of the "shares an event" graph.
@@ -326,6 +377,21 @@ mod tests {
         assert_eq!(supervisor_name(&["E1"]), "S1");
         assert_eq!(supervisor_name(&["E2", "E6"]), "S2_6");
         assert_eq!(supervisor_name(&["buffer", "E3"]), "S_buffer_E3");
+    }
+
+    #[test]
+    fn subsystems_are_the_components_of_shared_events() {
+        use crate::model::testing::build;
+        let automata = [
+            build("A", &["0"], &["a"], &[("0", "a", "0")]),
+            build("B", &["0"], &["b"], &[("0", "b", "0")]),
+            build("C", &["0"], &["a", "c"], &[("0", "a", "0"), ("0", "c", "0")]),
+            build("D", &["0"], &["d"], &[("0", "d", "0")]),
+            build("E", &["0"], &["c", "b"], &[("0", "c", "0"), ("0", "b", "0")]),
+        ];
+        let inputs = Inputs::new(automata.iter()).unwrap();
+        let dfas: Vec<&Dfa> = inputs.dfas.iter().collect();
+        assert_eq!(subsystems(&dfas), [vec![0, 1, 2, 4], vec![3]]);
     }
 
     #[test]

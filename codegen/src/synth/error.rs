@@ -29,9 +29,10 @@ pub enum SynthError {
     NoSupervisor(Box<super::verify::NoSupervisor>),
     /// A product grew the process past [`Config::memory_limit`](super::Config::memory_limit).
     #[error(
-        "{what}: {states} states so far took the process to {} resident, past the memory limit of {} \
-         (--memory-limit)",
+        "{what}: {states} states so far took the process to {} resident, and {} more would pass the \
+         memory limit of {} (--memory-limit)",
         super::memory::human(*resident),
+        super::memory::human(*extra),
         super::memory::human(*limit)
     )]
     MemoryLimit {
@@ -43,6 +44,8 @@ pub enum SynthError {
         resident: u64,
         /// The limit in force, bytes.
         limit: u64,
+        /// The bytes the next step was about to take.
+        extra: u64,
     },
     /// A symbolic fixed point grew the process past [`Config::memory_limit`](super::Config::memory_limit).
     #[error(
@@ -70,5 +73,19 @@ pub enum SynthError {
         bits: usize,
         /// Most BDD variables the library holds.
         max: usize,
+    },
+    /// A chosen supervisor set (`[runtime] supervisors`) does not give the plants the full set's closed
+    /// loop, so it is not used.
+    #[error(
+        "supervisors = \"{choice}\": the closed loop of {what} differs from the full set's: {}",
+        super::deploy::describe(difference)
+    )]
+    ClosedLoopDiffers {
+        /// The choice.
+        choice: String,
+        /// The closed loop compared (the supervisor and its plants).
+        what: String,
+        /// A shortest string on which they differ.
+        difference: Box<super::language::Difference>,
     },
 }

@@ -1,6 +1,14 @@
 //! The memory a synthesis run may take: the process's resident size, read from the kernel as products
 //! grow, against a limit — so that a runaway product stops with an error naming it instead of meeting
 //! the kernel's out-of-memory killer.
+//!
+//! The limit holds *before* memory is taken, not after: a product's hash index grows by doubling, and the
+//! new index is written whole while the old one is still held, so a look made only now and then let the
+//! process overshoot by the index's size (35 % past a 1 GiB limit on three AGV copies). Every walk asks
+//! [`admit`] with the bytes it is about to take — before a new index, and before the predecessor lists
+//! of a backward walk are built.
+
+use super::{Config, SynthError};
 
 /// The resident set size of this process in bytes (`/proc/self/statm`), or `None` where the kernel does
 /// not tell.
@@ -22,6 +30,18 @@ pub fn total_ram() -> Option<u64> {
 /// whatever else runs), or no limit where the RAM is unknown.
 pub fn default_limit() -> Option<u64> {
     total_ram().map(|ram| ram / 4 * 3)
+}
+
+/// Stops building `what` (`states` states so far) when the process's resident size plus the `extra`
+/// bytes about to be taken would pass the run's memory limit.
+pub(crate) fn admit(cfg: &Config, what: &str, states: usize, extra: u64) -> Result<(), SynthError> {
+    let Some(limit) = cfg.memory_limit else { return Ok(()) };
+    match resident_bytes() {
+        Some(resident) if resident.saturating_add(extra) > limit => {
+            Err(SynthError::MemoryLimit { what: what.to_owned(), states, resident, limit, extra })
+        }
+        _ => Ok(()),
+    }
 }
 
 fn page_size() -> u64 {
@@ -53,5 +73,15 @@ mod tests {
         assert_eq!(default_limit(), Some(ram / 4 * 3));
         assert_eq!(human(3 << 29), "1.5 GiB");
         assert_eq!(human(5 << 20), "5.0 MiB");
+    }
+
+    #[test]
+    fn a_limit_is_held_before_the_bytes_are_taken() {
+        let rss = resident_bytes().unwrap();
+        let cfg = Config { memory_limit: Some(rss + (64 << 20)), ..Config::default() };
+        assert!(admit(&cfg, "x", 1, 1 << 20).is_ok());
+        let err = admit(&cfg, "x", 7, 1 << 30).unwrap_err();
+        assert!(matches!(err, SynthError::MemoryLimit { states: 7, extra, .. } if extra == 1 << 30), "{err}");
+        assert!(admit(&Config::default(), "x", 1, u64::MAX).is_ok(), "no limit");
     }
 }

@@ -17,6 +17,8 @@
 //! - [`local_modular()`], [`modular()`] and [`monolithic()`]: the three architectures of the paper,
 //!   with the conflict check and the merge of conflicting specifications.
 //! - [`reduce()`]: supervisor reduction (Su–Wonham control congruence, as TCT `supreduce`).
+//! - [`deploy::deploy`]: the supervisors a project runs (full, reduced, monolithic, monolithic reduced),
+//!   proven to give the full set's closed loop.
 //! - [`condat()`]: the control data (TCT `condat`): per supervisor state, the controllable events it disables.
 //!
 //! The worst case is the product: `n` components of `k` states can reach `k^n` states. [`Config::state_limit`]
@@ -25,6 +27,7 @@
 mod architecture;
 mod condat;
 mod config;
+pub mod deploy;
 mod error;
 pub mod families;
 pub mod language;
@@ -44,7 +47,7 @@ pub use error::SynthError;
 pub use minimize::minimize;
 pub(crate) use product::name_of_tuple;
 pub use product::{product, Reachable};
-pub use reduce::reduce;
+pub use reduce::{reduce, reduction, Reduction};
 pub use supc::supc;
 
 use crate::model::{Automaton, Dfa, EventTable};

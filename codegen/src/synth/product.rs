@@ -12,6 +12,7 @@
 
 use crate::model::{Automaton, Kind};
 
+use super::memory::admit;
 use super::{Config, Inputs, SynthError};
 use crate::model::{Dfa, NONE};
 
@@ -52,20 +53,9 @@ struct Slot {
 
 const EMPTY: Slot = Slot { first: 0, id: NONE };
 
-/// New states between two looks at the process's resident size.
+/// New states between two looks at the process's resident size, besides the look before each new
+/// index (for the memory the flat arrays take as they fill).
 const MEMORY_CHECK_EVERY: usize = 1 << 14;
-
-/// Stops the walk building `what` (`states` states so far) when the process has grown past the run's
-/// memory limit.
-fn check_memory(cfg: &Config, what: &str, states: usize) -> Result<(), SynthError> {
-    let Some(limit) = cfg.memory_limit else { return Ok(()) };
-    match super::memory::resident_bytes() {
-        Some(resident) if resident > limit => {
-            Err(SynthError::MemoryLimit { what: what.to_owned(), states, resident, limit })
-        }
-        _ => Ok(()),
-    }
-}
 
 /// Packed product tuples with a hash index from tuple to state id (open addressing, linear probing, load
 /// at most one half).
@@ -121,6 +111,18 @@ impl KeyStore {
                 return Ok(slot.id);
             }
             i = (i + 1) & mask;
+        }
+    }
+
+    /// The bytes the next insertion of a new key takes at once: a new index of twice the slots, written
+    /// whole while the old one is still held, when the load would pass one half. (The flat arrays grow
+    /// by reallocation too, but their new pages become resident only as they are written; the periodic
+    /// look covers them.)
+    fn growth(&self) -> u64 {
+        if (self.len() + 1) * 2 > self.slots.len() {
+            (self.slots.len() * 2 * std::mem::size_of::<Slot>()) as u64
+        } else {
+            0
         }
     }
 
@@ -330,13 +332,16 @@ impl Exploration {
             }
             std::hint::black_box(touched);
             for (next, &e) in batch.chunks_exact(width).zip(&batch_events) {
+                if cfg.memory_limit.is_some() {
+                    let extra = if keys.probe(next).is_err() { keys.growth() } else { 0 };
+                    if extra > 0 || (keys.len() + 1).is_multiple_of(MEMORY_CHECK_EVERY) {
+                        admit(cfg, what, keys.len(), extra)?;
+                    }
+                }
                 let (t, new) = keys.insert(next);
                 if new {
                     if keys.len() > cfg.state_limit {
                         return Err(SynthError::StateLimit { what: what.to_owned(), limit: cfg.state_limit });
-                    }
-                    if keys.len().is_multiple_of(MEMORY_CHECK_EVERY) {
-                        check_memory(cfg, what, keys.len())?;
                     }
                     marked.push(components.iter().enumerate().all(|(c, d)| {
                         d.marked[((next[fields[c].word] >> fields[c].shift) & fields[c].mask) as usize]

@@ -35,6 +35,13 @@ impl Reverse {
         Reverse { offsets, sources, events }
     }
 
+    /// The bytes [`Reverse::new`] takes for `dfa`, with the masks of the backward walk beside it (for
+    /// [`admit`](super::memory::admit)).
+    pub(crate) fn bytes(dfa: &Dfa) -> u64 {
+        let (n, t) = (dfa.state_count() as u64, dfa.transition_count() as u64);
+        2 * 8 * (n + 1) + 8 * t + 4 * n
+    }
+
     /// The (source, event) pairs of the transitions entering `s`.
     pub(crate) fn preds(&self, s: u32) -> impl Iterator<Item = (u32, u32)> + '_ {
         let r = self.offsets[s as usize]..self.offsets[s as usize + 1];

@@ -100,6 +100,7 @@ pub(crate) fn supc_dfa(
         cfg,
         what,
     )?;
+    super::memory::admit(cfg, what, walk.dfa.state_count(), Reverse::bytes(&walk.dfa))?;
     let fate = controllable_nonblocking(&walk.dfa, walk.bad.iter().map(|&(s, _)| s), &inputs.controllable);
     let alive: Vec<bool> = fate.iter().map(|&f| f == Fate::Kept).collect();
     let (dfa, product_ids) = restrict(&walk.dfa, &alive);

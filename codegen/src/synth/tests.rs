@@ -419,6 +419,72 @@ proptest! {
             Err(e) => panic!("{e}"),
         }
     }
+
+    #[test]
+    fn the_conflict_check_of_independent_subsystems_is_the_whole_products(
+        g1 in automaton("G1", Kind::Plant, vec![0, 2], 2),
+        g2 in automaton("G2", Kind::Plant, vec![1, 3], 2),
+        g3 in automaton("G3", Kind::Plant, vec![4], 2),
+        e1 in automaton("E1", Kind::Spec, vec![0, 2], 2),
+        e2 in automaton("E2", Kind::Spec, vec![0, 2], 2),
+        e3 in automaton("E3", Kind::Spec, vec![1, 3], 2),
+        e4 in automaton("E4", Kind::Spec, vec![4], 2),
+    ) {
+        // E1 and E2 share events (one subsystem), E3 and E4 stand alone: the verdict checked one
+        // subsystem at a time is the whole product's, built here.
+        let plants = [g1, g2, g3];
+        let no_merge = Config { merge_conflicting: false, ..cfg() };
+        match local_modular(&plants, &[e1, e2, e3, e4], &no_merge) {
+            Ok(raw) => {
+                let sups: Vec<Automaton> = raw.supervisors.iter().map(|s| s.automaton.clone()).collect();
+                prop_assert_eq!(raw.nonconflicting, verify::nonblocking(&sups, &cfg()).unwrap().is_none());
+            }
+            Err(SynthError::NoSupervisor(_)) => {}
+            Err(e) => panic!("{e}"),
+        }
+    }
+
+    #[test]
+    fn every_deployed_set_has_the_full_sets_closed_loop(
+        g1 in automaton("G1", Kind::Plant, vec![0, 2], 3),
+        g2 in automaton("G2", Kind::Plant, vec![1, 3], 3),
+        e1 in automaton("E1", Kind::Spec, vec![0, 1, 2], 3),
+        e2 in automaton("E2", Kind::Spec, vec![1, 3], 2),
+    ) {
+        use crate::config::SupervisorChoice;
+        let plants = [g1.clone(), g2.clone()];
+        let specs = [e1, e2];
+        let Ok(full) = local_modular(&plants, &specs, &cfg()) else { return Ok(()) };
+        let sigma = alphabet(&[&g1, &g2]);
+        let closed = |set: &[Supervisor]| {
+            let mut parts: Vec<&Automaton> = plants.iter().collect();
+            parts.extend(set.iter().map(|s| &s.automaton));
+            language(&sigma, 6, &|w| run_all(&parts, w))
+        };
+        let want = closed(&full.supervisors);
+        for choice in <SupervisorChoice as clap::ValueEnum>::value_variants() {
+            let (chosen, summary) = match deploy::deploy(&plants, &specs, full.supervisors.clone(), *choice, &cfg()) {
+                Ok(deployed) => deployed,
+                Err(SynthError::ClosedLoopDiffers { .. }) => {
+                    // Refused: only a monolithic supervisor may differ (a blocking plant the local
+                    // supervisors leave alone empties supC), and then its closed loop truly does.
+                    prop_assert!(matches!(choice, SupervisorChoice::Monolithic | SupervisorChoice::MonolithicReduced));
+                    let mono = Supervisor { automaton: supc(&plants, &specs, &cfg()).unwrap(), specs: vec![], plants: vec![] };
+                    prop_assert_ne!(closed(&[mono]), want.clone());
+                    continue;
+                }
+                Err(e) => panic!("{e}"),
+            };
+            prop_assert_eq!(closed(&chosen), want.clone(), "{}", choice);
+            prop_assert_eq!(summary.choice, *choice);
+            prop_assert_eq!(summary.supervisors, chosen.len());
+            if *choice == SupervisorChoice::Reduced {
+                for (r, f) in chosen.iter().zip(&full.supervisors) {
+                    prop_assert!(r.automaton.states.len() <= f.automaton.states.len());
+                }
+            }
+        }
+    }
 }
 
 /// supC by the textbook fixpoint on an explicitly built product (independent of the production code).

@@ -175,6 +175,7 @@ pub(crate) fn first_blocking(
         what,
     )?;
     let d = &x.dfa;
+    super::memory::admit(cfg, what, d.state_count(), Reverse::bytes(d))?;
     let co = coaccessible_mask(d, &Reverse::new(d), &vec![true; d.state_count()]);
     let first = co.iter().position(|&c| !c).map(|s| s as u32);
     Ok((x, first))

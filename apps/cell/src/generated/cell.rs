@@ -3,6 +3,7 @@
 // Set 'cell': 4 plants, 6 supervisors, 23 events; layout ranked, 1028 bytes of blocks + 292 bytes of masks (97 masks).
 // Cortex-M0+ tables (`m0plus`): layout indexed, 4225 bytes of blocks + 428 bytes of masks + 268 bytes of holder lists.
 // Command: codegen emit examples/cell/cell.toml --reseed-every 1024
+// Supervisors: full: 6 supervisors, 233 states / 697 transitions (the full set)
 // Inputs (SHA-256):
 //   e0ab8dd9e7fe137abfd1c0abaaff2de48f28d9d171dfb8e08613dae7dc217c65  examples/cell/cell.toml
 //   ca4a1689b28c9464619adbf249ed65a5215d30b256eb9f981548407ae27b4fe5  examples/cell/plants/G1.xmd

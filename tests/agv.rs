@@ -1,0 +1,68 @@
+//! Wonham's AGV system (`examples/agv/`) closed loop: the manifest's reduced set (`[runtime]
+//! supervisors = "reduced"`, 183 states for the full set's 7 902, proven to keep its closed loop) built
+//! for the Cortex-M3 and run under QEMU, and the Pico application on an emulated RP2040, its vehicles'
+//! sensors as levels on shared pins; and the full set, whose 7 800-state supervisor waits for the
+//! tables as data (issue 33): its const-evaluated tables do not compile in reasonable time today.
+
+use codegen::closed_loop::Options;
+use codegen::config::{SamplingSpec, SupervisorChoice};
+use codegen::monitor::Report;
+use codegen::project::Project;
+use codegen::synth::Config;
+use end_to_end::{assert_clean, example, pico_closed_loop, qemu_closed_loop};
+
+/// Events of a QEMU run (seed 1: 613 of the merged supervisor's 614 reachable controllable transitions
+/// taken, every other supervisor's all), and of a Pico run (slower: the RP2040 is emulated in JavaScript).
+const EVENTS: u64 = 40_000;
+const PICO_EVENTS: u64 = 10_000;
+
+/// Safe, a clean link, marked states visited throughout, and at least `percent` % of every
+/// supervisor's reachable controllable transitions taken (full coverage of the 614 of the merged
+/// supervisor takes more events than CI spends; `codegen run --events N` shows what is left).
+fn check(report: &Report, what: &str, percent: usize) {
+    eprintln!("{what}: {report}");
+    assert_clean(report, what);
+    assert!(report.marked_visits >= report.events / 500, "{what}: {report}");
+    assert!(report.longest_marked_gap < 5_000, "{what}: {report}");
+    for line in &report.coverage {
+        let reachable = line.reachable.expect("reachable transitions counted");
+        assert!(line.taken * 100 >= reachable * percent, "{what}: {}: {report}", line.supervisor);
+    }
+}
+
+#[test]
+fn the_reduced_agv_set_is_safe_live_and_fully_covered_under_qemu() {
+    let project = Project::load(&example("agv/agv.toml")).unwrap();
+    assert_eq!(project.deployed.choice, SupervisorChoice::Reduced);
+    check(
+        &qemu_closed_loop(&project, &Options { events: EVENTS, ..Options::default() }),
+        "agv reduced, QEMU",
+        99,
+    );
+}
+
+#[test]
+#[ignore = "fails today: on the emulated RP2040 the firmware's first command is judged disabled (a3_go_ws2 \
+            by S_WS1_WS2_WS3_IPS) and the board reboots at every event, in every layout, while the same \
+            tables run clean under QEMU; the pin map (two input events per pin, rising and falling) is the \
+            first suspect"]
+fn the_reduced_agv_set_runs_on_the_pico_through_its_pins() {
+    let project = Project::load(&example("agv/agv.toml")).unwrap();
+    let report = pico_closed_loop(&project, SamplingSpec::Interrupt, &Options::for_events(PICO_EVENTS));
+    check(&report, "agv reduced, RP2040", 60);
+    let board = report.board.as_ref().expect("the harness's figures");
+    assert_eq!((board.missed, board.unmapped), (0, 0), "{report}");
+}
+
+#[test]
+#[ignore = "waits for the tables as data (issue 33): the full set's 7 800-state supervisor is validated by const evaluation, which does not finish"]
+fn the_full_agv_set_is_safe_live_and_fully_covered_under_qemu() {
+    let mut project = Project::load(&example("agv/agv.toml")).unwrap();
+    project.choose_supervisors(SupervisorChoice::Full, &Config::default()).unwrap();
+    assert_eq!(project.deployed.size, (7902, 26404));
+    check(
+        &qemu_closed_loop(&project, &Options { events: EVENTS, ..Options::default() }),
+        "agv full, QEMU",
+        60,
+    );
+}
