@@ -10,6 +10,10 @@
 //! `package.json`, `package-lock.json` and `src/`). The workspace manifest travels rewritten to hold the
 //! runtime, the applications and codegen alone, with the same profiles. The generated file `$OUT_DIR/embedded_sources.rs` lists
 //! every file with its bytes, in path order, so that the same checkout gives the same binary.
+//!
+//! It also checks the cell's committed tables (`apps/cell/src/generated/cell.rs`), which codegen's tests
+//! compile as the firmware does, as the firmware's build script does (`apps/cell/build.rs`): with the
+//! runtime's own check, their digests handed to the compiler as `SCT_TABLES_CHECKED`.
 
 use std::env;
 use std::fmt::Write as _;
@@ -77,6 +81,13 @@ fn main() {
     println!("cargo:rerun-if-changed={}", root.join("Cargo.toml").display());
     let dest = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR")).join("embedded_sources.rs");
     std::fs::write(&dest, out).expect("write embedded_sources.rs");
+
+    let cell = root.join("apps/cell/src/generated/cell.rs");
+    let text = std::fs::read_to_string(&cell).expect("read the committed cell tables");
+    match firmware::build::image::check_source(&text) {
+        Ok(proof) => println!("cargo:rustc-env=SCT_TABLES_CHECKED={proof}"),
+        Err(e) => panic!("{}: {e}: emit them again (codegen/tests/emit_cell.rs says how)", cell.display()),
+    }
 }
 
 /// Adds every file under `root/dir` to `files`, as a path relative to `root` with `/` separators.

@@ -18,7 +18,8 @@ use std::path::{Path, PathBuf};
 use codegen::closed_loop::{run_under_qemu, Options};
 use codegen::emit::{emit, Provenance};
 use codegen::monitor::{ChoiceModel, Report};
-use codegen::pack::ranked::{self, Packed};
+use codegen::pack::ranked;
+use codegen::pack::tables::{Packed, Record};
 use codegen::pack::{PackSet, Role};
 use codegen::project::Project;
 use codegen::target::image::build_qemu_image;
@@ -49,7 +50,7 @@ fn judge(project: &Project, elf: &Path) -> Report {
 fn mutate_supervisor(
     packed: &mut Packed,
     supervisors: impl Iterator<Item = usize>,
-    mutate: impl Fn(&Packed, usize, &ranked::Record, &[ranked::Record]) -> Option<(usize, u8)>,
+    mutate: impl Fn(&Packed, usize, &Record, &[Record]) -> Option<(usize, u8)>,
 ) -> Option<String> {
     for a in supervisors {
         let records = packed.records(a).unwrap();

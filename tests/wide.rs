@@ -66,7 +66,7 @@ fn wide_fields_run_as_the_checked_readers_step_in_the_indexed_layout() {
 
 /// The host-compiled runtime on `packed` (the ring of 32 events and the toggle, in the layout
 /// `LAYOUT`): twice round the ring, every state as the checked readers step.
-fn run_as_the_checked_readers_step<const LAYOUT: u8>(packed: ranked::Packed) {
+fn run_as_the_checked_readers_step<const LAYOUT: u8>(packed: codegen::pack::tables::Packed) {
     assert!(packed.wide);
     assert_eq!(packed.mask_width(), 4);
     let host = HostTables::<1>::new(packed).unwrap();

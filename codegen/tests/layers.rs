@@ -22,6 +22,7 @@ const FIRMWARE: &[&[&str]] = &[
     &["board", "event_set", "fault", "input_queue", "rng", "status"],
     &["table"],
     &["build", "choice"],
+    &["shell"],
     &["runtime"],
     &["link", "state"],
     &["event_loop"],

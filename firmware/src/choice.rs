@@ -11,7 +11,7 @@
 //! | [`RandomLocalQueue`] | 4·W·S B | a random order per choice site and round |
 //!
 //! W is the word count of an event bitset, S the number of choice sites with two or more controllable
-//! out-events ([`crate::table::SupervisorSet::sites`]); a site with one such event needs no memory.
+//! out-events ([`View::sites`]); a site with one such event needs no memory.
 //!
 //! A *choice site* is a state of the plant that generates the event. The local policies first pick a
 //! plant among those that generate an enabled event (`local-queue`: cyclically; `random-local-queue`:
@@ -31,33 +31,45 @@
 
 use crate::event_set::EventSet;
 use crate::rng::{widening_mul, Entropy, Rng};
-use crate::table::SupervisorSet;
 
-/// What a policy may look at besides the enabled set.
+/// What a policy may look at besides the enabled set: the plants (the first automata, or the state
+/// vector's components), the events each generates, where each is and what it allows there, and the
+/// choice sites. `Q` names a plant's state: its position in the supervisor tables
+/// ([`crate::table::Position`]), a reading's code in the state tables.
 #[derive(Clone, Copy)]
-pub struct View<'a, const W: usize> {
-    /// The tables.
-    pub set: &'a SupervisorSet<'a, W>,
-    /// Where every automaton is: the byte offset of its current state's record in the block.
-    pub records: &'a [u16],
-    /// What every automaton allows in its current state: out-mask or-ed with the events outside its
-    /// alphabet.
+pub struct View<'a, const W: usize, Q> {
+    /// The controllable events.
+    pub controllable: &'a [u32; W],
+    /// Per plant: the controllable events it generates. Every controllable event belongs to one plant.
+    pub plant_events: &'a [[u32; W]],
+    /// The choice sites: states of a plant where two or more of its controllable events leave.
+    pub sites: &'a [Q],
+    /// Where every plant (automaton) is: its current state.
+    pub records: &'a [Q],
+    /// What every plant (automaton) allows in its current state: out-mask or-ed with the events outside
+    /// its alphabet.
     pub allowed: &'a [[u32; W]],
 }
 
-impl<const W: usize> View<'_, W> {
-    /// Number of plants (the first automata).
+impl<const W: usize, Q: Copy + Eq> View<'_, W, Q> {
+    /// Number of plants.
     fn plants(&self) -> usize {
-        usize::from(self.set.plants)
+        self.plant_events.len()
     }
 
     /// Plant `p`: the controllable events it generates, those of them its current state has
-    /// transitions for, and where that state's record is (for [`SupervisorSet::site`]).
-    fn plant(&self, p: usize) -> Option<(EventSet<W>, EventSet<W>, u16)> {
+    /// transitions for, and that state (for [`View::site`]).
+    fn plant(&self, p: usize) -> Option<(EventSet<W>, EventSet<W>, Q)> {
         let ((generated, allowed), &at) =
-            self.set.plant_events.iter().zip(self.allowed).zip(self.records).nth(p)?;
+            self.plant_events.iter().zip(self.allowed).zip(self.records).nth(p)?;
         let generated = EventSet(*generated);
         Some((generated, generated.and(&EventSet(*allowed)), at))
+    }
+
+    /// The index of the choice site `at`, if it is one. A scan: sites are states of the plants, small
+    /// automata, so there are few, and the scan beats a binary search's bookkeeping.
+    fn site(&self, at: Q) -> Option<usize> {
+        self.sites.iter().position(|&s| s == at)
     }
 }
 
@@ -68,9 +80,9 @@ pub trait Choose<const W: usize> {
     const READS_SITES: bool = false;
 
     /// One event of `enabled`, or `None` when `enabled` is empty.
-    fn choose<E: Entropy>(
+    fn choose<E: Entropy, Q: Copy + Eq>(
         &mut self,
-        view: View<'_, W>,
+        view: View<'_, W, Q>,
         enabled: &EventSet<W>,
         rng: &mut Rng<E>,
     ) -> Option<u8>;
@@ -84,7 +96,12 @@ pub trait Choose<const W: usize> {
 pub struct First;
 
 impl<const W: usize> Choose<W> for First {
-    fn choose<E: Entropy>(&mut self, _: View<'_, W>, enabled: &EventSet<W>, _: &mut Rng<E>) -> Option<u8> {
+    fn choose<E: Entropy, Q: Copy + Eq>(
+        &mut self,
+        _: View<'_, W, Q>,
+        enabled: &EventSet<W>,
+        _: &mut Rng<E>,
+    ) -> Option<u8> {
         enabled.first()
     }
 
@@ -96,7 +113,12 @@ impl<const W: usize> Choose<W> for First {
 pub struct Random;
 
 impl<const W: usize> Choose<W> for Random {
-    fn choose<E: Entropy>(&mut self, _: View<'_, W>, enabled: &EventSet<W>, rng: &mut Rng<E>) -> Option<u8> {
+    fn choose<E: Entropy, Q: Copy + Eq>(
+        &mut self,
+        _: View<'_, W, Q>,
+        enabled: &EventSet<W>,
+        rng: &mut Rng<E>,
+    ) -> Option<u8> {
         pick(enabled, &mut Bits::new(rng))
     }
 
@@ -110,7 +132,12 @@ pub struct GlobalQueue {
 }
 
 impl<const W: usize> Choose<W> for GlobalQueue {
-    fn choose<E: Entropy>(&mut self, _: View<'_, W>, enabled: &EventSet<W>, _: &mut Rng<E>) -> Option<u8> {
+    fn choose<E: Entropy, Q: Copy + Eq>(
+        &mut self,
+        _: View<'_, W, Q>,
+        enabled: &EventSet<W>,
+        _: &mut Rng<E>,
+    ) -> Option<u8> {
         let c = enabled.next_cyclic(self.cursor)?;
         self.cursor = c.wrapping_add(1);
         Some(c)
@@ -134,13 +161,13 @@ impl<const W: usize> Default for RandomGlobalQueue<W> {
 }
 
 impl<const W: usize> Choose<W> for RandomGlobalQueue<W> {
-    fn choose<E: Entropy>(
+    fn choose<E: Entropy, Q: Copy + Eq>(
         &mut self,
-        view: View<'_, W>,
+        view: View<'_, W, Q>,
         enabled: &EventSet<W>,
         rng: &mut Rng<E>,
     ) -> Option<u8> {
-        let all = EventSet(view.set.controllable);
+        let all = EventSet(*view.controllable);
         pick_from_round(&mut self.round, enabled, all, &mut Bits::new(rng))
     }
 
@@ -165,13 +192,18 @@ impl<const S: usize> Default for LocalQueue<S> {
 impl<const W: usize, const S: usize> Choose<W> for LocalQueue<S> {
     const READS_SITES: bool = true;
 
-    fn choose<E: Entropy>(&mut self, view: View<'_, W>, enabled: &EventSet<W>, _: &mut Rng<E>) -> Option<u8> {
+    fn choose<E: Entropy, Q: Copy + Eq>(
+        &mut self,
+        view: View<'_, W, Q>,
+        enabled: &EventSet<W>,
+        _: &mut Rng<E>,
+    ) -> Option<u8> {
         let plants = view.plants();
         for i in 0..plants {
             let p = (usize::from(self.plant_cursor) + i) % plants;
             let Some((generated, _, at)) = view.plant(p) else { break };
             let candidates = enabled.and(&generated);
-            let c = match view.set.site(at).and_then(|s| self.cursors.get_mut(s)) {
+            let c = match view.site(at).and_then(|s| self.cursors.get_mut(s)) {
                 Some(cursor) => {
                     let c = candidates.next_cyclic(*cursor);
                     if let Some(c) = c {
@@ -210,14 +242,14 @@ impl<const W: usize, const S: usize> Default for RandomLocalQueue<W, S> {
 impl<const W: usize, const S: usize> Choose<W> for RandomLocalQueue<W, S> {
     const READS_SITES: bool = true;
 
-    fn choose<E: Entropy>(
+    fn choose<E: Entropy, Q: Copy + Eq>(
         &mut self,
-        view: View<'_, W>,
+        view: View<'_, W, Q>,
         enabled: &EventSet<W>,
         rng: &mut Rng<E>,
     ) -> Option<u8> {
         let (mut with_events, mut plant) = (0u32, 1u32);
-        for generated in view.set.plant_events {
+        for generated in view.plant_events {
             if !enabled.and(&EventSet(*generated)).is_empty() {
                 with_events |= plant;
             }
@@ -236,7 +268,7 @@ impl<const W: usize, const S: usize> Choose<W> for RandomLocalQueue<W, S> {
             return candidates.first();
         }
         // Two or more events leave: a site of the table (a table without it falls back to the first).
-        match view.set.site(at).and_then(|s| self.rounds.get_mut(s)) {
+        match view.site(at).and_then(|s| self.rounds.get_mut(s)) {
             Some(round) => pick_from_round(round, &candidates, offered, &mut bits),
             None => candidates.first(),
         }

@@ -24,6 +24,7 @@ pub mod input_queue;
 pub mod link;
 pub mod rng;
 pub mod runtime;
+pub mod shell;
 pub mod state;
 pub mod status;
 pub mod table;

@@ -17,10 +17,13 @@
 //! automaton by automaton, by what the current state allows (kept in RAM with the state): one mask per
 //! automaton, no scan.
 //!
-//! The runtime takes only a [`CheckedSet`] (tables that passed [`SupervisorSet::check`], at compile time
-//! in the firmware, with the field and mask widths the runtime is compiled for); the hot path then
-//! reads them without bounds checks. Everything from outside — input events, restored states — is
-//! checked where it enters.
+//! The runtime takes only a [`CheckedSet`] (tables that passed [`SupervisorSet::check`] — for the
+//! firmware, on the host by its build script, [`crate::table::image`] — with the field and mask widths,
+//! layout and position type the runtime is compiled for); the hot path then reads them without bounds
+//! checks. Everything from outside — input events, restored states — is checked where it enters.
+//!
+//! What a decision or an input does besides reading the tables — the counters, the guard, the fault
+//! policy, the choice — is the [`crate::shell`], which the state-based runtime shares.
 //!
 //! # Examples
 //!
@@ -50,13 +53,10 @@
 //!     sites: &[],
 //! };
 //! let config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 0 };
-//! // Checked at compile time: a set the runtime cannot run does not build. One event word, one
-//! // automaton, 1-byte fields, 1-byte masks, `ranked` layout.
-//! static CHECKED: CheckedSet<'static, 1, 1, false, 1, { layout::RANKED }> = match CheckedSet::new(&SET) {
-//!     Ok(set) => set,
-//!     Err(_) => panic!("the tables fail the runtime's check"),
-//! };
-//! let mut rt = Runtime::new(CHECKED, config, First, SeedEntropy::new(1));
+//! // Checked (on the host; a firmware's build script checks its tables, `firmware::table::image`). One
+//! // event word, one automaton, 1-byte fields, 1-byte masks, `ranked` layout, 16-bit positions.
+//! let checked = CheckedSet::<1, 1, false, 1, { layout::RANKED }>::new(&SET).unwrap();
+//! let mut rt = Runtime::new(checked, config, First, SeedEntropy::new(1));
 //! assert_eq!(rt.decide(|| false), Decision::Fired(0));
 //! assert_eq!(rt.decide(|| false), Decision::Idle);
 //! rt.apply(1);
@@ -65,85 +65,17 @@
 
 use crate::choice::{Choose, View};
 use crate::event_set::EventSet;
-use crate::fault::FaultPolicy;
-use crate::rng::{Entropy, Rng};
+use crate::rng::Entropy;
+use crate::shell::{Core, Shell};
 use crate::table::layout::{has_pool, INDEXED};
-use crate::table::{bit, holder_bytes, CheckedSet, Event, SupervisorSet, TableError};
+use crate::table::{bit, holder_bytes, CheckedSet, Event, Position, SupervisorSet, TableError};
 
-/// Run-time options (manifest `[runtime]`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Config {
-    /// Inexact-synchronisation guard: drop a chosen event when an input arrived while choosing.
-    pub guard: bool,
-    /// What a fault does.
-    pub on_fault: FaultPolicy,
-    /// Random draws between two reseeds of the generator (0: never reseed).
-    pub reseed_every: u16,
-}
-
-/// The counters the link's STATUS answer reports, in that order.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Counters {
-    /// Uncontrollable events applied.
-    pub events_in: u32,
-    /// Controllable events fired.
-    pub commands_out: u32,
-    /// Events some automaton holding them could not take.
-    pub unexpected: u32,
-    /// Input bytes lost to a full buffer.
-    pub overflows: u32,
-    /// Choices dropped by the inexact-synchronisation guard.
-    pub guard_redecisions: u32,
-    /// Link bytes that are neither a known control byte nor an uncontrollable event of the set.
-    pub unknown_bytes: u32,
-}
-
-impl Counters {
-    /// The six counters in STATUS order.
-    pub fn to_array(&self) -> [u32; 6] {
-        [
-            self.events_in,
-            self.commands_out,
-            self.unexpected,
-            self.overflows,
-            self.guard_redecisions,
-            self.unknown_bytes,
-        ]
-    }
-}
-
-/// What [`Runtime::apply`] did with an input.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Applied {
-    /// Every automaton holding the event took it.
-    Taken,
-    /// Automaton `automaton` holds the event but had no transition for it in its current state (it stays
-    /// where it is; the others moved).
-    Unexpected {
-        /// Index of the first such automaton.
-        automaton: u8,
-    },
-    /// Not an uncontrollable event of the set: ignored.
-    Unknown,
-}
-
-/// What one [`Runtime::decide`] did.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Decision {
-    /// This controllable event was fired: the caller runs its output action.
-    Fired(u8),
-    /// Nothing is enabled: sleep until the next input.
-    Idle,
-    /// An input arrived while choosing; the choice was dropped: apply the input, then decide again.
-    Redecide,
-    /// A fault put the runtime in the safe state: no more decisions until a reset.
-    Halted,
-}
+pub use crate::shell::{Applied, Config, Counters, Decide, Decision};
 
 /// The runtime over a set of `N` automata and events in `W`-word bitsets, with the field and mask
-/// widths `WIDE` and `MASK` and the layout `LAYOUT` ([`CheckedSet`], [`crate::table::layout`]),
-/// choosing with policy `P` and drawing entropy from `E`: one runtime for every layout, each build
-/// compiled with its own reader.
+/// widths `WIDE` and `MASK`, the layout `LAYOUT` and positions of type `Q` ([`CheckedSet`],
+/// [`crate::table::layout`], [`crate::table::Position`]), choosing with policy `P` and drawing entropy
+/// from `E`: one runtime for every layout, each build compiled with its own reader.
 pub struct Runtime<
     't,
     P,
@@ -153,20 +85,20 @@ pub struct Runtime<
     const WIDE: bool,
     const MASK: usize,
     const LAYOUT: u8,
+    Q = u16,
 > {
-    set: &'t SupervisorSet<'t, W>,
-    /// Where every automaton is: the byte offset of its current state's record in the block.
-    records: [u16; N],
+    tables: Tables<'t, W, N, WIDE, MASK, LAYOUT, Q>,
+    shell: Shell<P, E>,
+}
+
+/// The tables and where every automaton is in them: the runtime's [`Core`].
+struct Tables<'t, const W: usize, const N: usize, const WIDE: bool, const MASK: usize, const LAYOUT: u8, Q> {
+    set: &'t SupervisorSet<'t, W, Q>,
+    /// Where every automaton is: its current state's position.
+    records: [Q; N],
     /// What every automaton allows in its current state: out-mask or-ed with the events outside its
     /// alphabet, kept with `records`. The enabled set is their conjunction, read from RAM.
     allowed: [[u32; W]; N],
-    counters: Counters,
-    overflow_mark: u32,
-    safe: bool,
-    guard: bool,
-    on_fault: FaultPolicy,
-    policy: P,
-    rng: Rng<E>,
 }
 
 impl<
@@ -178,111 +110,167 @@ impl<
         const WIDE: bool,
         const MASK: usize,
         const LAYOUT: u8,
-    > Runtime<'t, P, E, W, N, WIDE, MASK, LAYOUT>
+        Q: Position,
+    > Runtime<'t, P, E, W, N, WIDE, MASK, LAYOUT, Q>
 {
     /// A runtime in the initial states of `set`.
     #[inline(never)]
-    pub fn new(set: CheckedSet<'t, W, N, WIDE, MASK, LAYOUT>, config: Config, policy: P, entropy: E) -> Self {
-        let mut rt = Self {
-            set: set.set(),
-            records: [0; N],
-            allowed: [[0; W]; N],
-            counters: Counters::default(),
-            overflow_mark: 0,
-            safe: false,
-            guard: config.guard,
-            on_fault: config.on_fault,
-            policy,
-            rng: Rng::new(entropy, config.reseed_every),
-        };
+    pub fn new(
+        set: CheckedSet<'t, W, N, WIDE, MASK, LAYOUT, Q>,
+        config: Config,
+        policy: P,
+        entropy: E,
+    ) -> Self {
+        let tables = Tables { set: set.set(), records: [Q::at(0); N], allowed: [[0; W]; N] };
+        let mut rt = Self { tables, shell: Shell::new(config, policy, entropy) };
         rt.reset();
         rt
     }
 
     /// Automata to their initial states, counters to zero, policy to its boot state, safe state left.
     pub fn reset(&mut self) {
-        // The first record in `ranked` and `indexed`, else the set's initial handle.
-        let initials = self.set.initials;
-        self.enter(|a| if has_pool(LAYOUT) { 0 } else { initials.get(a).copied().unwrap_or(0) });
-        self.counters = Counters::default();
-        self.safe = false;
-        self.policy.reset();
+        self.shell.reset(&mut self.tables);
     }
 
     /// Step 1 of the loop for one input: applies uncontrollable `event` to every automaton holding it.
     #[inline(never)]
     pub fn apply(&mut self, event: u8) -> Applied {
-        let Some(holders) = self.set.holders_of(event, holder_bytes(N)) else {
-            return self.unknown();
-        };
-        if bit(&self.set.controllable, event) {
-            return self.unknown();
-        }
-        self.counters.events_in = self.counters.events_in.wrapping_add(1);
-        match self.take(event, holders) {
-            None => Applied::Taken,
-            Some(automaton) => {
-                self.counters.unexpected = self.counters.unexpected.wrapping_add(1);
-                self.fault();
-                Applied::Unexpected { automaton }
-            }
-        }
+        self.shell.apply(&mut self.tables, event)
     }
 
     /// Counts a link byte that means nothing and applies the fault policy.
     pub fn note_unknown_byte(&mut self) {
-        self.unknown();
+        self.shell.note_unknown();
     }
 
     /// Takes the input buffer's total overflow count; any growth is counted and is a fault.
     pub fn note_overflows(&mut self, total: u32) {
-        let new = total.wrapping_sub(self.overflow_mark);
-        if new != 0 {
-            self.overflow_mark = total;
-            self.counters.overflows = self.counters.overflows.wrapping_add(new);
-            self.fault();
-        }
+        self.shell.note_overflows(total);
     }
 
     /// Steps 2–6 of the loop: computes the enabled set, chooses, checks the guard (`pending` says
     /// whether an input is waiting) and fires.
     #[inline(never)]
     pub fn decide(&mut self, pending: impl FnOnce() -> bool) -> Decision {
-        if self.safe {
-            return Decision::Halted;
-        }
-        let enabled = self.enabled();
-        if enabled.is_empty() {
-            return Decision::Idle;
-        }
-        let view = View { set: self.set, records: &self.records, allowed: &self.allowed };
-        let Some(c) = self.policy.choose(view, &enabled, &mut self.rng) else {
-            return Decision::Idle;
-        };
-        if self.guard && pending() {
-            self.counters.guard_redecisions = self.counters.guard_redecisions.wrapping_add(1);
-            return Decision::Redecide;
-        }
-        if !enabled.contains(c) {
-            return Decision::Idle;
-        }
-        let Some(holders) = self.set.holders_of(c, holder_bytes(N)) else {
-            return Decision::Idle;
-        };
-        // `c` is enabled: every holder allows it, none gets stuck.
-        take_until_stuck::<W, N, WIDE, MASK, LAYOUT>(
-            self.set,
-            &mut self.records,
-            &mut self.allowed,
-            Event::new(c),
-            every::<LAYOUT>(holders),
-        );
-        self.counters.commands_out = self.counters.commands_out.wrapping_add(1);
-        Decision::Fired(c)
+        self.shell.decide(&mut self.tables, pending)
     }
 
     /// The controllable events every automaton holding them can take now.
     pub fn enabled(&self) -> EventSet<W> {
+        self.tables.enabled()
+    }
+
+    /// The counters.
+    pub fn counters(&self) -> &Counters {
+        self.shell.counters()
+    }
+
+    /// Whether a fault put the runtime in the safe state.
+    pub fn is_safe(&self) -> bool {
+        self.shell.is_safe()
+    }
+
+    /// Current state handle of every automaton.
+    pub fn states(&self) -> [Q; N] {
+        let t = &self.tables;
+        let mut out = [Q::at(0); N];
+        for ((h, aut), &at) in out.iter_mut().zip(t.set.automata).zip(&t.records) {
+            *h = t.set.handle_of(aut, at);
+        }
+        out
+    }
+
+    /// Puts every automaton in the state with the given handle, as [`Runtime::states`] reported it (a
+    /// checkpoint; host tools replay or explore from it). Counters and the policy's memory are kept.
+    /// Refuses, changing nothing, a handle that is no state of its automaton.
+    pub fn restore(&mut self, states: &[Q; N]) -> Result<(), TableError> {
+        for (a, &h) in states.iter().enumerate() {
+            if !self.tables.set.is_state(a, h) {
+                // At most MAX_AUTOMATA automata: the index fits a byte.
+                return Err(TableError::Block(a as u8));
+            }
+        }
+        self.tables.enter(|a| states[a]);
+        Ok(())
+    }
+
+    /// The tables.
+    pub fn set(&self) -> &'t SupervisorSet<'t, W, Q> {
+        self.tables.set
+    }
+}
+
+impl<
+        't,
+        const W: usize,
+        const N: usize,
+        const WIDE: bool,
+        const MASK: usize,
+        const LAYOUT: u8,
+        Q: Position,
+    > Tables<'t, W, N, WIDE, MASK, LAYOUT, Q>
+{
+    /// Puts automaton `a` in state `handle(a)`, which `new` or `restore` proved to be one.
+    fn enter(&mut self, handle: impl Fn(usize) -> Q) {
+        let all = self.records.iter_mut().zip(&mut self.allowed).zip(self.set.automata).enumerate();
+        for (a, ((at, allowed), aut)) in all {
+            let h = handle(a);
+            // A checked set's positions fit `Q`.
+            *at = Q::at(self.set.position_in(LAYOUT, aut, h));
+            // SAFETY: `new` took a checked set, and `h` is the initial handle (checked) or was checked by
+            // `restore`.
+            *allowed = unsafe { self.set.allowed_at::<WIDE, MASK, LAYOUT>(aut, *at) };
+        }
+    }
+
+    /// Moves every automaton of `holders` by `event`, an event of the set; the first that cannot, if
+    /// any (it stays).
+    #[inline(always)]
+    fn move_holders(&mut self, event: u8, holders: u32) -> Option<u8> {
+        let (set, records, allowed, event) =
+            (self.set, &mut self.records, &mut self.allowed, Event::new(event));
+        let all = every::<LAYOUT>(holders);
+        let first = take_until_stuck::<W, N, WIDE, MASK, LAYOUT, Q>(set, records, allowed, event, all)?;
+        // Rare: an unexpected event. The holders after the stuck one still move.
+        let mut stuck = first;
+        loop {
+            let passed = holders & !(u32::MAX << stuck << 1);
+            let rest = if LAYOUT == INDEXED { passed.count_ones() } else { holders & !passed };
+            match take_until_stuck::<W, N, WIDE, MASK, LAYOUT, Q>(set, records, allowed, event, rest) {
+                Some(next) => stuck = next,
+                None => return Some(first),
+            }
+        }
+    }
+}
+
+impl<
+        't,
+        const W: usize,
+        const N: usize,
+        const WIDE: bool,
+        const MASK: usize,
+        const LAYOUT: u8,
+        Q: Position,
+    > Core<W> for Tables<'t, W, N, WIDE, MASK, LAYOUT, Q>
+{
+    type State = Q;
+    /// The automata holding the input.
+    type Input = u32;
+
+    #[inline(always)]
+    fn input(&self, event: u8) -> Option<u32> {
+        let holders = self.set.holders_of(event, holder_bytes(N))?;
+        (!bit(&self.set.controllable, event)).then_some(holders)
+    }
+
+    #[inline(always)]
+    fn take(&mut self, event: u8, holders: u32) -> Option<u8> {
+        self.move_holders(event, holders)
+    }
+
+    #[inline(always)]
+    fn enabled(&self) -> EventSet<W> {
         let mut enabled = self.set.controllable;
         // Two automata per turn: half the loop's bookkeeping.
         let mut pairs = self.allowed.chunks_exact(2);
@@ -299,109 +287,41 @@ impl<
         EventSet(enabled)
     }
 
-    /// The counters.
-    pub fn counters(&self) -> &Counters {
-        &self.counters
-    }
-
-    /// Whether a fault put the runtime in the safe state.
-    pub fn is_safe(&self) -> bool {
-        self.safe
-    }
-
-    /// Current state handle of every automaton.
-    pub fn states(&self) -> [u16; N] {
-        let mut out = [0; N];
-        for ((h, aut), &at) in out.iter_mut().zip(self.set.automata).zip(&self.records) {
-            *h = self.set.handle_of(aut, at);
-        }
-        out
-    }
-
-    /// Puts every automaton in the state with the given handle, as [`Runtime::states`] reported it (a
-    /// checkpoint; host tools replay or explore from it). Counters and the policy's memory are kept.
-    /// Refuses, changing nothing, a handle that is no state of its automaton.
-    pub fn restore(&mut self, states: &[u16; N]) -> Result<(), TableError> {
-        for (a, &h) in states.iter().enumerate() {
-            if !self.set.is_state(a, h) {
-                // At most MAX_AUTOMATA automata: the index fits a byte.
-                return Err(TableError::Block(a as u8));
-            }
-        }
-        self.enter(|a| states[a]);
-        Ok(())
-    }
-
-    /// Puts automaton `a` in state `handle(a, automaton)`, which `new` or `restore` proved to be one.
-    fn enter(&mut self, handle: impl Fn(usize) -> u16) {
-        let all = self.records.iter_mut().zip(&mut self.allowed).zip(self.set.automata).enumerate();
-        for (a, ((at, allowed), aut)) in all {
-            let h = handle(a);
-            // A checked set's positions fit 16 bits.
-            *at = self.set.position_in(LAYOUT, aut, h) as u16;
-            // SAFETY: `new` took a checked set, and `h` is the initial handle (checked) or was checked by
-            // `restore`.
-            *allowed = unsafe { self.set.allowed_at::<WIDE, MASK, LAYOUT>(aut, *at) };
-        }
-    }
-
-    /// The tables.
-    pub fn set(&self) -> &'t SupervisorSet<'t, W> {
-        self.set
-    }
-
-    /// Moves every automaton of `holders` by `event`, an event of the set; the first that cannot, if
-    /// any (it stays).
     #[inline(always)]
-    fn take(&mut self, event: u8, holders: u32) -> Option<u8> {
-        let (set, records, allowed, event) =
-            (self.set, &mut self.records, &mut self.allowed, Event::new(event));
-        let all = every::<LAYOUT>(holders);
-        let first = take_until_stuck::<W, N, WIDE, MASK, LAYOUT>(set, records, allowed, event, all)?;
-        // Rare: an unexpected event. The holders after the stuck one still move.
-        let mut stuck = first;
-        loop {
-            let passed = holders & !(u32::MAX << stuck << 1);
-            let rest = if LAYOUT == INDEXED { passed.count_ones() } else { holders & !passed };
-            match take_until_stuck::<W, N, WIDE, MASK, LAYOUT>(set, records, allowed, event, rest) {
-                Some(next) => stuck = next,
-                None => return Some(first),
-            }
+    fn view(&mut self, _sites: bool) -> View<'_, W, Q> {
+        let set = self.set;
+        View {
+            controllable: &set.controllable,
+            plant_events: set.plant_events,
+            sites: set.sites,
+            records: &self.records,
+            allowed: &self.allowed,
         }
     }
 
-    fn unknown(&mut self) -> Applied {
-        self.counters.unknown_bytes = self.counters.unknown_bytes.wrapping_add(1);
-        self.fault();
-        Applied::Unknown
+    #[inline(always)]
+    fn fire(&mut self, c: u8) -> bool {
+        let Some(holders) = self.set.holders_of(c, holder_bytes(N)) else {
+            return false;
+        };
+        // `c` is enabled: every holder allows it, none gets stuck.
+        take_until_stuck::<W, N, WIDE, MASK, LAYOUT, Q>(
+            self.set,
+            &mut self.records,
+            &mut self.allowed,
+            Event::new(c),
+            every::<LAYOUT>(holders),
+        );
+        true
     }
 
-    fn fault(&mut self) {
-        if self.on_fault == FaultPolicy::SafeState {
-            self.safe = true;
-        }
+    fn reset(&mut self) {
+        // The first record in `ranked` and `indexed`, else the set's initial handle.
+        let initials = self.set.initials;
+        self.enter(
+            |a| if has_pool(LAYOUT) { Q::at(0) } else { initials.get(a).copied().unwrap_or(Q::at(0)) },
+        );
     }
-}
-
-/// What the event loop ([`crate::event_loop`]) asks of a decider: the supervisor runtime ([`Runtime`])
-/// or the state-based one ([`crate::state::StateRuntime`]). The loop's input handling, link protocol and
-/// fault reporting are the same for both; only how inputs are taken and a decision is made differ.
-pub trait Decide {
-    /// Takes uncontrollable `event` (step 1 of the loop).
-    fn apply(&mut self, event: u8) -> Applied;
-    /// Steps 2–6: the enabled set, the choice, the guard (`pending` says whether an input is waiting),
-    /// the firing.
-    fn decide(&mut self, pending: impl FnOnce() -> bool) -> Decision;
-    /// Back to the initial state, counters to zero, policy to its boot state, safe state left.
-    fn reset(&mut self);
-    /// The counters.
-    fn counters(&self) -> &Counters;
-    /// Whether a fault put the decider in the safe state.
-    fn is_safe(&self) -> bool;
-    /// Counts a link byte that means nothing and applies the fault policy.
-    fn note_unknown_byte(&mut self);
-    /// Takes the input buffer's total overflow count; any growth is counted and is a fault.
-    fn note_overflows(&mut self, total: u32);
 }
 
 impl<
@@ -412,7 +332,8 @@ impl<
         const WIDE: bool,
         const MASK: usize,
         const LAYOUT: u8,
-    > Decide for Runtime<'_, P, E, W, N, WIDE, MASK, LAYOUT>
+        Q: Position,
+    > Decide for Runtime<'_, P, E, W, N, WIDE, MASK, LAYOUT, Q>
 {
     #[inline(always)]
     fn apply(&mut self, event: u8) -> Applied {
@@ -467,9 +388,16 @@ const fn every<const LAYOUT: u8>(holders: u32) -> u32 {
 /// Out of line and over the runtime's parts, so that the compiler knows the stores to `records` and
 /// `allowed` leave the set alone and keeps its fields in registers.
 #[inline(never)]
-fn take_until_stuck<const W: usize, const N: usize, const WIDE: bool, const MASK: usize, const LAYOUT: u8>(
-    set: &SupervisorSet<'_, W>,
-    records: &mut [u16; N],
+fn take_until_stuck<
+    const W: usize,
+    const N: usize,
+    const WIDE: bool,
+    const MASK: usize,
+    const LAYOUT: u8,
+    Q: Position,
+>(
+    set: &SupervisorSet<'_, W, Q>,
+    records: &mut [Q; N],
     allowed: &mut [[u32; W]; N],
     event: Event,
     rest: u32,
@@ -486,7 +414,7 @@ fn take_until_stuck<const W: usize, const N: usize, const WIDE: bool, const MASK
             // proved both.
             let (a, place) = (usize::from(entry as u8), usize::from(entry >> 8));
             // SAFETY: as for `step`; `place` is the event's in `a`'s alphabet.
-            if unsafe { !step::<W, N, WIDE, MASK, LAYOUT>(set, records, allowed, event, a, place) } {
+            if unsafe { !step::<W, N, WIDE, MASK, LAYOUT, Q>(set, records, allowed, event, a, place) } {
                 // At most MAX_AUTOMATA (32) automata: the index fits a byte.
                 return Some(a as u8);
             }
@@ -497,7 +425,7 @@ fn take_until_stuck<const W: usize, const N: usize, const WIDE: bool, const MASK
             let a = holders.trailing_zeros() as usize;
             holders &= holders - 1;
             // SAFETY: as for `step`; every holder bit of a checked set names one of the N automata.
-            if unsafe { !step::<W, N, WIDE, MASK, LAYOUT>(set, records, allowed, event, a, 0) } {
+            if unsafe { !step::<W, N, WIDE, MASK, LAYOUT, Q>(set, records, allowed, event, a, 0) } {
                 return Some(a as u8);
             }
         }
@@ -515,9 +443,16 @@ fn take_until_stuck<const W: usize, const N: usize, const WIDE: bool, const MASK
 /// by `restore` or a target's set here, and `allowed[a]` what it allows (an event of the automaton's
 /// alphabet is allowed exactly when it leaves the state).
 #[inline(always)]
-unsafe fn step<const W: usize, const N: usize, const WIDE: bool, const MASK: usize, const LAYOUT: u8>(
-    set: &SupervisorSet<'_, W>,
-    records: &mut [u16; N],
+unsafe fn step<
+    const W: usize,
+    const N: usize,
+    const WIDE: bool,
+    const MASK: usize,
+    const LAYOUT: u8,
+    Q: Position,
+>(
+    set: &SupervisorSet<'_, W, Q>,
+    records: &mut [Q; N],
     allowed: &mut [[u32; W]; N],
     event: Event,
     a: usize,

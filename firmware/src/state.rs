@@ -10,20 +10,19 @@
 //! event's *virtual pins* (its target state's input literals, the same whatever the source state: codegen
 //! refuses a plant where they are not) into the word.
 //!
-//! The choice policies read a [`View`] of a [`SupervisorSet`]; here that set holds only what they use —
-//! the controllable events, one "plant" per state-vector component with the commands it owns, and the
-//! choice sites (component states with two or more commands leaving) — and each decision reads every
-//! component's state off the word ([`StateTables::readings`]) for the local policies' sites.
+//! The choice policies read a [`View`]: the controllable events, one "plant" per state-vector component
+//! with the commands it owns, and the choice sites (component states with two or more commands
+//! leaving); each decision reads every component's state off the word ([`StateTables::readings`]) for
+//! the local policies' sites. Counters, guard, faults and the choice itself are the
+//! [`crate::shell`] the supervisor runtime shares.
 //!
 //! Everything read from the tables goes through checked accessors: tables inconsistent with themselves
 //! disable events, never panic.
 
 use crate::choice::{Choose, View};
 use crate::event_set::EventSet;
-use crate::fault::FaultPolicy;
-use crate::rng::{Entropy, Rng};
-use crate::runtime::{Applied, Config, Counters, Decide, Decision};
-use crate::table::SupervisorSet;
+use crate::rng::Entropy;
+use crate::shell::{Applied, Config, Core, Counters, Decide, Decision, Shell};
 
 /// A product of literals over the signal word: the signals of `mask` at the values of `value`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -70,26 +69,6 @@ pub struct Reading<const W: usize> {
     pub code: u16,
 }
 
-/// The part of a [`SupervisorSet`] the state-based tables leave empty (no automaton, block, mask or
-/// holder), for [`StateTables::choice`]'s other fields.
-pub const fn no_tables<const W: usize>() -> SupervisorSet<'static, W> {
-    SupervisorSet {
-        controllable: [0; W],
-        plants: 0,
-        automata: &[],
-        block: &[],
-        wide: false,
-        masks: &[],
-        mask_bytes: 0,
-        layout: crate::table::layout::RANKED,
-        initials: &[],
-        holder_lists: &[],
-        holders: &[],
-        plant_events: &[],
-        sites: &[],
-    }
-}
-
 /// The state-based tables `codegen emit` writes for `[runtime] mode = "state"`.
 #[derive(Clone, Copy, Debug)]
 pub struct StateTables<'t, const W: usize> {
@@ -108,10 +87,12 @@ pub struct StateTables<'t, const W: usize> {
     pub components: &'t [u16],
     /// Every component's states, component after component.
     pub readings: &'t [Reading<W>],
-    /// What the choice policies see: controllable events, one plant per component (`plants`,
-    /// `plant_events`: the commands it owns) and the choice sites (`sites`: codes of readings); no
-    /// automaton, block or mask.
-    pub choice: SupervisorSet<'t, W>,
+    /// The controllable events that have a rule.
+    pub controllable: [u32; W],
+    /// Per component: the commands it owns (the choice policies' plants).
+    pub plant_events: &'t [[u32; W]],
+    /// The choice sites: codes of the readings of component states with two or more commands leaving.
+    pub sites: &'t [u16],
 }
 
 impl<const W: usize> StateTables<'_, W> {
@@ -134,7 +115,7 @@ impl<const W: usize> StateTables<'_, W> {
                 enabled.insert(rule.event);
             }
         }
-        enabled.and(&EventSet(self.choice.controllable))
+        enabled.and(&EventSet(self.controllable))
     }
 
     /// The reading of component `c`'s state on `word`: the first of its states whose formula holds.
@@ -167,8 +148,14 @@ impl<const W: usize> StateTables<'_, W> {
 
 /// The state-based runtime over `C` components and events in `W`-word bitsets, choosing with policy `P`
 /// and drawing entropy from `E`. It answers the event loop as [`crate::runtime::Runtime`] does
-/// ([`Decide`]).
+/// ([`Decide`]), through the same [`Shell`].
 pub struct StateRuntime<'t, P, E, const W: usize, const C: usize> {
+    core: Word<'t, W, C>,
+    shell: Shell<P, E>,
+}
+
+/// The state tables and the signal word: the state runtime's [`Core`].
+struct Word<'t, const W: usize, const C: usize> {
     tables: &'t StateTables<'t, W>,
     /// The signals: inputs as last sampled (or written by a sensor event), outputs as last commanded.
     word: u32,
@@ -177,163 +164,133 @@ pub struct StateRuntime<'t, P, E, const W: usize, const C: usize> {
     /// Per component, the events leaving its state at the last decision (the choice view keeps its
     /// commands).
     allowed: [[u32; W]; C],
-    counters: Counters,
-    overflow_mark: u32,
-    safe: bool,
-    guard: bool,
-    on_fault: FaultPolicy,
-    policy: P,
-    rng: Rng<E>,
 }
 
 impl<'t, P: Choose<W>, E: Entropy, const W: usize, const C: usize> StateRuntime<'t, P, E, W, C> {
     /// A runtime with the word in its initial state.
     pub fn new(tables: &'t StateTables<'t, W>, config: Config, policy: P, entropy: E) -> Self {
-        let mut rt = Self {
-            tables,
-            word: tables.initial,
-            records: [u16::MAX; C],
-            allowed: [[0; W]; C],
-            counters: Counters::default(),
-            overflow_mark: 0,
-            safe: false,
-            guard: config.guard,
-            on_fault: config.on_fault,
-            policy,
-            rng: Rng::new(entropy, config.reseed_every),
-        };
+        let core = Word { tables, word: tables.initial, records: [u16::MAX; C], allowed: [[0; W]; C] };
+        let mut rt = Self { core, shell: Shell::new(config, policy, entropy) };
         Decide::reset(&mut rt);
         rt
     }
 
     /// The signal word.
     pub fn word(&self) -> u32 {
-        self.word
+        self.core.word
     }
 
     /// Puts the word at `word` (a board's sampled inputs, or a checkpoint a host tool restores).
     pub fn set_word(&mut self, word: u32) {
-        self.word = word;
+        self.core.word = word;
     }
 
     /// The controllable events whose formula holds on the current word.
     pub fn enabled(&self) -> EventSet<W> {
-        self.tables.enabled(self.word)
+        self.core.enabled()
     }
 
     /// The counters.
     pub fn counters(&self) -> &Counters {
-        &self.counters
+        self.shell.counters()
     }
 
     /// The tables.
     pub fn tables(&self) -> &'t StateTables<'t, W> {
-        self.tables
-    }
-
-    /// Reads every component's state off the word for the choice view.
-    fn read_components(&mut self) {
-        let all = self.records.iter_mut().zip(&mut self.allowed).enumerate();
-        for (c, (code, leaving)) in all {
-            match self.tables.reading(c, self.word) {
-                Some(r) => (*code, *leaving) = (r.code, r.leaving),
-                None => (*code, *leaving) = (u16::MAX, [0; W]),
-            }
-        }
-    }
-
-    fn unknown(&mut self) -> Applied {
-        self.counters.unknown_bytes = self.counters.unknown_bytes.wrapping_add(1);
-        self.fault();
-        Applied::Unknown
-    }
-
-    fn fault(&mut self) {
-        if self.on_fault == FaultPolicy::SafeState {
-            self.safe = true;
-        }
+        self.core.tables
     }
 }
 
-impl<P: Choose<W>, E: Entropy, const W: usize, const C: usize> Decide for StateRuntime<'_, P, E, W, C> {
+impl<const W: usize, const C: usize> Core<W> for Word<'_, W, C> {
+    type State = u16;
+    /// What the input writes into the word.
+    type Input = Cube;
+
+    #[inline(always)]
+    fn input(&self, event: u8) -> Option<Cube> {
+        let &write = self.tables.writes.get(usize::from(event))?;
+        (!EventSet(self.tables.controllable).contains(event)).then_some(write)
+    }
+
     /// Writes the virtual pins of uncontrollable `event` into the word; an event no state of a component
-    /// holding it leaves as the word reads is unexpected (counted, a fault), as in the supervisor runtime.
-    #[inline(never)]
-    fn apply(&mut self, event: u8) -> Applied {
-        let Some(&write) = self.tables.writes.get(usize::from(event)) else {
-            return self.unknown();
-        };
-        if EventSet(self.tables.choice.controllable).contains(event) {
-            return self.unknown();
-        }
-        self.counters.events_in = self.counters.events_in.wrapping_add(1);
+    /// holding it leaves as the word reads is unexpected, as in the supervisor runtime.
+    #[inline(always)]
+    fn take(&mut self, event: u8, write: Cube) -> Option<u8> {
         let unexpected = self.tables.unexpected(event, self.word);
         // The sensor changed whatever the tables expected: the word follows the plant.
         self.word = write.write(self.word);
-        match unexpected {
-            None => Applied::Taken,
-            Some(automaton) => {
-                self.counters.unexpected = self.counters.unexpected.wrapping_add(1);
-                self.fault();
-                Applied::Unexpected { automaton }
+        unexpected
+    }
+
+    #[inline(always)]
+    fn enabled(&self) -> EventSet<W> {
+        self.tables.enabled(self.word)
+    }
+
+    /// Reads every component's state off the word when the policy reads the plants' states.
+    #[inline(always)]
+    fn view(&mut self, sites: bool) -> View<'_, W, u16> {
+        if sites {
+            let all = self.records.iter_mut().zip(&mut self.allowed).enumerate();
+            for (c, (code, leaving)) in all {
+                match self.tables.reading(c, self.word) {
+                    Some(r) => (*code, *leaving) = (r.code, r.leaving),
+                    None => (*code, *leaving) = (u16::MAX, [0; W]),
+                }
             }
+        }
+        View {
+            controllable: &self.tables.controllable,
+            plant_events: self.tables.plant_events,
+            sites: self.tables.sites,
+            records: &self.records,
+            allowed: &self.allowed,
         }
     }
 
-    #[inline(never)]
-    fn decide(&mut self, pending: impl FnOnce() -> bool) -> Decision {
-        if self.safe {
-            return Decision::Halted;
-        }
-        let enabled = self.enabled();
-        if enabled.is_empty() {
-            return Decision::Idle;
-        }
-        if P::READS_SITES {
-            self.read_components();
-        }
-        let view = View { set: &self.tables.choice, records: &self.records, allowed: &self.allowed };
-        let Some(c) = self.policy.choose(view, &enabled, &mut self.rng) else {
-            return Decision::Idle;
-        };
-        if self.guard && pending() {
-            self.counters.guard_redecisions = self.counters.guard_redecisions.wrapping_add(1);
-            return Decision::Redecide;
-        }
-        let Some(&write) = self.tables.writes.get(usize::from(c)).filter(|_| enabled.contains(c)) else {
-            return Decision::Idle;
+    #[inline(always)]
+    fn fire(&mut self, c: u8) -> bool {
+        let Some(&write) = self.tables.writes.get(usize::from(c)) else {
+            return false;
         };
         self.word = write.write(self.word);
-        self.counters.commands_out = self.counters.commands_out.wrapping_add(1);
-        Decision::Fired(c)
+        true
     }
 
     fn reset(&mut self) {
         self.word = self.tables.initial;
-        self.counters = Counters::default();
-        self.safe = false;
-        self.policy.reset();
+    }
+}
+
+impl<P: Choose<W>, E: Entropy, const W: usize, const C: usize> Decide for StateRuntime<'_, P, E, W, C> {
+    #[inline(never)]
+    fn apply(&mut self, event: u8) -> Applied {
+        self.shell.apply(&mut self.core, event)
+    }
+
+    #[inline(never)]
+    fn decide(&mut self, pending: impl FnOnce() -> bool) -> Decision {
+        self.shell.decide(&mut self.core, pending)
+    }
+
+    fn reset(&mut self) {
+        self.shell.reset(&mut self.core);
     }
 
     fn counters(&self) -> &Counters {
-        StateRuntime::counters(self)
+        self.shell.counters()
     }
 
     fn is_safe(&self) -> bool {
-        self.safe
+        self.shell.is_safe()
     }
 
     fn note_unknown_byte(&mut self) {
-        self.unknown();
+        self.shell.note_unknown();
     }
 
     fn note_overflows(&mut self, total: u32) {
-        let new = total.wrapping_sub(self.overflow_mark);
-        if new != 0 {
-            self.overflow_mark = total;
-            self.counters.overflows = self.counters.overflows.wrapping_add(new);
-            self.fault();
-        }
+        self.shell.note_overflows(total);
     }
 }
 
@@ -341,6 +298,7 @@ impl<P: Choose<W>, E: Entropy, const W: usize, const C: usize> Decide for StateR
 mod tests {
     use super::*;
     use crate::choice::First;
+    use crate::fault::FaultPolicy;
     use crate::rng::SeedEntropy;
 
     // One component, input X (bit 0), output Y (bit 1): idle (!Y !X) –go(0)→ busy (Y !X) –done(1)→
@@ -363,7 +321,9 @@ mod tests {
         holders: &[0, 1, 0, 1],
         components: &[1],
         readings: &READINGS,
-        choice: SupervisorSet { controllable: [0b101], plants: 1, plant_events: &[[0b101]], ..no_tables() },
+        controllable: [0b101],
+        plant_events: &[[0b101]],
+        sites: &[],
     };
 
     fn config(on_fault: FaultPolicy) -> Config {

@@ -17,7 +17,7 @@ const CONFIG: Config = Config { guard: true, on_fault: FaultPolicy::Continue, re
 fn run<P: Choose<1>>(policy: P, seed: u64, steps: usize) -> Vec<usize> {
     let (set, spec) = livelock();
     let hs = handles(&spec);
-    let number = |h: u16| hs.iter().position(|&o| o == h).unwrap() + 1;
+    let number = |h: u16| hs.iter().position(|&o| o == usize::from(h)).unwrap() + 1;
     let mut rt = Runtime::new(
         CheckedSet::<1, 1, false, 1, { firmware::table::layout::RANKED }>::new(set).unwrap(),
         CONFIG,

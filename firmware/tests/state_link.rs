@@ -12,8 +12,7 @@ use firmware::input_queue::InputQueue;
 use firmware::link::{self, Hold};
 use firmware::rng::SeedEntropy;
 use firmware::runtime::{Config, Counters};
-use firmware::state::{no_tables, Cube, Reading, Rule, StateRuntime, StateTables};
-use firmware::table::SupervisorSet;
+use firmware::state::{Cube, Reading, Rule, StateRuntime, StateTables};
 
 // A valve, input X (bit 0), output Y (bit 1): closed (!Y !X) –open(0)→ opening (Y !X) –opened(1)→ open
 // (Y X) –close(2)→ closing (!Y X) –closed(3)→ closed.
@@ -39,7 +38,9 @@ static TABLES: StateTables<'static, 1> = StateTables {
     holders: &[1, 1, 1, 1],
     components: &[4],
     readings: &READINGS,
-    choice: SupervisorSet { controllable: [0b0101], plants: 1, plant_events: &[[0b0101]], ..no_tables() },
+    controllable: [0b0101],
+    plant_events: &[[0b0101]],
+    sites: &[],
 };
 const OPEN: u8 = 0;
 const OPENED: u8 = 1;

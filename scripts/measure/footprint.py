@@ -25,13 +25,13 @@ sys.path.insert(0, os.path.dirname(__file__))
 import expect  # noqa: E402
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(__file__), "..", ".."))
-RUNTIME_MODULES = ("runtime", "choice", "rng", "table", "event_set", "input_queue", "state")
-# Supervisor tables, then the state tables of `[runtime] mode = "state"` (firmware::state).
-TABLES = ("BLOCK", "MASKS", "DESCRIPTORS", "HOLDERS", "PLANT_EVENTS", "CHOICE_SITES", "HOLDER_LISTS", "INITIALS",
-          "SET", "RULES", "CUBES", "WRITES", "COMPONENT_ENDS", "READINGS", "TABLES")  # HOLDERS: both
-# Tables every layout has (the others may be empty, and an empty static has no symbol); state tables have
-# their own.
-REQUIRED_TABLES = ("BLOCK", "DESCRIPTORS", "HOLDERS", "PLANT_EVENTS", "SET")
+RUNTIME_MODULES = ("runtime", "shell", "choice", "rng", "table", "event_set", "input_queue", "state")
+# Supervisor tables (the image's sections and the set over them, firmware::table::image), then the state
+# tables of `[runtime] mode = "state"` (firmware::state).
+TABLES = ("SECTIONS", "SET", "RULES", "CUBES", "WRITES", "HOLDERS", "COMPONENT_ENDS", "READINGS", "PLANT_EVENTS",
+          "CHOICE_SITES", "TABLES")
+# Tables every layout has; state tables have their own.
+REQUIRED_TABLES = ("SECTIONS", "SET")
 REQUIRED_STATE_TABLES = ("RULES", "CUBES", "WRITES", "READINGS", "TABLES")
 NAMES = ("EVENT_NAMES", "AUTOMATON_NAMES", "SIGNAL_NAMES")
 # Entry points the runtime keeps out of line; each must be found, or the code figure means nothing.

@@ -18,7 +18,7 @@ LEGACY = [
     (142, "t", "firmware::choice::Bits$LT$E$GT$::below::h2bda4ee22e62a863"),
     (226, "t", "_$LT$cell_qemu..UartPort$u20$as$u20$firmware..link..Port$GT$::note::h0000000000000000"),
     (64, "t", "_$LT$firmware..choice..RandomLocalQueue$LT$_$C$_$GT$$u20$as$u20$firmware..choice..Policy$LT$_$GT$$GT$::pick::h0123456789abcdef"),
-    (1028, "r", "cell_qemu::tables::BLOCK::h8b3def0d45d07b34"),
+    (1468, "r", "cell_qemu::tables::SECTIONS::h8b3def0d45d07b34"),
     (184, "r", "cell_qemu::tables::EVENT_NAMES::h41307687f48a4134"),
     (120, "b", "cell_qemu::app::__rtic_internal_local_resource_runtime::hcb52ffcd8913d1f3"),
 ]
@@ -28,7 +28,7 @@ V0 = [
     (142, "t", "<firmware::choice::Bits<firmware::rng::SeedEntropy>>::below"),
     (226, "t", "<cell_qemu::UartPort as firmware::link::Port>::note"),
     (64, "t", "<firmware::choice::RandomLocalQueue<1, 3> as firmware::choice::Policy<1>>::pick"),
-    (1028, "r", "cell_qemu::tables::BLOCK"),
+    (1468, "r", "cell_qemu::tables::SECTIONS"),
     (184, "r", "cell_qemu::tables::EVENT_NAMES"),
     (120, "b", "cell_qemu::app::__rtic_internal_local_resource_runtime"),
 ]
@@ -44,7 +44,7 @@ class Footprint(unittest.TestCase):
         legacy, v0 = summary(LEGACY), summary(V0)
         self.assertEqual(legacy, v0)
         self.assertEqual(legacy["code"], [(64, "pick"), (142, "below"), (170, "apply"), (482, "decide")])
-        self.assertEqual(legacy["tables"], [(1028, "BLOCK")])
+        self.assertEqual(legacy["tables"], [(1468, "SECTIONS")])
         self.assertEqual(legacy["names"], [(184, "EVENT_NAMES")])
         self.assertEqual(legacy["runtime RAM"], [(120, "__rtic_internal_local_resource_runtime")])
 

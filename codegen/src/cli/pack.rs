@@ -28,11 +28,13 @@ pub struct Args {
     input: Files,
     /// Report only this layout (memory-safe, offset, ranked, indexed or compact). The layouts the
     /// firmware runs — the manifest's `[runtime] layout`, else ranked on the Cortex-M3 and indexed on
-    /// the Cortex-M0+ — are marked.
+    /// the Cortex-M0+ (ranked when indexed does not fit the Pico) — are marked where their tables fit the
+    /// board's flash; a core that runs none says why.
     #[arg(long, value_parser = parse_layout)]
     layout: Option<Layout>,
-    /// Print JSON (schema 1): layouts (name, bytes, supervisor_bytes, per_automaton, side_tables),
-    /// floor_bytes, paper (matrix, chained_list, memory_safe), comparisons, automata.
+    /// Print JSON (schema 1): layouts (name, bytes, supervisor_bytes, per_automaton, side_tables,
+    /// runs_on, fits), cores (core, board, layout or refused), floor_bytes, paper (matrix, chained_list,
+    /// memory_safe), comparisons, automata.
     #[arg(long)]
     json: bool,
 }
@@ -47,8 +49,7 @@ fn parse_layout(name: &str) -> Result<Layout, String> {
 /// Runs `pack`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
     let loaded = args.input.load()?;
-    let targets =
-        loaded.manifest.as_ref().map_or_else(|| RuntimeConfig::default().layouts(), |m| m.runtime.layouts());
+    let runtime = loaded.manifest.as_ref().map_or_else(RuntimeConfig::default, |m| m.runtime.clone());
     let closed = supervisors(loaded.models)?;
     let set = PackSet::new(closed.plants.clone(), closed.supervisors)?;
     let comparisons = if closed.specs.is_empty() {
@@ -60,7 +61,7 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
         Some(l) => vec![l],
         None => Layout::ALL.to_vec(),
     };
-    let report = Report::new(set, &layouts, comparisons).with_targets(targets);
+    let report = Report::new(set, &layouts, comparisons).with_runtime(&runtime);
     let mut out = std::io::stdout().lock();
     if args.json {
         // Serialised first so a closed pipe surfaces as an io::Error, which `main` treats as success.

@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 use codegen::closed_loop::{run_on_rp2040, run_under_qemu};
 use codegen::config::{Layout, SamplingSpec, SupervisorChoice};
+use codegen::pack::fit::Core;
 use codegen::project::new_project::Board;
 use codegen::project::user_project::UserProject;
 use codegen::project::Project;
@@ -143,6 +144,8 @@ pub fn run(mut args: Args) -> Result<ExitCode, Error> {
 
 /// `run --target rp2040`: the Pico firmware on the manifest's pins, sampling as asked.
 fn run_rp2040(args: Args, mut project: Project) -> Result<ExitCode, Error> {
+    // Tables the Pico cannot run are refused before its pins are read: what would fit comes first.
+    project.fit(Core::CortexM0Plus, &Core::CortexM0Plus.flash())?;
     let board = project.board.as_mut().ok_or("--target rp2040: the manifest has no [board] section")?;
     match args.sampling {
         Some(Sampling::Interrupt) => {

@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 
 use crate::config::{BoardSpec, SamplingSpec};
 use crate::model::suggest::did_you_mean;
-use crate::pack::ranked::Packed;
+use crate::pack::tables::Packed;
 
 /// Highest GPIO number a board table may name (one bit per pin in a `u64` sample: two ports of 32, as
 /// the nRF52840 numbers P1.n as 32 + n).
@@ -171,6 +171,7 @@ mod tests {
             plants: 0,
             masks: vec![],
             wide: false,
+            position_bytes: 2,
             layout: firmware::build::Layout::Ranked,
             automata: vec![],
         }

@@ -1,5 +1,6 @@
 //! Why a set cannot be emitted for the runtime.
 
+use firmware::build::image::CheckError;
 use firmware::build::BuildError;
 
 use super::BoardError;
@@ -21,6 +22,10 @@ pub enum EmitError {
         /// Event name.
         event: String,
     },
+    /// The encoder's tables fail the runtime's check (a fault of codegen, never of the input: the
+    /// tables are checked before they are written).
+    #[error("the tables codegen encoded fail the firmware's check (a bug of codegen): {0}")]
+    Check(CheckError),
     /// The `[board]` section does not fit the set.
     #[error(transparent)]
     Board(#[from] BoardError),

@@ -9,7 +9,7 @@ use super::policy::{fault_value, ram_bytes, rust_type};
 use super::provenance::Provenance;
 use super::EmitError;
 use crate::config::{BoardSpec, ChoicePolicy, RuntimeConfig, SamplingSpec};
-use crate::pack::ranked::Packed;
+use crate::pack::tables::Packed;
 use firmware::table::layout::name as layout_name;
 
 /// Rust source for `firmware`'s applications (`include!`d inside a module): constants `NAME`,
@@ -39,7 +39,7 @@ pub fn emit(
     }
     let mut out = String::new();
     header(&mut out, packed, &m0plus, &side, name, runtime, provenance);
-    body(&mut out, packed, &side, name, runtime);
+    body(&mut out, packed, &side, name, runtime)?;
     m0plus_module(&mut out, packed, &m0plus)?;
     let none = BoardSpec {
         name: String::from("none"),
@@ -130,7 +130,13 @@ fn header(
     let _ = writeln!(out);
 }
 
-fn body(out: &mut String, packed: &Packed, side: &SideTables, name: &str, runtime: &RuntimeConfig) {
+fn body(
+    out: &mut String,
+    packed: &Packed,
+    side: &SideTables,
+    name: &str,
+    runtime: &RuntimeConfig,
+) -> Result<(), EmitError> {
     let words = packed.words();
     let consts = [
         Const::size("Words of an event bitset.", "EVENT_WORDS", words),
@@ -145,24 +151,8 @@ fn body(out: &mut String, packed: &Packed, side: &SideTables, name: &str, runtim
     let _ =
         writeln!(out, "pub static AUTOMATON_NAMES: [&str; {}] = [{}];", automata.len(), automata.join(", "));
     let _ = writeln!(out);
-    let width = firmware::table::holder_bytes(packed.automata.len());
-    let _ = writeln!(
-        out,
-        "/// Per event, {width} byte(s) little-endian: bit `a` set when automaton `a` holds it."
-    );
-    let holders: Vec<String> = side.holders.iter().map(|x| format!("0x{x:02x}")).collect();
-    let _ = writeln!(out, "static HOLDERS: [u8; {}] = [{}];", holders.len(), holders.join(", "));
-    let plant_events: Vec<String> = side.plant_events.iter().map(|m| format!("[{}]", hex_words(m))).collect();
-    let _ = writeln!(out, "/// Per plant: the controllable events it generates.");
-    let _ = writeln!(
-        out,
-        "static PLANT_EVENTS: [[u32; EVENT_WORDS]; {}] = [{}];",
-        plant_events.len(),
-        plant_events.join(", ")
-    );
-    let _ = writeln!(out);
     let _ = writeln!(out, "// The tables of cores with unaligned loads (the QEMU board's Cortex-M3).");
-    tables(out, packed, side);
+    tables(out, packed, side)
 }
 
 /// One `pub const` of an emitted file's preamble: its doc line, name, type and value.
@@ -240,147 +230,135 @@ fn m0plus_module(
         Ok(packed) => {
             let side = side_tables(packed)?;
             let mut inner = String::new();
-            let _ = writeln!(inner, "use super::{{AUTOMATA, EVENT_WORDS, HOLDERS, PLANT_EVENTS}};");
+            let _ = writeln!(inner, "use super::{{AUTOMATA, EVENT_WORDS}};");
             let _ = writeln!(inner);
-            tables(&mut inner, packed, &side);
+            tables(&mut inner, packed, &side)?;
             for line in inner.lines() {
                 let _ = if line.is_empty() { writeln!(out) } else { writeln!(out, "    {line}") };
             }
         }
         Err(e) => {
             let _ = writeln!(out, "    // The `{}` tables: {e}.", layout_name(packed.layout.id()));
-            let _ = writeln!(out, "    pub use super::{{Runtime, CHECKED, LAYOUT, MASK_BYTES, SET, WIDE}};");
+            let _ = writeln!(
+                out,
+                "    pub use super::{{Position, Runtime, CHECKED, LAYOUT, MASK_BYTES, SET, WIDE}};"
+            );
         }
     }
     let _ = writeln!(out, "}}");
     Ok(())
 }
 
-/// The layout's constants, `Runtime` type and tables (`BLOCK`, `MASKS`, `DESCRIPTORS`, `HOLDER_LISTS`,
-/// `CHOICE_SITES`, `SET`, `CHECKED`) of `packed`, over the shared `HOLDERS` and `PLANT_EVENTS`.
-fn tables(out: &mut String, packed: &Packed, side: &SideTables) {
+/// The layout's constants, the `Position` and `Runtime` types and the tables of `packed` with their side
+/// tables `side`: the image (`IMAGE`, `DIGEST`, checked here with the runtime's own check), its sections
+/// in flash (`SECTIONS`), `SET` and `CHECKED` over them.
+fn tables(out: &mut String, packed: &Packed, side: &SideTables) -> Result<(), EmitError> {
     let layout = layout_name(packed.layout.id());
-    let _ = writeln!(out, "/// Mask ids and state handles take 2 bytes in the records.");
+    let image = firmware::build::image::write(packed, side);
+    firmware::build::image::check(&image).map_err(EmitError::Check)?;
+    let position = if packed.position_bytes == 2 { "u16" } else { "u32" };
+    let _ = writeln!(
+        out,
+        "/// Wide fields: 2-byte mask ids and handles (`ranked`, `indexed`), 4-byte targets (`offset`)."
+    );
     let _ = writeln!(out, "pub const WIDE: bool = {};", packed.wide);
     let _ = writeln!(out, "/// Bytes of one mask in the pool (0: a layout without a pool).");
     let _ = writeln!(out, "pub const MASK_BYTES: usize = {};", packed.mask_width());
     let _ = writeln!(out, "/// The record layout (`{layout}`): the reader the runtime compiles in.");
     let _ = writeln!(out, "pub const LAYOUT: u8 = firmware::table::layout::{};", const_name(layout));
+    let _ = writeln!(
+        out,
+        "/// How the runtime holds a state's position: `u16` while every one is below 65 536, else `u32`."
+    );
+    let _ = writeln!(out, "pub type Position = {position};");
     let _ =
         writeln!(out, "/// The runtime over these tables, choosing with `P` and drawing entropy from `E`.");
     let _ = writeln!(
         out,
-        "pub type Runtime<P, E> =\n    firmware::runtime::Runtime<'static, P, E, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES, LAYOUT>;"
+        "pub type Runtime<P, E> = firmware::runtime::Runtime<\n    'static,\n    P,\n    E,\n    EVENT_WORDS,\n    AUTOMATA,\n    WIDE,\n    MASK_BYTES,\n    LAYOUT,\n    Position,\n>;"
     );
-    let total: usize = packed.automata.iter().map(|b| b.block.len()).sum();
+    contents(out, packed, &image);
     let _ = writeln!(
         out,
-        "/// The records of every automaton (`{layout}` layout), back to back in set order; {}-byte mask ids \
-         and handles.",
-        packed.field_bytes()
+        "/// The tables as one image (`firmware::table::image`): a header, read at compile time only, then the \
+         sections. Checked by codegen when it wrote them and by the build script that compiles them \
+         (apps/cell/build.rs, `codegen::project::build_script`), with the runtime's own check."
     );
-    let _ = writeln!(out, "static BLOCK: [u8; {total}] = [");
-    for (b, start) in packed.automata.iter().zip(packed.starts()) {
-        let _ = writeln!(out, "    // {} from byte {start}: scale {}", b.name, b.scale);
-        for row in b.block.chunks(16) {
-            let bytes: Vec<String> = row.iter().map(|x| format!("0x{x:02x}")).collect();
-            let _ = writeln!(out, "    {},", bytes.join(", "));
+    let _ = writeln!(out, "{}", firmware::build::image::literal(&image, ""));
+    let _ = writeln!(
+        out,
+        "/// The image's digest: the build script hands the compiler those of the images it checked."
+    );
+    let _ = writeln!(out, "const DIGEST: &str = \"{}\";", firmware::build::image::digest_hex(&image));
+    let sections = image.len() - firmware::table::image::header_bytes(packed.words());
+    let _ = writeln!(out, "/// The image's sections in flash, 4-byte aligned.");
+    let _ = writeln!(
+        out,
+        "static SECTIONS: firmware::table::image::Aligned<[u8; {sections}]> =\n    \
+         firmware::table::image::Aligned(*firmware::table::image::sections(IMAGE));"
+    );
+    let _ = writeln!(
+        out,
+        "/// The set the runtime runs: the image's header read and its sections sliced, at compile time."
+    );
+    let _ = writeln!(
+        out,
+        "pub static SET: firmware::table::SupervisorSet<'static, EVENT_WORDS, Position> =\n    \
+         firmware::table::image::set(IMAGE, &SECTIONS);"
+    );
+    let _ = writeln!(
+        out,
+        "/// The set, checked by this build's build script: a build that did not check these tables does not \
+         compile."
+    );
+    let _ = writeln!(
+        out,
+        "pub static CHECKED: firmware::table::CheckedSet<'static, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES, LAYOUT, Position> =\n    \
+         firmware::table::image::checked(&SET, DIGEST, env!(\"SCT_TABLES_CHECKED\"));"
+    );
+    Ok(())
+}
+
+/// The image's table of contents, as comments: every section's bytes and every automaton's block.
+fn contents(out: &mut String, packed: &Packed, image: &[u8]) {
+    let head = firmware::table::image::header_bytes(packed.words());
+    let _ = writeln!(
+        out,
+        "// The image: a header of {head} bytes, then {} bytes of sections:",
+        image.len() - head
+    );
+    if let Some(sections) = firmware::build::image::section_bytes(image) {
+        let named: Vec<String> = firmware::build::image::SECTION_NAMES
+            .iter()
+            .zip(sections)
+            .map(|(name, (at, bytes))| format!("{name} {bytes} B at {at}"))
+            .collect();
+        for line in named.chunks(4) {
+            let _ = writeln!(out, "//   {}", line.join(", "));
         }
     }
-    let _ = writeln!(out, "];");
-    let mask_width = packed.mask_width();
-    let pool = packed.mask_pool();
-    let _ = writeln!(
-        out,
-        "/// The pool of distinct out-masks the records name by id, {mask_width} byte(s) each, then padding, \
-         packed little-endian into words."
-    );
-    let _ = writeln!(out, "static MASKS: [u32; {}] = [", pool.len());
-    for row in pool.chunks(4) {
-        let _ = writeln!(out, "    {},", hex_words(row));
+    let fields = match packed.layout {
+        firmware::build::Layout::Ranked | firmware::build::Layout::Indexed => {
+            format!("{}-byte mask ids and handles", packed.field_bytes())
+        }
+        firmware::build::Layout::Offset => format!("{}-byte targets", packed.transition_bytes() - 1),
+        _ => String::from("as the layout packs them"),
+    };
+    let blocks: Vec<String> = packed
+        .automata
+        .iter()
+        .zip(packed.starts())
+        .map(|(b, start)| format!("{} from byte {start} (scale {})", b.name, b.scale))
+        .collect();
+    let _ = writeln!(out, "// Blocks ({fields}):");
+    for line in blocks.chunks(4) {
+        let _ = writeln!(out, "//   {}", line.join(", "));
     }
-    let _ = writeln!(out, "];");
-    let _ = writeln!(out);
-    let _ = writeln!(out, "/// Per automaton (plants first): alphabet, start of its records, scale.");
-    let _ = writeln!(
-        out,
-        "static DESCRIPTORS: [firmware::table::Automaton<EVENT_WORDS>; {}] = [",
-        packed.automata.len()
-    );
-    for (b, start) in packed.automata.iter().zip(packed.starts()) {
-        let _ = writeln!(out, "    // {}", b.name);
-        let _ = writeln!(out, "    firmware::table::Automaton {{");
-        let _ = writeln!(out, "        alphabet: [{}],", hex_words(&b.alphabet));
-        let _ = writeln!(out, "        start: {start},");
-        let _ = writeln!(out, "        scale: {},", b.scale);
-        let _ = writeln!(out, "    }},");
-    }
-    let _ = writeln!(out, "];");
-    let lists = packed.holder_lists();
-    let _ = writeln!(
-        out,
-        "/// Per event and one more, where its holder list starts; then per event the automata holding it, \
-         each with the event's place in its alphabet in the high byte (`indexed` layout; empty in the others)."
-    );
-    let _ = writeln!(out, "static HOLDER_LISTS: [u16; {}] = [", lists.len());
-    for row in lists.chunks(12) {
-        let entries: Vec<String> = row.iter().map(|x| format!("0x{x:04x}")).collect();
-        let _ = writeln!(out, "    {},", entries.join(", "));
-    }
-    let _ = writeln!(out, "];");
-    let initials: Vec<String> = packed.initials().iter().map(u16::to_string).collect();
-    let _ = writeln!(
-        out,
-        "/// Per automaton, its initial state's handle (empty when the initial records come first)."
-    );
-    let _ = writeln!(out, "static INITIALS: [u16; {}] = [{}];", initials.len(), initials.join(", "));
-    let sites: Vec<String> = side.sites.iter().map(u16::to_string).collect();
-    let _ = writeln!(
-        out,
-        "/// The choice sites, as their positions in `BLOCK` (bit offsets in `compact`, else byte offsets)."
-    );
-    let _ = writeln!(out, "static CHOICE_SITES: [u16; {}] = [{}];", sites.len(), sites.join(", "));
-    let _ = writeln!(out);
-    let _ = writeln!(out, "/// The set the runtime runs.");
-    let _ = writeln!(
-        out,
-        "pub static SET: firmware::table::SupervisorSet<'static, EVENT_WORDS> = firmware::table::SupervisorSet {{"
-    );
-    let _ = writeln!(out, "    controllable: [{}],", hex_words(&packed.controllable));
-    let _ = writeln!(out, "    plants: {},", side.plants);
-    let _ = writeln!(out, "    automata: &DESCRIPTORS,");
-    let _ = writeln!(out, "    block: &BLOCK,");
-    let _ = writeln!(out, "    wide: WIDE,");
-    let _ = writeln!(out, "    masks: &MASKS,");
-    let _ = writeln!(out, "    mask_bytes: MASK_BYTES as u8,");
-    let _ = writeln!(out, "    layout: LAYOUT,");
-    let _ = writeln!(out, "    initials: &INITIALS,");
-    let _ = writeln!(out, "    holder_lists: &HOLDER_LISTS,");
-    let _ = writeln!(out, "    holders: &HOLDERS,");
-    let _ = writeln!(out, "    plant_events: &PLANT_EVENTS,");
-    let _ = writeln!(out, "    sites: &CHOICE_SITES,");
-    let _ = writeln!(out, "}};");
-    let _ = writeln!(
-        out,
-        "/// The set, checked when it is compiled: tables the runtime cannot run do not build."
-    );
-    let _ = writeln!(
-        out,
-        "pub static CHECKED: firmware::table::CheckedSet<'static, EVENT_WORDS, AUTOMATA, WIDE, MASK_BYTES, LAYOUT> =\n    \
-         match firmware::table::CheckedSet::new(&SET) {{"
-    );
-    let _ = writeln!(out, "        Ok(set) => set,");
-    let _ = writeln!(out, "        Err(_) => panic!(\"the tables fail the runtime's check\"),");
-    let _ = writeln!(out, "    }};");
 }
 
 /// The name of `firmware::table::layout`'s constant for the layout called `name`.
 fn const_name(name: &str) -> String {
     name.replace('-', "_").to_ascii_uppercase()
-}
-
-fn hex_words(words: &[u32]) -> String {
-    words.iter().map(|w| format!("0x{w:08x}")).collect::<Vec<_>>().join(", ")
 }
 
 /// Upper-case identifiers for the event names: non-alphanumerics become `_`, a leading digit gets `E_`,

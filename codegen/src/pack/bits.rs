@@ -1,10 +1,10 @@
 //! Bit streams, most significant bit first, for the layouts that pack fields narrower than a byte.
 
-// The writer is the firmware encoder's own (the `compact` tables it builds are these bit streams), so the
-// size report and the firmware pack the same bits.
-pub use firmware::build::compact::{width, Writer};
+// Field widths are the firmware encoder's own (the `compact` tables it builds are these bit streams).
+pub use firmware::build::compact::width;
 
-/// Reads fields written by [`Writer`]; `None` past the end.
+/// Reads fields written by the firmware's `compact` encoder (`firmware::build::compact::Writer`);
+/// `None` past the end.
 pub struct Reader<'a> {
     bytes: &'a [u8],
     /// Position in bits.
@@ -32,6 +32,8 @@ impl<'a> Reader<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    use firmware::build::compact::Writer;
 
     #[test]
     fn widths() {

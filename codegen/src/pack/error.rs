@@ -7,7 +7,7 @@ use crate::model::ModelError;
 /// A set that cannot be packed in the requested layout.
 ///
 /// Every limit names the layout, the automaton and the number that broke it, so the engineer knows
-/// which layout to choose instead or which automaton to split.
+/// which layout to choose instead or which automaton to split ([`super::fit`] adds what would fit).
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum PackError {
     /// An automaton is invalid, or two automata disagree on an event's controllability.
@@ -19,61 +19,14 @@ pub enum PackError {
         /// Automaton name.
         automaton: String,
     },
-    /// More events in the whole set than the layout's event field can number.
-    #[error("layout {layout}: the set has {events} events, more than the limit of {limit}")]
-    TooManyEvents {
+    /// The set breaks a limit of a layout or of the runtime (the encoder's error, which names the number
+    /// and the limit).
+    #[error("layout {layout}: {source}")]
+    Layout {
         /// Layout name.
         layout: &'static str,
-        /// Events in the set.
-        events: usize,
-        /// Largest number the layout supports.
-        limit: usize,
-    },
-    /// One state has more outgoing transitions than the layout's count field holds.
-    #[error(
-        "layout {layout}: state '{state}' of '{automaton}' has {transitions} outgoing transitions, more than the limit of {limit}"
-    )]
-    TooManyTransitions {
-        /// Layout name.
-        layout: &'static str,
-        /// Automaton name.
-        automaton: String,
-        /// State name.
-        state: String,
-        /// Outgoing transitions of that state.
-        transitions: usize,
-        /// Largest count the layout supports.
-        limit: usize,
-    },
-    /// An automaton has more states than the layout's target field can address.
-    #[error("layout {layout}: '{automaton}' has {states} states, more than the limit of {limit}")]
-    TooManyStates {
-        /// Layout name.
-        layout: &'static str,
-        /// Automaton name.
-        automaton: String,
-        /// States of the automaton.
-        states: usize,
-        /// Largest number the layout supports.
-        limit: usize,
-    },
-    /// The set breaks a limit of the `ranked` layout (its encoder's error, which names the number and
-    /// the limit).
-    #[error("layout ranked: {0}")]
-    Ranked(#[from] BuildError),
-    /// An automaton's block is longer than the layout's offsets can address.
-    #[error(
-        "layout {layout}: the block of '{automaton}' takes {bytes} bytes, more than the limit of {limit}"
-    )]
-    BlockTooLarge {
-        /// Layout name.
-        layout: &'static str,
-        /// Automaton name.
-        automaton: String,
-        /// Bytes the block would take.
-        bytes: usize,
-        /// Largest block the layout supports.
-        limit: usize,
+        /// What the encoder refused.
+        source: BuildError,
     },
 }
 

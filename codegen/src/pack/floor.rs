@@ -47,7 +47,7 @@ mod tests {
         #[test]
         fn compact_is_never_below_the_floor(a in crate::model::testing::arb_automaton("A".into(), 5, 9)) {
             let set = PackSet::new(vec![a], vec![]).unwrap();
-            let packed = crate::pack::compact::encode(&set).unwrap();
+            let packed = crate::pack::tables::encode(&set, crate::config::Layout::Compact).unwrap();
             let block_bits = 8 * packed.automata[0].block.len();
             proptest::prop_assert!(block_bits as f64 >= bits(&set.members()[0]) - 1e-9);
         }

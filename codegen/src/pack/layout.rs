@@ -1,6 +1,7 @@
-//! The layouts by name, for the CLI and the report: the manifest's [`Layout`] (`config`), packed here.
+//! The layouts by name, for the CLI and the report: the manifest's [`Layout`] (`config`), packed here by
+//! the firmware's encoder ([`super::tables`]).
 
-use super::{compact, memory_safe, offset, ranked, Measure, PackError, PackSet, Size};
+use super::{tables, PackError, PackSet, Size};
 pub use crate::config::Layout;
 
 impl Layout {
@@ -11,11 +12,11 @@ impl Layout {
     /// The name `--layout` takes.
     pub fn name(self) -> &'static str {
         match self {
-            Layout::MemorySafe => memory_safe::NAME,
-            Layout::Offset => offset::NAME,
-            Layout::Ranked => ranked::NAME,
-            Layout::Indexed => ranked::INDEXED_NAME,
-            Layout::Compact => compact::NAME,
+            Layout::MemorySafe => "memory-safe",
+            Layout::Offset => "offset",
+            Layout::Ranked => "ranked",
+            Layout::Indexed => "indexed",
+            Layout::Compact => "compact",
         }
     }
 
@@ -35,15 +36,20 @@ impl Layout {
         }
     }
 
-    /// Packs `set` and measures the bytes produced.
+    /// The layout of the firmware encoder's `layout`.
+    pub fn of_firmware(layout: firmware::build::Layout) -> Layout {
+        match layout {
+            firmware::build::Layout::MemorySafe => Layout::MemorySafe,
+            firmware::build::Layout::Offset => Layout::Offset,
+            firmware::build::Layout::Ranked => Layout::Ranked,
+            firmware::build::Layout::Indexed => Layout::Indexed,
+            firmware::build::Layout::Compact => Layout::Compact,
+        }
+    }
+
+    /// Packs `set` as the firmware runs it and measures the bytes produced ([`tables::size`]).
     pub fn size(self, set: &PackSet) -> Result<Size, PackError> {
-        Ok(match self {
-            Layout::MemorySafe => memory_safe::encode(set)?.size(),
-            Layout::Offset => offset::encode(set)?.size(),
-            Layout::Ranked => ranked::encode(set)?.size(),
-            Layout::Indexed => ranked::encode_indexed(set)?.size(),
-            Layout::Compact => compact::encode(set)?.size(),
-        })
+        tables::size(&tables::encode(set, self)?)
     }
 }
 
@@ -55,6 +61,7 @@ mod tests {
     fn names_round_trip() {
         for l in Layout::ALL {
             assert_eq!(Layout::from_name(l.name()), Some(l));
+            assert_eq!(Layout::of_firmware(l.firmware()), l);
             // The manifest's and the command line's name is the report's.
             assert_eq!(l.to_string(), l.name());
         }

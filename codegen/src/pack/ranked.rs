@@ -1,83 +1,25 @@
 //! This module is the home of the `ranked` layout and of its `indexed` variant in the size report: the
-//! tables the firmware runs (`ranked` on the Cortex-M3, `indexed` on the Cortex-M0+), laid out as
-//! `firmware::table` describes and encoded by `firmware::build` (one encoder, shared with the
-//! firmware's own tests). Here a [`PackSet`] goes in, and the tables are decoded back to automata
-//! (the encoder's test oracle) and measured.
+//! tables the firmware runs by default (`ranked` on the Cortex-M3, `indexed` on the Cortex-M0+), laid out
+//! as `firmware::table` describes and encoded by `firmware::build` ([`super::tables`]), and their decoder
+//! back to automata (the encoder's test oracle).
 //!
-//! Its limits are the layout's (`firmware::table`); a set beyond one is refused with the number and the
-//! limit ([`PackError::Ranked`]).
+//! Their limits are the layout's (`firmware::table`); a set beyond one is refused with the number and the
+//! limit ([`PackError::Layout`]).
 
-use firmware::build::{bitset, Layout, Source, SourceAutomaton};
+use firmware::build::bitset;
 
-use super::{decoded::Recovered, DecodeError, Measure, PackError, PackSet, Role, Size};
+use super::tables::{self, Block, Packed};
+use super::{decoded::Recovered, DecodeError, Layout, PackError, PackSet, Role};
 use crate::model::Automaton;
-
-pub use firmware::build::{Block, Packed, Record, DESCRIPTOR_BYTES};
-
-/// Layout name, as given to `--layout`.
-pub const NAME: &str = "ranked";
-/// The `indexed` variant's name, as given to `--layout`.
-pub const INDEXED_NAME: &str = "indexed";
-
-impl Measure for Packed {
-    /// Bytes per automaton (padding included) and of each side table, bitsets in whole u32 words as the
-    /// runtime holds them.
-    fn size(&self) -> Size {
-        let n = self.automata.len();
-        let mut size = Size {
-            layout: if self.indexed() { INDEXED_NAME } else { NAME },
-            per_automaton: self.automata.iter().map(|b| (b.name.clone(), b.block.len())).collect(),
-            side_tables: vec![
-                ("mask pool", self.mask_bytes()),
-                ("automaton descriptors", DESCRIPTOR_BYTES * n),
-                ("alphabets", self.automata.iter().map(|b| 4 * b.alphabet.len()).sum()),
-                ("controllability", 4 * self.controllable.len()),
-            ],
-        };
-        if self.indexed() {
-            size.side_tables.push(("holder lists", 2 * self.holder_lists().len()));
-        }
-        size
-    }
-}
-
-/// `set` as the encoder takes it: the members' transitions over global ids, plants first.
-fn source(set: &PackSet) -> Source {
-    let events = set.events();
-    Source {
-        event_names: events.ids().map(|e| events.name(e).to_owned()).collect(),
-        controllable: events.ids().map(|e| events.is_controllable(e)).collect(),
-        plants: set.members().iter().filter(|m| m.role == Role::Plant).count(),
-        automata: set
-            .members()
-            .iter()
-            .map(|m| SourceAutomaton {
-                name: m.name().to_owned(),
-                initial: m.initial().index(),
-                alphabet: m.alphabet().iter().map(|e| e.index()).collect(),
-                out: (0..m.state_count())
-                    .map(|s| m.out(s).map(|(e, t)| (e.index(), t.index())).collect())
-                    .collect(),
-            })
-            .collect(),
-    }
-}
 
 /// Packs `set` in the `ranked` layout, or says which limit it breaks.
 pub fn encode(set: &PackSet) -> Result<Packed, PackError> {
-    Ok(firmware::build::encode(&source(set))?)
+    tables::encode(set, Layout::Ranked)
 }
 
 /// Packs `set` in the `indexed` layout, or says which limit it breaks.
 pub fn encode_indexed(set: &PackSet) -> Result<Packed, PackError> {
-    encode_as(set, Layout::Indexed)
-}
-
-/// Packs `set` in `layout` as the firmware runs it (any of the five: the runtime's tables of the
-/// `memory-safe`, `offset` and `compact` layouts hold their blocks as this module's [`Packed`]), or says
-/// which limit it breaks.
-pub fn encode_as(set: &PackSet, layout: Layout) -> Result<Packed, PackError> {
-    Ok(firmware::build::encode_as(&source(set), layout)?)
+    tables::encode(set, Layout::Indexed)
 }
 
 /// Reads `packed` back into automata (plants first), checking every mask id, target, handle, length
@@ -153,60 +95,20 @@ mod tests {
     use crate::model::testing::toggle;
     use crate::model::{Automaton as Model, Kind, StateId};
     use crate::pack::testing::{arb_set, assert_round_trip, corrupt};
-    use firmware::build::{extent, NARROW_HANDLE, WIDE_HANDLE};
-    use firmware::table::{Automaton as RtAutomaton, SupervisorSet, TableError};
+    use firmware::build::image::{check, CheckError};
+    use firmware::build::{extent, HostTables, NARROW_HANDLE, WIDE_HANDLE};
+    use firmware::table::SupervisorSet;
 
-    /// Runs `f` on the firmware's view of `packed` (one-word bitsets, every automaton holding the events
-    /// of its alphabet), the blocks back to back (starts beyond 16 bits wrap, and the check refuses
-    /// them).
-    fn with_runtime_set<R>(packed: &Packed, f: impl FnOnce(&SupervisorSet<'_, 1>) -> R) -> R {
-        let word = |v: &[u32]| [v.first().copied().unwrap_or(0)];
-        let masks = packed.mask_pool();
-        let automata: Vec<RtAutomaton<1>> = packed
-            .automata
-            .iter()
-            .zip(packed.starts())
-            .map(|(b, start)| RtAutomaton {
-                alphabet: word(&b.alphabet),
-                start: start as u16,
-                scale: b.scale,
-            })
-            .collect();
-        let block: Vec<u8> = packed.automata.iter().flat_map(|b| b.block.iter().copied()).collect();
-        let holder_lists = packed.holder_lists();
-        let width = firmware::table::holder_bytes(automata.len());
-        let holders: Vec<u8> = (0..packed.event_names.len())
-            .flat_map(|e| {
-                let mask: u32 = automata
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, a)| a.alphabet[0] >> e & 1 != 0)
-                    .map(|(i, _)| 1 << i)
-                    .sum();
-                mask.to_le_bytes().into_iter().take(width)
-            })
-            .collect();
-        let plants = packed.plants;
-        f(&SupervisorSet {
-            controllable: word(&packed.controllable),
-            plants: plants as u8,
-            automata: &automata,
-            block: &block,
-            wide: packed.wide,
-            masks: &masks,
-            mask_bytes: packed.mask_width() as u8,
-            layout: packed.layout.id(),
-            initials: &packed.initials(),
-            holder_lists: &holder_lists,
-            holders: &holders,
-            plant_events: &vec![[0]; plants],
-            sites: &[],
-        })
+    /// The firmware's check on the image of `packed`, as the build script runs it.
+    fn runtime_check(packed: &Packed) -> Result<(), CheckError> {
+        check(&tables::image(packed).unwrap())
     }
 
-    /// The firmware's check on `packed`.
-    fn runtime_check(packed: &Packed) -> Result<(), TableError> {
-        with_runtime_set(packed, |rt| rt.check(rt.automata.len()))
+    /// Runs `f` on the firmware's view of `packed` (one-word bitsets, 16-bit positions), read off its
+    /// image.
+    fn with_runtime_set<R>(packed: &Packed, f: impl FnOnce(&SupervisorSet<'_, 1>) -> R) -> R {
+        let host = HostTables::<1>::new(packed.clone()).unwrap();
+        f(&host.set())
     }
 
     /// The firmware's check passes on `packed`, and every step it reads is the set's transition, handle
@@ -253,10 +155,22 @@ mod tests {
         assert_eq!(packed.masks.len(), 2);
         assert_eq!(packed.automata[1].block, [0, 2, 1, 0]);
         assert_round_trip(&set, &decode(&packed).unwrap());
-        let size = packed.size();
+        let size = tables::size(&packed).unwrap();
         assert_eq!(size.blocks(), 8);
-        // Two 1-byte masks and 3 bytes of padding to read a whole word, in whole words.
-        assert_eq!(size.side(), 8 + 2 * DESCRIPTOR_BYTES + 2 * 4 + 4);
+        // Two 1-byte masks and 3 bytes of padding to read a whole word, in whole words; two descriptors
+        // (alphabet word, 2-byte start, scale, padding); the controllable word. Besides: the plant's
+        // events and a holder byte per event.
+        assert_eq!(
+            size.side_tables,
+            [
+                ("mask pool", 8),
+                ("automaton descriptors", 16),
+                ("initial states", 0),
+                ("holder lists", 0),
+                ("controllability", 4)
+            ]
+        );
+        assert_eq!(size.shared, [("plant events", 4), ("choice sites", 0), ("holders", 2)]);
         // Indexed: a target per event of the alphabet (2 of them), word masks, per event the list of
         // its holders with its place (automata 0 and 1 hold a at place 0, b at place 1).
         let indexed = encode_indexed(&set).unwrap();
@@ -264,7 +178,7 @@ mod tests {
         assert_eq!(indexed.mask_pool(), [0b01, 0b10]);
         assert_eq!(indexed.holder_lists(), [3, 5, 7, 0x0000, 0x0001, 0x0100, 0x0101]);
         assert_round_trip(&set, &decode(&indexed).unwrap());
-        assert_eq!(indexed.size().layout, INDEXED_NAME);
+        assert_eq!(tables::size(&indexed).unwrap().layout, "indexed");
     }
 
     /// A ring of `n` states over one event: records of 2 bytes (1-byte handles) or 3 (2-byte).
@@ -409,22 +323,24 @@ mod tests {
         assert_eq!(err.to_string(), "layout ranked: the set has 257 events, more than the limit of 256");
         let err = encode(&PackSet::new(vec![ring(65_537)], vec![]).unwrap()).unwrap_err();
         assert_eq!(err.to_string(), "layout ranked: 'R' has 65537 states, more than the limit of 65536");
-        // 20 000 wide records of 4 bytes: the last ones start beyond the runtime's 16-bit offsets.
-        let err = encode(&PackSet::new(vec![ring(20_000)], vec![]).unwrap()).unwrap_err();
-        assert_eq!(
-            err.to_string(),
-            "layout ranked: the blocks up to 'R' take 80000 bytes back to back, more than the limit of 65536"
-        );
-        // 16 000 of them still fit (the last starts at 63 996).
-        assert!(encode(&PackSet::new(vec![ring(16_000)], vec![]).unwrap()).is_ok());
-        // The limit holds for the blocks back to back: two rings of 9 000 (36 000 bytes each) do not fit.
+    }
+
+    #[test]
+    fn positions_take_32_bits_past_64_kib() {
+        // 16 000 wide records of 4 bytes: the last starts at 63 996, a 16-bit position.
+        let packed = encode(&PackSet::new(vec![ring(16_000)], vec![]).unwrap()).unwrap();
+        assert_eq!((packed.wide, packed.position_bytes), (true, 2));
+        // 20 000 of them: the last ones start beyond 65 535, and so do the second ring's of two of 9 000
+        // (36 000 bytes each) back to back.
+        let set = PackSet::new(vec![ring(20_000)], vec![]).unwrap();
+        let packed = encode(&set).unwrap();
+        assert_eq!(packed.position_bytes, 4);
+        assert_eq!(runtime_check(&packed), Ok(()));
         let mut second = ring(9_000);
         second.name = String::from("Q");
-        let err = encode(&PackSet::new(vec![ring(9_000), second], vec![]).unwrap()).unwrap_err();
-        assert_eq!(
-            err.to_string(),
-            "layout ranked: the blocks up to 'Q' take 72000 bytes back to back, more than the limit of 65536"
-        );
+        let packed = encode(&PackSet::new(vec![ring(9_000), second], vec![]).unwrap()).unwrap();
+        assert_eq!(packed.position_bytes, 4);
+        assert_eq!(runtime_check(&packed), Ok(()));
     }
 
     #[test]
@@ -482,11 +398,11 @@ mod tests {
                     b.scale = s;
                 }
             }
-            // Corruption is either reported or still decodes to valid automata, which the runtime's boot
+            // Corruption is either reported or still decodes to valid automata, whose image the runtime's
             // check then accepts too; nothing panics.
-            let checked = runtime_check(&packed);
+            let checked = tables::image(&packed).ok().map(|image| check(&image));
             if let Ok(automata) = decode(&packed) {
-                proptest::prop_assert_eq!(checked, Ok(()));
+                proptest::prop_assert_eq!(checked, Some(Ok(())));
                 for a in automata {
                     proptest::prop_assert_eq!(a.validate(), Ok(()));
                 }

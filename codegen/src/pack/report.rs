@@ -8,6 +8,7 @@ use std::fmt::{self, Write as _};
 
 use serde_json::{json, Value};
 
+use super::fit::{self, Core};
 use super::{floor, paper::Columns, Layout, PackSet, Role, Size};
 use crate::config::RuntimeConfig;
 
@@ -37,12 +38,9 @@ pub struct Report {
     set: PackSet,
     measured: Vec<Measured>,
     comparisons: Vec<Comparison>,
-    /// The layouts the firmware runs, Cortex-M3 then Cortex-M0+.
-    targets: (Layout, Layout),
+    /// Per core (Cortex-M3, Cortex-M0+): the layout its firmware runs, or why none does.
+    runs: Vec<(Core, Result<Layout, String>)>,
 }
-
-/// The cores, as the report names them, with the emulator each runs under.
-const CORES: [(&str, &str); 2] = [("cortex-m3", "QEMU"), ("cortex-m0+", "RP2040")];
 
 impl Report {
     /// Measures `layouts` on `set`. `comparisons` are the paper's columns for other supervisor sets of the
@@ -61,20 +59,45 @@ impl Report {
             approach: "local modular".to_owned(),
             columns: Ok(Columns::of(sups.members().iter().map(|m| &m.automaton), set.events().len())),
         };
-        let targets = RuntimeConfig::default().layouts();
-        Report { set, measured, comparisons: [vec![own], comparisons].concat(), targets }
+        let report =
+            Report { set, measured, comparisons: [vec![own], comparisons].concat(), runs: Vec::new() };
+        report.with_runtime(&RuntimeConfig::default())
     }
 
-    /// The report marking `targets` (Cortex-M3, Cortex-M0+: [`RuntimeConfig::layouts`]) as the layouts
-    /// the firmware runs; [`Report::new`] marks the defaults.
-    pub fn with_targets(self, targets: (Layout, Layout)) -> Report {
-        Report { targets, ..self }
+    /// The report marking the layouts the firmware runs under `runtime` (its `layout`, else the
+    /// defaults, [`fit::choose`]) on each core, within its board's flash; [`Report::new`] marks the
+    /// defaults.
+    pub fn with_runtime(self, runtime: &RuntimeConfig) -> Report {
+        let runs = Core::ALL
+            .into_iter()
+            .map(|core| {
+                let chosen = fit::choose(&self.set, runtime, core, Some(&core.flash()));
+                (core, chosen.map(|f| f.layout).map_err(|refusal| refusal.to_string()))
+            })
+            .collect();
+        Report { runs, ..self }
     }
 
-    /// The cores (`cortex-m3`, `cortex-m0+`) that run `layout`.
+    /// The cores (`cortex-m3`, `cortex-m0+`) whose firmware runs `layout`: the layout they choose, and
+    /// its tables fit their board's flash.
     pub fn cores_running(&self, layout: Layout) -> Vec<&'static str> {
-        let (m3, m0) = self.targets;
-        CORES.iter().zip([m3, m0]).filter(|(_, l)| *l == layout).map(|((core, _), _)| *core).collect()
+        self.runs.iter().filter(|(_, run)| *run == Ok(layout)).map(|(core, _)| core.name()).collect()
+    }
+
+    /// The boards whose flash holds `layout`'s tables of the whole set (what the size says).
+    pub fn boards_holding(&self, layout: Layout) -> Vec<&'static str> {
+        let Some(Ok(size)) = self.measured.iter().find(|m| m.layout == layout).map(|m| &m.all) else {
+            return Vec::new();
+        };
+        let controllability = size.side_tables.iter().find(|t| t.0 == "controllability").map_or(0, |t| t.1);
+        // The image's sections: what the firmware's flash holds.
+        let bytes = size.total() - controllability + size.shared_bytes();
+        Core::ALL
+            .into_iter()
+            .map(|core| core.flash())
+            .filter(|flash| bytes <= flash.for_tables())
+            .map(|flash| flash.board)
+            .collect()
     }
 
     /// The layouts as measured.
@@ -98,8 +121,11 @@ impl Report {
     }
 
     /// The report as JSON (schema 1): `layouts` (each `name`, `bytes`, `per_automaton`, `side_tables`,
-    /// `supervisor_bytes`, `runs_on`: the cores whose firmware runs it), `floor_bytes`, `paper` (the set's own supervisors: `matrix`, `chained_list`,
-    /// `memory_safe`), `comparisons` (every approach) and `automata`.
+    /// `shared_tables` (the runtime's, every layout alike), `supervisor_bytes`, `runs_on`: the cores
+    /// whose firmware runs it, `fits`: the boards whose flash holds it), `cores` (each `core`, `board`
+    /// and the `layout` it runs or why it is `refused`), `floor_bytes`, `paper` (the set's own
+    /// supervisors: `matrix`, `chained_list`, `memory_safe`), `comparisons` (every approach) and
+    /// `automata`.
     pub fn to_json(&self) -> Value {
         let size_json = |s: &Result<Size, String>| match s {
             Ok(s) => json!(s.total()),
@@ -114,6 +140,7 @@ impl Report {
                     "bytes": size_json(&m.all),
                     "supervisor_bytes": size_json(&m.supervisors),
                     "runs_on": self.cores_running(m.layout),
+                    "fits": self.boards_holding(m.layout),
                 });
                 match &m.all {
                     Ok(size) => {
@@ -123,11 +150,11 @@ impl Report {
                             .iter()
                             .map(|(name, bytes)| json!({"name": name, "bytes": bytes}))
                             .collect();
-                        v["side_tables"] = size
-                            .side_tables
-                            .iter()
-                            .map(|(name, bytes)| json!({"name": name, "bytes": bytes}))
-                            .collect();
+                        let named = |tables: &[(&str, usize)]| -> Value {
+                            tables.iter().map(|(name, bytes)| json!({"name": name, "bytes": bytes})).collect()
+                        };
+                        v["side_tables"] = named(&size.side_tables);
+                        v["shared_tables"] = named(&size.shared);
                     }
                     Err(e) => v["error"] = json!(e),
                 }
@@ -175,9 +202,20 @@ impl Report {
             Ok(c) => columns_json(c),
             Err(_) => Value::Null,
         };
+        let cores: Vec<Value> = self
+            .runs
+            .iter()
+            .map(|(core, run)| match run {
+                Ok(layout) => {
+                    json!({"core": core.name(), "board": core.flash().board, "layout": layout.name()})
+                }
+                Err(why) => json!({"core": core.name(), "board": core.flash().board, "refused": why}),
+            })
+            .collect();
         json!({
             "schema": 1,
             "events": self.set.events().len(),
+            "cores": cores,
             "automata": automata,
             "layouts": layouts,
             "floor_bytes": self.floor_bytes(),
@@ -238,10 +276,11 @@ impl fmt::Display for Report {
                         let side: Vec<String> =
                             size.side_tables.iter().map(|(n, b)| format!("{n} {b}")).collect();
                         let ratio = if floor > 0 { size.total() as f64 / floor as f64 } else { 0.0 };
-                        let runs: Vec<String> = CORES
+                        let runs: Vec<String> = self
+                            .runs
                             .iter()
-                            .filter(|(core, _)| self.cores_running(m.layout).contains(core))
-                            .map(|(core, emulator)| format!("{core} ({emulator})"))
+                            .filter(|(_, run)| *run == Ok(m.layout))
+                            .map(|(core, _)| format!("{} ({})", core.name(), core.flash().board))
                             .collect();
                         let runs = if runs.is_empty() || label != "all" {
                             String::new()
@@ -262,12 +301,26 @@ impl fmt::Display for Report {
                     Err(e) => writeln!(f, "  {:<11} refused: {e}", m.layout.name())?,
                 }
             }
+            if let Some(size) = self.measured.iter().find_map(|m| pick(m).as_ref().ok()) {
+                let shared: Vec<String> = size.shared.iter().map(|(n, b)| format!("{n} {b}")).collect();
+                writeln!(
+                    f,
+                    "  every layout adds the runtime's side tables: {} bytes ({})",
+                    size.shared_bytes(),
+                    shared.join(", ")
+                )?;
+            }
+        }
+        for (core, run) in &self.runs {
+            if let Err(why) = run {
+                writeln!(f, "  {} ({}) runs none: {why}", core.name(), core.flash().board)?;
+            }
         }
         if let Some(Ok(ms)) =
             self.measured.iter().find(|m| m.layout == Layout::MemorySafe).map(|m| &m.supervisors)
         {
-            let controllability =
-                ms.side_tables.iter().find(|(n, _)| *n == "controllability").map_or(0, |t| t.1);
+            // The reference tool's controllability vector: a byte per event.
+            let controllability = events.len();
             writeln!(
                 f,
                 "  memory-safe transition vector {} + controllability vector {} = {} bytes (the paper's column)",
@@ -314,8 +367,8 @@ mod tests {
         let ms = &report.measured()[0];
         let sups = ms.supervisors.as_ref().unwrap();
         let paper = report.comparisons()[0].columns.as_ref().unwrap();
-        // Blocks plus the controllability vector: the paper's memory-safe figure.
-        assert_eq!(sups.blocks() + sups.side_tables[0].1, paper.memory_safe());
+        // Blocks plus a byte per event: the paper's memory-safe figure.
+        assert_eq!(sups.blocks() + report.set.events().len(), paper.memory_safe());
         assert_eq!(paper.memory_safe(), 4 + 3 * 4 + 2);
         let json = report.to_json();
         assert_eq!(json["paper"]["memory_safe"], 18);
@@ -326,8 +379,11 @@ mod tests {
         assert_eq!(json["layouts"][2]["runs_on"], json!(["cortex-m3"]));
         assert_eq!(json["layouts"][3]["runs_on"], json!(["cortex-m0+"]));
         assert_eq!(json["layouts"][0]["runs_on"], json!([]));
-        assert!(report.to_string().contains("← runs on cortex-m3 (QEMU)"));
-        let report = report.with_targets((Layout::Compact, Layout::Compact));
+        assert_eq!(json["layouts"][0]["fits"], json!(["lm3s6965 (QEMU)", "RP2040 (Pico)"]));
+        assert_eq!(json["cores"][1]["layout"], "indexed");
+        assert!(report.to_string().contains("← runs on cortex-m3 (lm3s6965 (QEMU))"));
+        let compact = RuntimeConfig { layout: Some(Layout::Compact), ..RuntimeConfig::default() };
+        let report = report.with_runtime(&compact);
         assert_eq!(report.cores_running(Layout::Compact), ["cortex-m3", "cortex-m0+"]);
         assert!(report.cores_running(Layout::Ranked).is_empty());
     }

@@ -1,16 +1,20 @@
-//! What a packed set costs in bytes: the blocks per automaton and every side table, named; and
-//! [`Measure`], which every layout's tables implement.
+//! What a packed set costs in bytes: the blocks per automaton and every side table, named.
 
-/// The bytes one layout takes for one set, measured on the bytes actually produced.
+/// The bytes one layout takes for one set, measured on the image the firmware compiles.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Size {
     /// Layout name.
     pub layout: &'static str,
     /// Per automaton (plants first, then supervisors): its name and the bytes of its block.
     pub per_automaton: Vec<(String, usize)>,
-    /// Every other table the runtime needs (offsets, initial states, alphabets, controllability, …),
-    /// each with its bytes. Event names are not counted: they serve logs, not decisions.
+    /// Every other table of the layout (descriptors, mask pool, holder lists, initial states,
+    /// controllability), each with its bytes. Event names are not counted: they serve logs, not
+    /// decisions.
     pub side_tables: Vec<(&'static str, usize)>,
+    /// The runtime's side tables, the same in every layout (per event the automata holding it, per
+    /// plant the events it generates, the choice sites), each with its bytes: the firmware holds them
+    /// besides the layout's.
+    pub shared: Vec<(&'static str, usize)>,
 }
 
 impl Size {
@@ -19,19 +23,18 @@ impl Size {
         self.per_automaton.iter().map(|(_, b)| b).sum()
     }
 
-    /// Bytes of all side tables.
+    /// Bytes of the layout's side tables.
     pub fn side(&self) -> usize {
         self.side_tables.iter().map(|(_, b)| b).sum()
     }
 
-    /// Everything: blocks and side tables.
+    /// The layout's bytes: blocks and side tables.
     pub fn total(&self) -> usize {
         self.blocks() + self.side()
     }
-}
 
-/// A packed set measures itself: every layout's tables implement this, so the report treats them alike.
-pub trait Measure {
-    /// Bytes per automaton and of each side table, measured on the bytes produced.
-    fn size(&self) -> Size;
+    /// Bytes of the runtime's side tables every layout adds.
+    pub fn shared_bytes(&self) -> usize {
+        self.shared.iter().map(|(_, b)| b).sum()
+    }
 }

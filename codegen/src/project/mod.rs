@@ -8,7 +8,7 @@
 //! | models | [`ModelSet`] | [`Manifest::read_automata`], [`ModelSet::from_files`] |
 //! | supervisors | [`ModelSet`] with every supervisor | [`supervisors`] |
 //! | supervisor set | [`PackSet`] | [`supervisor_set`] |
-//! | tables | [`Packed`] (`ranked`) | [`Project::tables`] |
+//! | tables | `pack::tables::Packed`, the layout each core runs | [`pack::fit::choose`](crate::pack::fit::choose) |
 //! | emitted source | `String` | [`Project::emit`] |
 //! | firmware image | an ELF | [`Project::image`] (QEMU), [`Project::pico_image`] |
 //! | tables at build time | `$OUT_DIR/tables.rs` | [`build_script::main`] (a project's `build.rs`) |
@@ -40,7 +40,7 @@ use crate::emit::{self, EmitError, Input, Provenance};
 use crate::manifest::{is_manifest, read_board, ManifestError, ModelSet};
 use crate::maps::{self, Board, MapsError};
 use crate::model::Automaton;
-use crate::pack::ranked::{self, Packed};
+use crate::pack::fit::{self, Core, Refusal};
 use crate::pack::{PackError, PackSet, Role};
 use crate::plc::state_based::guards::GuardProgram;
 use crate::plc::state_based::{self, StateError};
@@ -126,6 +126,9 @@ pub enum ProjectError {
     /// The tables cannot be emitted.
     #[error(transparent)]
     Emit(#[from] EmitError),
+    /// The layout cannot hold the set, or its tables exceed what the board's flash leaves them.
+    #[error(transparent)]
+    Refused(#[from] Refusal),
     /// The firmware did not build.
     #[error(transparent)]
     Image(#[from] ImageError),
@@ -415,20 +418,11 @@ impl Project {
         self.inputs.iter().map(|i| i.path.clone()).collect()
     }
 
-    /// The tables stage: the set in the firmware's `ranked` layout.
-    pub fn tables(&self) -> Result<Packed, PackError> {
-        ranked::encode(&self.set)
-    }
-
-    /// The set in the `indexed` layout the Cortex-M0+ runs, or why it does not fit.
-    pub fn m0plus_tables(&self) -> Result<Packed, PackError> {
-        ranked::encode_indexed(&self.set)
-    }
-
     /// The emitted-source stage: the Rust tables the firmware includes (`SCT_TABLES`), under a header
     /// naming every input with its hash and the command that reproduces them. Event-based
-    /// (`[runtime] mode = "event"`): the set in the layouts of [`RuntimeConfig::layouts`] (the
-    /// Cortex-M0+'s falls back to the Cortex-M3's when it does not fit). State-based (`mode = "state"`):
+    /// (`[runtime] mode = "event"`): the set in the layouts of [`RuntimeConfig::layouts`] (refused when
+    /// the Cortex-M3's layout cannot hold the set; the Cortex-M0+'s falls back to the Cortex-M3's tables
+    /// when it does not fit the Pico, [`fit::choose`]). State-based (`mode = "state"`):
     /// the state feedback of the `[state]` section as cubes over the signal word, no supervisor tables
     /// ([`state_based::firmware_tables`]).
     pub fn emit(&self) -> Result<String, ProjectError> {
@@ -442,9 +436,13 @@ impl Project {
                 .map_err(|e| self.in_file(e));
         }
         let (m3, m0) = self.runtime.layouts();
-        let tables = ranked::encode_as(&self.set, m3.firmware()).map_err(EmitError::from)?;
-        let m0plus = ranked::encode_as(&self.set, m0.firmware());
-        let m0plus = m0plus.as_ref().map_err(|e| format!("the {m0} layout does not fit: {e}"));
+        let tables = fit::fit(&self.set, m3, None)?.packed;
+        let m0plus = fit::fit(&self.set, m0, Some(&Core::CortexM0Plus.flash()));
+        let m0plus = match &m0plus {
+            Ok(fitted) if fitted.layout != m3 => Ok(&fitted.packed),
+            Ok(_) => Err(String::from("the Cortex-M3's tables: the manifest names one layout for both")),
+            Err(refusal) => Err(refusal.to_string()),
+        };
         Ok(emit::emit(&tables, m0plus, &self.name, &self.runtime, self.board.as_ref(), &provenance)?)
     }
 
@@ -573,9 +571,22 @@ impl Project {
 
     /// The firmware-image stage: emits the tables into `dir/tables.rs` and builds the QEMU firmware on
     /// them (`cell-qemu`, which runs supervisor tables and, with `mode = "state"`, state tables alike);
-    /// returns the ELF, `dir/firmware.elf`.
+    /// returns the ELF, `dir/firmware.elf`. Tables that do not fit the lm3s6965's flash are refused
+    /// first ([`Project::fit`]).
     pub fn image(&self, dir: &Path) -> Result<PathBuf, ProjectError> {
+        self.fit(Core::CortexM3, &Core::CortexM3.flash())?;
         Ok(build_qemu_image(&self.tables_file(dir)?, &dir.join("firmware.elf"))?)
+    }
+
+    /// Refuses, before anything is built, a set whose tables the firmware for `core` cannot run within
+    /// `flash` (its layout's limits, or more bytes than the flash leaves the tables), naming the layout,
+    /// the size, the limit and what would fit. The state tables (`mode = "state"`) are checked by their
+    /// own writer.
+    pub fn fit(&self, core: Core, flash: &crate::target::flash::Flash) -> Result<(), ProjectError> {
+        if self.runtime.mode == Mode::Event {
+            fit::choose(&self.set, &self.runtime, core, Some(flash))?;
+        }
+        Ok(())
     }
 
     /// The same stage for the Raspberry Pi Pico: the tables, with the board's pin map, built into the
@@ -583,6 +594,7 @@ impl Project {
     /// ([`Project::for_board`]).
     pub fn pico_image(&self, dir: &Path) -> Result<PathBuf, ProjectError> {
         self.for_board()?;
+        self.fit(Core::CortexM0Plus, &Core::CortexM0Plus.flash())?;
         Ok(build_pico_image(&self.tables_file(dir)?, &dir.join("firmware.elf"))?)
     }
 

@@ -16,6 +16,8 @@
 
 use std::path::{Component, Path, PathBuf};
 
+use crate::pack::fit::Core;
+use crate::target::flash::Flash;
 use crate::target::sources::{self, SourcesError};
 
 use super::{Project, ProjectError};
@@ -76,6 +78,25 @@ impl Board {
     /// probe-rs's name of the board's chip (the runner's `--chip`).
     pub fn chip(self) -> &'static str {
         self.parts().chip
+    }
+
+    /// The core whose tables the board's application runs: the Pico's Cortex-M0+ its own (`m0plus`),
+    /// the Cortex-M4 boards the Cortex-M3's.
+    pub fn core(self) -> Core {
+        match self {
+            Board::Pico => Core::CortexM0Plus,
+            Board::NucleoF401re | Board::Nrf52840Dk => Core::CortexM3,
+        }
+    }
+
+    /// The board's flash, as the `memory.x` its project links with says.
+    pub fn flash(self) -> Flash {
+        let board = match self {
+            Board::Pico => "RP2040 (Pico)",
+            Board::NucleoF401re => "STM32F401RE (Nucleo-F401RE)",
+            Board::Nrf52840Dk => "nRF52840 (nRF52840 DK)",
+        };
+        Flash::board(board, self.parts().memory)
     }
 }
 
@@ -156,7 +177,9 @@ pub struct NewProject {
 }
 
 /// Writes a project for `board` into `dir` (which must not exist or be empty), from the manifest
-/// `manifest` with its model files, or from the starter one.
+/// `manifest` with its model files, or from the starter one. A manifest the board's firmware cannot run
+/// — state-based, or tables its layout cannot hold or its flash cannot fit — is refused at once, with
+/// nothing written.
 pub fn new_project(dir: &Path, board: Board, manifest: Option<&Path>) -> Result<NewProject, NewError> {
     let io = |path: &Path| {
         let path = path.to_path_buf();
@@ -168,6 +191,8 @@ pub fn new_project(dir: &Path, board: Board, manifest: Option<&Path>) -> Result<
     let root = sources::unpacked()?;
     let manifest = manifest.map_or_else(|| root.join(board.starter()), Path::to_path_buf);
     let project = Project::load_for(&manifest, board)?;
+    project.for_board()?;
+    project.fit(board.core(), &board.flash())?;
     let parts = board.parts();
     let name = package_name(dir);
 

@@ -8,9 +8,11 @@
 //!
 //! What the firmware and the harness are built from travels inside the binary ([`sources`]), so an
 //! installed `codegen` builds and runs them from any directory, and writes a firmware project of the user's
-//! own on them ([`crate::project::new_project`]); [`lock`] serialises what processes share.
+//! own on them ([`crate::project::new_project`]); [`lock`] serialises what processes share; [`flash`]
+//! says how much of each board's flash the tables may take.
 
 pub mod child;
+pub mod flash;
 pub mod image;
 pub mod lock;
 pub mod qemu;

@@ -92,6 +92,11 @@ pub fn digest() -> &'static str {
     })
 }
 
+/// The bytes of the carried file `rel` (a path relative to the sources' root), if this binary carries it.
+pub fn carried(rel: &str) -> Option<&'static [u8]> {
+    embedded::FILES.iter().find(|(p, _)| *p == rel).map(|(_, bytes)| *bytes)
+}
+
 /// The root of the unpacked sources (a workspace of `firmware`, `apps/cell` and `codegen`), unpacked now if this
 /// binary's sources are not in the cache yet.
 pub fn unpacked() -> Result<PathBuf, SourcesError> {

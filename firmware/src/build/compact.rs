@@ -4,13 +4,11 @@
 
 use alloc::vec::Vec;
 
-use super::{bitset, Block, BuildError, Source};
+use super::{bitset, Block, BuildError, Source, MAX_POSITION};
 use crate::table::compact::{HEADER, PADDING, STRIDE};
 
 /// Most states of a `compact` automaton: a u16 state count.
 pub const MAX_STATES: usize = 65_535;
-/// Most bytes of the blocks back to back: a state's position is a 16-bit bit offset.
-pub const MAX_BYTES: usize = 1 << 13;
 
 /// Bits needed to write every value in `0..n` (0 when `n` ≤ 1).
 pub fn width(n: usize) -> u32 {
@@ -54,11 +52,12 @@ impl Writer {
     }
 }
 
-/// The blocks of `source` in the `compact` layout, or the limit a set breaks.
-pub(super) fn encode(source: &Source) -> Result<Vec<Block>, BuildError> {
+/// The blocks of `source` in the `compact` layout (no wide fields) and the largest position (a bit
+/// offset), or the limit a set breaks.
+pub(super) fn encode(source: &Source) -> Result<(bool, Vec<Block>, usize), BuildError> {
     let events = source.event_names.len();
     let mut blocks: Vec<Block> = Vec::with_capacity(source.automata.len());
-    let mut total = 0;
+    let (mut total, mut last) = (0, 0);
     for a in &source.automata {
         let s = a.out.len();
         if s > MAX_STATES || s == 0 {
@@ -89,36 +88,39 @@ pub(super) fn encode(source: &Source) -> Result<Vec<Block>, BuildError> {
             directory.put(start, d);
         }
         let directory = directory.into_bytes();
+        let directory_len = directory.len();
         let mut block = Vec::with_capacity(HEADER + directory.len() + stream.len());
-        // s ≤ 65 535, the alphabet ≤ 256 events, widths ≤ 17 bits, the directory below 8 KiB (checked
-        // on the total below): the casts cannot truncate.
+        // s ≤ 65 535, the alphabet ≤ 256 events, widths ≤ 32 bits (positions are checked below), the
+        // directory at most 4 bytes per 16 states: the casts cannot truncate.
         block.extend_from_slice(&(s as u16).to_le_bytes());
         block.extend_from_slice(&(alphabet.len() as u16).to_le_bytes());
         block.extend_from_slice(&[w as u8, d as u8]);
         block.extend_from_slice(&(directory.len() as u16).to_le_bytes());
         block.extend(directory);
         block.extend(stream);
+        let stream_at = 8 * (total + HEADER + directory_len);
+        last = stream_at + starts.last().copied().unwrap_or(0);
         total += block.len();
-        if total + PADDING > MAX_BYTES {
+        if last > MAX_POSITION {
             return Err(BuildError::BlocksTooLarge {
                 automaton: a.name.clone(),
                 bytes: total,
-                limit: MAX_BYTES,
+                limit: MAX_POSITION.div_ceil(8),
             });
         }
         blocks.push(Block {
             name: a.name.clone(),
             initial: a.initial,
-            handle: starts.get(a.initial).map_or(0, |&h| h as u16),
+            handle: starts.get(a.initial).copied().unwrap_or(0),
             scale: 1,
             block,
             alphabet: bitset::from_ids(a.alphabet.iter().copied(), events),
         });
     }
-    if let Some(last) = blocks.last_mut() {
-        last.block.extend_from_slice(&[0; PADDING]);
+    if let Some(end) = blocks.last_mut() {
+        end.block.extend_from_slice(&[0; PADDING]);
     }
-    Ok(blocks)
+    Ok((false, blocks, last))
 }
 
 /// Every state of a `compact` block: its mask's bit offset from the block's start and its out-events (a

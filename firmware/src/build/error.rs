@@ -2,8 +2,8 @@
 
 use alloc::string::String;
 
-/// A set the `ranked` layout or the runtime cannot hold; every variant names the number that broke the
-/// limit and the limit.
+/// A set a layout or the runtime cannot hold; every variant names the number that broke the limit and
+/// the limit (the layout is the caller's to name: the encoder was asked for it).
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum BuildError {
     /// More events than an event id (one byte) numbers.
@@ -52,7 +52,7 @@ pub enum BuildError {
         /// Bytes of its records with 2-byte fields, without padding.
         bytes: usize,
     },
-    /// The blocks put back to back, up to an automaton's, start records beyond 16-bit offsets.
+    /// The blocks put back to back, up to an automaton's, start records beyond 32-bit positions.
     #[error(
         "the blocks up to '{automaton}' take {bytes} bytes back to back, more than the limit of {limit}"
     )]
@@ -61,7 +61,7 @@ pub enum BuildError {
         automaton: String,
         /// Bytes of the blocks up to and including its own.
         bytes: usize,
-        /// [`crate::table::MAX_BLOCK`].
+        /// Bytes 32-bit positions address.
         limit: usize,
     },
     /// More automata than the runtime's per-event holder mask has bits.
@@ -78,6 +78,14 @@ pub enum BuildError {
         /// Words of the set's bitsets.
         words: usize,
         /// Words the runtime's `W` says.
+        want: usize,
+    },
+    /// Host tables were asked for positions of another width than the set's.
+    #[error("the set's positions take {bytes} bytes, the runtime was built for {want}")]
+    Positions {
+        /// Bytes of the set's positions.
+        bytes: usize,
+        /// Bytes of the runtime's `Q`.
         want: usize,
     },
     /// The tables do not read back (only tables built by hand or altered after encoding).

@@ -1,18 +1,19 @@
-//! This module is the home of [`HostTables`]: a set owned on the host, from which the runtime
-//! borrows a [`SupervisorSet`] — how `codegen`'s virtual plant and the host tests run the very runtime
-//! that ships.
+//! This module is the home of [`HostTables`]: a set owned on the host as the image the firmware
+//! compiles ([`super::image`]), from which the runtime borrows a [`SupervisorSet`] — how `codegen`'s
+//! virtual plant and the host tests run the very runtime that ships on the very bytes it reads.
 
 use alloc::vec::Vec;
+use core::marker::PhantomData;
 
-use super::{BuildError, Packed, SideTables};
-use crate::table::{Automaton, SupervisorSet};
+use super::{image, BuildError, Packed, SideTables};
+use crate::table::image::{header_bytes, read_slice};
+use crate::table::{Position, SupervisorSet};
 
-/// A set (in any layout) with its side tables, owned in the runtime's representation for
-/// event bitsets of `W` words; [`HostTables::set`] lends the runtime its view.
+/// A set (in any layout) with its side tables, owned as its image for a runtime of `W`-word event
+/// bitsets and positions of type `Q`; [`HostTables::set`] lends the runtime its view.
 ///
-/// `W` must be the set's word count (⌈events / 32⌉), as `EVENT_WORDS` of the emitted file; the
-/// `[u32; W]` arrays and the blocks back to back that the runtime reads are built once, in
-/// [`HostTables::new`].
+/// `W` must be the set's word count (⌈events / 32⌉), as `EVENT_WORDS` of the emitted file, and `Q` its
+/// position type (`Position` there).
 ///
 /// ```
 /// use firmware::build::{encode, HostTables, Source, SourceAutomaton};
@@ -30,53 +31,36 @@ use crate::table::{Automaton, SupervisorSet};
 /// # Ok::<(), firmware::build::BuildError>(())
 /// ```
 #[derive(Clone, Debug)]
-pub struct HostTables<const W: usize> {
+pub struct HostTables<const W: usize, Q = u16> {
     /// The tables.
     pub packed: Packed,
     /// Their side tables.
     pub side: SideTables,
-    automata: Vec<Automaton<W>>,
-    block: Vec<u8>,
-    masks: Vec<u32>,
-    holder_lists: Vec<u16>,
-    initials: Vec<u16>,
-    plant_events: Vec<[u32; W]>,
-    controllable: [u32; W],
+    /// The image: header, then the sections.
+    image: Vec<u8>,
+    /// The sections again, in words: aligned as the firmware's static.
+    sections: Vec<u32>,
+    positions: PhantomData<Q>,
 }
 
-impl<const W: usize> HostTables<W> {
-    /// Computes the side tables of `packed` and the runtime's `W`-word arrays; refuses a set whose
-    /// bitsets are not `W` words.
+impl<const W: usize, Q: Position> HostTables<W, Q> {
+    /// Computes the side tables and the image of `packed`; refuses a set whose bitsets are not `W` words
+    /// or whose positions are not `Q`.
     pub fn new(packed: Packed) -> Result<Self, BuildError> {
         let side = SideTables::of(&packed)?;
         let words = packed.words();
-        let array = |v: &[u32]| <[u32; W]>::try_from(v).map_err(|_| BuildError::Words { words, want: W });
-        let controllable = array(&packed.controllable)?;
-        let plant_events = side.plant_events.iter().map(|m| array(m)).collect::<Result<_, _>>()?;
-        // `encode` kept every record start, hence every start, below 64 KiB.
-        let automata = packed
-            .automata
-            .iter()
-            .zip(packed.starts())
-            .map(|(b, start)| {
-                Ok(Automaton { alphabet: array(&b.alphabet)?, start: start as u16, scale: b.scale })
-            })
-            .collect::<Result<_, BuildError>>()?;
-        let block = packed.automata.iter().flat_map(|b| b.block.iter().copied()).collect();
-        let masks = packed.mask_pool();
-        let holder_lists = packed.holder_lists();
-        let initials = packed.initials();
-        Ok(HostTables {
-            packed,
-            side,
-            automata,
-            block,
-            masks,
-            holder_lists,
-            initials,
-            plant_events,
-            controllable,
-        })
+        if words != W {
+            return Err(BuildError::Words { words, want: W });
+        }
+        let bytes = (Q::BITS / 8) as usize;
+        if packed.position_bytes != bytes {
+            return Err(BuildError::Positions { bytes: packed.position_bytes, want: bytes });
+        }
+        let image = image::write(&packed, &side);
+        let tail = image.get(header_bytes(W)..).unwrap_or_default();
+        let sections =
+            tail.chunks(4).map(|c| c.iter().rev().fold(0, |w, &b| w << 8 | u32::from(b))).collect();
+        Ok(HostTables { packed, side, image, sections, positions: PhantomData })
     }
 
     /// Event names by global id (not part of the runtime's tables).
@@ -84,23 +68,21 @@ impl<const W: usize> HostTables<W> {
         &self.packed.event_names
     }
 
-    /// The runtime's view of the tables.
-    pub fn set(&self) -> SupervisorSet<'_, W> {
-        SupervisorSet {
-            controllable: self.controllable,
-            plants: self.side.plants,
-            automata: &self.automata,
-            block: &self.block,
-            wide: self.packed.wide,
-            masks: &self.masks,
-            // At most 256 events: 32 bytes.
-            mask_bytes: self.packed.mask_width() as u8,
-            layout: self.packed.layout.id(),
-            initials: &self.initials,
-            holder_lists: &self.holder_lists,
-            holders: &self.side.holders,
-            plant_events: &self.plant_events,
-            sites: &self.side.sites,
+    /// The image the firmware compiles.
+    pub fn image(&self) -> &[u8] {
+        &self.image
+    }
+
+    /// The runtime's view of the tables, read off the image as the firmware reads it.
+    pub fn set(&self) -> SupervisorSet<'_, W, Q> {
+        let len = self.image.len() - header_bytes(W);
+        // SAFETY: the words hold the sections' `len` bytes, little-endian as the image (the tables are
+        // read on little-endian machines only, `crate::table`).
+        let bytes = unsafe { core::slice::from_raw_parts(self.sections.as_ptr().cast::<u8>(), len) };
+        match read_slice(&self.image, bytes, true) {
+            Ok(set) => set,
+            // `new` wrote the image for `W` and `Q`: it reads back.
+            Err(e) => unreachable!("an image written for its own shape does not read back: {e:?}"),
         }
     }
 }

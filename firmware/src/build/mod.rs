@@ -15,7 +15,9 @@
 //!   [`Packed::records`] reads a block back.
 //! * [`SideTables`] — per event the automata holding it, per plant the controllable events it
 //!   generates, the choice sites; [`unowned`] finds a controllable event no plant can generate.
-//! * [`HostTables`] — all of it owned on the host, lending the runtime a
+//! * [`image`] — the set as the one image of bytes the firmware compiles
+//!   ([`crate::table::image`]): written, checked with the runtime's own check, carried in Rust source.
+//! * [`HostTables`] — the image owned on the host, lending the runtime a
 //!   [`SupervisorSet`](crate::table::SupervisorSet).
 //! * [`bitset`] — event bitsets of any word count, as the tables hold them.
 
@@ -23,6 +25,7 @@ pub mod bitset;
 pub mod compact;
 mod error;
 mod host;
+pub mod image;
 mod ranked;
 pub mod records;
 mod side;
@@ -30,7 +33,8 @@ mod side;
 pub use error::{BuildError, ReadError};
 pub use host::HostTables;
 pub use ranked::{
-    encode, encode_as, extent, smallest_scale, Block, Layout, Packed, Record, Source, SourceAutomaton,
-    DESCRIPTOR_BYTES, MAX_SCALE, MAX_STATES, NARROW_HANDLE, NARROW_IDS, WIDE_HANDLE,
+    encode, encode_as, extent, position_bytes, smallest_scale, Block, Layout, Packed, Record, Source,
+    SourceAutomaton, DESCRIPTOR_BYTES, MAX_POSITION, MAX_SCALE, MAX_STATES, NARROW_HANDLE, NARROW_IDS,
+    WIDE_HANDLE,
 };
 pub use side::{unowned, SideTables};

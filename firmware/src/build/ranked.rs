@@ -26,7 +26,7 @@ use alloc::vec::Vec;
 
 use super::bitset;
 use super::{BuildError, ReadError};
-use crate::table::{MAX_BLOCK, MAX_EVENTS, MAX_MASKS};
+use crate::table::{MAX_EVENTS, MAX_MASKS};
 
 /// Mask ids a 1-byte field numbers.
 pub const NARROW_IDS: usize = 256;
@@ -128,8 +128,13 @@ pub struct Packed {
     /// event outside the automaton's alphabet), each ⌈e/32⌉ words, in first-appearance order; empty in
     /// the layouts without a pool.
     pub masks: Vec<Vec<u32>>,
-    /// Mask ids and target handles take 2 bytes (little-endian) instead of 1, in every block.
+    /// Wide fields: mask ids and target handles take 2 bytes (little-endian) instead of 1 in every block
+    /// (`ranked`, `indexed`), record targets 4 bytes instead of 2 (`offset`).
     pub wide: bool,
+    /// Bytes of a position in the runtime ([`crate::table::Position`]): 2 while every state's position
+    /// (a record's byte offset in the blocks back to back, a mask's bit offset in `compact`) is below
+    /// 65 536, else 4.
+    pub position_bytes: usize,
     /// The layout of the blocks.
     pub layout: Layout,
     /// Plants first, then supervisors.
@@ -145,7 +150,7 @@ pub struct Block {
     pub initial: usize,
     /// The initial state's handle ([`crate::table::SupervisorSet::initials`]; 0 in `ranked` and
     /// `indexed`).
-    pub handle: u16,
+    pub handle: usize,
     /// Bytes per handle unit: a record starts at byte `handle · scale` of the block (≥ 1; 1 in the
     /// layouts without a pool).
     pub scale: u8,
@@ -171,12 +176,12 @@ pub struct Record {
 }
 
 impl Packed {
-    /// Words of an event bitset.
+    /// Words of an event bitset in the runtime: enough for the events, and one for a set without any.
     pub fn words(&self) -> usize {
-        self.controllable.len()
+        self.controllable.len().max(1)
     }
 
-    /// Bytes of a mask id or a target handle.
+    /// Bytes of a mask id or a target handle (`ranked`, `indexed`).
     pub fn field_bytes(&self) -> usize {
         if self.wide {
             2
@@ -197,7 +202,7 @@ impl Packed {
 
     /// The runtime's initial handles ([`crate::table::SupervisorSet::initials`]): one per automaton,
     /// none in the layouts with a pool.
-    pub fn initials(&self) -> Vec<u16> {
+    pub fn initials(&self) -> Vec<usize> {
         if self.layout.has_pool() {
             return Vec::new();
         }
@@ -220,24 +225,34 @@ impl Packed {
 
     /// The handle of every state of automaton `a`, by state index ([`crate::table`] says what a handle
     /// is in each layout).
-    pub fn handles(&self, a: usize) -> Result<Vec<u16>, ReadError> {
+    pub fn handles(&self, a: usize) -> Result<Vec<usize>, ReadError> {
         let positions = self.state_positions(a)?;
         Ok(match self.layout {
             Layout::Ranked | Layout::Indexed => {
                 let mut handles = vec![0; positions.len()];
                 for r in self.records(a)? {
                     if let Some(h) = handles.get_mut(r.state) {
-                        *h = r.handle;
+                        *h = usize::from(r.handle);
                     }
                 }
                 handles
             }
             Layout::Compact => {
                 let base = positions.first().map_or(0, |p| p.0);
-                positions.iter().map(|p| (p.0 - base) as u16).collect()
+                positions.iter().map(|p| p.0 - base).collect()
             }
-            Layout::MemorySafe | Layout::Offset => positions.iter().map(|p| p.0 as u16).collect(),
+            Layout::MemorySafe | Layout::Offset => positions.iter().map(|p| p.0).collect(),
         })
+    }
+
+    /// Bytes of one transition of a `memory-safe` or `offset` record: the event and the target (4 bytes
+    /// with wide fields, else 2).
+    pub fn transition_bytes(&self) -> usize {
+        if self.wide {
+            5
+        } else {
+            3
+        }
     }
 
     /// Every state of automaton `a`: its position from the automaton's start (in
@@ -258,9 +273,11 @@ impl Packed {
                 .get(a)
                 .map(|b| super::compact::states(&b.block, &b.alphabet, words))
                 .unwrap_or_default()),
-            Layout::MemorySafe | Layout::Offset => {
-                Ok(self.automata.get(a).map(|b| super::records::states(&b.block, words)).unwrap_or_default())
-            }
+            Layout::MemorySafe | Layout::Offset => Ok(self
+                .automata
+                .get(a)
+                .map(|b| super::records::states(&b.block, self.transition_bytes(), words))
+                .unwrap_or_default()),
         }
     }
 
@@ -539,7 +556,7 @@ pub fn encode_as(source: &Source, layout: Layout) -> Result<Packed, BuildError> 
             });
         }
     }
-    let packed = |masks, wide, automata| Packed {
+    let packed = |masks, (wide, automata, last): (bool, Vec<Block>, usize)| Packed {
         event_names: source.event_names.clone(),
         controllable: bitset::from_ids(
             (0..events).filter(|&e| source.controllable.get(e).copied().unwrap_or(false)),
@@ -548,15 +565,16 @@ pub fn encode_as(source: &Source, layout: Layout) -> Result<Packed, BuildError> 
         plants: source.plants,
         masks,
         wide,
+        position_bytes: position_bytes(last),
         layout,
         automata,
     };
     match layout {
         Layout::Ranked | Layout::Indexed => {}
         Layout::MemorySafe | Layout::Offset => {
-            return Ok(packed(Vec::new(), false, super::records::encode(source, layout)?))
+            return Ok(packed(Vec::new(), super::records::encode(source, layout)?))
         }
-        Layout::Compact => return Ok(packed(Vec::new(), false, super::compact::encode(source)?)),
+        Layout::Compact => return Ok(packed(Vec::new(), super::compact::encode(source)?)),
     }
     // The pool, in first-appearance order, and every state's mask id. Indexed: allowed sets, the
     // out-mask with the events outside the alphabet.
@@ -601,8 +619,8 @@ pub fn encode_as(source: &Source, layout: Layout) -> Result<Packed, BuildError> 
     };
     let width = if wide { 2 } else { 1 };
     let mut automata = Vec::with_capacity(source.automata.len());
-    // Where the block starts when the blocks are put back to back.
-    let mut start = 0usize;
+    // Where the block starts when the blocks are put back to back, and the last record start.
+    let (mut start, mut last_record) = (0usize, 0usize);
     for (i, a) in source.automata.iter().enumerate() {
         let (ids, option, order, alphabet) = (&ids[i], &options[i], &orders[i], &alphabets[i]);
         let lens: Vec<usize> = order.iter().map(|&s| width * (1 + targets(a, s, alphabet, layout))).collect();
@@ -635,13 +653,14 @@ pub fn encode_as(source: &Source, layout: Layout) -> Result<Packed, BuildError> 
             }
         }
         let last = handles.iter().max().map_or(0, |h| h * unit);
-        if start + last >= MAX_BLOCK {
+        if start + last > MAX_POSITION {
             return Err(BuildError::BlocksTooLarge {
                 automaton: a.name.clone(),
                 bytes: start + block.len(),
-                limit: MAX_BLOCK,
+                limit: MAX_POSITION + 1,
             });
         }
+        last_record = start + last;
         start += block.len();
         automata.push(Block {
             name: a.name.clone(),
@@ -652,7 +671,19 @@ pub fn encode_as(source: &Source, layout: Layout) -> Result<Packed, BuildError> 
             alphabet: bitset::from_ids(a.alphabet.iter().copied(), events),
         });
     }
-    Ok(packed(masks, wide, automata))
+    Ok(packed(masks, (wide, automata, last_record)))
+}
+
+/// Largest position of 32 bits.
+pub const MAX_POSITION: usize = u32::MAX as usize;
+
+/// Bytes of a position for a set whose largest position is `last`: 2 while it is below 65 536, else 4.
+pub fn position_bytes(last: usize) -> usize {
+    if last <= usize::from(u16::MAX) {
+        2
+    } else {
+        4
+    }
 }
 
 #[cfg(test)]

@@ -22,7 +22,7 @@ pub struct SideTables {
     /// Choice sites (plant states with two or more generated controllable out-events), each as its
     /// position in the blocks back to back (its record's offset; its mask's bit offset in `compact`),
     /// ascending.
-    pub sites: Vec<u16>,
+    pub sites: Vec<usize>,
 }
 
 /// The plant that generates each global event: the first plant holding it, for controllable events
@@ -81,8 +81,7 @@ impl SideTables {
                 let generated =
                     (0..events).filter(|&e| bitset::contains(&out, e) && owner[e] == Some(p)).count();
                 if generated >= 2 {
-                    // Positions fit 16 bits (`encode_as`).
-                    sites.push((unit * start + at) as u16);
+                    sites.push(unit * start + at);
                 }
             }
         }

@@ -1,17 +1,18 @@
 //! This module is the home of [`CheckedSet`] and of the check behind it that makes the runtime's
-//! unchecked reads sound, a `const fn`: the emitted tables run it at compile time, host tools at run
-//! time.
+//! unchecked reads sound. It runs on the host — in `codegen` when it writes the tables, in the build
+//! script that compiles them ([`super::image`]), in host tools and tests — and costs the firmware
+//! nothing; a firmware may also run it at boot ([`CheckedSet::new`]).
 
-use super::layout::{self, COMPACT, INDEXED, RANKED};
-use super::{SupervisorSet, TableError, MAX_AUTOMATA, MAX_BLOCK, MAX_EVENTS, MAX_MASKS};
+use super::layout::{self, COMPACT, INDEXED, OFFSET, RANKED};
+use super::{Position, SupervisorSet, TableError, MAX_AUTOMATA, MAX_EVENTS, MAX_MASKS};
 
-/// A set that passed [`SupervisorSet::check`] for `N` automata, with 2-byte fields exactly when `WIDE`
-/// ([`SupervisorSet::wide`]), masks of `MASK` bytes ([`SupervisorSet::mask_bytes`]; 0 and narrow fields
-/// in the layouts without a pool) and the layout `LAYOUT` ([`SupervisorSet::layout`], one of
-/// [`layout`]'s ids): the only form the runtime takes. The
-/// emitted tables build theirs in a `static`, so the check runs in the compiler and a set that fails it
-/// does not build; host tools build theirs at run time. The widths and the layout are type parameters so
-/// that the runtime's steps are compiled for them.
+/// A set that passed [`SupervisorSet::check`] for `N` automata, with wide fields exactly when `WIDE`
+/// ([`SupervisorSet::wide`]), masks of `MASK` bytes ([`SupervisorSet::mask_bytes`]; 0 in the layouts
+/// without a pool), the layout `LAYOUT` ([`SupervisorSet::layout`], one of [`layout`]'s ids) and
+/// positions of type `Q`: the only form the runtime takes. Host tools build theirs with
+/// [`CheckedSet::new`]; the emitted tables build theirs with [`super::image::checked`], from a check
+/// their build script ran. The widths, the layout and the position type are type parameters so that
+/// the runtime's steps are compiled for them.
 #[derive(Clone, Copy, Debug)]
 pub struct CheckedSet<
     't,
@@ -20,26 +21,48 @@ pub struct CheckedSet<
     const WIDE: bool,
     const MASK: usize,
     const LAYOUT: u8,
->(&'t SupervisorSet<'t, W>);
+    Q = u16,
+>(&'t SupervisorSet<'t, W, Q>);
 
-impl<'t, const W: usize, const N: usize, const WIDE: bool, const MASK: usize, const LAYOUT: u8>
-    CheckedSet<'t, W, N, WIDE, MASK, LAYOUT>
+impl<'t, const W: usize, const N: usize, const WIDE: bool, const MASK: usize, const LAYOUT: u8, Q>
+    CheckedSet<'t, W, N, WIDE, MASK, LAYOUT, Q>
 {
-    /// `set`, if it passes the check for `N` automata and has the widths `WIDE` and `MASK` and the
-    /// layout `LAYOUT`.
-    pub const fn new(set: &'t SupervisorSet<'t, W>) -> Result<Self, TableError> {
-        if set.wide != WIDE || set.mask_bytes as usize != MASK || set.layout != LAYOUT {
-            return Err(TableError::Shape);
-        }
-        match set.check(N) {
-            Ok(()) => Ok(Self(set)),
-            Err(e) => Err(e),
-        }
+    /// Whether `set` has the shape of this type: `N` automata, the widths `WIDE` and `MASK`, the layout
+    /// `LAYOUT` (positions are `Q` by the set's type). Constant time.
+    pub(super) const fn fits(set: &SupervisorSet<'t, W, Q>) -> bool {
+        set.wide == WIDE && set.mask_bytes as usize == MASK && set.layout == LAYOUT && set.automata.len() == N
+    }
+
+    /// `set`, trusted to pass the check: what [`super::image::checked`] builds once the build script
+    /// proved it.
+    pub(super) const fn trusted(set: &'t SupervisorSet<'t, W, Q>) -> Self {
+        Self(set)
     }
 
     /// The set.
-    pub const fn set(&self) -> &'t SupervisorSet<'t, W> {
+    pub const fn set(&self) -> &'t SupervisorSet<'t, W, Q> {
         self.0
+    }
+}
+
+impl<
+        't,
+        const W: usize,
+        const N: usize,
+        const WIDE: bool,
+        const MASK: usize,
+        const LAYOUT: u8,
+        Q: Position,
+    > CheckedSet<'t, W, N, WIDE, MASK, LAYOUT, Q>
+{
+    /// `set`, if it passes the check for `N` automata and has the widths `WIDE` and `MASK` and the
+    /// layout `LAYOUT`. Linear in the tables (see [`SupervisorSet::check`]).
+    pub fn new(set: &'t SupervisorSet<'t, W, Q>) -> Result<Self, TableError> {
+        if set.wide != WIDE || usize::from(set.mask_bytes) != MASK || set.layout != LAYOUT {
+            return Err(TableError::Shape);
+        }
+        set.check(N)?;
+        Ok(Self(set))
     }
 }
 
@@ -111,14 +134,14 @@ pub(super) const fn holder_mask(holders: &[u8], at: usize, width: usize) -> Opti
     Some(mask)
 }
 
-impl<'t, const W: usize> SupervisorSet<'t, W> {
+impl<'t, const W: usize, Q: Position> SupervisorSet<'t, W, Q> {
     /// Bytes of one event's holder mask: [`holder_bytes`] of the automaton count.
-    pub const fn holder_bytes(&self) -> usize {
+    pub fn holder_bytes(&self) -> usize {
         holder_bytes(self.automata.len())
     }
 
     /// Number of events (ids `0..events`).
-    pub const fn events(&self) -> usize {
+    pub fn events(&self) -> usize {
         self.holders.len() / self.holder_bytes()
     }
 
@@ -126,7 +149,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     /// last, if its mask width fits `W` words (and is a whole number of words in the `indexed` layout).
     /// The pool is whole words, so up to 3 bytes of padding beyond may count as masks: masks the encoder
     /// never names, read as safely as the others.
-    pub const fn mask_count(&self) -> Option<usize> {
+    pub fn mask_count(&self) -> Option<usize> {
         let stride = self.mask_bytes as usize;
         if stride == 0 || stride > 4 * W || (self.layout == INDEXED && !stride.is_multiple_of(4)) {
             return None;
@@ -139,12 +162,12 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     }
 
     /// Byte `i` of the mask pool (bytes are packed little-endian into its words).
-    pub(super) const fn pool_byte(&self, i: usize) -> u8 {
+    pub(super) fn pool_byte(&self, i: usize) -> u8 {
         (self.masks[i / 4] >> (8 * (i % 4))) as u8
     }
 
     /// Mask `id` of the pool (its own bytes only), if the pool has it.
-    pub const fn mask_of(&self, id: usize) -> Option<[u32; W]> {
+    pub fn mask_of(&self, id: usize) -> Option<[u32; W]> {
         match self.mask_count() {
             Some(count) if id < count => {}
             _ => return None,
@@ -161,10 +184,10 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
 
     /// The bytes of automaton `a`'s records: from its start to the next automaton's (the block's end for
     /// the last). Empty when the starts are out of order or beyond the block.
-    pub(super) const fn part(&self, a: usize) -> (usize, usize) {
-        let start = self.automata[a].start as usize;
+    pub(super) fn part(&self, a: usize) -> (usize, usize) {
+        let start = self.automata[a].start.get();
         let end =
-            if a + 1 < self.automata.len() { self.automata[a + 1].start as usize } else { self.block.len() };
+            if a + 1 < self.automata.len() { self.automata[a + 1].start.get() } else { self.block.len() };
         if start < end && end <= self.block.len() {
             (start, end)
         } else {
@@ -177,7 +200,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     /// (see the module documentation) and every choice site a plant's state.
     /// Linear in the size of the tables (times the handle count / 256 for `ranked` automata of more than
     /// 256 handle units; an `indexed` automaton's records, all as long, are checked in one pass).
-    pub const fn check(&self, automata: usize) -> Result<(), TableError> {
+    pub fn check(&self, automata: usize) -> Result<(), TableError> {
         let plants = self.plants as usize;
         if self.automata.len() != automata || automata > MAX_AUTOMATA || plants > automata {
             return Err(TableError::Automata);
@@ -197,11 +220,11 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         match self.mask_count() {
             // The bits the runtime reads beyond a mask's own bytes are no events.
             Some(count) if count <= MAX_MASKS && events <= 8 * self.mask_bytes as usize => {}
-            // Layouts without a pool have neither masks nor a field width.
+            // Layouts without a pool have no masks; of them only `offset` has wide fields (targets).
             _ if !layout::has_pool(self.layout)
                 && self.masks.is_empty()
                 && self.mask_bytes == 0
-                && !self.wide => {}
+                && (!self.wide || self.layout == OFFSET) => {}
             _ => return Err(TableError::Size),
         }
         // Controllable events are events of the set: the runtime fires them through their holders.
@@ -249,7 +272,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         }
         let mut i = 0;
         while i < self.sites.len() {
-            if !self.is_plant_record(self.sites[i] as usize) {
+            if !self.is_plant_record(self.sites[i].get()) {
                 return Err(TableError::Sites);
             }
             i += 1;
@@ -260,7 +283,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     /// Whether the holder lists fit the layout: empty in a `ranked` set; in an `indexed` one, the
     /// starts ascending from just after them to the table's end, and each event's list exactly its
     /// holders in index order, each with the event's place in its alphabet.
-    const fn lists_sound(&self, events: usize) -> bool {
+    fn lists_sound(&self, events: usize) -> bool {
         let (lists, width) = (self.holder_lists, holder_bytes(self.automata.len()));
         if self.layout != INDEXED {
             return lists.is_empty();
@@ -294,21 +317,10 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
 
     /// The `ranked` record at byte `at`, if it ends by `end` and names a mask: mask id, target count and
     /// the byte after it.
-    pub(super) const fn record_at(&self, at: usize, end: usize) -> Option<(usize, usize, usize)> {
-        let id = match field(self.block, self.wide, at, 0) {
-            Some(id) => id as usize,
-            None => return None,
-        };
-        let mask = match self.mask_of(id) {
-            Some(mask) => mask,
-            None => return None,
-        };
-        let mut n = 0;
-        let mut w = 0;
-        while w < W {
-            n += mask[w].count_ones() as usize;
-            w += 1;
-        }
+    pub(super) fn record_at(&self, at: usize, end: usize) -> Option<(usize, usize, usize)> {
+        let id = field(self.block, self.wide, at, 0)? as usize;
+        let mask = self.mask_of(id)?;
+        let n: usize = mask.iter().map(|word| word.count_ones() as usize).sum();
         let next = at + (n + 1) * if self.wide { 2 } else { 1 };
         if next <= end {
             Some((id, n, next))
@@ -317,15 +329,16 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         }
     }
 
-    /// One automaton: the records tile its part of the block, name masks within the alphabet, start in
-    /// the first 64 KiB, and every target handle starts one — checked 256 handles at a time with a
+    /// One automaton: the records tile its part of the block, name masks within the alphabet, start at
+    /// positions the type `Q` holds, and every target handle starts one — checked 256 handles at a time with a
     /// bitmap: a first pass marks the record starts, a second checks the targets.
-    const fn part_sound(&self, a: usize) -> bool {
+    fn part_sound(&self, a: usize) -> bool {
         let aut = &self.automata[a];
         let (start, end) = self.part(a);
         let scale = aut.scale as usize;
-        // Handles are 16-bit; an empty part has no initial state.
-        if scale == 0 || start == end || (end - start).div_ceil(scale) > 1 << 16 {
+        // An empty part has no initial state; `ranked` and `indexed` handles are 16-bit.
+        let units = (end - start).div_ceil(scale.max(1));
+        if scale == 0 || start == end || layout::has_pool(self.layout) && units > 1 << 16 {
             return false;
         }
         // The alphabet holds events only: the runtime's mask reads are exact on them.
@@ -353,7 +366,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
                 while at < end {
                     let Some((id, n, next)) = self.record_at(at, end) else { return false };
                     if pass == 0 {
-                        if at >= MAX_BLOCK {
+                        if at > Q::MAX {
                             return false;
                         }
                         let h = (at - start) / scale;
@@ -389,7 +402,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
 
     /// Whether pool entry `id` fits automaton `a`: an out-mask within its alphabet (`ranked`), or an
     /// allowed set, which holds every event outside it (`indexed`).
-    const fn entry_sound(&self, a: usize, id: usize) -> bool {
+    fn entry_sound(&self, a: usize, id: usize) -> bool {
         let (alphabet, events) = (&self.automata[a].alphabet, self.events());
         let Some(mask) = self.mask_of(id) else { return false };
         let mut w = 0;
@@ -407,7 +420,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     /// An `indexed` automaton's records, all as long (a mask id and a target per event of the
     /// alphabet), start every `unit` handles: `unit`, the record count and the targets per record, if
     /// they tile its part.
-    const fn uniform(&self, a: usize) -> Option<(usize, usize, usize)> {
+    fn uniform(&self, a: usize) -> Option<(usize, usize, usize)> {
         let aut = &self.automata[a];
         let (start, end) = self.part(a);
         let scale = aut.scale as usize;
@@ -428,14 +441,14 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         Some((unit, (end - start - len) / (unit * scale) + 1, n))
     }
 
-    /// One `indexed` automaton, in one pass: its records tile its part, start in the first 64 KiB at
-    /// 16-bit handles, name allowed sets that fit it, and every target is a record's handle.
-    const fn uniform_part_sound(&self, a: usize) -> bool {
+    /// One `indexed` automaton, in one pass: its records tile its part, start at positions `Q` holds and
+    /// at 16-bit handles, name allowed sets that fit it, and every target is a record's handle.
+    fn uniform_part_sound(&self, a: usize) -> bool {
         let Some((unit, count, n)) = self.uniform(a) else { return false };
         let (start, _) = self.part(a);
         let stride = unit * self.automata[a].scale as usize;
         let last = (count - 1) * unit;
-        if last > u16::MAX as usize || start + (count - 1) * stride >= MAX_BLOCK {
+        if last > u16::MAX as usize || start + (count - 1) * stride > Q::MAX {
             return false;
         }
         let mut k = 0;
@@ -460,21 +473,22 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     }
 
     /// Whether `at` is the position of a plant's state.
-    const fn is_plant_record(&self, at: usize) -> bool {
+    fn is_plant_record(&self, at: usize) -> bool {
         let mut p = 0;
         while p < self.plants as usize {
             let (start, end) = self.part(p);
             if self.layout == COMPACT {
                 if let Some(base) = self.compact_base(p) {
                     if base <= at && at < 8 * end {
-                        return at - base <= u16::MAX as usize && self.is_state(p, (at - base) as u16);
+                        return at - base <= Q::MAX && self.is_state(p, Q::at(at - base));
                     }
                 }
             } else if start <= at && at < end {
                 let scale = self.automata[p].scale as usize;
                 return scale != 0
                     && (at - start).is_multiple_of(scale)
-                    && self.is_state(p, ((at - start) / scale) as u16);
+                    && (at - start) / scale <= Q::MAX
+                    && self.is_state(p, Q::at((at - start) / scale));
             }
             p += 1;
         }
@@ -483,7 +497,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
 
     /// The position of automaton `a`'s stream (its handle 0) in a `compact` set, if its header lies in
     /// the block.
-    const fn compact_base(&self, a: usize) -> Option<usize> {
+    fn compact_base(&self, a: usize) -> Option<usize> {
         let start = self.part(a).0;
         if start + super::compact::HEADER > self.block.len() {
             return None;
@@ -493,7 +507,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     }
 
     /// Whether `handle` is a state of automaton `a` (a record's, or in `compact` a mask's).
-    pub const fn is_state(&self, a: usize, handle: u16) -> bool {
+    pub fn is_state(&self, a: usize, handle: Q) -> bool {
         if a >= self.automata.len() {
             return false;
         }
@@ -504,16 +518,14 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         }
         if self.layout == INDEXED {
             return match self.uniform(a) {
-                Some((unit, count, _)) => {
-                    (handle as usize).is_multiple_of(unit) && (handle as usize) < count * unit
-                }
+                Some((unit, count, _)) => handle.get().is_multiple_of(unit) && handle.get() < count * unit,
                 None => false,
             };
         }
         let aut = &self.automata[a];
         let (start, end) = self.part(a);
         let scale = if aut.scale == 0 { 1 } else { aut.scale as usize };
-        let wanted = start + handle as usize * scale;
+        let wanted = start + handle.get() * scale;
         let mut at = start;
         while at < wanted {
             let Some((_, _, next)) = self.record_at(at, end) else { return false };
@@ -529,16 +541,13 @@ mod tests {
     use super::super::Automaton;
     use super::*;
 
-    /// The cell-sized check runs in the compiler: this `static` is the proof.
-    static CHECKED: CheckedSet<'static, 1, 1, false, 1, RANKED> =
-        match CheckedSet::new(&super::super::tests::TOGGLE) {
-            Ok(set) => set,
-            Err(_) => panic!("the toggle fails the check"),
-        };
-
     #[test]
-    fn check_runs_at_compile_time() {
-        assert_eq!(CHECKED.set().events(), 2);
+    fn the_toggle_passes_and_fits_its_shape_only() {
+        let checked = CheckedSet::<1, 1, false, 1, RANKED>::new(&super::super::tests::TOGGLE).unwrap();
+        assert_eq!(checked.set().events(), 2);
+        assert!(CheckedSet::<1, 1, false, 1, RANKED>::fits(&super::super::tests::TOGGLE));
+        assert!(!CheckedSet::<1, 2, false, 1, RANKED>::fits(&super::super::tests::TOGGLE));
+        assert!(!CheckedSet::<1, 1, true, 1, RANKED>::fits(&super::super::tests::TOGGLE));
     }
 
     #[test]

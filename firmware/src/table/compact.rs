@@ -12,20 +12,22 @@
 //!  index in w bits]
 //! ```
 //!
-//! A state's position is the bit offset of its mask in the block (so the block is at most 8 KiB), its
-//! handle the bit offset in its automaton's stream. A step ranks the event's local place in the mask,
+//! A state's position is the bit offset of its mask in the block (so the block is at most 8 KiB with
+//! 16-bit positions, 512 MiB with 32-bit ones, [`super::Position`]), its handle the bit offset in its
+//! automaton's stream; a directory entry takes at most as many bits as a position. A step ranks the event's local place in the mask,
 //! reads the target's index, jumps to the nearest directory entry and skips at most 15 states by the
 //! popcounts of their masks: bounded work whatever `s` is. The block ends with two bytes of padding, so
 //! that every field is read with three byte loads.
 
 use super::checked::place;
-use super::{Automaton, Event, SupervisorSet};
+use super::{Automaton, Event, Position, SupervisorSet};
 
 /// Bytes of an automaton's header.
 pub const HEADER: usize = 8;
 /// Every `STRIDE`-th state has a directory entry.
 pub const STRIDE: usize = 16;
-/// Widest field: a target or a directory entry.
+/// Widest field one read takes: a target (a state index), or a directory entry of a set with 16-bit
+/// positions.
 const MAX_FIELD: u32 = 16;
 /// Bytes of padding after the last stream: a field read loads 3 bytes.
 pub const PADDING: usize = 2;
@@ -69,6 +71,36 @@ unsafe fn bits(block: &[u8], pos: usize, n: u32) -> usize {
     (word >> (24 - (pos % 8) as u32 - n) & ((1 << n) - 1)) as usize
 }
 
+/// The `n` bits (n ≤ 32) at bit `pos` of `block`, most significant first: a directory entry, which
+/// takes more than 16 bits only with 32-bit positions (`Q`), read in two parts then.
+///
+/// # Safety
+///
+/// As for [`bits`], for the first 16 and the last `n − 16` bits when `n` > 16.
+#[inline(always)]
+unsafe fn entry<Q: Position>(block: &[u8], pos: usize, n: u32) -> usize {
+    // SAFETY: the caller's promise.
+    unsafe {
+        if Q::BITS > MAX_FIELD && n > MAX_FIELD {
+            bits(block, pos, MAX_FIELD) << (n - MAX_FIELD)
+                | bits(block, pos + MAX_FIELD as usize, n - MAX_FIELD)
+        } else {
+            bits(block, pos, n)
+        }
+    }
+}
+
+/// The `n` bits (n ≤ 32) at bit `pos` of `block`, most significant first, if they lie in the block
+/// (the checked reader of a directory entry).
+fn entry_checked(block: &[u8], pos: usize, n: u32) -> Option<usize> {
+    if n > MAX_FIELD {
+        let high = bits_checked(block, pos, MAX_FIELD)?;
+        Some(high << (n - MAX_FIELD) | bits_checked(block, pos + MAX_FIELD as usize, n - MAX_FIELD)?)
+    } else {
+        bits_checked(block, pos, n)
+    }
+}
+
 /// The set bits among the `n` bits at bit `pos` of `block`.
 ///
 /// # Safety
@@ -86,10 +118,10 @@ unsafe fn ones(block: &[u8], pos: usize, n: usize) -> usize {
     count
 }
 
-impl<const W: usize> SupervisorSet<'_, W> {
+impl<const W: usize, Q: Position> SupervisorSet<'_, W, Q> {
     /// The header of the automaton starting at byte `start`, if it lies in the block (the checked
     /// reader).
-    const fn shape(&self, start: usize) -> Option<Shape> {
+    fn shape(&self, start: usize) -> Option<Shape> {
         if start + HEADER > self.block.len() {
             return None;
         }
@@ -107,7 +139,7 @@ impl<const W: usize> SupervisorSet<'_, W> {
 
     /// The bit offset in the stream of the state after the one at bit `p`, and the first of its targets
     /// at or beyond `states`, if any (`usize::MAX` when none), if its fields lie in the block.
-    const fn next_state(&self, sh: &Shape, p: usize) -> Option<(usize, usize)> {
+    fn next_state(&self, sh: &Shape, p: usize) -> Option<(usize, usize)> {
         let base = 8 * sh.stream;
         let (mut pop, mut i) = (0, 0);
         while i < sh.alphabet {
@@ -139,7 +171,7 @@ impl<const W: usize> SupervisorSet<'_, W> {
     /// state's fields lie in its part with two bytes to spare in the block, every target is below the
     /// state count, every directory entry is its state's offset, every position fits 16 bits and the
     /// initial handle is a state's. Linear in the part's size.
-    pub(super) const fn compact_sound(&self, a: usize) -> bool {
+    pub(super) fn compact_sound(&self, a: usize) -> bool {
         let (start, end) = self.part(a);
         let aut = &self.automata[a];
         let Some(sh) = self.shape(start) else { return false };
@@ -155,7 +187,7 @@ impl<const W: usize> SupervisorSet<'_, W> {
             || sh.alphabet != n
             || sh.w > MAX_FIELD
             || (sh.states - 1) >> sh.w != 0
-            || sh.d > MAX_FIELD
+            || sh.d > Q::BITS
             || sh.stream - sh.directory != (entries * sh.d as usize).div_ceil(8)
             || sh.stream > end
         {
@@ -165,12 +197,12 @@ impl<const W: usize> SupervisorSet<'_, W> {
         while k < sh.states {
             if k > 0 && k.is_multiple_of(STRIDE) {
                 let at = 8 * sh.directory + (k / STRIDE - 1) * sh.d as usize;
-                match bits_checked(self.block, at, sh.d) {
+                match entry_checked(self.block, at, sh.d) {
                     Some(entry) if entry == p => {}
                     _ => return false,
                 }
             }
-            initial |= p == self.initials[a] as usize;
+            initial |= p == self.initials[a].get();
             match self.next_state(&sh, p) {
                 Some((next, usize::MAX)) => p = next,
                 _ => return false,
@@ -178,31 +210,31 @@ impl<const W: usize> SupervisorSet<'_, W> {
             k += 1;
         }
         let last = 8 * sh.stream + p;
-        initial && last <= 8 * end && last.div_ceil(8) + PADDING <= self.block.len() && last < 1 << 16
+        initial && last <= 8 * end && last.div_ceil(8) + PADDING <= self.block.len() && last <= Q::MAX
     }
 
     /// Whether `handle` (a bit offset in automaton `a`'s stream) is one of its states: a walk.
-    pub(super) const fn is_compact_state(&self, a: usize, handle: u16) -> bool {
+    pub(super) fn is_compact_state(&self, a: usize, handle: Q) -> bool {
         let Some(sh) = self.shape(self.part(a).0) else { return false };
         let (mut p, mut k) = (0, 0);
-        while k < sh.states && p < handle as usize {
+        while k < sh.states && p < handle.get() {
             match self.next_state(&sh, p) {
                 Some((next, _)) => p = next,
                 None => return false,
             }
             k += 1;
         }
-        k < sh.states && p == handle as usize
+        k < sh.states && p == handle.get()
     }
 
     /// The first bit of automaton `aut`'s stream in the block (the checked reader).
-    pub(super) fn compact_stream(&self, aut: &Automaton<W>) -> Option<usize> {
-        Some(8 * self.shape(usize::from(aut.start))?.stream)
+    pub(super) fn compact_stream(&self, aut: &Automaton<W, Q>) -> Option<usize> {
+        Some(8 * self.shape(aut.start.get())?.stream)
     }
 
     /// The out-events of `aut`'s state at bit `pos` of the block (the checked reader).
-    pub(super) fn compact_events(&self, aut: &Automaton<W>, pos: usize) -> Option<[u32; W]> {
-        let sh = self.shape(usize::from(aut.start))?;
+    pub(super) fn compact_events(&self, aut: &Automaton<W, Q>, pos: usize) -> Option<[u32; W]> {
+        let sh = self.shape(aut.start.get())?;
         let mut out = [0; W];
         let mut l = 0;
         for e in 0..32 * W {
@@ -217,8 +249,8 @@ impl<const W: usize> SupervisorSet<'_, W> {
     }
 
     /// The handle `event` leads to from `aut`'s state at bit `pos`, if it leaves it (the checked reader).
-    pub(super) fn compact_step(&self, aut: &Automaton<W>, pos: usize, event: u8) -> Option<u16> {
-        let sh = self.shape(usize::from(aut.start))?;
+    pub(super) fn compact_step(&self, aut: &Automaton<W, Q>, pos: usize, event: u8) -> Option<Q> {
+        let sh = self.shape(aut.start.get())?;
         if !super::bit(&self.compact_events(aut, pos)?, event) {
             return None;
         }
@@ -232,7 +264,7 @@ impl<const W: usize> SupervisorSet<'_, W> {
         for _ in 0..k {
             p = self.next_state(&sh, p)?.0;
         }
-        u16::try_from(p).ok()
+        (p <= Q::MAX).then(|| Q::at(p))
     }
 
     /// What `aut` allows in its state at bit `pos` of the block: the events of its mask and every event
@@ -243,9 +275,9 @@ impl<const W: usize> SupervisorSet<'_, W> {
     /// The set passed the check in the `compact` layout, `aut` is one of its automata and `pos` the
     /// position of one of its states.
     #[inline(always)]
-    pub(super) unsafe fn compact_allowed(&self, aut: &Automaton<W>, pos: u16) -> [u32; W] {
+    pub(super) unsafe fn compact_allowed(&self, aut: &Automaton<W, Q>, pos: Q) -> [u32; W] {
         let mut allowed = [0; W];
-        let mut at = usize::from(pos);
+        let mut at = pos.get();
         for (m, &al) in allowed.iter_mut().zip(&aut.alphabet) {
             let mut rest = al;
             while rest != 0 {
@@ -270,8 +302,8 @@ impl<const W: usize> SupervisorSet<'_, W> {
     ///
     /// As for [`SupervisorSet::compact_allowed`], and `event`, of the alphabet, leaves the state.
     #[inline(always)]
-    pub(super) unsafe fn compact_next(&self, aut: &Automaton<W>, pos: u16, event: Event) -> u16 {
-        let (block, start, pos) = (self.block, usize::from(aut.start), usize::from(pos));
+    pub(super) unsafe fn compact_next(&self, aut: &Automaton<W, Q>, pos: Q, event: Event) -> Q {
+        let (block, start, pos) = (self.block, aut.start.get(), pos.get());
         // SAFETY: the check proved the header, the directory and every state's fields in the block with
         // its padding, the target an index below the state count and the directory entries the states'
         // offsets, so every read below is of a state's field or a directory entry.
@@ -283,13 +315,13 @@ impl<const W: usize> SupervisorSet<'_, W> {
             let k = bits(block, pos + a + rank * w as usize, w);
             let mut p = stream;
             if k >= STRIDE {
-                p += bits(block, 8 * (start + HEADER) + (k / STRIDE - 1) * d as usize, d);
+                p += entry::<Q>(block, 8 * (start + HEADER) + (k / STRIDE - 1) * d as usize, d);
             }
             for _ in 0..k % STRIDE {
                 p += a + ones(block, p, a) * w as usize;
             }
-            // A checked set's positions fit 16 bits.
-            p as u16
+            // A checked set's positions fit `Q`.
+            Q::at(p)
         }
     }
 }

@@ -52,14 +52,16 @@
 //! and no bit-scan instruction, so the rank's loop and the assembly of a 3-byte mask there cost more
 //! than the rest of a step).
 //!
-//! In every layout the runtime holds a state as a 16-bit *position*: the byte offset of its record in
-//! the block (the bit offset of its mask in `compact`), so that choice sites ([`SupervisorSet::sites`])
-//! are positions too. A state's *handle* is its position from its automaton's start (in scale units in
-//! `ranked` and `indexed`); [`SupervisorSet::initials`] holds the initial states'.
+//! In every layout the runtime holds a state as its *position*: the byte offset of its record in the
+//! block (the bit offset of its mask in `compact`), so that choice sites ([`SupervisorSet::sites`]) are
+//! positions too. A state's *handle* is its position from its automaton's start (in scale units in
+//! `ranked` and `indexed`); [`SupervisorSet::initials`] holds the initial states'. Positions take 16 bits
+//! ([`Position`] `u16`) while every one is below 65 536 — the tables' first 64 KiB (8 KiB of `compact`
+//! bits) — and 32 bits (`u32`) beyond: the encoder chooses, one width per set, and the runtime is
+//! compiled for it (its `Q` parameter), so a set that fits 16 bits keeps its RAM and its steps.
 //!
-//! Limits: at most 256 events and [`MAX_AUTOMATA`] automata, 65 536 handles per automaton, 65 536 masks,
-//! and every record starting in the first 64 KiB of the block ([`MAX_BLOCK`]): the runtime holds a
-//! state as its record's 16-bit offset.
+//! Limits: at most 256 events and [`MAX_AUTOMATA`] automata, 65 536 handles per automaton and 65 536
+//! masks (`ranked`, `indexed`), every position within its [`Position`] type.
 //!
 //! # Side tables
 //!
@@ -72,16 +74,19 @@
 //! [`SupervisorSet::check`] proves everything the hot path relies on: every record lies in its
 //! automaton's part of the block, every mask id in the pool, every target handle is the start of a
 //! record, every holder bit names an automaton with the event in its alphabet, every place is the
-//! event's in the alphabet. It is a `const fn`: the
-//! emitted tables run it at compile time ([`CheckedSet`], so tables the runtime cannot run do not build
-//! and the firmware carries no check code), host tools at run time. The runtime only takes a
-//! [`CheckedSet`] and then reads the tables without bounds checks ([`read`]); the checked readers
-//! ([`SupervisorSet::mask`], [`SupervisorSet::step`]) serve host tools and tests.
+//! event's in the alphabet, every position fits its type. It runs where it is cheap, never in the
+//! firmware and never at compile time: the emitted tables are one [`image`] of bytes, which `codegen`
+//! checks when it writes them and the application's build script checks again on the host, as the
+//! firmware compiles them — a build whose tables were not checked does not compile
+//! ([`image::checked`]). The runtime only takes a [`CheckedSet`] and then reads the tables without
+//! bounds checks ([`read`]); the checked readers ([`SupervisorSet::mask`], [`SupervisorSet::step`])
+//! serve host tools and tests.
 
 use crate::event_set::ones;
 
 mod checked;
 pub mod compact;
+pub mod image;
 pub mod layout;
 pub mod read;
 pub mod records;
@@ -95,39 +100,84 @@ const _: () = assert!(cfg!(target_endian = "little"), "the tables are read as li
 pub const MAX_AUTOMATA: usize = 32;
 /// Most events in one set: an event id is one byte.
 pub const MAX_EVENTS: usize = 256;
-/// Most bytes of the block in which records start: the runtime holds a state as the 16-bit offset of
-/// its record.
-pub const MAX_BLOCK: usize = 1 << 16;
 /// Most masks in one set: a mask id is at most 2 bytes.
 pub const MAX_MASKS: usize = 1 << 16;
 
-/// One automaton of the set: where its records are and how to read them.
+/// How the runtime holds a state's position (the module documentation): `u16`, for tables whose
+/// positions are all below 65 536, or `u32`. One width per set, the runtime's `Q` parameter.
+pub trait Position: Copy + Eq + core::fmt::Debug + 'static {
+    /// Bits of a position.
+    const BITS: u32;
+    /// Largest position.
+    const MAX: usize;
+    /// Position `at`, truncated to the type: the callers pass positions the check proved at most
+    /// [`Position::MAX`].
+    fn at(at: usize) -> Self;
+    /// The position as an index.
+    fn get(self) -> usize;
+}
+
+impl Position for u16 {
+    const BITS: u32 = 16;
+    const MAX: usize = u16::MAX as usize;
+
+    #[inline(always)]
+    fn at(at: usize) -> Self {
+        at as u16
+    }
+
+    #[inline(always)]
+    fn get(self) -> usize {
+        usize::from(self)
+    }
+}
+
+impl Position for u32 {
+    const BITS: u32 = 32;
+    const MAX: usize = u32::MAX as usize;
+
+    #[inline(always)]
+    fn at(at: usize) -> Self {
+        at as u32
+    }
+
+    #[inline(always)]
+    fn get(self) -> usize {
+        self as usize
+    }
+}
+
+/// One automaton of the set: where its records are and how to read them. Laid out as C lays it out
+/// (the alphabet's words, the start, the scale, padding), as the tables' [`image`] holds it.
+#[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Automaton<const W: usize> {
+pub struct Automaton<const W: usize, Q = u16> {
     /// Bitset over global event ids (bit `e % 32` of word `e / 32`): the automaton's alphabet. An event
     /// outside it never moves or blocks the automaton.
     pub alphabet: [u32; W],
-    /// Byte offset in the set's block of its first record, the initial state's (handle 0).
-    pub start: u16,
+    /// Byte offset in the set's block of its first record, the initial state's (handle 0) in `ranked`
+    /// and `indexed`.
+    pub start: Q,
     /// Bytes per handle unit: a state's record starts at byte `start + handle · scale` (≥ 1; 1 in the
     /// `memory-safe`, `offset` and `compact` layouts).
     pub scale: u8,
 }
 
 /// The whole set the firmware runs: plants and supervisors over one event numbering, events in
-/// `W`-word bitsets. On the target every slice is a `static` in flash (`'t = 'static`); on the host the
-/// tables may be borrowed from owned data.
+/// `W`-word bitsets, positions of type `Q` ([`Position`]). On the target every slice lies in flash
+/// (`'t = 'static`); on the host the tables may be borrowed from owned data.
 #[derive(Clone, Copy, Debug)]
-pub struct SupervisorSet<'t, const W: usize> {
+pub struct SupervisorSet<'t, const W: usize, Q = u16> {
     /// Bitset over global event ids: the controllable ones.
     pub controllable: [u32; W],
     /// The first `plants` automata are the plants (the product system), the others supervisors.
     pub plants: u8,
     /// Plants first, then supervisors, in manifest order; their starts ascending.
-    pub automata: &'t [Automaton<W>],
+    pub automata: &'t [Automaton<W, Q>],
     /// The records of every automaton, in automaton order (see the module documentation).
     pub block: &'t [u8],
-    /// Mask ids and target handles take 2 bytes (little-endian) instead of 1, in every record.
+    /// Wide fields: mask ids and target handles take 2 bytes (little-endian) instead of 1 in every
+    /// record (`ranked`, `indexed`); record targets take 4 bytes instead of 2 (`offset`).
     pub wide: bool,
     /// The pool of distinct out-masks (allowed sets in the `indexed` layout) that records name by id,
     /// as bytes packed little-endian into
@@ -143,7 +193,7 @@ pub struct SupervisorSet<'t, const W: usize> {
     /// Per automaton, its initial state's handle: its record's offset from its start in `memory-safe`
     /// and `offset`, its mask's bit offset in its stream in `compact`. Empty in `ranked` and `indexed`,
     /// whose initial state's record comes first (handle 0), so that their tables carry nothing more.
-    pub initials: &'t [u16],
+    pub initials: &'t [Q],
     /// The `indexed` layout's holder lists: first, per global event id and one more, the index in this
     /// table where the event's list starts (the last: the table's length); then the lists, one entry per
     /// automaton holding the event, in index order: the automaton in the low byte, the event's place in
@@ -156,8 +206,8 @@ pub struct SupervisorSet<'t, const W: usize> {
     /// Every controllable event belongs to exactly one plant.
     pub plant_events: &'t [[u32; W]],
     /// The *choice sites*, states of a plant where two or more controllable events it generates leave,
-    /// each as the offset of its record in the block, ascending.
-    pub sites: &'t [u16],
+    /// each as its position, ascending.
+    pub sites: &'t [Q],
 }
 
 /// Why a set cannot run: sizes of another build, or tables that break the layout.
@@ -174,15 +224,16 @@ pub enum TableError {
     Events,
     /// A choice site that starts no record of a plant.
     Sites,
-    /// The set's field or mask width or record layout is not the one the runtime was built for, or a
-    /// layout id the runtime does not know.
+    /// The set's field or mask width, position type or record layout is not the one the runtime was
+    /// built for, or a layout id the runtime does not know.
     Shape,
     /// More than [`MAX_MASKS`] masks, a mask width that does not fit the events and `W` words, or (in
     /// the `indexed` layout) masks of other than whole words.
     Size,
     /// Automaton `0` starts out of order or beyond the block, has a scale of 0, a record outside its part
     /// of the block or naming no mask, an out-event outside its alphabet (an allowed set without an event
-    /// outside it, in the `indexed` layout), or a target handle that starts no record.
+    /// outside it, in the `indexed` layout), a target handle that starts no record, or a position beyond
+    /// the set's [`Position`] type.
     Block(u8),
 }
 

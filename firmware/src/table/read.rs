@@ -3,7 +3,7 @@
 
 use super::checked::{field, place};
 use super::layout::{COMPACT, INDEXED, MEMORY_SAFE, OFFSET, RANKED};
-use super::{rank, Automaton, Event, SupervisorSet};
+use super::{rank, Automaton, Event, Position, SupervisorSet};
 
 /// Field `i` of the record at byte `at` (the mask id, then the targets), of 2 bytes when `WIDE`, read
 /// without bounds checks.
@@ -24,11 +24,11 @@ unsafe fn field_unchecked<const WIDE: bool>(block: &[u8], at: usize, i: usize) -
     }
 }
 
-impl<'t, const W: usize> SupervisorSet<'t, W> {
+impl<'t, const W: usize, Q: Position> SupervisorSet<'t, W, Q> {
     /// Byte offset in the block of the record of `aut`'s state `handle`.
     #[inline(always)]
-    pub(crate) fn record(aut: &Automaton<W>, handle: u16) -> usize {
-        usize::from(aut.start) + usize::from(handle) * usize::from(aut.scale)
+    pub(crate) fn record(aut: &Automaton<W, Q>, handle: usize) -> usize {
+        aut.start.get() + handle * usize::from(aut.scale)
     }
 
     /// The automata holding `event` (bit `a` for automaton `a`), holder masks taking `width` bytes
@@ -46,24 +46,24 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     /// The position of `aut`'s state `handle` (see the module documentation of [`super`]): in `ranked`
     /// and `indexed` its record's byte offset, in `memory-safe` and `offset` too, in `compact` its mask's
     /// bit offset in the block.
-    pub fn position(&self, aut: &Automaton<W>, handle: u16) -> usize {
+    pub fn position(&self, aut: &Automaton<W, Q>, handle: Q) -> usize {
         self.position_in(self.layout, aut, handle)
     }
 
     /// [`SupervisorSet::position`] in layout `layout`: the runtime passes its constant, so that its build
     /// carries its own layout's arm only.
     #[inline(always)]
-    pub fn position_in(&self, layout: u8, aut: &Automaton<W>, handle: u16) -> usize {
+    pub fn position_in(&self, layout: u8, aut: &Automaton<W, Q>, handle: Q) -> usize {
         match layout {
-            RANKED | INDEXED => Self::record(aut, handle),
-            COMPACT => self.compact_stream(aut).unwrap_or(0) + usize::from(handle),
-            _ => usize::from(aut.start) + usize::from(handle),
+            RANKED | INDEXED => Self::record(aut, handle.get()),
+            COMPACT => self.compact_stream(aut).unwrap_or(0) + handle.get(),
+            _ => aut.start.get() + handle.get(),
         }
     }
 
     /// The out-mask of automaton `a`'s state `handle`, or `None` when it lies outside the tables. (A
     /// handle that is no state gives a meaningless but harmless answer.)
-    pub fn mask(&self, a: usize, handle: u16) -> Option<[u32; W]> {
+    pub fn mask(&self, a: usize, handle: Q) -> Option<[u32; W]> {
         let aut = self.automata.get(a)?;
         let at = self.position(aut, handle);
         match self.layout {
@@ -84,7 +84,7 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
 
     /// The handle reached from automaton `a`'s state `handle` by `event`, or `None` when the state has
     /// no such transition (or the handle lies outside the tables).
-    pub fn step(&self, a: usize, handle: u16, event: u8) -> Option<u16> {
+    pub fn step(&self, a: usize, handle: Q, event: u8) -> Option<Q> {
         let aut = self.automata.get(a)?;
         let at = self.position(aut, handle);
         match self.layout {
@@ -99,23 +99,17 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         }
         let i =
             if self.layout == INDEXED { place(&aut.alphabet, usize::from(event)) } else { rank(&mask, id) };
-        field(self.block, self.wide, at, i + 1)
+        field(self.block, self.wide, at, i + 1).map(|t| Q::at(usize::from(t)))
     }
 
     /// The handle of `aut`'s state at position `at` (see [`SupervisorSet::position`]).
-    pub fn handle_of(&self, aut: &Automaton<W>, at: u16) -> u16 {
+    pub fn handle_of(&self, aut: &Automaton<W, Q>, at: Q) -> Q {
+        let from = |base: usize| Q::at(at.get().wrapping_sub(base));
         match self.layout {
-            RANKED | INDEXED => at.wrapping_sub(aut.start) / u16::from(aut.scale.max(1)),
-            COMPACT => at.wrapping_sub(self.compact_stream(aut).unwrap_or(0) as u16),
-            _ => at.wrapping_sub(aut.start),
+            RANKED | INDEXED => Q::at(at.get().wrapping_sub(aut.start.get()) / usize::from(aut.scale.max(1))),
+            COMPACT => from(self.compact_stream(aut).unwrap_or(0)),
+            _ => from(aut.start.get()),
         }
-    }
-
-    /// The index of the choice site whose record starts at byte `at`, if it is one. A scan: sites are
-    /// states of the plants, small automata, so there are few, and the scan beats a binary search's
-    /// bookkeeping.
-    pub fn site(&self, at: u16) -> Option<usize> {
-        self.sites.iter().position(|&s| s == at)
     }
 
     /// What `aut` allows in its state at position `at`: its out-mask and every event outside its
@@ -129,20 +123,20 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     #[inline(always)]
     pub unsafe fn allowed_at<const WIDE: bool, const MASK: usize, const LAYOUT: u8>(
         &self,
-        aut: &Automaton<W>,
-        at: u16,
+        aut: &Automaton<W, Q>,
+        at: Q,
     ) -> [u32; W] {
         match LAYOUT {
             RANKED | INDEXED => {}
             // SAFETY: the caller's promise.
             COMPACT => return unsafe { self.compact_allowed(aut, at) },
             // SAFETY: the caller's promise.
-            _ => return unsafe { self.records_allowed(aut, at) },
+            _ => return unsafe { self.records_allowed::<WIDE>(aut, at) },
         }
         // SAFETY: the check proved every state's record in the block and its mask id in the pool, which
         // is padded for `W` words from the last mask.
         let mut allowed = unsafe {
-            let id = usize::from(field_unchecked::<WIDE>(self.block, usize::from(at), 0));
+            let id = usize::from(field_unchecked::<WIDE>(self.block, at.get(), 0));
             let mut mask = [0; W];
             if MASK.is_multiple_of(4) {
                 // Masks of whole words: aligned loads.
@@ -184,8 +178,8 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
     #[inline(always)]
     pub unsafe fn advance<const WIDE: bool, const MASK: usize, const LAYOUT: u8>(
         &self,
-        aut: &Automaton<W>,
-        at: &mut u16,
+        aut: &Automaton<W, Q>,
+        at: &mut Q,
         allowed: &mut [u32; W],
         event: Event,
         place: usize,
@@ -193,8 +187,8 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
         // SAFETY (all arms): the caller's promise; the event leaves the state.
         let next = match LAYOUT {
             RANKED | INDEXED => None,
-            MEMORY_SAFE => Some(unsafe { self.records_next::<true>(aut, *at, event) }),
-            OFFSET => Some(unsafe { self.records_next::<false>(aut, *at, event) }),
+            MEMORY_SAFE => Some(unsafe { self.records_next::<true, WIDE>(aut, *at, event) }),
+            OFFSET => Some(unsafe { self.records_next::<false, WIDE>(aut, *at, event) }),
             _ => Some(unsafe { self.compact_next(aut, *at, event) }),
         };
         if let Some(next) = next {
@@ -213,11 +207,11 @@ impl<'t, const W: usize> SupervisorSet<'t, W> {
             rank(&mask, event)
         };
         // SAFETY: the record holds a target per mask bit (per alphabet event when `INDEXED`); the
-        // target of a checked set's record is one of its states, whose record starts within the first
-        // 64 KiB of the block.
+        // target of a checked set's record is one of its states, whose record starts at a position `Q`
+        // holds.
         unsafe {
-            let target = field_unchecked::<WIDE>(self.block, usize::from(*at), i + 1);
-            *at = Self::record(aut, target) as u16;
+            let target = field_unchecked::<WIDE>(self.block, at.get(), i + 1);
+            *at = Q::at(Self::record(aut, usize::from(target)));
             *allowed = self.allowed_at::<WIDE, MASK, LAYOUT>(aut, *at);
         }
     }

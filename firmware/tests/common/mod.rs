@@ -1,11 +1,14 @@
 //! Tables for the runtime's host tests, built with the crate's own encoder (`firmware::build`) from
-//! small automata given as transition lists, the livelock example of the design notes, and a recording
-//! link port.
+//! automata given as transition lists, read off the image the firmware compiles; the definition the
+//! runtime is held to ([`definition`]); the livelock example of the design notes; and a recording link
+//! port.
 #![allow(dead_code)]
 
-use firmware::build::{encode_as, HostTables, Layout, Source, SourceAutomaton};
+pub mod definition;
+
+use firmware::build::{encode_as, HostTables, Layout, Packed, Source, SourceAutomaton};
 use firmware::event_loop::{Note, Port};
-use firmware::table::SupervisorSet;
+use firmware::table::{Position, SupervisorSet};
 
 /// `default` proptest cases, or `PROPTEST_CASES` when set: each suite picks its own count, and an
 /// interpreter as slow as Miri lowers them all.
@@ -59,17 +62,24 @@ fn source(names: Vec<String>, controllable: &[bool], specs: &[Spec]) -> Source {
 }
 
 /// Handles of a spec's states, by state index, in the `ranked` records the encoder writes for it.
-pub fn handles(spec: &Spec) -> Vec<u16> {
+pub fn handles(spec: &Spec) -> Vec<usize> {
     handles_in(Layout::Ranked, spec)
 }
 
 /// Handles of a spec's states, by state index, in the records the encoder writes for it in `layout`.
-pub fn handles_in(layout: Layout, spec: &Spec) -> Vec<u16> {
+pub fn handles_in(layout: Layout, spec: &Spec) -> Vec<usize> {
     let events =
         spec.alphabet.iter().chain(spec.transitions.iter().map(|t| &t.1)).max().map_or(0, |&e| e + 1);
     let names = (0..events).map(|e| format!("e{e}")).collect();
     let source = source(names, &vec![false; usize::from(events)], std::slice::from_ref(spec));
     encode_as(&source, layout).unwrap().handles(0).unwrap()
+}
+
+/// The encoder's tables of `specs` (plants first) over `names`, `controllable` flags per event, in
+/// `layout`.
+pub fn packed(layout: Layout, names: &[&str], controllable: &[bool], specs: &[Spec]) -> Packed {
+    let names = names.iter().map(|n| n.to_string()).collect();
+    encode_as(&source(names, controllable, specs), layout).unwrap()
 }
 
 /// Encodes `specs` (plants first) over `names.len()` events, `controllable` flags per event, in one-word
@@ -82,17 +92,16 @@ pub fn encode(
     encode_in(Layout::Ranked, names, controllable, specs)
 }
 
-/// As [`encode`], in `layout`.
-pub fn encode_in(
+/// As [`encode`], in `layout`, positions of type `Q` (the encoder's choice for the set: the call fails
+/// for the other).
+pub fn encode_in<Q: Position>(
     layout: Layout,
     names: &[&'static str],
     controllable: &[bool],
     specs: &[Spec],
-) -> &'static SupervisorSet<'static, 1> {
-    let names = names.iter().map(|n| n.to_string()).collect();
-    let packed = encode_as(&source(names, controllable, specs), layout).unwrap();
-    let tables = HostTables::<1>::new(packed).unwrap();
-    let tables: &'static HostTables<1> = Box::leak(Box::new(tables));
+) -> &'static SupervisorSet<'static, 1, Q> {
+    let tables = HostTables::<1, Q>::new(packed(layout, names, controllable, specs)).unwrap();
+    let tables: &'static HostTables<1, Q> = Box::leak(Box::new(tables));
     Box::leak(Box::new(tables.set()))
 }
 

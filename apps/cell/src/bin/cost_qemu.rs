@@ -32,6 +32,7 @@ use firmware::event_set::EventSet;
 use firmware::rng::{Entropy, Rng, SeedEntropy};
 use firmware::runtime::{Decide, Decision, Runtime};
 use firmware::state::StateRuntime;
+use firmware::table::Position;
 
 type Rt = tables::Runtime<tables::Policy, SeedEntropy>;
 
@@ -89,7 +90,8 @@ impl<
         const WIDE: bool,
         const MASK: usize,
         const LAYOUT: u8,
-    > Plant for Runtime<'_, P, E, { tables::EVENT_WORDS }, N, WIDE, MASK, LAYOUT>
+        Q: Position,
+    > Plant for Runtime<'_, P, E, { tables::EVENT_WORDS }, N, WIDE, MASK, LAYOUT, Q>
 {
     #[inline(never)]
     fn possible_inputs(&self) -> EventSet<{ tables::EVENT_WORDS }> {
@@ -121,7 +123,7 @@ impl<P: Choose<{ tables::EVENT_WORDS }>, E: Entropy, const C: usize> Plant
                 out = out.or(&EventSet(r.leaving));
             }
         }
-        out.and_not(&EventSet(t.choice.controllable))
+        out.and_not(&EventSet(t.controllable))
     }
 }
 

@@ -13,7 +13,6 @@
 use std::fmt::Write as _;
 
 use firmware::state::{Cube as WordCube, Reading, Rule};
-use firmware::table::SupervisorSet;
 
 use crate::config::{Cube, RuntimeConfig};
 use crate::emit::rust::{preamble, Const};
@@ -422,13 +421,9 @@ impl StateTables {
             let _ = writeln!(out, "    {field},");
         }
         let _ = writeln!(out, "    readings: &READINGS,");
-        let _ = writeln!(out, "    choice: firmware::table::SupervisorSet {{");
-        let _ = writeln!(out, "        controllable: [{}],", hex(&self.controllable));
-        let _ = writeln!(out, "        plants: {},", self.components.len());
-        let _ = writeln!(out, "        plant_events: &PLANT_EVENTS,");
-        let _ = writeln!(out, "        sites: &CHOICE_SITES,");
-        let _ = writeln!(out, "        ..firmware::state::no_tables()");
-        let _ = writeln!(out, "    }},");
+        let _ = writeln!(out, "    controllable: [{}],", hex(&self.controllable));
+        let _ = writeln!(out, "    plant_events: &PLANT_EVENTS,");
+        let _ = writeln!(out, "    sites: &CHOICE_SITES,");
         let _ = writeln!(out, "}};");
         let _ = writeln!(out, "/// What the applications hand the runtime (the event-based tables' name).");
         let _ = writeln!(
@@ -459,13 +454,9 @@ impl<const W: usize> HostStateTables<'_, W> {
             holders: &self.tables.holders,
             components: &self.tables.ends,
             readings: &self.readings,
-            choice: SupervisorSet {
-                controllable: self.controllable,
-                plants: self.tables.components.len() as u8,
-                plant_events: &self.plant_events,
-                sites: &self.tables.sites,
-                ..firmware::state::no_tables()
-            },
+            controllable: self.controllable,
+            plant_events: &self.plant_events,
+            sites: &self.tables.sites,
         }
     }
 }
