@@ -25,6 +25,7 @@ pub mod plant;
 pub mod plc;
 pub mod problems;
 pub mod project;
+pub mod provenance;
 pub mod symbolic;
 pub mod synth;
 pub mod target;

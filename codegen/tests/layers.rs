@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 /// codegen's library modules, lowest layer first (the `cli` of the binary sits on top of all of them).
 const CODEGEN: &[&[&str]] = &[
-    &["model"],
+    &["model", "provenance"],
     &["formats", "config", "link"],
     &["manifest", "synth", "plant", "target"],
     &["problems", "pack", "monitor", "net", "symbolic"],

@@ -47,8 +47,8 @@ pub mod xml;
 use std::fmt::Write as _;
 
 use crate::config::{ChoicePolicy, OnFault, RuntimeConfig};
-use crate::emit::Provenance;
 use crate::pack::PackSet;
+use crate::provenance::Provenance;
 
 pub use crate::config::{PlcSpec, ScanPolicy};
 pub use avalanche::{Avalanche, Method};

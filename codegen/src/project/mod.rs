@@ -30,7 +30,7 @@ pub use sources::{Loaded, Sources};
 use std::path::{Path, PathBuf};
 
 use crate::config::{BoardSpec, Mode, PlcSpec, RuntimeConfig, ScanPolicy, Signals, StateSpec};
-use crate::emit::{self, EmitError, Input, Provenance};
+use crate::emit::{self, EmitError};
 use crate::manifest::{is_manifest, read_board, ManifestError, ModelSet};
 use crate::model::Automaton;
 use crate::pack::ranked::{self, Packed};
@@ -38,6 +38,7 @@ use crate::pack::{PackError, PackSet};
 use crate::plc::state_based::guards::GuardProgram;
 use crate::plc::state_based::{self, StateError};
 use crate::plc::{self, Avalanche, Encoding, PlcError, PlcOptions};
+use crate::provenance::{Input, Provenance};
 use crate::symbolic::{self, Guards};
 use crate::synth::{local_modular, Config, Supervisor, SynthError};
 use crate::target::image::{build_pico_image, build_qemu_image, ImageError};

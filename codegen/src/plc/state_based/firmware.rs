@@ -17,9 +17,9 @@ use firmware::table::SupervisorSet;
 
 use crate::config::{Cube, RuntimeConfig};
 use crate::emit::rust::{preamble, Const};
-use crate::emit::Provenance;
 use crate::model::EventId;
 use crate::pack::{PackSet, Role};
+use crate::provenance::Provenance;
 
 use super::{EventRung, Sfbc, StateError, Vector};
 

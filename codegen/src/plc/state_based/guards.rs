@@ -4,9 +4,9 @@
 //! with `exact`) — the same formula [`rungs`](super::rungs) gives, without listing a state.
 
 use crate::config::{Cube, ScanPolicy, Signals};
-use crate::emit::Provenance;
 use crate::pack::PackSet;
 use crate::plc::PlcOptions;
+use crate::provenance::Provenance;
 use crate::symbolic::Guards;
 
 use super::minimise::Universe;

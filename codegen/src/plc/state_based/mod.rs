@@ -32,10 +32,10 @@ pub mod sfbc;
 pub mod vector;
 
 use crate::config::{Cube, ScanPolicy, Signals, SignalsError};
-use crate::emit::Provenance;
 use crate::pack::PackSet;
 use crate::plc::names::sanitize;
 use crate::plc::{comment, header, ld, xml, PlcOptions};
+use crate::provenance::Provenance;
 use crate::synth::{Reachable, SynthError};
 
 pub use program::{EventRung, OnePerScan};
