@@ -12,8 +12,9 @@ const CODEGEN: &[&[&str]] = &[
     &["formats", "config", "link"],
     &["manifest", "synth", "plant", "target"],
     &["problems", "pack", "monitor", "net", "symbolic"],
-    &["emit", "closed_loop"],
+    &["closed_loop"],
     &["plc"],
+    &["emit"],
     &["project"],
 ];
 

@@ -9,7 +9,7 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use codegen::plc::state_based::firmware::StateTables;
+use codegen::emit::state::StateTables;
 use codegen::plc::state_based::{analyse, rungs, Sfbc, Vector};
 use codegen::project::Project;
 use firmware::choice::Choose;

@@ -14,6 +14,8 @@
 //!   hash map's order.
 //! * [`board`] — the board tables of the manifest's `[board]` section ([`BoardSpec`](crate::config::BoardSpec)): pins of inputs and
 //!   outputs for a real board.
+//! * [`state`] — the state-based firmware's tables (`[runtime] mode = "state"`): the state feedback of
+//!   [`crate::plc::state_based`] as cubes over the packed signal word, no supervisor tables.
 //! * [`policy`] — the firmware types the run-time configuration ([`RuntimeConfig`](crate::config::RuntimeConfig)) names, and the RAM
 //!   each choice policy costs.
 //!
@@ -26,6 +28,7 @@ pub mod board;
 mod error;
 pub mod policy;
 pub mod rust;
+pub mod state;
 
 pub use crate::provenance::{Input, Provenance};
 pub use board::BoardError;

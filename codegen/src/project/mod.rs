@@ -329,14 +329,14 @@ impl Project {
     /// (`[runtime] mode = "event"`): the set in the layouts of [`RuntimeConfig::layouts`] (the
     /// Cortex-M0+'s falls back to the Cortex-M3's when it does not fit). State-based (`mode = "state"`):
     /// the state feedback of the `[state]` section as cubes over the signal word, no supervisor tables
-    /// ([`state_based::firmware_tables`]).
+    /// ([`emit::state::firmware_tables`]).
     pub fn emit(&self) -> Result<String, ProjectError> {
         let provenance = Provenance { inputs: self.inputs.clone(), command: self.command() };
         if self.runtime.mode == Mode::State {
             let signals = self.state.as_ref().ok_or(StateError::Missing).and_then(|s| Ok(s.check()?));
             return signals
                 .and_then(|signals| {
-                    state_based::firmware_tables(&self.set, signals, &self.name, &self.runtime, &provenance)
+                    emit::state::firmware_tables(&self.set, signals, &self.name, &self.runtime, &provenance)
                 })
                 .map_err(|e| self.in_file(e));
         }

@@ -14,15 +14,15 @@
 //! * [`program`] — the rungs (shared literals in series, products in parallel, SET/RESET coils), the ST
 //!   `PROGRAM` written by the project's ST writer ([`crate::plc::st`]) and the Ladder Diagram body
 //!   ([`crate::plc::ld`]) beside it in the PLCopen XML ([`crate::plc::xml`]).
-//! * [`firmware`] — the same rungs as the tables of the state-based firmware (`[runtime] mode =
-//!   "state"`): cubes as `(mask, value)` pairs over the packed signal word, each event's write.
+//!
+//! The same rungs are the tables of the state-based firmware (`[runtime] mode = "state"`), written by
+//! [`crate::emit::state`].
 //! * [`report`] — |f|, rungs, literals and products per rung, instruction-list instructions and stack
 //!   depth ([`crate::plc::ld`]'s cost model), scan time, and the table of f as in the paper's Table 1.
 //!
 //! [`validate`] is the translation validation: for every reachable state x and every valuation of the
 //! signals that reads as x, each rung conducts exactly when f_σ(x) = 1.
 
-pub mod firmware;
 pub mod guards;
 pub mod memory;
 pub mod minimise;
@@ -226,22 +226,6 @@ pub fn generate(
     let mut report = Report::new(set, &vector, &f, &rungs, g, ns, event_based);
     report.choice = policy.map(ScanPolicy::name);
     Ok(Output { files, report, rungs, vector, sfbc: f, memory, one })
-}
-
-/// The tables of the state-based firmware (`[runtime] mode = "state"`) for `set` under the state vectors
-/// `signals`: the same f and the same rungs as the PLC program (F_σ exact when `[state] exact`), written
-/// by [`firmware::tables`]. A feedback the supervisors' memory decides is refused.
-pub fn firmware_tables(
-    set: &PackSet,
-    signals: Signals,
-    name: &str,
-    runtime: &crate::config::RuntimeConfig,
-    provenance: &Provenance,
-) -> Result<String, StateError> {
-    let exact = signals.exact;
-    let (vector, f) = analyse(set, signals, false)?;
-    let rungs = rungs(set, &vector, &f, &memory::Memory::default(), exact);
-    firmware::tables(set, &vector, &f, &rungs, name, runtime, provenance)
 }
 
 /// The program's files from its rungs: `<name>.st` (the `PROGRAM`), `<name>_config.st` and

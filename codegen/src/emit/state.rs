@@ -15,13 +15,13 @@ use std::fmt::Write as _;
 use firmware::state::{Cube as WordCube, Reading, Rule};
 use firmware::table::SupervisorSet;
 
-use crate::config::{Cube, RuntimeConfig};
-use crate::emit::rust::{preamble, Const};
+use crate::config::{Cube, RuntimeConfig, Signals};
 use crate::model::EventId;
 use crate::pack::{PackSet, Role};
+use crate::plc::state_based::{analyse, memory, rungs, EventRung, Sfbc, StateError, Vector};
 use crate::provenance::Provenance;
 
-use super::{EventRung, Sfbc, StateError, Vector};
+use super::rust::{preamble, Const};
 
 /// Most signals in the packed word.
 pub const WORD_BITS: usize = 32;
@@ -488,4 +488,20 @@ pub fn tables(
         return Err(refuse("runtime.input_buffer", format!("{} slots: 1 to 65535", runtime.input_buffer)));
     }
     Ok(StateTables::build(set, vector, f, rungs)?.rust(set, name, runtime, provenance))
+}
+
+/// The tables of the state-based firmware (`[runtime] mode = "state"`) for `set` under the state vectors
+/// `signals`: the same f and the same rungs as the PLC program (F_σ exact when `[state] exact`), written
+/// by [`tables`]. A feedback the supervisors' memory decides is refused.
+pub fn firmware_tables(
+    set: &PackSet,
+    signals: Signals,
+    name: &str,
+    runtime: &RuntimeConfig,
+    provenance: &Provenance,
+) -> Result<String, StateError> {
+    let exact = signals.exact;
+    let (vector, f) = analyse(set, signals, false)?;
+    let rungs = rungs(set, &vector, &f, &memory::Memory::default(), exact);
+    tables(set, &vector, &f, &rungs, name, runtime, provenance)
 }
