@@ -457,6 +457,12 @@ impl Manifest {
     /// Reads every plant, specification and supervisor file, sets each automaton's kind, applies the
     /// event overrides and checks that every event has one controllability across the set.
     pub fn read_automata(&self) -> Result<ModelSet, ManifestError> {
+        self.read_automata_over(Vec::new())
+    }
+
+    /// [`Manifest::read_automata`] with `plants` that no file of the manifest holds first among the
+    /// plants (the reachability graph of a hybrid controller's net), checked with the rest.
+    pub fn read_automata_over(&self, plants: Vec<Automaton>) -> Result<ModelSet, ManifestError> {
         let mut sources = Vec::new();
         // The automata of the files under `key`, each with the manifest key naming it in errors.
         let mut read = |key: &str, files: &[PathBuf]| -> Result<Vec<Automaton>, ManifestError> {
@@ -477,7 +483,7 @@ impl Manifest {
             automata.into_iter().map(|a| Automaton { kind, ..a }).collect()
         };
         let mut set = ModelSet {
-            plants: as_kind(Kind::Plant, read("plants", &self.plants)?),
+            plants: plants.into_iter().chain(as_kind(Kind::Plant, read("plants", &self.plants)?)).collect(),
             specs: as_kind(Kind::Spec, read("specs", &self.specs)?),
             supervisors: as_kind(Kind::Supervisor, read("supervisors", &self.supervisors)?),
             sources: Vec::new(),

@@ -10,11 +10,10 @@ use std::path::{Path, PathBuf};
 const CODEGEN: &[&[&str]] = &[
     &["model", "provenance"],
     &["formats", "config", "link"],
-    &["manifest", "synth", "plant", "target"],
+    &["manifest", "synth", "plant", "target", "scan"],
     &["problems", "pack", "monitor", "net", "symbolic"],
-    &["closed_loop"],
-    &["plc"],
-    &["emit"],
+    &["feedback", "closed_loop"],
+    &["plc", "emit"],
     &["project"],
 ];
 

@@ -15,7 +15,7 @@
 //! * [`board`] — the board tables of the manifest's `[board]` section ([`BoardSpec`](crate::config::BoardSpec)): pins of inputs and
 //!   outputs for a real board.
 //! * [`state`] — the state-based firmware's tables (`[runtime] mode = "state"`): the state feedback of
-//!   [`crate::plc::state_based`] as cubes over the packed signal word, no supervisor tables.
+//!   [`crate::feedback`] as cubes over the packed signal word, no supervisor tables.
 //! * [`policy`] — the firmware types the run-time configuration ([`RuntimeConfig`](crate::config::RuntimeConfig)) names, and the RAM
 //!   each choice policy costs.
 //!
