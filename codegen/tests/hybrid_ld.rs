@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use codegen::model::{Automaton, StateId};
 use codegen::plc::hybrid::{coupled, Output, Side};
 use codegen::plc::{Form, PlcError, Written};
-use codegen::project::{Project, ProjectError};
+use codegen::project::Project;
 use codegen::scan::ld::{CoilKind, Element, Rung};
 use codegen::synth::{language, product, Config};
 
@@ -38,8 +38,9 @@ fn scratch(tag: &str, text: &str) -> PathBuf {
     path
 }
 
-fn hybrid(project: &Project) -> Result<Output, ProjectError> {
-    match project.plc(&Form::Hybrid)? {
+/// The hybrid controllers of `project`, or the error's message.
+fn hybrid(project: &Project) -> Result<Output, String> {
+    match project.plc(&Form::Hybrid).map_err(|e| e.to_string())? {
         Written::Hybrid(out) => Ok(out),
         _ => unreachable!("a hybrid manifest writes a hybrid controller"),
     }
@@ -230,8 +231,8 @@ fn a_controller_without_its_inhibitor_arcs_overflows_the_buffer() {
 fn the_coupled_net_is_checked_against_plant_and_supervisor() {
     let (project, out, _) = example();
     let h = project.hybrid.as_ref().unwrap();
-    let check = |side: &Side, inhibitors: &[(usize, usize)]| {
-        coupled::check(
+    let check = |side: &Side, inhibitors: &[(usize, usize)]| -> Result<(), Box<PlcError>> {
+        Ok(coupled::check(
             &h.plant.net.net,
             &h.plant.labels,
             &h.plant.graph,
@@ -239,7 +240,7 @@ fn the_coupled_net_is_checked_against_plant_and_supervisor() {
             &side.supervisor,
             inhibitors,
             &Config::default(),
-        )
+        )?)
     };
     for side in [&out.reduced, &out.full] {
         check(side, &side.controller.inhibitors).unwrap();
@@ -257,7 +258,7 @@ fn the_coupled_net_is_checked_against_plant_and_supervisor() {
     // Without one of its inhibitor arcs the reduced controller lets the buffer overflow: refused.
     let fewer = &out.reduced.controller.inhibitors[1..];
     let err = check(&out.reduced, fewer).unwrap_err();
-    assert!(matches!(err, PlcError::Coupling { .. }), "{err}");
+    assert!(matches!(*err, PlcError::Coupling { .. }), "{err}");
     assert!(err.to_string().contains("differs from plant ‖ supervisor after"), "{err}");
 }
 
@@ -313,7 +314,7 @@ fn a_net_with_two_tokens_in_p1_is_refused_naming_p1() {
         &format!("{:?}", pnml.display().to_string()),
     );
     let project = Project::load(&scratch("two-tokens", &text)).unwrap();
-    let err = hybrid(&project).unwrap_err().to_string();
+    let err = hybrid(&project).unwrap_err();
     assert_eq!(
         err,
         "place 'p1' holds 2 tokens in the initial marking: a PLC program keeps a place in one BOOL, so only safe nets are written"

@@ -185,7 +185,7 @@ fn paths(text: &str, here: &[String]) -> Vec<Vec<String>> {
             break;
         }
         let code = line.split("//").next().unwrap_or("");
-        for (at, _) in code.match_indices(|c: char| c == 'c' || c == 's') {
+        for (at, _) in code.match_indices(['c', 's']) {
             let rest = &code[at..];
             let before = code[..at].chars().next_back();
             if before.is_some_and(|c| c.is_alphanumeric() || c == '_' || c == ':') {

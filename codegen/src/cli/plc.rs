@@ -24,8 +24,9 @@ use super::{engine, limits, Error};
 /// a `[net]` section the sequence net runs beside the interlocks in the same program: a token-passing
 /// block in the ST, an SFC in the XML, requesting the commands the supervisors allow. A manifest with a
 /// `[hybrid]` section is a hybrid controller instead (docs/hybrid.md): its automation net is the plant,
-/// and `DIR/<name>_hybrid.{st,xml}` (reduced supervisor) and `DIR/<name>_hybrid_full.{st,xml}`
-/// (unreduced) are written, the XML with a Ladder Diagram body, and the two compared in the report.
+/// and `DIR/<name>_hybrid.{st,xml}` and `_config.st` (reduced supervisor) and the same three
+/// `DIR/<name>_hybrid_full` files (unreduced) are written, the XML with a Ladder Diagram body, and the
+/// two compared in the report. A net whose place can hold two tokens is refused (exit 2).
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The project: a manifest (supervisors as listed, else synthesised local modular), or modules and

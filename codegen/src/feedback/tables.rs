@@ -90,7 +90,7 @@ fn literals(vector: &Vector, cube: Cube) -> String {
     }
 }
 
-/// The state-based firmware's tables as data: what [`StateTables::rust`] writes and
+/// The state-based firmware's tables as data: what [`crate::emit::state`] writes and
 /// [`StateTables::host`] lends to the runtime compiled for the host (the translation validation runs
 /// the firmware's own evaluation on them).
 #[derive(Clone, Debug, PartialEq, Eq)]

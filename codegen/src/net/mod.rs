@@ -6,7 +6,7 @@
 //! | the place/transition net (weighted and inhibitor arcs, initial marking) | [`model`] |
 //! | the PNML reader | [`pnml`] |
 //! | transition conditions Y(t) | [`condition`] |
-//! | the interpretation (Y, Z, D) bound to the plant's signals | [`interpretation`] |
+//! | the interpretation (Y, Z, D) bound to the plant's signals | [`interpretation`](mod@interpretation) |
 //! | the IO-reachability graph | [`io_graph`] |
 //! | the reachability graph of an event-labelled net, as a plant automaton | [`reachability`] |
 //! | the safe-net check a PLC program needs, with a firing sequence to a second token | [`safety`] |

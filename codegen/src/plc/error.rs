@@ -80,8 +80,8 @@ pub enum PlcError {
     Feedback {
         /// The manifest, or the set's name without one.
         file: PathBuf,
-        /// Why.
-        source: FeedbackError,
+        /// Why (boxed: the other kinds are small).
+        source: Box<FeedbackError>,
     },
     /// A hybrid manifest without its `[net]` section.
     #[error("{}: a hybrid controller needs the sections [net] (the plant's automation net) and [hybrid] (its transitions' events)", file.display())]
@@ -141,7 +141,7 @@ impl PlcError {
     /// Whether the error is a finding about the set rather than bad input: the supervisors' memory
     /// decides the state feedback somewhere and memory is not allowed (`codegen plc` exits 1).
     pub fn is_finding(&self) -> bool {
-        matches!(self, PlcError::Feedback { source: FeedbackError::Memory(_), .. })
+        matches!(self, PlcError::Feedback { source, .. } if matches!(**source, FeedbackError::Memory(_)))
     }
 }
 

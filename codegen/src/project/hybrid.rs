@@ -35,7 +35,8 @@ fn plc(e: impl Into<PlcError>) -> ProjectError {
 }
 
 /// The hybrid controller's supervisor (`SUPER`): supC of the manifest's specifications against the
-/// plant, or its one ready supervisor, checked ([`given`]).
+/// plant, or its one ready supervisor, checked against it (one automaton, the net's events, controllable
+/// and nonblocking with it).
 pub fn supervisor(
     m: &Manifest,
     models: &ModelSet,

@@ -459,7 +459,7 @@ impl Project {
                 Ok(Written::Event(out))
             }
             Form::State { options, engine } => {
-                let in_file = |source| PlcError::Feedback { file: file.clone(), source };
+                let in_file = |source| PlcError::Feedback { file: file.clone(), source: Box::new(source) };
                 let signals = self.state.as_ref().ok_or(FeedbackError::Missing).and_then(|s| Ok(s.check()?));
                 let signals = signals.map_err(in_file)?;
                 let opts = self.plc_options(Some(ScanPolicy::First)).map_err(|e| {

@@ -135,7 +135,7 @@ fn variable_names(vector: &Vector, memory: &Tracking) -> Vec<String> {
 
 /// The error `source` of the state feedback, in `file`.
 fn in_file(file: &Path) -> impl Fn(FeedbackError) -> PlcError + '_ {
-    move |source| PlcError::Feedback { file: file.to_path_buf(), source }
+    move |source| PlcError::Feedback { file: file.to_path_buf(), source: Box::new(source) }
 }
 
 /// Translation validation: for every entry of `f` (a reachable plant state x, with the kept supervisors'
