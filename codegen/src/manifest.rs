@@ -308,7 +308,7 @@ impl ModelSet {
     /// automata of `as_said` where their files put them ([`FileRoles::as_said`]); automata from
     /// `supervisors`, or from `plants` but marked as supervisors by their file, are supervisors; those
     /// from `specs` specifications; all others plants. Kinds stay as the files say; a Supremica module
-    /// in a role contributes only the components of that role ([`read_role`]). Returns the set and the
+    /// in a role contributes only the components of that role (`read_role`). Returns the set and the
     /// components left out.
     /// The set is checked as a manifest's is: every event of a specification or supervisor in some plant
     /// ([`ModelSet::check_alphabets`], none declared plant-less), controllability resolved

@@ -220,7 +220,7 @@ impl Monitor {
 
     /// How good the plant's `event` is now for reaching a controllable supervisor transition the run has
     /// not taken yet: the expected events from the state it leads to (in sixteenths; lower is better,
-    /// see [`Steering`]); `None` when no such transition is left (or the closed loop was too large to
+    /// see `Steering` in `steering.rs`); `None` when no such transition is left (or the closed loop was too large to
     /// explore). The plant uses it to steer towards what the run has not covered.
     pub fn rank_after(&mut self, event: EventId) -> Option<u32> {
         self.refresh_steering();
