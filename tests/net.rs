@@ -10,11 +10,11 @@
 use codegen::manifest::Manifest;
 use codegen::model::{Composition, EventId};
 use codegen::monitor::{Monitor, Verdict};
-use codegen::net::{interpretation, Interpretation};
+use codegen::net::Interpretation;
 use codegen::pack::Role;
 use codegen::plc::io::Source;
-use codegen::plc::net_program::Idents;
-use codegen::plc::{Avalanche, Encoding};
+use codegen::plc::token_passing::Idents;
+use codegen::plc::{Avalanche, Encoding, Form};
 use codegen::project::Project;
 use end_to_end::example;
 use end_to_end::st::Plc;
@@ -60,12 +60,10 @@ struct Run {
 
 /// The project under `examples/`, its net bound to its events, and its one program's ST text.
 fn program(project: &str) -> (Project, Interpretation, codegen::plc::Output) {
-    let path = example(project);
-    let p = Project::load(&path).unwrap();
-    let manifest = Manifest::load(&path).unwrap();
-    let automata: Vec<_> = p.set.members().iter().map(|m| &m.automaton).collect();
-    let net = interpretation(manifest.net.as_ref().unwrap(), &manifest.file, &automata).unwrap();
-    let out = p.plc_beside(Encoding::Int, Avalanche::Auto, None, Some(&net)).unwrap();
+    let p = Project::load(&example(project)).unwrap();
+    let net = p.sequence().unwrap().unwrap();
+    let form = Form::Event { encoding: Encoding::Int, avalanche: Avalanche::Auto, policy: None };
+    let out = p.plc(&form).unwrap().into_event().unwrap();
     (p, net, out)
 }
 
@@ -253,7 +251,7 @@ fn a_delayed_transition_fires_when_its_timer_runs_out() {
     let text = "name = \"d\"\n[net]\npnml = \"d.pnml\"\n[net.delays]\nt0 = 50\nt1 = 30\n";
     let m = Manifest::parse(std::path::Path::new("d.toml"), text).unwrap();
     let net = Interpretation::bind(m.net.as_ref().unwrap(), &m.file, net, p.set.events()).unwrap();
-    let fb = codegen::plc::net_program::token_passing(&net, "d").unwrap();
+    let (fb, _) = codegen::plc::sequence::block(&net, "d").unwrap();
     assert!(fb.text().contains("T_t0(IN := P_p0, PT := T#50ms);"), "{}", fb.text());
     let text = format!("{}\nPROGRAM main\nVAR\n    seq : d_seq;\nEND_VAR\nseq();\nEND_PROGRAM\n", fb.text());
     let mut plc = Plc::load(&text).unwrap();
@@ -266,4 +264,66 @@ fn a_delayed_transition_fires_when_its_timer_runs_out() {
     let first = |v: bool, from: usize| marked[from..].iter().position(|&m| m == v).map(|k| k + from + 1);
     assert_eq!(first(true, 0), Some(6), "{marked:?}");
     assert_eq!(first(false, 6), Some(10), "{marked:?}");
+}
+
+/// One meaning of a delay in both forms a net is written in: the same net — p0 –t0 (50 ms)→ p1 –t1
+/// (30 ms, condition `c`)→ p0 — as a sequence's token-passing block and as a hybrid controller's program
+/// (the net the plant, a supervisor that allows everything), scanned every 10 ms on the same readings of
+/// `c`, marks p1 in the same scans. A delay counts from the marking of the input places, not from the
+/// condition: p1 is marked in scan 6, its 30 ms are up in scan 10, but `c` stays FALSE until scan 15 — so
+/// t1 fires in scan 15, the first scan `c` holds, in both forms (a timer started by the whole enabling
+/// would make it wait until scan 18).
+#[test]
+fn the_sequence_and_the_hybrid_controller_give_a_delay_one_meaning() {
+    use codegen::model::{EventTable, Kind};
+    use codegen::net::model::{Net, Place, Transition};
+    use codegen::net::reachability::{reachability, Labels};
+    use codegen::plc::hybrid::{self, Plant};
+    use codegen::provenance::Provenance;
+    use codegen::synth::Config;
+    let t = |id: &str, from: usize, to: usize| Transition {
+        id: id.into(),
+        inputs: vec![(from, 1)],
+        outputs: vec![(to, 1)],
+        ..Transition::default()
+    };
+    let net = Net {
+        name: "d".into(),
+        places: vec![Place { id: "p0".into(), initial: 1 }, Place { id: "p1".into(), initial: 0 }],
+        transitions: vec![t("t0", 0, 1), t("t1", 1, 0)],
+    };
+    let text = "name = \"d\"\n[net]\npnml = \"d.pnml\"\nfree = [\"c\"]\n[net.conditions]\nt1 = \"c\"\n[net.delays]\nt0 = 50\nt1 = 30\n";
+    let m = Manifest::parse(std::path::Path::new("d.toml"), text).unwrap();
+    let net =
+        Interpretation::bind(m.net.as_ref().unwrap(), &m.file, net, &EventTable::build([]).unwrap()).unwrap();
+    // The sequence's block, called by a program that passes `c` on.
+    let (fb, _) = codegen::plc::sequence::block(&net, "d").unwrap();
+    let sequence = format!(
+        "{}\nPROGRAM main\nVAR\n    c : BOOL;\n    seq : d_seq;\nEND_VAR\nseq(c := c);\nEND_PROGRAM\n",
+        fb.text()
+    );
+    // The hybrid controller of the same net, its reachability graph supervised by itself.
+    let labels = Labels { events: vec!["a".into(), "b".into()], controllable: vec![false, false] };
+    let graph = reachability(&net.net, &labels, "G_d", 100).unwrap();
+    let mut sup = graph.clone();
+    sup.kind = Kind::Supervisor;
+    let plant = Plant { net, labels, graph };
+    let out = hybrid::generate(&plant, &sup, "d", 10, &Provenance::default(), &Config::default()).unwrap();
+    let controller = &out.files.iter().find(|(n, _)| n == "d_hybrid.st").unwrap().1;
+    let p1 = |text: &str, c: &str, p1: &str| -> Vec<bool> {
+        let mut plc = Plc::load(text).unwrap_or_else(|e| panic!("{e}: {text}"));
+        plc.set_cycle_ms(10);
+        (1..=20)
+            .map(|scan| {
+                plc.set_bool(c, scan >= 15).unwrap();
+                plc.scan().unwrap();
+                plc.get_bool(p1).unwrap()
+            })
+            .collect()
+    };
+    let (seq, hyb) = (p1(&sequence, "c", "seq.P_p1"), p1(controller, "c", "P_p1"));
+    assert_eq!(seq, hyb, "the two forms mark p1 in the same scans");
+    let first = |v: bool, from: usize| seq[from..].iter().position(|&m| m == v).map(|k| k + from + 1);
+    assert_eq!(first(true, 0), Some(6), "{seq:?}");
+    assert_eq!(first(false, 6), Some(15), "{seq:?}");
 }

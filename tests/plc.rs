@@ -364,7 +364,7 @@ fn plant_allows(
 
 /// The state index of automaton `m` in the running program.
 fn program_state(plc: &Plc, encoding: Encoding, m: &codegen::pack::Member) -> usize {
-    let name = codegen::plc::names::sanitize(m.name());
+    let name = codegen::scan::names::sanitize(m.name());
     match encoding {
         Encoding::Int => usize::try_from(plc.get_int(&format!("sct.st_{name}")).unwrap()).unwrap(),
         Encoding::Bits => {
@@ -394,7 +394,7 @@ fn write_all(dir: &Path) -> Vec<std::path::PathBuf> {
     outs.push(seed_program(false, Encoding::Int, Avalanche::Auto));
     for (i, out) in outs.iter().enumerate() {
         let plc = Plc::load(st(out)).unwrap();
-        let fb = format!("{}_sct", codegen::plc::names::stem(&out.report.name));
+        let fb = format!("{}_sct", codegen::scan::names::stem(&out.report.name));
         for (name, n) in sections(plc.body(&fb).unwrap()) {
             assert_eq!(out.report.statements.sections.get(name.as_str()), Some(&n), "{name}");
         }
@@ -561,7 +561,9 @@ fn r22_every_generated_program_is_strict_iec_61131_3() {
     ];
     for (memory, exact, choice) in choices {
         let options = codegen::plc::state_based::StateOptions { memory, exact, choice };
-        let out = distribution.state_plc(options).unwrap_or_else(|e| panic!("distribution: {e}"));
+        let form = codegen::plc::Form::State { options, engine: codegen::plc::state_based::Engine::Explicit };
+        let out =
+            distribution.plc(&form).unwrap_or_else(|e| panic!("distribution: {e}")).into_state().unwrap();
         programs
             .push((format!("distribution state memory={memory} exact={exact} choice={choice:?}"), out.files));
     }

@@ -11,7 +11,8 @@ use codegen::config::ScanPolicy;
 use codegen::model::EventId;
 use codegen::monitor::Monitor;
 use codegen::pack::Role;
-use codegen::plc::state_based::{OnePerScan, Output, StateOptions};
+use codegen::plc::state_based::{Engine, OnePerScan, Output, StateOptions};
+use codegen::plc::Form;
 use codegen::project::Project;
 use end_to_end::st::Plc;
 use end_to_end::{example, root, Scratch};
@@ -22,9 +23,14 @@ const EVENTS: u64 = 6_000;
 /// Events of a closed-loop run on the manufacturing cell.
 const CELL_EVENTS: u64 = 5_000;
 
+/// The state-based program of `p` from the explicit closed loop.
+fn state(p: &Project, options: StateOptions) -> Output {
+    p.plc(&Form::State { options, engine: Engine::Explicit }).unwrap().into_state().unwrap()
+}
+
 fn program(exact: bool, choice: Option<ScanPolicy>) -> (Project, Output) {
     let p = Project::load(&example("distribution/distribution.toml")).unwrap();
-    let out = p.state_plc(StateOptions { exact, choice, ..StateOptions::default() }).unwrap();
+    let out = state(&p, StateOptions { exact, choice, ..StateOptions::default() });
     (p, out)
 }
 
@@ -90,7 +96,7 @@ fn allowed(out: &Output) -> BTreeSet<(Vec<u32>, u32)> {
 fn program_reachable(p: &Project, out: &Output) -> BTreeSet<(Vec<u32>, u32)> {
     let f = &out.sfbc;
     let members = p.set.members();
-    let kept: Vec<usize> = out.memory.kept.clone();
+    let kept: Vec<usize> = out.memory.layout.kept.clone();
     let table: std::collections::BTreeMap<&[u32], &Vec<bool>> =
         f.entries.iter().map(|e| (e.state.as_slice(), &e.allowed)).collect();
     let step = |s: &mut Vec<u32>, e: EventId| {
@@ -303,7 +309,7 @@ fn r23_the_state_based_program_runs_the_station_safely_live_and_covering() {
 fn a_program_with_memory_tracks_the_supervisor_and_stays_safe() {
     let p = Project::load(&root().join("codegen/tests/data/sfbc_memory/memory.toml")).unwrap();
     for choice in [None, Some(ScanPolicy::Random)] {
-        let out = p.state_plc(StateOptions { memory: true, choice, ..StateOptions::default() }).unwrap();
+        let out = state(&p, StateOptions { memory: true, choice, ..StateOptions::default() });
         let (report, fired) = closed_loop(&p, &out, 11, EVENTS);
         assert_eq!(report.violations, 0, "{:?}", report.findings);
         assert!(report.marked_visits > 100, "liveness: {report:?}");
@@ -322,8 +328,8 @@ fn a_program_with_memory_tracks_the_supervisor_and_stays_safe() {
 fn r23_the_cell_runs_state_based_with_its_buffers_as_memory() {
     let p = Project::load(&example("cell/cell-state.toml")).unwrap();
     let choice = Some(ScanPolicy::Random);
-    let out = p.state_plc(StateOptions { choice, ..StateOptions::default() }).unwrap();
-    assert!(!out.memory.kept.is_empty(), "the buffers are memory");
+    let out = state(&p, StateOptions { choice, ..StateOptions::default() });
+    assert!(!out.memory.layout.kept.is_empty(), "the buffers are memory");
     assert!(codegen::plc::state_based::validate(&out, &out.rungs).unwrap() > 0);
     let (report, fired) = closed_loop(&p, &out, 5, CELL_EVENTS);
     assert_eq!(report.violations, 0, "{:?}", report.findings);

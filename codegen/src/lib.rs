@@ -14,6 +14,7 @@
 pub mod closed_loop;
 pub mod config;
 pub mod emit;
+pub mod feedback;
 pub mod formats;
 pub mod link;
 pub mod manifest;
@@ -26,6 +27,8 @@ pub mod plant;
 pub mod plc;
 pub mod problems;
 pub mod project;
+pub mod provenance;
+pub mod scan;
 pub mod symbolic;
 pub mod synth;
 pub mod target;

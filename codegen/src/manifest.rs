@@ -543,6 +543,12 @@ impl Manifest {
     /// Reads every plant, specification and supervisor file, sets each automaton's kind, applies the
     /// event overrides and checks that every event has one controllability across the set.
     pub fn read_automata(&self) -> Result<ModelSet, ManifestError> {
+        self.read_automata_over(Vec::new())
+    }
+
+    /// [`Manifest::read_automata`] with `plants` that no file of the manifest holds first among the
+    /// plants (the reachability graph of a hybrid controller's net), checked with the rest.
+    pub fn read_automata_over(&self, plants: Vec<Automaton>) -> Result<ModelSet, ManifestError> {
         let mut sources = Vec::new();
         let mut origins = Vec::new();
         // The automata of the files under `key`, each with the manifest key naming it in errors (a
@@ -570,11 +576,11 @@ impl Manifest {
         let as_kind = |kind: Kind, automata: Vec<Automaton>| -> Vec<Automaton> {
             automata.into_iter().map(|a| Automaton { kind, ..a }).collect()
         };
-        let plants = as_kind(Kind::Plant, read("plants", &self.plants)?);
+        let read_plants = as_kind(Kind::Plant, read("plants", &self.plants)?);
         let specs = as_kind(Kind::Spec, read("specs", &self.specs)?);
         let supervisors = as_kind(Kind::Supervisor, read("supervisors", &self.supervisors)?);
         let modules = read("modules", &self.modules)?;
-        let members: Vec<(&Automaton, &str)> = plants
+        let members: Vec<(&Automaton, &str)> = read_plants
             .iter()
             .chain(&specs)
             .chain(&supervisors)
@@ -583,6 +589,7 @@ impl Manifest {
             .collect();
         let file = (!self.module).then(|| self.file.clone());
         check_members(&members).map_err(|problems| ManifestError::Automata { file, problems })?;
+        let plants = plants.into_iter().chain(read_plants).collect();
         let mut set = ModelSet { plants, specs, supervisors, sources: Vec::new() };
         for a in modules {
             set.place(a);

@@ -131,3 +131,32 @@ fn model_files_with_specifications_give_the_manifests_supervisors() {
     assert_eq!(none.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&none.stderr).contains("no input"));
 }
+
+// See: issue 34 (item 1: the line with two tokens in p1 was written with `P_p1 : BOOL`, exit 0).
+/// A hybrid controller's net whose place can hold two tokens is refused, naming the place and how it
+/// gets there; nothing is written. The example itself names its net among its inputs.
+#[test]
+fn a_hybrid_net_with_two_tokens_in_a_place_exits_2_naming_it() {
+    let dir = scratch("two-tokens");
+    std::fs::create_dir_all(dir.join("specs")).unwrap();
+    let hybrid = |f: &str| repo(&format!("examples/hybrid/{f}"));
+    let net = std::fs::read_to_string(hybrid("line.pnml")).unwrap().replacen(
+        "<initialMarking><text>1</text></initialMarking></place>",
+        "<initialMarking><text>2</text></initialMarking></place>",
+        1,
+    );
+    std::fs::write(dir.join("line.pnml"), net).unwrap();
+    std::fs::copy(hybrid("specs/buffer.gen"), dir.join("specs/buffer.gen")).unwrap();
+    std::fs::copy(hybrid("hybrid.toml"), dir.join("hybrid.toml")).unwrap();
+    let out_dir = dir.join("out").display().to_string();
+    let out = codegen(&["plc", &dir.join("hybrid.toml").display().to_string(), "-o", &out_dir]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("place 'p1' holds 2 tokens in the initial marking"), "{err}");
+    assert!(err.contains("only safe nets are written"), "{err}");
+    assert!(!Path::new(&out_dir).exists(), "nothing written");
+    let out = codegen(&["plc", &hybrid("hybrid.toml"), "-o", &out_dir]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let st = std::fs::read_to_string(Path::new(&out_dir).join("line_hybrid.st")).unwrap();
+    assert!(st.contains("examples/hybrid/line.pnml\n") && st.contains("Command: codegen plc "), "{st}");
+}

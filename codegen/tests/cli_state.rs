@@ -6,9 +6,11 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use codegen::feedback::product_size;
 use codegen::manifest::Manifest;
 use codegen::model::{Dfa, EventTable};
-use codegen::plc::state_based::{product_size, validate, StateOptions};
+use codegen::plc::state_based::{self, validate, Engine, StateOptions};
+use codegen::plc::Form;
 use codegen::project::Project;
 
 fn codegen(args: &[&str]) -> Output {
@@ -103,26 +105,23 @@ fn r23_the_distribution_station_reproduces_table_1() {
 fn every_generated_program_passes_translation_validation_and_a_wrong_rung_does_not() {
     let project = Project::load(&repo(STATION)).unwrap();
     for exact in [false, true] {
-        let out = project.state_plc(StateOptions { exact, ..StateOptions::default() }).unwrap();
+        let out = state(&project, StateOptions { exact, ..StateOptions::default() });
         let checked = validate(&out, &out.rungs).unwrap();
         assert!(checked >= out.sfbc.entries.len(), "every reachable state checked: {checked}");
         // Same bytes twice.
-        assert_eq!(
-            project.state_plc(StateOptions { exact, ..StateOptions::default() }).unwrap().files,
-            out.files
-        );
+        assert_eq!(state(&project, StateOptions { exact, ..StateOptions::default() }).files, out.files);
         // Dropping a product of a rung with several makes some reachable state disagree.
         let mut broken = out.rungs.clone();
         let r = broken.iter_mut().find(|r| r.cubes.len() > 1).unwrap();
-        if let codegen::plc::ld::Element::Series(es) = &mut r.rung.condition {
-            if let Some(codegen::plc::ld::Element::Parallel(bs)) = es.last_mut() {
+        if let codegen::scan::ld::Element::Series(es) = &mut r.rung.condition {
+            if let Some(codegen::scan::ld::Element::Parallel(bs)) = es.last_mut() {
                 bs.pop();
             }
         }
         assert!(validate(&out, &broken).is_err());
     }
-    let exact = project.state_plc(StateOptions { exact: true, ..StateOptions::default() }).unwrap().report;
-    let free = project.state_plc(StateOptions::default()).unwrap().report;
+    let exact = state(&project, StateOptions { exact: true, ..StateOptions::default() }).report;
+    let free = state(&project, StateOptions::default()).report;
     assert!(free.il_instructions < exact.il_instructions, "don't-cares shrink the program");
     assert!(free.stack_depth <= 3 && exact.stack_depth <= 3, "a factored DNF needs three levels at most");
 }
@@ -137,8 +136,13 @@ fn the_specification_e_and_the_program_figures_are_recorded() {
     // Our E is determined by G's state (docs/state-based.md explains why the paper's 302/2940 is not):
     // its reachable part is the closed loop's 52 states.
     assert_eq!(e, (52, 125));
-    let report = Project::load(&repo(STATION)).unwrap().state_plc(StateOptions::default()).unwrap().report;
+    let report = state(&Project::load(&repo(STATION)).unwrap(), StateOptions::default()).report;
     assert_eq!((report.il_instructions, report.stack_depth), (41, 3));
+}
+
+/// The state-based program of `project` from the explicit closed loop.
+fn state(project: &Project, options: StateOptions) -> state_based::Output {
+    project.plc(&Form::State { options, engine: Engine::Explicit }).unwrap().into_state().unwrap()
 }
 
 fn manifest_with(dir: &Path, state: &str) -> String {
@@ -240,7 +244,7 @@ fn where_memory_decides_the_plant_states_are_reported_with_two_traces_or_memory_
     assert!(st.contains("s_S : INT := 0;") && st.contains("m_S_b1 : BOOL := FALSE;"), "{st}");
     // The program with memory passes translation validation over signals and memory bits.
     let project = Project::load(Path::new(&m)).unwrap();
-    let program = project.state_plc(StateOptions { memory: true, ..StateOptions::default() }).unwrap();
+    let program = state(&project, StateOptions { memory: true, ..StateOptions::default() });
     assert!(validate(&program, &program.rungs).unwrap() > 0);
     let alt = program.rungs.iter().find(|r| r.event == "alt").unwrap();
     // alt is allowed in I with S in a: the memory bits (S's state code) say so.

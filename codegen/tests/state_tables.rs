@@ -9,8 +9,8 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use codegen::plc::state_based::firmware::StateTables;
-use codegen::plc::state_based::{analyse, rungs, Sfbc, Vector};
+use codegen::feedback::tables::StateTables;
+use codegen::feedback::{analyse, rules, Sfbc, Vector};
 use codegen::project::Project;
 use firmware::choice::Choose;
 use firmware::choice::{First, GlobalQueue, LocalQueue, Random, RandomGlobalQueue, RandomLocalQueue};
@@ -29,8 +29,8 @@ fn station() -> (Project, Vector, Sfbc, StateTables) {
     let project = Project::load(&repo("examples/distribution/distribution-state.toml")).unwrap();
     let signals = project.state.as_ref().unwrap().check().unwrap();
     let (vector, f) = analyse(&project.set, signals, false).unwrap();
-    let rungs = rungs(&project.set, &vector, &f, &Default::default(), false);
-    let tables = StateTables::build(&project.set, &vector, &f, &rungs).unwrap();
+    let rules = rules(&vector, &f, &Default::default(), false);
+    let tables = StateTables::build(&project.set, &vector, &f, &rules).unwrap();
     (project, vector, f, tables)
 }
 
@@ -77,15 +77,15 @@ fn the_firmware_enables_exactly_f_on_every_reachable_state_and_every_valuation_r
 fn on_every_word_the_firmware_evaluates_the_rungs_codegen_wrote() {
     // Beyond the reachable states: all 2^11 values of the station's signals, the firmware's evaluation
     // of its (mask, value) cubes against codegen's rungs (the PLC program's F_σ) evaluated on 64 bits.
-    let (project, vector, f, tables) = station();
-    let rungs = rungs(&project.set, &vector, &f, &Default::default(), false);
+    let (_, vector, f, tables) = station();
+    let rules = rules(&vector, &f, &Default::default(), false);
     let host = tables.host::<1>().unwrap();
     let t = host.tables();
     for word in 0..1u32 << tables.signals.len() {
         let enabled = t.enabled(word);
-        for (r, ev) in rungs.iter().zip(&f.controllable) {
+        for r in &rules {
             let holds = r.cubes.iter().any(|c| c.holds(u64::from(word)));
-            assert_eq!(enabled.contains(ev.index() as u8), holds, "{} at {word:#b}", r.event);
+            assert_eq!(enabled.contains(r.event.index() as u8), holds, "{:?} at {word:#b}", r.event);
         }
     }
 }

@@ -7,8 +7,12 @@
 use std::path::{Path, PathBuf};
 
 use codegen::config::ScanPolicy;
+use codegen::feedback::memory::Layout;
+use codegen::feedback::minimise::Universe;
+use codegen::feedback::{self, guards};
 use codegen::formats::write_path;
-use codegen::plc::state_based::{self, guards, memory::Memory, minimise::Universe, StateOptions};
+use codegen::plc::state_based::{Engine, StateOptions};
+use codegen::plc::Form;
 use codegen::project::{Project, Sources};
 use codegen::symbolic::{Guards, Options};
 use codegen::synth::families::{generate, state_section};
@@ -20,7 +24,7 @@ fn same_rungs(manifest: &Path) {
     let loaded = Sources::project(&[manifest.to_owned()]).load().unwrap();
     let project = Project::load(manifest).unwrap();
     let signals = project.state.as_ref().unwrap().check().unwrap();
-    let (vector, f) = state_based::analyse(&project.set, signals, false).unwrap();
+    let (vector, f) = feedback::analyse(&project.set, signals, false).unwrap();
     assert!(f.conflicts.is_empty());
     let (plants, specs) = (&loaded.models.plants, &loaded.models.specs);
     let g = Guards::compute(plants, specs, &Config::default(), &Options::default()).unwrap();
@@ -31,18 +35,18 @@ fn same_rungs(manifest: &Path) {
     let reachable = u.union(&cubes);
     assert!(g.to_signals(&g.reachable, &vector.cubes, n).iff(&reachable).is_true());
     for exact in [false, true] {
-        let explicit = state_based::rungs(&project.set, &vector, &f, &Memory::default(), exact);
-        let symbolic = guards::rungs(&project.set, &vector, &g, exact).unwrap();
+        let explicit = feedback::rules(&vector, &f, &Layout::default(), exact);
+        let symbolic = guards::rules(&project.set, &vector, &g, exact).unwrap();
         assert_eq!(symbolic.len(), explicit.len());
         for (i, (s, e)) in symbolic.iter().zip(&explicit).enumerate() {
             assert_eq!(s.event, e.event);
-            assert_eq!(s.cubes, e.cubes, "{} (exact: {exact})", s.event);
-            assert_eq!(s.rung, e.rung, "{}", s.event);
+            assert_eq!(s.cubes, e.cubes, "{:?} (exact: {exact})", s.event);
+            assert_eq!(s.command, e.command, "{:?}", s.event);
             // F_σ separates the reachable states f allows from those it does not.
             let on: Vec<_> =
                 f.entries.iter().zip(&cubes).filter(|(x, _)| x.allowed[i]).map(|(_, &c)| c).collect();
             let on = u.union(&on);
-            assert!(u.separates(&s.cubes, &on, &reachable.and_not(&on)), "{}", s.event);
+            assert!(u.separates(&s.cubes, &on, &reachable.and_not(&on)), "{:?}", s.event);
         }
     }
 }
@@ -84,12 +88,13 @@ fn every_choice_policy_gives_the_explicit_program_from_guards() {
     let manifest =
         Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/distribution/distribution.toml"));
     let project = Project::load(manifest).unwrap();
-    let fixed_order = project.state_plc(StateOptions::default()).unwrap().files;
+    let state = |options, engine| project.plc(&Form::State { options, engine }).unwrap();
+    let fixed_order = state(StateOptions::default(), Engine::Explicit).into_state().unwrap().files;
     for choice in [ScanPolicy::First, ScanPolicy::GlobalQueue, ScanPolicy::LocalQueue, ScanPolicy::Random] {
         let choices = StateOptions { choice: Some(choice), ..StateOptions::default() };
-        let explicit = project.state_plc(choices).unwrap();
-        let (symbolic, _) =
-            project.state_plc_guards(choices, &Config::default(), &Options::default()).unwrap();
+        let explicit = state(choices, Engine::Explicit).into_state().unwrap();
+        let symbolic = Engine::Symbolic { cfg: Config::default(), options: Options::default() };
+        let symbolic = state(choices, symbolic).into_symbolic().unwrap();
         let what = choice.name();
         assert_eq!(without_command(&symbolic.files), without_command(&explicit.files), "--choice {what}");
         // The choice is made: the rungs fill `enabled`, and the program is not the fixed-order one.

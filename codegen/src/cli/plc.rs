@@ -5,28 +5,14 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use codegen::config::{RuntimeConfig, ScanPolicy, SupervisorChoice};
-use codegen::manifest::{is_manifest, Manifest};
-use codegen::net::{interpretation, Interpretation};
-use codegen::plc::state_based::{StateError, StateOptions};
-use codegen::plc::{Avalanche, Encoding};
+use codegen::plc::state_based::{Engine, StateOptions};
+use codegen::plc::{Avalanche, Encoding, Form, Written};
 use codegen::project::{Project, ProjectError};
 use codegen::symbolic::Options;
 use codegen::synth::Config;
 
 use super::files::Files;
 use super::{engine, limits, Error};
-
-/// The sequence net of the manifest `path` when it has a `[net]` section, bound to the project's
-/// events: it runs beside the interlocks in the one program ([`codegen::plc::net_program`]).
-fn sequence(path: &Path, project: &Project) -> Result<Option<Interpretation>, Error> {
-    if !is_manifest(path) {
-        return Ok(None);
-    }
-    let manifest = Manifest::load(path)?;
-    let Some(spec) = &manifest.net else { return Ok(None) };
-    let automata: Vec<_> = project.set.members().iter().map(|m| &m.automaton).collect();
-    Ok(Some(interpretation(spec, &manifest.file, &automata)?))
-}
 
 /// Write an IEC 61131-3 program (ST and PLCopen XML) running the supervisors on a PLC.
 ///
@@ -38,8 +24,9 @@ fn sequence(path: &Path, project: &Project) -> Result<Option<Interpretation>, Er
 /// a `[net]` section the sequence net runs beside the interlocks in the same program: a token-passing
 /// block in the ST, an SFC in the XML, requesting the commands the supervisors allow. A manifest with a
 /// `[hybrid]` section is a hybrid controller instead (docs/hybrid.md): its automation net is the plant,
-/// and `DIR/<name>_hybrid.{st,xml}` (reduced supervisor) and `DIR/<name>_hybrid_full.{st,xml}`
-/// (unreduced) are written, the XML with a Ladder Diagram body, and the two compared in the report.
+/// and `DIR/<name>_hybrid.{st,xml}` and `_config.st` (reduced supervisor) and the same three
+/// `DIR/<name>_hybrid_full` files (unreduced) are written, the XML with a Ladder Diagram body, and the
+/// two compared in the report. A net whose place can hold two tokens is refused (exit 2).
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The project: a manifest (supervisors as listed, else synthesised local modular), or modules and
@@ -126,132 +113,45 @@ fn write(dir: &Path, files: &[(String, String)]) -> Result<(), Error> {
     Ok(())
 }
 
-/// The names of the files written, for the JSON report.
-fn names(files: &[(String, String)]) -> Vec<&str> {
-    files.iter().map(|(n, _)| n.as_str()).collect()
-}
-
-/// Prints the report — `json()` with `--json`, else `text` and where the files went — through a locked
-/// stdout, so that a closed pipe (`codegen plc … | head`) ends the command as any write error does
-/// instead of panicking as `println!` would.
-fn report(args: &Args, json: impl FnOnce() -> serde_json::Value, text: &str) -> Result<ExitCode, Error> {
+/// Prints the report — its JSON with `--json`, else its text and where the files went — through a
+/// locked stdout, so that a closed pipe (`codegen plc … | head`) ends the command as any write error
+/// does instead of panicking as `println!` would.
+fn report(args: &Args, name: &str, written: &Written) -> Result<ExitCode, Error> {
     let mut out = std::io::stdout().lock();
     if args.json {
-        writeln!(out, "{}", serde_json::to_string_pretty(&json())?)?;
+        writeln!(out, "{}", serde_json::to_string_pretty(&written.json(name))?)?;
     } else {
-        write!(out, "{text}")?;
+        write!(out, "{}", written.text())?;
         writeln!(out, "written to {}", args.output.display())?;
     }
     Ok(ExitCode::SUCCESS)
 }
 
-/// The state-based program: files, then the report (JSON under `sfbc`). Memory deciding where memory is
-/// not allowed is a finding (exit 1, the plant states with their traces on stderr).
-fn state(project: &Project, args: &Args) -> Result<ExitCode, Error> {
-    if args.engine == StateEngine::Symbolic {
-        return state_symbolic(project, args);
+/// The form the arguments ask for, for `project`: a `[hybrid]` manifest is a hybrid controller whatever
+/// the encoding.
+fn form(args: &Args, project: &Project) -> Result<Form, Error> {
+    if project.hybrid.is_some() {
+        return Ok(Form::Hybrid);
     }
-    let out =
-        match project.state_plc(StateOptions { memory: args.memory, exact: args.exact, choice: args.choice })
-        {
-            Ok(out) => out,
-            Err(e) if memory_decides(&e) => {
-                eprintln!("{e}");
-                return Ok(ExitCode::from(1));
+    let options = StateOptions { memory: args.memory, exact: args.exact, choice: args.choice };
+    Ok(match args.encoding {
+        EncodingArg::Int | EncodingArg::Bits => Form::Event {
+            encoding: if args.encoding == EncodingArg::Int { Encoding::Int } else { Encoding::Bits },
+            avalanche: args.avalanche,
+            policy: args.policy,
+        },
+        EncodingArg::State => match args.engine {
+            StateEngine::Explicit => Form::State { options, engine: Engine::Explicit },
+            StateEngine::Symbolic => {
+                if args.memory {
+                    return Err("--memory keeps supervisors as memory: it needs --engine explicit".into());
+                }
+                let cfg =
+                    Config { memory_limit: limits::memory_limit(args.memory_limit), ..Config::default() };
+                Form::State { options, engine: Engine::Symbolic { cfg, options: Options::default() } }
             }
-            Err(e) => return Err(e.into()),
-        };
-    write(&args.output, &out.files)?;
-    let json = || {
-        serde_json::json!({
-            "schema": 1,
-            "name": project.name,
-            "encoding": "state",
-            "files": names(&out.files),
-            "sfbc": out.report,
-        })
-    };
-    report(args, json, &out.report.text())
-}
-
-/// Whether `e` is the supervisors' memory deciding an event (a finding, not bad input).
-fn memory_decides(e: &ProjectError) -> bool {
-    matches!(e, ProjectError::State { source, .. } if matches!(**source, StateError::Memory(_)))
-}
-
-/// The state-based program from guards off the BDDs: files, then the figures (reachable plant states,
-/// exact; per rung its products, literals and the guard's BDD nodes), JSON with `--json`.
-fn state_symbolic(project: &Project, args: &Args) -> Result<ExitCode, Error> {
-    if args.memory {
-        return Err("--memory keeps supervisors as memory: it needs --engine explicit".into());
-    }
-    let (observer, bar) = limits::progress();
-    let cfg = Config {
-        memory_limit: limits::memory_limit(args.memory_limit),
-        observer: Some(observer),
-        ..Config::default()
-    };
-    let choices = StateOptions { memory: false, exact: args.exact, choice: args.choice };
-    let result = project.state_plc_guards(choices, &cfg, &Options::default());
-    bar.inspect(|b| b.finish_and_clear());
-    let (program, guards) = match result {
-        Ok(r) => r,
-        Err(e) if memory_decides(&e) => {
-            eprintln!("{e}");
-            return Ok(ExitCode::from(1));
-        }
-        Err(e) => return Err(e.into()),
-    };
-    eprintln!("engine: the guards were read off the symbolic supervisor's BDDs");
-    write(&args.output, &program.files)?;
-    let reachable = guards.count(&guards.reachable);
-    let rows: Vec<(String, usize, usize, usize)> = program
-        .rungs
-        .iter()
-        .map(|r| {
-            let nodes = guards.guards.iter().find(|g| g.event == r.event).map_or(0, |g| g.allowed.size());
-            (r.event.clone(), r.cubes.len(), r.cubes.iter().map(|c| c.len()).sum(), nodes)
-        })
-        .collect();
-    let json = || {
-        let rungs: Vec<_> = rows
-            .iter()
-            .map(|(e, p, l, n)| serde_json::json!({ "event": e, "products": p, "literals": l, "bdd_nodes": n }))
-            .collect();
-        serde_json::json!({
-            "schema": 1,
-            "name": project.name,
-            "encoding": "state",
-            "engine": "symbolic",
-            "files": names(&program.files),
-            "reachable_plant_states": engine::count(&reachable),
-            "rungs": rungs,
-        })
-    };
-    let mut text =
-        format!("reachable plant states: {reachable}\nrung  products  literals  guard BDD nodes\n");
-    for (e, p, l, n) in &rows {
-        text.push_str(&format!("{e}  {p}  {l}  {n}\n"));
-    }
-    report(args, json, &text)
-}
-
-/// The hybrid controller of a manifest with a `[hybrid]` section ([`codegen::plc::hybrid`]): both
-/// controllers' files, then the report (JSON under `hybrid`).
-fn hybrid(manifest: &Manifest, args: &Args) -> Result<ExitCode, Error> {
-    let cycle = manifest.plc.as_ref().and_then(|p| p.cycle_ms).unwrap_or(10);
-    let out = codegen::plc::hybrid::generate(manifest, &Config::default(), cycle)?;
-    write(&args.output, &out.files)?;
-    let json = || {
-        serde_json::json!({
-            "schema": 1,
-            "name": manifest.name,
-            "encoding": "hybrid",
-            "files": names(&out.files),
-            "hybrid": out.report,
-        })
-    };
-    report(args, json, &out.report.text())
+        },
+    })
 }
 
 /// Runs `plc`.
@@ -260,16 +160,11 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     if sources.is_empty() {
         return Err(super::files::NO_INPUT.into());
     }
-    if let Some(one) = sources.manifest().filter(|one| is_manifest(one)) {
-        let manifest = Manifest::load(one)?;
-        if manifest.hybrid.is_some() {
-            return hybrid(&manifest, &args);
-        }
-    }
-    let mut project = match (sources.manifest(), args.encoding, args.engine) {
+    let symbolic = args.encoding == EncodingArg::State && args.engine == StateEngine::Symbolic;
+    let mut project = match sources.manifest() {
         // Guards off the BDDs are for sets too large to list: the local modular set's conflict check
         // runs on BDDs too.
-        (Some(one), EncodingArg::State, StateEngine::Symbolic) => {
+        Some(one) if symbolic => {
             let check = engine::Engine::Symbolic.conflict_check(Options::default());
             Project::load_with(one, &Config { nonblocking: check.map(|c| c as _), ..Config::default() })?
         }
@@ -277,16 +172,30 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     };
     super::say_skipped(&project.left_out);
     super::deploy(&mut project, args.deploy, true)?;
-    let encoding = match args.encoding {
-        EncodingArg::Int => Encoding::Int,
-        EncodingArg::Bits => Encoding::Bits,
-        EncodingArg::State => return state(&project, &args),
+    let mut form = form(&args, &project)?;
+    let bar = match &mut form {
+        Form::State { engine: Engine::Symbolic { cfg, .. }, .. } => {
+            let (observer, bar) = limits::progress();
+            cfg.observer = Some(observer);
+            bar
+        }
+        _ => None,
     };
-    let net = match sources.manifest() {
-        Some(one) => sequence(one, &project)?,
-        None => None,
+    let written = project.plc(&form);
+    bar.inspect(|b| b.finish_and_clear());
+    let written = match written {
+        Ok(w) => w,
+        // The supervisors' memory deciding where memory is not allowed is a finding: exit 1, the plant
+        // states with their traces on stderr.
+        Err(ProjectError::Plc(e)) if e.is_finding() => {
+            eprintln!("{e}");
+            return Ok(ExitCode::from(1));
+        }
+        Err(e) => return Err(e.into()),
     };
-    let out = project.plc_beside(encoding, args.avalanche, args.policy, net.as_ref())?;
-    write(&args.output, &out.files)?;
-    report(&args, || serde_json::json!(out.report), &out.report.text())
+    if matches!(written, Written::Symbolic(_)) {
+        eprintln!("engine: the guards were read off the symbolic supervisor's BDDs");
+    }
+    write(&args.output, written.files())?;
+    report(&args, &project.name, &written)
 }

@@ -3,7 +3,7 @@
 //! pool, and the `SupervisorSet` over them, checked at compile time as a `CheckedSet`), with the side
 //! tables the runtime's hot path needs, event ids as constants, event and automaton names apart for
 //! logs, the choice-policy type and the runtime's type sized exactly, and the run-time configuration,
-//! under a provenance header.
+//! under a provenance header ([`crate::provenance`]).
 //!
 //! # Overview
 //!
@@ -14,9 +14,10 @@
 //!   hash map's order.
 //! * [`board`] — the board tables of the manifest's `[board]` section ([`BoardSpec`](crate::config::BoardSpec)): pins of inputs and
 //!   outputs for a real board.
+//! * [`state`] — the state-based firmware's tables (`[runtime] mode = "state"`): the state feedback of
+//!   [`crate::feedback`] as cubes over the packed signal word, no supervisor tables.
 //! * [`policy`] — the firmware types the run-time configuration ([`RuntimeConfig`](crate::config::RuntimeConfig)) names, and the RAM
 //!   each choice policy costs.
-//! * [`provenance`] — input file hashes (SHA-256), tool version and options for the header.
 //!
 //! Why a `codegen emit` subcommand rather than a `build.rs` calling this library: `codegen` depends on the
 //! firmware's runtime (the virtual plant and the host tests run the very code that ships), so the
@@ -26,10 +27,10 @@
 pub mod board;
 mod error;
 pub mod policy;
-pub mod provenance;
 pub mod rust;
+pub mod state;
 
+pub use crate::provenance::{Input, Provenance};
 pub use board::BoardError;
 pub use error::EmitError;
-pub use provenance::{Input, Provenance};
 pub use rust::emit;

@@ -6,10 +6,10 @@ use std::fmt::Write as _;
 use firmware::build::{bitset, unowned, SideTables};
 
 use super::policy::{fault_value, ram_bytes, rust_type};
-use super::provenance::Provenance;
 use super::EmitError;
 use crate::config::{BoardSpec, ChoicePolicy, RuntimeConfig, SamplingSpec};
 use crate::pack::tables::Packed;
+use crate::provenance::Provenance;
 use firmware::table::layout::name as layout_name;
 
 /// Rust source for `firmware`'s applications (`include!`d inside a module): constants `NAME`,

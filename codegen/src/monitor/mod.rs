@@ -14,14 +14,16 @@
 //!   which events lost silently are derived.
 //!
 //! The figures end up in a [`Report`], printed as a table or as JSON; a run on a board's pins adds what
-//! only pins show ([`BoardFigures`](crate::target::rp2040::BoardFigures)).
+//! only pins show ([`BoardFigures`]).
 
+mod board;
 mod choice_model;
 mod coverage;
 mod judge;
 mod report;
 mod steering;
 
+pub use board::{BoardFigures, CallCost, RuntimeCost};
 pub use choice_model::ChoiceModel;
 pub use coverage::{Edge, Graph, Taken, TooLarge};
 pub use judge::{Monitor, Verdict};

@@ -6,7 +6,7 @@ use firmware::runtime::Counters;
 use serde::Serialize;
 use sha2::{Digest, Sha256};
 
-use crate::target::rp2040::BoardFigures;
+use super::board::BoardFigures;
 
 /// Version of the JSON form of [`Report`]; bumped when a field changes meaning or goes away (2: `target`
 /// and `board`).

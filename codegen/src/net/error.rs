@@ -65,4 +65,32 @@ pub enum NetError {
         /// The marking, as its state name.
         marking: String,
     },
+    /// A reachable marking puts more than one token in a place: a program's one-bit place cannot hold it.
+    #[error("place '{place}' holds {tokens} tokens {}: a PLC program keeps a place in one BOOL, so only safe nets are written",
+        if sequence.is_empty() { "in the initial marking".to_owned() } else { format!("after the firing sequence {} (conditions and delays aside)", sequence.join(" ")) })]
+    Unsafe {
+        /// The place's id.
+        place: String,
+        /// Its tokens there.
+        tokens: u32,
+        /// A shortest firing sequence from the initial marking to there, by transition id (empty: the
+        /// initial marking itself).
+        sequence: Vec<String>,
+    },
+    /// An arc of weight above one, which a one-bit place cannot follow.
+    #[error("transition '{transition}' has an arc of weight {weight} with place '{place}': a PLC program keeps a place in one BOOL, so only safe nets are written")]
+    Weight {
+        /// The transition's id.
+        transition: String,
+        /// The place's id.
+        place: String,
+        /// The arc's weight.
+        weight: u32,
+    },
+    /// The safe-net check explored its limit of markings.
+    #[error("more than {limit} reachable markings: the safe-net check stops there")]
+    Markings {
+        /// The limit.
+        limit: usize,
+    },
 }

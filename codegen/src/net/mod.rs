@@ -9,6 +9,7 @@
 //! | the interpretation (Y, Z, D) bound to the plant's signals | [`interpretation`](mod@interpretation) |
 //! | the IO-reachability graph | [`io_graph`] |
 //! | the reachability graph of an event-labelled net, as a plant automaton | [`reachability`] |
+//! | the safe-net check a PLC program needs, with a firing sequence to a second token | [`safety`] |
 //! | Definition 2's verdict, the trace and the diagnosis | [`verdict`] |
 //! | the graph in Graphviz | [`dot`] |
 //!
@@ -23,6 +24,7 @@ pub mod io_graph;
 pub mod model;
 pub mod pnml;
 pub mod reachability;
+pub mod safety;
 pub mod verdict;
 
 #[cfg(test)]

@@ -11,9 +11,11 @@
 //! enabled together, leading to different markings.
 
 use std::collections::HashMap;
+use std::path::Path;
 
 use super::model::{Marking, Net};
 use super::NetError;
+use crate::config::{HybridSpec, NetSpec};
 use crate::model::{Automaton, Kind, StateId};
 
 /// The event of each transition and whether it is controllable.
@@ -23,6 +25,50 @@ pub struct Labels {
     pub events: Vec<String>,
     /// Per transition, whether its event is controllable.
     pub controllable: Vec<bool>,
+}
+
+impl Labels {
+    /// The labels a manifest's `[hybrid]` section gives the transitions of `net` (the net of its `[net]`
+    /// section `spec`, in the manifest `file`): every transition an event, every controllable event a
+    /// transition's; a name that does not fit is refused with its manifest line.
+    pub fn bind(spec: &NetSpec, hybrid: &HybridSpec, file: &Path, net: &Net) -> Result<Labels, NetError> {
+        let at = |span: std::ops::Range<usize>, message: String| NetError::Spec {
+            file: file.to_owned(),
+            line: spec.line(span.start),
+            message,
+        };
+        for key in hybrid.events.keys() {
+            if net.transition(key.get_ref()).is_none() {
+                return Err(at(
+                    key.span(),
+                    format!("hybrid.events.{}: the net has no such transition", key.get_ref()),
+                ));
+            }
+        }
+        let mut events = Vec::new();
+        for t in &net.transitions {
+            match hybrid.events.iter().find(|(k, _)| *k.get_ref() == t.id) {
+                Some((_, e)) => events.push(e.get_ref().clone()),
+                None => {
+                    return Err(at(
+                        spec.pnml.span(),
+                        format!("transition '{}' has no event in [hybrid.events]", t.id),
+                    ))
+                }
+            }
+        }
+        for c in &hybrid.controllable {
+            if !events.contains(c.get_ref()) {
+                return Err(at(
+                    c.span(),
+                    format!("hybrid.controllable: no transition generates '{}'", c.get_ref()),
+                ));
+            }
+        }
+        let controllable =
+            events.iter().map(|e| hybrid.controllable.iter().any(|c| c.get_ref() == e)).collect();
+        Ok(Labels { events, controllable })
+    }
 }
 
 /// The reachability graph of `net` under `labels` as a plant automaton named `name`, at most `limit`

@@ -2,8 +2,8 @@
 //! same rules as `firmware::choice` over the same event ids, so that with the deterministic policies the
 //! program and the firmware fire the same events.
 
-use super::st::{Expr, Op, Stmt, Type, Var};
 use crate::config::ScanPolicy;
+use crate::scan::ir::{Expr, Op, Stmt, Type, Var};
 
 /// The MINSTD multiplier (Park & Miller), and Schrage's split of the modulus 2³¹ − 1 by it, so that the
 /// step fits a DINT.

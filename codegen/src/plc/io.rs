@@ -7,9 +7,9 @@ use std::collections::BTreeMap;
 use crate::model::suggest::did_you_mean;
 use crate::model::{EventId, EventTable};
 
-use super::names::{is_identifier, Names};
 use super::PlcError;
 use crate::config::{Action, Edge, PlcSpec};
+use crate::scan::names::{is_identifier, Names};
 
 /// Where an uncontrollable event comes from.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -1,57 +1,49 @@
-//! The PLC back end: IEC 61131-3 Structured Text and PLCopen TC6 XML 2.01 from the same supervisor set
-//! the firmware runs, with the scan-cycle problems solved in the code and reported.
+//! The PLC back end: IEC 61131-3 programs from the same supervisor set the firmware runs, with the
+//! scan-cycle problems solved in the code and reported. Four forms, one program IR ([`crate::scan`]):
 //!
-//! # Overview
+//! * **event-based** ([`generate`], `--encoding int|bits`) — a `FUNCTION_BLOCK` with plants,
+//!   supervisors and interface that tracks every automaton's state from the events, and a `PROGRAM`
+//!   instantiating it: [`program`] builds it, over the I/O map of [`io`], the avalanche plan of
+//!   [`avalanche`] and the choice policies of [`choice`]; [`report`] measures it;
+//! * **with a sequence** ([`generate_with_sequence`]) — a sequence net beside those interlocks in one
+//!   program ([`sequence`]);
+//! * **state-based** ([`state_based`], `--encoding state`) — no state tracked, one rung per
+//!   controllable event over the plant's signals, from the state feedback of [`crate::feedback`];
+//! * **hybrid** ([`hybrid`]) — an automation net as the plant, coupled to its reduced supervisor by
+//!   inhibitor arcs, in Ladder Diagram and ST (Uzam & Gelen 2013).
 //!
-//! * [`PlcSpec`] — the manifest's `[plc]` section: input variables and their edges, output variables and
-//!   their actions, the choice policy, the task's cycle.
-//! * [`io`] — that map checked against the set's events.
-//! * [`names`] — IEC identifiers for the models' names.
-//! * [`avalanche`] — the avalanche events of each automaton and how each is eliminated (statement order
-//!   or an AEEM memory bit).
-//! * [`choice`] — the choice policies in ST.
-//! * [`st`] — the ST syntax tree, its printer, and the measures of it the report gives (statements per
-//!   section, a static bound on the statements a scan executes).
-//! * [`program`] — the builder: a `FUNCTION_BLOCK` with plants, supervisors and interface, and a
-//!   `PROGRAM` instantiating it (the scan is described there).
-//! * [`strict`] — the IEC 61131-3 Ed. 3 rules every program is checked against before it is printed
-//!   (keywords, located variables, no implicit conversion), so a strict compiler takes it.
-//! * [`hybrid`] — an automation net as the plant, coupled to its reduced supervisor by inhibitor arcs, in
-//!   Ladder Diagram and ST (Uzam & Gelen 2013).
-//! * [`net_program`] — a sequence net ([`crate::net`]) as token-passing ST and as an SFC.
-//! * [`xml`] — the same POUs, and the configuration, as PLCopen XML with ST bodies.
-//! * [`report`] — what the program costs and how it solves each problem.
-//! * [`ld`] — Ladder Diagram rungs, their PLCopen `<LD>` body and instruction-list cost.
-//! * [`state_based`] — the state-based program (state feedback control, `--encoding state`): no state
-//!   tracked, one rung per controllable event over the plant's signals.
+//! The sequence and the hybrid controller are both written by the one lowering of a net,
+//! [`token_passing`]. Every form's files come from [`crate::scan::files`]; every error is a
+//! [`PlcError`]. [`Form`] names a form with its options and [`Written`] is what any form writes: the
+//! project's single entry, `Project::plc`, takes the one and returns the other.
 //!
-//! Two encodings: `int` — one integer state per automaton and a `CASE` per event, where no event can
-//! chain (a `CASE` takes one branch); `bits` — one `BOOL` per state and one statement per transition,
-//! the ladder form, where avalanche events need elimination. Output is deterministic: the same set and
-//! options give the same bytes (the XML's creation time is fixed).
+//! Event-based encodings: `int` — one integer state per automaton and a `CASE` per event, where no
+//! event can chain (a `CASE` takes one branch); `bits` — one `BOOL` per state and one statement per
+//! transition, the ladder form, where avalanche events need elimination. Output is deterministic: the
+//! same set and options give the same bytes (the XML's creation time is fixed).
 
 pub mod avalanche;
 pub mod choice;
+mod error;
 pub mod hybrid;
 pub mod io;
-pub mod ld;
-pub mod names;
-pub mod net_program;
 pub mod program;
 pub mod report;
-pub mod st;
+pub mod sequence;
 pub mod state_based;
-pub mod strict;
-pub mod xml;
-
-use std::fmt::Write as _;
+pub mod token_passing;
 
 use crate::config::{OnFault, RuntimeConfig};
-use crate::emit::Provenance;
+use crate::net::Interpretation;
 use crate::pack::PackSet;
+use crate::provenance::Provenance;
+use crate::scan::files::{self, File, Header};
+use crate::scan::names::stem;
+use crate::scan::{Graphic, Program as ScanProgram};
 
 pub use crate::config::{PlcSpec, ScanPolicy};
 pub use avalanche::{Avalanche, Method};
+pub use error::PlcError;
 pub use program::Program;
 pub use report::Report;
 
@@ -75,7 +67,139 @@ impl Encoding {
     }
 }
 
-/// Everything besides the set that fixes the program.
+/// A PLC program's form and the options that shape it: what `codegen plc` is asked for.
+#[derive(Clone)]
+pub enum Form {
+    /// The event-based program (with the manifest's sequence net beside it when it has one).
+    Event {
+        /// The state encoding.
+        encoding: Encoding,
+        /// Avalanche elimination (bits encoding).
+        avalanche: Avalanche,
+        /// The choice policy, else the manifest's.
+        policy: Option<ScanPolicy>,
+    },
+    /// The state-based program.
+    State {
+        /// Memory, don't-cares and one command per scan.
+        options: state_based::StateOptions,
+        /// Where f comes from.
+        engine: state_based::Engine,
+    },
+    /// The hybrid controller of a manifest with a `[hybrid]` section.
+    Hybrid,
+}
+
+/// What a form writes: its files and its report, with what the form built on the way.
+#[derive(Clone, Debug)]
+pub enum Written {
+    /// An event-based program.
+    Event(Output),
+    /// A state-based program from the explicit closed loop.
+    State(state_based::Output),
+    /// A state-based program from guards off the symbolic engine's BDDs.
+    Symbolic(state_based::SymbolicOutput),
+    /// The two hybrid controllers.
+    Hybrid(hybrid::Output),
+}
+
+impl Written {
+    /// The event-based program, if that is what was written.
+    pub fn into_event(self) -> Option<Output> {
+        if let Written::Event(o) = self {
+            Some(o)
+        } else {
+            None
+        }
+    }
+
+    /// The state-based program from the explicit closed loop, if that is what was written.
+    pub fn into_state(self) -> Option<state_based::Output> {
+        if let Written::State(o) = self {
+            Some(o)
+        } else {
+            None
+        }
+    }
+
+    /// The state-based program from guards, if that is what was written.
+    pub fn into_symbolic(self) -> Option<state_based::SymbolicOutput> {
+        if let Written::Symbolic(o) = self {
+            Some(o)
+        } else {
+            None
+        }
+    }
+
+    /// The hybrid controllers, if that is what was written.
+    pub fn into_hybrid(self) -> Option<hybrid::Output> {
+        if let Written::Hybrid(o) = self {
+            Some(o)
+        } else {
+            None
+        }
+    }
+
+    /// The files written: `(file name, contents)`.
+    pub fn files(&self) -> &[File] {
+        match self {
+            Written::Event(o) => &o.files,
+            Written::State(o) => &o.files,
+            Written::Symbolic(o) => &o.files,
+            Written::Hybrid(o) => &o.files,
+        }
+    }
+
+    /// The report as text, one fact per line.
+    pub fn text(&self) -> String {
+        match self {
+            Written::Event(o) => o.report.text(),
+            Written::State(o) => o.report.text(),
+            Written::Symbolic(o) => o.report.text(),
+            Written::Hybrid(o) => o.report.text(),
+        }
+    }
+
+    /// The report as JSON (schema 1) for the set `name`: the event-based report itself, or the form's
+    /// report under its key (`sfbc`, `hybrid`) beside the encoding and the files.
+    pub fn json(&self, name: &str) -> serde_json::Value {
+        let files: Vec<&str> = self.files().iter().map(|(n, _)| n.as_str()).collect();
+        match self {
+            Written::Event(o) => serde_json::json!(o.report),
+            Written::State(o) => serde_json::json!({
+                "schema": 1,
+                "name": name,
+                "encoding": "state",
+                "files": files,
+                "sfbc": o.report,
+            }),
+            Written::Symbolic(o) => {
+                let mut v = serde_json::json!({
+                    "schema": 1,
+                    "name": name,
+                    "encoding": "state",
+                    "engine": "symbolic",
+                    "files": files,
+                });
+                if let (Some(map), serde_json::Value::Object(report)) =
+                    (v.as_object_mut(), serde_json::json!(o.report))
+                {
+                    map.extend(report);
+                }
+                v
+            }
+            Written::Hybrid(o) => serde_json::json!({
+                "schema": 1,
+                "name": name,
+                "encoding": "hybrid",
+                "files": files,
+                "hybrid": o.report,
+            }),
+        }
+    }
+}
+
+/// Everything besides the set that fixes an event-based program.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct PlcOptions {
     /// Name of the set (POU names derive from it).
@@ -102,7 +226,7 @@ pub struct PlcOptions {
     pub require_outputs: bool,
     /// Whether a controllable event also needs its caller's request (a `req_<event>` input per
     /// controllable event): a sequence beside the interlocks asks for a command, the supervisors allow
-    /// it ([`net_program`]). Off, the block chooses among every allowed event.
+    /// it ([`sequence`]). Off, the block chooses among every allowed event.
     pub requests: bool,
 }
 
@@ -154,81 +278,22 @@ impl PlcOptions {
             ..PlcOptions::default()
         })
     }
+
+    /// The command-line words of these options (`--encoding int --avalanche auto --policy first`).
+    pub fn words(&self) -> Vec<String> {
+        vec![
+            format!("--encoding {}", self.encoding.name()),
+            format!("--avalanche {}", self.avalanche.name()),
+            format!("--policy {}", self.policy.name()),
+        ]
+    }
 }
 
-/// Why a program cannot be written for a set.
-#[derive(Debug, thiserror::Error)]
-pub enum PlcError {
-    /// The set has no events.
-    #[error("the set has no events: nothing to program")]
-    Empty,
-    /// `[plc]` names an event the set does not have.
-    #[error("plc: event '{event}' is not an event of the set{hint}")]
-    UnknownEvent {
-        /// The name.
-        event: String,
-        /// ` (did you mean 'x'?)` naming the set's events closest in spelling, or empty.
-        hint: String,
-    },
-    /// Controllable events `[plc]` maps to no output and does not list as internal: the program would
-    /// never drive them. Every such event, each with its ` (did you mean …?)` tail (empty when no output
-    /// variable is close).
-    #[error("plc: {}; map each in [[plc.outputs]] or list it in [plc] internal", unmapped(.0))]
-    Unmapped(Vec<(String, String)>),
-    /// An input for a controllable event, or an output for an uncontrollable one.
-    #[error("plc: event '{event}' is {what}")]
-    WrongKind {
-        /// Event.
-        event: String,
-        /// What is wrong.
-        what: &'static str,
-    },
-    /// A variable name that is no IEC identifier (or a reserved word).
-    #[error("plc: '{0}' is not an IEC 61131-3 identifier (letters, digits, single underscores, at most 63; not a keyword such as EN, SR, TON or TIME in any case: see docs/plc-strict.md)")]
-    Identifier(String),
-    /// A name used twice.
-    #[error("plc: '{0}' is mapped twice or clashes with a generated name")]
-    Duplicate(String),
-    /// A bad value in `[plc]`.
-    #[error("plc: {0}")]
-    Value(String),
-    /// A controllable event no plant has: nothing can generate it.
-    #[error("controllable event '{0}' belongs to no plant, so the product system cannot generate it")]
-    Unowned(String),
-    /// `--avalanche order` and a cycle.
-    #[error("--avalanche order: event '{event}' of {automaton} has a cycle among its transitions{}; use auto or aeem", if *conflict { " together with the events ordered before it" } else { "" })]
-    Unorderable {
-        /// Automaton.
-        automaton: String,
-        /// Event.
-        event: String,
-        /// The cycle is in the union with other ordered events.
-        conflict: bool,
-    },
-    /// The program breaks a rule of the standard: a bug of the writer, never of the input.
-    #[error("internal error, please report: the program is not strict IEC 61131-3: {0}")]
-    Strict(#[from] strict::Violation),
-    /// The closed loop for the simultaneity check could not be built.
-    #[error("simultaneity check: {0}")]
-    Synth(#[from] crate::synth::SynthError),
-}
-
-/// The text of [`PlcError::Unmapped`].
-fn unmapped(events: &[(String, String)]) -> String {
-    let list: Vec<String> = events.iter().map(|(e, hint)| format!("'{e}'{hint}")).collect();
-    let verb = if events.len() == 1 { "drives" } else { "drive" };
-    format!(
-        "controllable event{} {} {verb} no output",
-        if events.len() == 1 { "" } else { "s" },
-        list.join(", ")
-    )
-}
-
-/// The files of one program and its report.
+/// The files of one event-based program, its report and its syntax trees.
 #[derive(Clone, Debug)]
 pub struct Output {
     /// `(file name, contents)`: `<name>.st`, `<name>_config.st`, `<name>.xml`.
-    pub files: Vec<(String, String)>,
+    pub files: Vec<File>,
     /// The report.
     pub report: Report,
     /// The program's syntax trees.
@@ -241,7 +306,7 @@ pub fn generate(set: &PackSet, opts: &PlcOptions, provenance: &Provenance) -> Re
 }
 
 /// Writes the interlocks' program for `set` with the sequence `net` beside it in one PLC program
-/// ([`net_program::beside`]): the sequence requests commands, the supervisors allow them. `net` must be
+/// ([`sequence::beside`]): the sequence requests commands, the supervisors allow them. `net` must be
 /// bound to `set`'s event table. The same three files as [`generate`]: the ST file holds the interlocks'
 /// block, the sequence's token-passing block and the one `PROGRAM`; the XML the same POUs with the
 /// sequence as an SFC.
@@ -249,9 +314,18 @@ pub fn generate_with_sequence(
     set: &PackSet,
     opts: &PlcOptions,
     provenance: &Provenance,
-    net: &crate::net::Interpretation,
+    net: &Interpretation,
 ) -> Result<Output, PlcError> {
     assemble(set, &PlcOptions { requests: true, ..opts.clone() }, provenance, Some(net))
+}
+
+/// The event-based program's size for `set` with `opts`, without writing it: its top-level statements
+/// (function block and program) and the most statements one scan executes — the figures the
+/// state-based report compares against.
+pub fn event_figures(set: &PackSet, opts: &PlcOptions) -> Result<(usize, u64), PlcError> {
+    let program = program::build(set, opts)?;
+    let statements = [&program.fb, &program.main].iter().flat_map(|p| p.statements()).map(|(_, n)| n).sum();
+    Ok((statements, program.fb.bound() + program.main.bound()))
 }
 
 /// [`generate`], with the sequence `net` beside the interlocks when given.
@@ -259,89 +333,59 @@ fn assemble(
     set: &PackSet,
     opts: &PlcOptions,
     provenance: &Provenance,
-    net: Option<&crate::net::Interpretation>,
+    net: Option<&Interpretation>,
 ) -> Result<Output, PlcError> {
     let mut program = program::build(set, opts)?;
-    let base = names::stem(&opts.name);
-    let sequence = net.map(|n| net_program::beside(n, &program, &base)).transpose()?;
+    let base = stem(&opts.name);
     let mut header = header(set, opts, provenance);
-    let (st_pous, xml_bodies) = match &sequence {
-        Some(s) => {
-            program.main = s.main.clone();
-            header.push(format!(
-                "Sequence: a net of {} places and {} transitions in {} (token passing in ST, an SFC in the XML), requesting the interlocks' commands.",
-                net.map_or(0, |n| n.net.places.len()),
-                net.map_or(0, |n| n.net.transitions.len()),
-                s.block.name
-            ));
-            (
-                vec![&program.fb, &s.block, &program.main],
-                vec![
-                    (&program.fb, Vec::new()),
-                    (&s.sfc.0, vec![s.sfc.1.clone()]),
-                    (&program.main, Vec::new()),
-                ],
-            )
-        }
-        None => {
-            (vec![&program.fb, &program.main], vec![(&program.fb, Vec::new()), (&program.main, Vec::new())])
-        }
+    let mut pous = vec![(program.fb.clone(), Graphic::Text)];
+    if let Some(net) = net {
+        let s = sequence::beside(net, &program, &base)?;
+        program.main = s.main;
+        header.notes.push(format!(
+            "Sequence: a net of {} places and {} transitions in {} (token passing in ST, an SFC in the XML), requesting the interlocks' commands.",
+            net.net.places.len(),
+            net.net.transitions.len(),
+            s.block.name
+        ));
+        pous.push((s.block, Graphic::Chart(s.chart)));
+    }
+    pous.push((program.main.clone(), Graphic::Text));
+    let scan = ScanProgram {
+        base,
+        types: program.events_type.iter().cloned().collect(),
+        pous,
+        cycle_ms: opts.cycle_ms,
     };
-    strict::check(program.events_type.as_slice(), &st_pous)?;
-    if let Some(s) = &sequence {
-        strict::check(program.events_type.as_slice(), &[&program.fb, &s.sfc.0, &program.main])?;
-    }
-    let mut st = comment(&header);
-    if let Some((name, members)) = &program.events_type {
-        let _ = write!(st, "\n{}", st::struct_type(name, members));
-    }
-    for pou in &st_pous {
-        let _ = write!(st, "\n{}", pou.text());
-    }
-    let config = format!("{}\n{}", comment(&header), xml::configuration_text(&base, opts.cycle_ms));
-    let pous: Vec<(&st::Pou, &[String])> = xml_bodies.iter().map(|(p, b)| (*p, b.as_slice())).collect();
-    let xml = xml::document(program.events_type.as_ref(), &pous, &base, opts.cycle_ms, &header);
-    let files =
-        vec![(format!("{base}.st"), st), (format!("{base}_config.st"), config), (format!("{base}.xml"), xml)];
+    let files = files::write(&scan, &header)?;
     let report = Report::new(set, opts, &program, &files)?;
     Ok(Output { files, report, program })
 }
 
-/// The header lines (without comment delimiters).
-fn header(set: &PackSet, opts: &PlcOptions, provenance: &Provenance) -> Vec<String> {
+/// The set's line of a header: its plants, supervisors and events.
+pub fn about(set: &PackSet, name: &str) -> String {
     let plants = set.members().iter().filter(|m| m.role == crate::pack::Role::Plant).count();
-    let mut lines = vec![
-        format!("@generated by codegen {} (`codegen plc`): do not edit.", env!("CARGO_PKG_VERSION")),
-        String::new(),
-        format!(
-            "Set '{}': {} plants, {} supervisors, {} events.",
-            opts.name,
-            plants,
-            set.members().len() - plants,
-            set.events().len()
-        ),
-    ];
-    lines.extend(provenance.lines());
-    lines.push(format!(
-        "Options: encoding={} avalanche={} policy={} guard={} on_fault={} seed={} cycle_ms={}",
-        opts.encoding.name(),
-        opts.avalanche.name(),
-        opts.policy.name(),
-        opts.guard,
-        opts.on_fault,
-        opts.seed,
-        opts.cycle_ms
-    ));
-    lines
+    format!(
+        "Set '{name}': {plants} plants, {} supervisors, {} events.",
+        set.members().len() - plants,
+        set.events().len()
+    )
 }
 
-/// `lines` as one ST comment (any comment delimiter inside them broken up).
-pub(crate) fn comment(lines: &[String]) -> String {
-    let mut out = String::from("(*\n");
-    for l in lines {
-        let l = st::safe_comment(l);
-        let _ = writeln!(out, "{}", if l.is_empty() { l } else { format!("   {l}") });
+/// The event-based program's header.
+fn header(set: &PackSet, opts: &PlcOptions, provenance: &Provenance) -> Header {
+    Header {
+        about: vec![about(set, &opts.name)],
+        provenance: provenance.clone(),
+        options: vec![
+            ("encoding", opts.encoding.name().to_owned()),
+            ("avalanche", opts.avalanche.name().to_owned()),
+            ("policy", opts.policy.name().to_owned()),
+            ("guard", opts.guard.to_string()),
+            ("on_fault", opts.on_fault.to_string()),
+            ("seed", opts.seed.to_string()),
+            ("cycle_ms", opts.cycle_ms.to_string()),
+        ],
+        notes: Vec::new(),
     }
-    out.push_str("*)\n");
-    out
 }

@@ -28,10 +28,18 @@ use crate::pack::{PackSet, Role};
 use super::avalanche::{plan, Avalanche, Method, Plan};
 use super::choice::{self, PlantChoice};
 use super::io::{IoMap, Source};
-use super::names::{sanitize, stem, Names};
-use super::st::{Expr, Op, Pou, Section, SectionKind, Stmt, Type, Var, VarClass};
 use super::{Encoding, PlcError, PlcOptions};
 use crate::config::{Action, Edge, ScanPolicy};
+use crate::scan::ir::{Expr, Op, Pou, Section, Stmt, Type, Var, VarClass};
+use crate::scan::names::{sanitize, stem, Names};
+
+/// The sections of the seed documents' structure (initialisation, AEEM set, transitions, AEEM reset),
+/// which the report counts apart.
+pub const SEED_STRUCTURE: [&str; 4] = [INIT, AEEM_SET, TRANSITIONS, AEEM_RESET];
+const INIT: &str = "init";
+const AEEM_SET: &str = "aeem-set";
+const TRANSITIONS: &str = "transitions";
+const AEEM_RESET: &str = "aeem-reset";
 
 /// The counters the function block outputs, in the link's STATUS order where they have one.
 pub const COUNTERS: [&str; 6] =
@@ -541,20 +549,19 @@ impl Builder<'_> {
 
     fn finish(mut self) -> Program {
         let events = self.set.events().clone();
-        let section = |kind, title: &str, stmts| Section { kind, title: title.to_owned(), stmts };
         let sections = vec![
-            section(SectionKind::Init, "first scan and reset", self.init()),
-            section(SectionKind::Inputs, "sampled once, edges against the previous scan", self.inputs()),
-            section(SectionKind::Events, "one latched input per scan, in event order", self.events_section()),
-            section(SectionKind::Faults, "", self.faults()),
-            section(SectionKind::AeemSet, "uncontrollable", self.aeem_set(false)),
-            section(SectionKind::Transitions, "uncontrollable", self.transitions(false)),
-            section(SectionKind::Enabled, "", self.enabled()),
-            section(SectionKind::Choice, self.opts.policy.name(), self.choice()),
-            section(SectionKind::AeemSet, "controllable", self.aeem_set(true)),
-            section(SectionKind::Transitions, "controllable", self.transitions(true)),
-            section(SectionKind::AeemReset, "", self.aeem_reset()),
-            section(SectionKind::Outputs, "", self.outputs()),
+            Section::new(INIT, "first scan and reset", self.init()),
+            Section::new("inputs", "sampled once, edges against the previous scan", self.inputs()),
+            Section::new("events", "one latched input per scan, in event order", self.events_section()),
+            Section::new("faults", "", self.faults()),
+            Section::new(AEEM_SET, "uncontrollable", self.aeem_set(false)),
+            Section::new(TRANSITIONS, "uncontrollable", self.transitions(false)),
+            Section::new("enabled", "", self.enabled()),
+            Section::new("choice", self.opts.policy.name(), self.choice()),
+            Section::new(AEEM_SET, "controllable", self.aeem_set(true)),
+            Section::new(TRANSITIONS, "controllable", self.transitions(true)),
+            Section::new(AEEM_RESET, "", self.aeem_reset()),
+            Section::new("outputs", "", self.outputs()),
         ];
         let sites = self.site_count().max(0) as usize;
         let base = stem(&self.opts.name);
@@ -724,11 +731,7 @@ impl Builder<'_> {
             program: true,
             name: format!("{base}_main"),
             vars: vec![(VarClass::Local, main_vars)],
-            sections: vec![Section {
-                kind: SectionKind::Run,
-                title: "the function block, then its outputs".into(),
-                stmts: run,
-            }],
+            sections: vec![Section::new("run", "the function block, then its outputs", run)],
         };
         let mut avalanche: Vec<(String, EventId, Method)> = self
             .auts

@@ -12,8 +12,9 @@ use crate::problems::{run as check, Problem};
 use crate::synth::{product, Config};
 
 use super::io::Source;
-use super::st::{SectionKind, VarClass};
+use super::program::SEED_STRUCTURE;
 use super::{PlcError, PlcOptions, Program};
+use crate::scan::ir::VarClass;
 
 /// The report (`codegen plc --json`, schema 1).
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
@@ -148,14 +149,8 @@ impl Report {
                 });
             }
         }
-        let sections: BTreeMap<&'static str, usize> =
-            program.fb.statements().into_iter().map(|(k, n)| (k.name(), n)).collect();
-        let of = |k: SectionKind| sections.get(k.name()).copied().unwrap_or(0);
-        let seed_structure =
-            [SectionKind::Init, SectionKind::AeemSet, SectionKind::Transitions, SectionKind::AeemReset]
-                .into_iter()
-                .map(of)
-                .sum();
+        let sections: BTreeMap<&'static str, usize> = program.fb.statements().into_iter().collect();
+        let seed_structure = SEED_STRUCTURE.iter().map(|k| sections.get(k).copied().unwrap_or(0)).sum();
         let statements = Statements {
             function_block: sections.values().sum(),
             program: program.main.statements().iter().map(|(_, n)| n).sum(),
@@ -242,7 +237,7 @@ fn simultaneity(set: &PackSet) -> Result<Simultaneity, PlcError> {
     let automata: Vec<_> = set.members().iter().map(|m| m.automaton.clone()).collect();
     let closed = match automata.as_slice() {
         [one] => one.clone(),
-        many => product(many, &Config::default())?,
+        many => product(many, &Config::default()).map_err(PlcError::Simultaneity)?,
     };
     let found = check(&closed, &[Problem::Simultaneity]);
     let mut pairs: Vec<[String; 2]> =

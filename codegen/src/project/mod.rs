@@ -25,6 +25,7 @@
 
 pub mod build_script;
 pub mod comparison;
+pub mod hybrid;
 pub mod new_project;
 mod sources;
 pub mod user_project;
@@ -34,18 +35,20 @@ pub use sources::{Loaded, Sources};
 use std::path::{Path, PathBuf};
 
 use crate::config::{
-    BoardSpec, Mode, PlcSpec, RuntimeConfig, ScanPolicy, Signals, StateSpec, SupervisorChoice,
+    BoardSpec, Mode, NetSpec, PlcSpec, RuntimeConfig, ScanPolicy, StateSpec, SupervisorChoice,
 };
-use crate::emit::{self, EmitError, Input, Provenance};
-use crate::manifest::{is_manifest, read_board, ManifestError, ModelSet};
+use crate::emit::{self, EmitError};
+use crate::feedback::FeedbackError;
+use crate::manifest::{is_manifest, read_board, Manifest, ManifestError, ModelSet};
 use crate::maps::{self, Board, MapsError};
 use crate::model::Automaton;
+use crate::net::Interpretation;
 use crate::pack::fit::{self, Core, Refusal};
 use crate::pack::{PackError, PackSet, Role};
-use crate::plc::state_based::guards::GuardProgram;
-use crate::plc::state_based::{self, StateError};
-use crate::plc::{self, Avalanche, Encoding, PlcError, PlcOptions};
-use crate::symbolic::{self, Guards};
+use crate::plc::state_based::{self, Engine};
+use crate::plc::{self, Encoding, Form, PlcError, PlcOptions, Written};
+use crate::provenance::{Input, Provenance};
+use crate::symbolic::Guards;
 use crate::synth::deploy::{self, Summary};
 use crate::synth::{local_modular, Config, Supervisor, SynthError};
 use crate::target::image::{build_pico_image, build_qemu_image, ImageError};
@@ -65,6 +68,12 @@ pub struct Project {
     pub plc: Option<PlcSpec>,
     /// The plant's state vectors for a state-based program (`[state]`), if any.
     pub state: Option<StateSpec>,
+    /// The sequence net that runs beside the interlocks in a PLC program (`[net]`), if any.
+    pub net: Option<NetSpec>,
+    /// The models as loaded, before synthesis (what the symbolic engine synthesises from).
+    pub models: ModelSet,
+    /// A hybrid controller's plant net and supervisor (a manifest with `[hybrid]`), if it is one.
+    pub hybrid: Option<Hybrid>,
     /// Components of Supremica modules given in a role of another kind, left out (`module: name (kind)`).
     pub left_out: Vec<String>,
     /// Which supervisors the set holds ([`RuntimeConfig::supervisors`]), their sizes and the proof that
@@ -73,6 +82,16 @@ pub struct Project {
     origin: Origin,
     /// Every input file with its SHA-256, in the order read.
     inputs: Vec<Input>,
+}
+
+/// A hybrid controller's project: the plant net, and the supervisor synthesised against its
+/// reachability graph (or the ready one, checked) — the set's one plant and one supervisor.
+#[derive(Clone, Debug)]
+pub struct Hybrid {
+    /// The plant net, its labels and its reachability graph.
+    pub plant: plc::hybrid::Plant,
+    /// The supervisor, `SUPER`.
+    pub supervisor: Automaton,
 }
 
 /// Where a project came from, for the command its emitted header records.
@@ -132,14 +151,23 @@ pub enum ProjectError {
     /// The firmware did not build.
     #[error(transparent)]
     Image(#[from] ImageError),
-    /// The state-based program cannot be written.
+    /// The state-based firmware's tables cannot be written, or a board cannot run them.
     #[error("{}: {source}", file.display())]
-    State {
+    Feedback {
         /// The manifest (or the set's name without one).
         file: PathBuf,
         /// Why (boxed: the other stages' errors are small).
-        source: Box<StateError>,
+        source: Box<FeedbackError>,
     },
+    /// A PLC program cannot be written.
+    #[error(transparent)]
+    Plc(Box<PlcError>),
+}
+
+impl From<PlcError> for ProjectError {
+    fn from(e: PlcError) -> ProjectError {
+        ProjectError::Plc(Box::new(e))
+    }
 }
 
 /// The supervisors stage: `models` with every supervisor its set runs — the ready supervisors first,
@@ -196,11 +224,6 @@ pub fn deployed_set(
     Ok((PackSet::new(models.plants, models.supervisors)?, summary))
 }
 
-/// The command-line words of a state-based program's choice policy (` --choice POLICY`, or none).
-fn choice_flag(choice: Option<ScanPolicy>) -> String {
-    choice.map(|p| format!(" --choice {}", p.name())).unwrap_or_default()
-}
-
 /// Reads and hashes `path`.
 fn hash(path: &Path) -> Result<Input, ProjectError> {
     Input::read(path).map_err(|source| ProjectError::File { path: path.to_owned(), source })
@@ -229,9 +252,12 @@ impl Project {
         if !is_manifest(path) {
             return Err(ManifestError::NotAProject { file: path.to_owned() }.into());
         }
-        let loaded = Sources { board, ..Sources::project(&[path.to_owned()]) }.load()?;
-        let choice =
-            loaded.manifest.as_ref().map_or_else(SupervisorChoice::default, |m| m.runtime.supervisors);
+        let m = Manifest::load(path)?;
+        if m.hybrid.is_some() {
+            return Project::hybrid(m, cfg);
+        }
+        let choice = m.runtime.supervisors;
+        let loaded = Loaded::of_manifest(m, board)?;
         let (set, deployed) = deployed_set(&loaded, cfg, choice)?;
         let inputs = loaded.inputs.iter().map(|f| hash(f)).collect::<Result<_, _>>()?;
         let Some(m) = loaded.manifest else {
@@ -246,6 +272,40 @@ impl Project {
             board: m.board,
             plc: m.plc,
             state: m.state,
+            net: m.net,
+            models: loaded.models,
+            hybrid: None,
+            left_out: Vec::new(),
+            inputs,
+        })
+    }
+
+    /// The project of the hybrid manifest `m` ([`hybrid`]): the net's reachability graph the one plant,
+    /// `SUPER` the one supervisor; its inputs the manifest, the net and the model files it names.
+    fn hybrid(m: Manifest, cfg: &Config) -> Result<Project, ProjectError> {
+        let plant = hybrid::plant(&m, cfg)?;
+        let models = m.read_automata_over(vec![plant.graph.clone()])?;
+        let supervisor = hybrid::supervisor(&m, &models, &plant, cfg)?;
+        let set = PackSet::new(vec![plant.graph.clone()], vec![supervisor.clone()])?;
+        let pnml = m.net.as_ref().map(|n| m.resolve(n.pnml.get_ref()));
+        let named = m.plants.iter().chain(&m.specs).chain(&m.supervisors).map(|p| m.resolve(p));
+        let inputs = std::iter::once(m.file.clone())
+            .chain(pnml)
+            .chain(named)
+            .map(|f| hash(&f))
+            .collect::<Result<_, _>>()?;
+        Ok(Project {
+            set,
+            deployed: Summary::full(std::slice::from_ref(&supervisor)),
+            origin: Origin::Manifest { path: m.file.clone(), runtime: m.runtime.clone() },
+            name: m.name,
+            runtime: m.runtime,
+            board: m.board,
+            plc: m.plc,
+            state: m.state,
+            net: None,
+            models,
+            hybrid: Some(Hybrid { plant, supervisor }),
             left_out: Vec::new(),
             inputs,
         })
@@ -298,6 +358,9 @@ impl Project {
             board: board_spec,
             plc: None,
             state: None,
+            net: None,
+            models: loaded.models,
+            hybrid: None,
             left_out: loaded.left_out,
             origin: Origin::Files { sources: sources.clone(), board: board.map(Path::to_path_buf) },
             inputs,
@@ -311,6 +374,12 @@ impl Project {
         supervisors: Vec<Automaton>,
         runtime: RuntimeConfig,
     ) -> Result<Project, PackError> {
+        let models = ModelSet {
+            plants: plants.clone(),
+            specs: Vec::new(),
+            supervisors: supervisors.clone(),
+            sources: Vec::new(),
+        };
         let deployed = Summary::full(&supervisors);
         Ok(Project {
             name: name.to_owned(),
@@ -320,6 +389,9 @@ impl Project {
             board: None,
             plc: None,
             state: None,
+            net: None,
+            models,
+            hybrid: None,
             left_out: Vec::new(),
             origin: Origin::Code,
             inputs: Vec::new(),
@@ -424,16 +496,16 @@ impl Project {
     /// the Cortex-M3's layout cannot hold the set; the Cortex-M0+'s falls back to the Cortex-M3's tables
     /// when it does not fit the Pico, [`fit::choose`]). State-based (`mode = "state"`):
     /// the state feedback of the `[state]` section as cubes over the signal word, no supervisor tables
-    /// ([`state_based::firmware_tables`]).
+    /// ([`emit::state::firmware_tables`]).
     pub fn emit(&self) -> Result<String, ProjectError> {
         let provenance = self.provenance(self.command());
         if self.runtime.mode == Mode::State {
-            let signals = self.state.as_ref().ok_or(StateError::Missing).and_then(|s| Ok(s.check()?));
+            let signals = self.state.as_ref().ok_or(FeedbackError::Missing).and_then(|s| Ok(s.check()?));
             return signals
                 .and_then(|signals| {
-                    state_based::firmware_tables(&self.set, signals, &self.name, &self.runtime, &provenance)
+                    emit::state::firmware_tables(&self.set, signals, &self.name, &self.runtime, &provenance)
                 })
-                .map_err(|e| self.in_file(e));
+                .map_err(|e| self.feedback(e));
         }
         let (m3, m0) = self.runtime.layouts();
         let tables = fit::fit(&self.set, m3, None)?.packed;
@@ -446,107 +518,121 @@ impl Project {
         Ok(emit::emit(&tables, m0plus, &self.name, &self.runtime, self.board.as_ref(), &provenance)?)
     }
 
-    /// The PLC stage: the Structured Text and PLCopen XML program of the set with its report, under the
-    /// same provenance header as the tables. The policy is `policy` when given, else the manifest's
-    /// (`[plc]`, else `[runtime]` when it has a scan-cycle form), else local-queue.
-    pub fn plc(
-        &self,
-        encoding: Encoding,
-        avalanche: Avalanche,
-        policy: Option<ScanPolicy>,
-    ) -> Result<plc::Output, PlcError> {
-        self.plc_beside(encoding, avalanche, policy, None)
-    }
-
-    /// [`Project::plc`], with the sequence `net` (bound to the set's events) beside the interlocks in
-    /// one program when given ([`plc::generate_with_sequence`]).
-    pub fn plc_beside(
-        &self,
-        encoding: Encoding,
-        avalanche: Avalanche,
-        policy: Option<ScanPolicy>,
-        net: Option<&crate::net::Interpretation>,
-    ) -> Result<plc::Output, PlcError> {
-        let opts = PlcOptions {
-            encoding,
-            avalanche,
-            ..PlcOptions::new(&self.name, &self.runtime, self.plc.as_ref(), policy)?
-        };
-        let provenance = self.provenance(self.plc_command(&opts));
-        match net {
-            Some(net) => plc::generate_with_sequence(&self.set, &opts, &provenance, net),
-            None => plc::generate(&self.set, &opts, &provenance),
+    /// The PLC stage, the one entry of every form ([`Form`]): the program's files under a header naming
+    /// every input with its hash and the command that reproduces them, and its report. The event-based
+    /// form runs the manifest's sequence net beside the interlocks when it has one (`[net]`); its policy
+    /// is the form's when given, else the manifest's (`[plc]`, else `[runtime]` when it has a scan-cycle
+    /// form), else local-queue for model files. The state-based form reads the `[state]` section (its
+    /// report compares the event-based program's size); the hybrid form needs a `[hybrid]` manifest.
+    pub fn plc(&self, form: &Form) -> Result<Written, ProjectError> {
+        let file = self.file();
+        match form {
+            Form::Hybrid => {
+                let h = self.hybrid.as_ref().ok_or_else(|| PlcError::Sections { file: file.clone() })?;
+                let cycle = self.plc.as_ref().and_then(|p| p.cycle_ms).unwrap_or(10);
+                let provenance = self.plc_provenance(&[]);
+                let out = plc::hybrid::generate(
+                    &h.plant,
+                    &h.supervisor,
+                    &self.name,
+                    cycle,
+                    &provenance,
+                    &Config::default(),
+                )?;
+                Ok(Written::Hybrid(out))
+            }
+            Form::Event { encoding, avalanche, policy } => {
+                let opts =
+                    PlcOptions { encoding: *encoding, avalanche: *avalanche, ..self.plc_options(*policy)? };
+                let provenance = self.plc_provenance(&opts.words());
+                let out = match self.sequence()? {
+                    Some(net) => {
+                        let mut provenance = provenance;
+                        if let Some(spec) = &self.net {
+                            let pnml = file.parent().unwrap_or(Path::new("")).join(spec.pnml.get_ref());
+                            provenance.inputs.push(hash(&pnml)?);
+                        }
+                        plc::generate_with_sequence(&self.set, &opts, &provenance, &net)?
+                    }
+                    None => plc::generate(&self.set, &opts, &provenance)?,
+                };
+                Ok(Written::Event(out))
+            }
+            Form::State { options, engine } => {
+                let in_file = |source| PlcError::Feedback { file: file.clone(), source: Box::new(source) };
+                let signals = self.state.as_ref().ok_or(FeedbackError::Missing).and_then(|s| Ok(s.check()?));
+                let signals = signals.map_err(in_file)?;
+                let opts = self.plc_options(Some(ScanPolicy::First)).map_err(|e| {
+                    in_file(FeedbackError::Vector { key: "plc".into(), message: e.to_string() })
+                })?;
+                let provenance = self.plc_provenance(&options.words(engine));
+                match engine {
+                    Engine::Explicit => {
+                        let event_based = self.plc_options(None).ok().and_then(|o| {
+                            plc::event_figures(&self.set, &PlcOptions { encoding: Encoding::Int, ..o }).ok()
+                        });
+                        let out = state_based::generate(
+                            &self.set,
+                            signals,
+                            &opts,
+                            *options,
+                            &provenance,
+                            event_based,
+                            &file,
+                        )?;
+                        Ok(Written::State(out))
+                    }
+                    Engine::Symbolic { cfg, options: symbolic } => {
+                        if self.models.specs.is_empty() {
+                            return Err(ProjectError::Nothing { file });
+                        }
+                        let guards = Guards::compute(&self.models.plants, &self.models.specs, cfg, symbolic)?;
+                        let out = state_based::from_guards(
+                            &self.set,
+                            signals,
+                            &guards,
+                            &opts,
+                            *options,
+                            &provenance,
+                            &file,
+                        )?;
+                        Ok(Written::Symbolic(out))
+                    }
+                }
+            }
         }
     }
 
-    /// The state-based PLC program of the set (`--encoding state`): its `[state]` section's state
-    /// vectors, memory allowed, F_σ exact and one command per scan as `choices` (or the `[state]`
-    /// keys) say, the event-based program's figures beside. Errors name the manifest.
-    pub fn state_plc(&self, choices: state_based::StateOptions) -> Result<state_based::Output, ProjectError> {
-        let choice = choice_flag(choices.choice);
-        let flags = [(choices.memory, " --memory"), (choices.exact, " --exact"), (true, choice.as_str())];
-        let (signals, opts, provenance) = self.state_setup(&flags).map_err(|e| self.in_file(e))?;
-        let event_based = self.plc(Encoding::Int, Avalanche::Auto, None).ok();
-        let report = event_based.as_ref().map(|o| &o.report);
-        state_based::generate(&self.set, signals, &opts, choices, &provenance, report)
-            .map_err(|e| self.in_file(e))
+    /// The sequence net of the project's `[net]` section bound to its set's events, if it has one.
+    pub fn sequence(&self) -> Result<Option<Interpretation>, ProjectError> {
+        let Some(spec) = &self.net else { return Ok(None) };
+        let automata: Vec<_> = self.set.members().iter().map(|m| &m.automaton).collect();
+        let net = crate::net::interpretation(spec, &self.file(), &automata).map_err(PlcError::from)?;
+        Ok(Some(net))
     }
 
-    /// The state-based program from guards read off the symbolic engine's BDDs (`--engine symbolic`):
-    /// the monolithic supervisor of the manifest's plants and specifications synthesised on BDDs
-    /// ([`Guards`]), F_σ per controllable event rewritten over the `[state]` signals, F_σ exact and one
-    /// command per scan as `choices` (or the `[state]` keys) say; `choices.memory` is not read (a program
-    /// from guards keeps no memory). Needs a manifest with specifications; the supervisor's memory
-    /// deciding somewhere is [`StateError::Memory`].
-    pub fn state_plc_guards(
-        &self,
-        choices: state_based::StateOptions,
-        cfg: &Config,
-        options: &symbolic::Options,
-    ) -> Result<(GuardProgram, Guards), ProjectError> {
-        let Origin::Manifest { path, .. } = &self.origin else {
-            return Err(ManifestError::NotAProject { file: PathBuf::from(&self.name) }.into());
-        };
-        let models = Sources::project(std::slice::from_ref(path)).load()?.models;
-        if models.specs.is_empty() {
-            return Err(ProjectError::Nothing { file: path.clone() });
-        }
-        let choice = choice_flag(choices.choice);
-        let flags = [(choices.exact, " --exact"), (true, " --engine symbolic"), (true, choice.as_str())];
-        let (signals, opts, provenance) = self.state_setup(&flags).map_err(|e| self.in_file(e))?;
-        let guards = Guards::compute(&models.plants, &models.specs, cfg, options)?;
-        let both = (choices.exact, choices.choice);
-        let program = state_based::guards::generate(&self.set, signals, &guards, &opts, both, &provenance)
-            .map_err(|e| self.in_file(e))?;
-        Ok((program, guards))
+    /// The event-based program's options: the policy `policy` when given, else the manifest's, else
+    /// local-queue.
+    fn plc_options(&self, policy: Option<ScanPolicy>) -> Result<PlcOptions, PlcError> {
+        PlcOptions::new(&self.name, &self.runtime, self.plc.as_ref(), policy)
     }
 
-    /// A state-based program's error, in the manifest (or the set's name without one).
-    fn in_file(&self, source: StateError) -> ProjectError {
-        let file = match &self.origin {
+    /// The manifest, or the set's name without one: what errors of the project name.
+    fn file(&self) -> PathBuf {
+        match &self.origin {
             Origin::Manifest { path, .. } => path.clone(),
             Origin::Files { .. } | Origin::Code => PathBuf::from(&self.name),
-        };
-        ProjectError::State { file, source: Box::new(source) }
-    }
-
-    /// The checked `[state]` signals, the PLC options and the provenance of a state-based program whose
-    /// command adds the words of the `flags` that are set.
-    fn state_setup(&self, flags: &[(bool, &str)]) -> Result<(Signals, PlcOptions, Provenance), StateError> {
-        let signals = self.state.as_ref().ok_or(StateError::Missing).and_then(|s| Ok(s.check()?))?;
-        let opts = PlcOptions::new(&self.name, &self.runtime, self.plc.as_ref(), Some(ScanPolicy::First))
-            .map_err(|e| StateError::Vector { key: "plc".into(), message: e.to_string() })?;
-        let mut words = self.plc_command(&opts);
-        words.truncate(words.find(" --encoding").unwrap_or(words.len()));
-        words.push_str(" --encoding state");
-        for (_, word) in flags.iter().filter(|(on, _)| *on) {
-            words.push_str(word);
         }
-        Ok((signals, opts, self.provenance(words)))
     }
 
-    /// The command that reproduces a PLC program, paths as given, every option spelt out.
-    fn plc_command(&self, opts: &PlcOptions) -> String {
+    /// A state feedback's error, in the manifest (or the set's name without one).
+    fn feedback(&self, source: FeedbackError) -> ProjectError {
+        ProjectError::Feedback { file: self.file(), source: Box::new(source) }
+    }
+
+    /// The provenance of a PLC program written with the form's command-line words `form`: every input
+    /// with its hash, the command that reproduces it (paths as given, every option spelt out).
+    fn plc_provenance(&self, form: &[String]) -> Provenance {
         let mut words = vec![String::from("codegen plc")];
         match &self.origin {
             Origin::Manifest { path, .. } => words.push(path.display().to_string()),
@@ -563,10 +649,8 @@ impl Project {
         if self.runtime.supervisors != manifest_choice {
             words.push(format!("--supervisors {}", self.runtime.supervisors));
         }
-        words.push(format!("--encoding {}", opts.encoding.name()));
-        words.push(format!("--avalanche {}", opts.avalanche.name()));
-        words.push(format!("--policy {}", opts.policy.name()));
-        words.join(" ").replace('\\', "/")
+        words.extend(form.iter().cloned());
+        self.provenance(words.join(" ").replace('\\', "/"))
     }
 
     /// The firmware-image stage: emits the tables into `dir/tables.rs` and builds the QEMU firmware on
@@ -604,7 +688,7 @@ impl Project {
     /// would fail to compile there with no word of why.
     pub fn for_board(&self) -> Result<(), ProjectError> {
         if self.runtime.mode == Mode::State {
-            return Err(self.in_file(StateError::Vector {
+            return Err(self.feedback(FeedbackError::Vector {
                 key: "runtime.mode".into(),
                 message: "the state-based firmware runs under QEMU (cell-qemu) only; the board \
                           applications feed their pins' edges to the supervisor runtime: use mode = \"event\" \

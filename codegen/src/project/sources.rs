@@ -49,6 +49,21 @@ fn stem(path: Option<&PathBuf>, fallback: &str) -> String {
     path.and_then(|p| p.file_stem()).map_or_else(|| fallback.to_owned(), |s| s.to_string_lossy().into_owned())
 }
 
+impl Loaded {
+    /// The project of the manifest `m`: its automata, each set checked where its files meet, and its
+    /// maps checked against them ([`maps::check`]; a board's pins against `board`'s when one is built for).
+    pub fn of_manifest(m: Manifest, board: Option<Board>) -> Result<Loaded, ProjectError> {
+        let models = m.read_automata()?;
+        maps::check(&m, &models, board)?;
+        let named = m.plants.iter().chain(&m.specs).chain(&m.supervisors).chain(&m.modules);
+        // A module loaded as a project is its own manifest: one input.
+        let inputs = std::iter::once(m.file.clone())
+            .chain(named.map(|p| m.resolve(p)).filter(|p| *p != m.file))
+            .collect();
+        Ok(Loaded { name: m.name.clone(), models, manifest: Some(m), left_out: Vec::new(), inputs })
+    }
+}
+
 impl Sources {
     /// The files given without a role, as a project: `files` (a manifest, modules or model files).
     pub fn project(files: &[PathBuf]) -> Sources {
@@ -92,21 +107,7 @@ impl Sources {
     /// with files in roles, is refused.
     pub fn load(&self) -> Result<Loaded, ProjectError> {
         if let Some(path) = self.manifest() {
-            let m = Manifest::load(path)?;
-            let models = m.read_automata()?;
-            maps::check(&m, &models, self.board)?;
-            let named = m.plants.iter().chain(&m.specs).chain(&m.supervisors).chain(&m.modules);
-            // A module loaded as a project is its own manifest: one input.
-            let inputs = std::iter::once(m.file.clone())
-                .chain(named.map(|p| m.resolve(p)).filter(|p| *p != m.file))
-                .collect();
-            return Ok(Loaded {
-                name: m.name.clone(),
-                models,
-                manifest: Some(m),
-                left_out: Vec::new(),
-                inputs,
-            });
+            return Loaded::of_manifest(Manifest::load(path)?, self.board);
         }
         if let Some(toml) = self.files.iter().find(|f| has_extension(f, "toml")) {
             return Err(ProjectError::ManifestAmongFiles { file: toml.clone() });

@@ -7,7 +7,7 @@
 //!
 //! - **allowed** (f_σ): the plant states x some state of R lies over and at which every such state
 //!   enables σ — `∃y R(x, y) ∧ ¬∃y (R ∧ ¬pre_σ(R))(x, y)`, the definition of
-//!   [`Sfbc`](crate::plc::state_based::Sfbc) on the explicit closed loop;
+//!   [`Sfbc`](crate::feedback::Sfbc) on the explicit closed loop;
 //! - **memory**: the plant states over which one state of R enables σ and another does not (the
 //!   supervisor's memory decides there; a state-based program without memory cannot be written).
 //!

@@ -16,7 +16,7 @@
 //! so that statements can be counted per section on the text. Identifiers are case-insensitive: they
 //! are kept upper-cased.
 
-use codegen::plc::names::is_keyword;
+use codegen::scan::names::is_keyword;
 
 /// A token.
 #[derive(Clone, Debug, PartialEq, Eq)]

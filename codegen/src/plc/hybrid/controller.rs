@@ -5,24 +5,24 @@
 //!   transition per supervisor transition between two different states;
 //! - **inhibitor arcs**: from the auto-net place of each supervisor state to every net transition whose
 //!   controllable event that state disables (the control data, `synth::condat`);
-//! - **rungs**, in order: the initial marking (network 0, on the first scan), the plant net's
-//!   transitions in net order — each followed, when it has a delay, by its on-delay timer (so that the
-//!   scan that fires it turns the timer off before the place can be marked again) — then the
-//!   auto-net's transitions, the place actions, and the end of the scan. A plant transition fires when
-//!   its input places are marked, no inhibiting place is, its condition holds and its timer (if any) has
-//!   run out; firing it moves the tokens and sets the memory bit of its event (`E_<event>`). An
-//!   auto-net transition moves the supervisor's token on that bit. At most one plant transition fires
-//!   per scan (the bit `fired`), so the auto-net sees every event in the order the plant made them; the
-//!   events on which the auto-net could move twice in one scan (p –σ→ q –σ→ r, the avalanche check of
-//!   `plc::avalanche`) have their bit reset by the auto-net rung that uses it (AEEM); every bit is reset
-//!   at the end of the scan. Only the events that move the auto-net's token have a bit.
+//! - **rungs**, in order: the initial marking (network 0, on the first scan); the plant net's token
+//!   passing — its timers, then its transitions in net order, each inhibited by the auto-net places
+//!   its inhibitor arcs come from and setting the memory bit of its event (`E_<event>`) when it fires —
+//!   written by the one lowering of a net ([`crate::plc::token_passing`], so a delay means what it means
+//!   for a sequence: the input places marked for D); then the auto-net's transitions, the place actions
+//!   (an actuator on while a place naming it is marked) and the end of the scan. An auto-net transition
+//!   moves the supervisor's token on its event's bit. At most one plant transition fires per scan
+//!   (the bit `fired`), so the auto-net sees every event in the order the plant made them; the events
+//!   on which the auto-net could move twice in one scan (p –σ→ q –σ→ r, the avalanche check of
+//!   `plc::avalanche`) have their bit reset by the auto-net rung that uses it (AEEM); every bit is
+//!   reset at the end of the scan. Only the events that move the auto-net's token have a bit.
 
 use super::super::avalanche::{chain_events, Out};
-use super::super::ld::{Coil, CoilKind, Element, Rung};
-use super::super::names::Names;
+use super::super::token_passing::{self, Actions, Idents};
 use crate::model::{Automaton, EventId, StateId};
-use crate::net::condition::Expr;
 use crate::net::interpretation::{Direction, Interpretation};
+use crate::net::NetError;
+use crate::scan::ld::{Coil, CoilKind, Element, Rung};
 
 /// A hybrid controller's rungs and what they are made of.
 #[derive(Clone, Debug)]
@@ -45,55 +45,6 @@ pub struct Controller {
     pub states: usize,
 }
 
-/// The identifiers of one controller, unique without regard to case.
-struct Idents {
-    place: Vec<String>,
-    state: Vec<String>,
-    event: Vec<String>,
-    signal: Vec<String>,
-    timer: Vec<Option<String>>,
-    init: String,
-    fired: String,
-}
-
-impl Idents {
-    fn new(net: &Interpretation, events: &[String], sup: &Automaton) -> Idents {
-        let mut names = Names::default();
-        let init = names.plain("Init");
-        let fired = names.plain("fired");
-        let signal = net.signals.iter().map(|s| names.plain(&s.name)).collect();
-        let place = net.net.places.iter().map(|p| names.fresh("P", &p.id)).collect();
-        let state = (0..sup.states.len()).map(|k| names.fresh("A", &k.to_string())).collect();
-        let event = events.iter().map(|e| names.fresh("E", e)).collect();
-        let timer = net
-            .net
-            .transitions
-            .iter()
-            .zip(&net.delays)
-            .map(|(t, &d)| (d > 0).then(|| names.fresh("T", &t.id)))
-            .collect();
-        Idents { place, state, event, signal, timer, init, fired }
-    }
-}
-
-/// Y(t) as contacts: negations pushed down to the signals (a normally closed contact).
-fn condition(e: &Expr<usize>, negate: bool, signal: &[String]) -> Element {
-    match e {
-        Expr::Const(b) if *b != negate => Element::Series(Vec::new()),
-        Expr::Const(_) => Element::Parallel(Vec::new()),
-        Expr::Var(s) => Element::contact(signal[*s].clone(), negate),
-        Expr::Not(x) => condition(x, !negate, signal),
-        Expr::And(xs) | Expr::Or(xs) => {
-            let parts = xs.iter().map(|x| condition(x, negate, signal)).collect();
-            if matches!(e, Expr::And(_)) != negate {
-                Element::Series(parts)
-            } else {
-                Element::Parallel(parts)
-            }
-        }
-    }
-}
-
 fn coil(variable: &str, kind: CoilKind) -> Coil {
     Coil { variable: variable.to_owned(), kind }
 }
@@ -101,13 +52,13 @@ fn coil(variable: &str, kind: CoilKind) -> Coil {
 impl Controller {
     /// The controller of the plant net `net` (transition `t` generating `events[t]`) under the
     /// supervisor `sup` over those events, with its control data `condat` (per state, the events it
-    /// disables).
+    /// disables). The net must be safe.
     pub fn new(
         net: &Interpretation,
         events: &[String],
         sup: &Automaton,
         condat: &[Vec<String>],
-    ) -> Controller {
+    ) -> Result<Controller, NetError> {
         let mut out: Vec<Vec<(EventId, StateId)>> = vec![Vec::new(); sup.states.len()];
         let mut auto_transitions = Vec::new();
         for t in &sup.transitions {
@@ -121,8 +72,11 @@ impl Controller {
         let mut distinct: Vec<String> = auto_transitions.iter().map(|(_, e, _)| e.clone()).collect();
         distinct.sort();
         distinct.dedup();
-        let id = Idents::new(net, &distinct, sup);
-        let event_var = |e: &str| distinct.binary_search_by(|x| x.as_str().cmp(e)).ok().map(|i| &id.event[i]);
+        let mut id = Idents::new(net);
+        let init = id.plain("Init");
+        let state: Vec<String> = (0..sup.states.len()).map(|k| id.fresh("A", &k.to_string())).collect();
+        let event: Vec<String> = distinct.iter().map(|e| id.fresh("E", e)).collect();
+        let event_var = |e: &str| distinct.binary_search_by(|x| x.as_str().cmp(e)).ok().map(|i| &event[i]);
         let inhibitors: Vec<(usize, usize)> = condat
             .iter()
             .enumerate()
@@ -135,7 +89,17 @@ impl Controller {
             .map(|e| sup.events[e.index()].name.clone())
             .collect();
 
-        let mut rungs = Vec::new();
+        let transitions = &net.net.transitions;
+        let blocked: Vec<Vec<String>> = (0..transitions.len())
+            .map(|t| inhibitors.iter().filter(|&&(_, u)| u == t).map(|&(s, _)| state[s].clone()).collect())
+            .collect();
+        let also: Vec<Vec<String>> =
+            (0..transitions.len()).map(|t| event_var(&events[t]).into_iter().cloned().collect()).collect();
+        let mut lowered = token_passing::lower(net, &id, Actions::Level, &blocked, &also)?;
+        for (rung, (tr, e)) in lowered.firing.iter_mut().skip(1).zip(transitions.iter().zip(events)) {
+            rung.comment = format!("{}: event {e}", tr.id);
+        }
+
         let mut first: Vec<Coil> = net
             .net
             .places
@@ -145,124 +109,63 @@ impl Controller {
             .map(|(_, v)| coil(v, CoilKind::Set))
             .collect();
         if let Some(i) = sup.initial {
-            first.push(coil(&id.state[i.index()], CoilKind::Set));
+            first.push(coil(&state[i.index()], CoilKind::Set));
         }
-        first.push(coil(&id.init, CoilKind::Set));
-        rungs.push(Rung {
+        first.push(coil(&init, CoilKind::Set));
+        let mut rungs = vec![Rung {
             comment: "NW0: the initial marking (first scan)".into(),
-            condition: Element::contact(id.init.clone(), true),
+            condition: Element::contact(init.clone(), true),
             coils: first,
-        });
-        for (t, tr) in net.net.transitions.iter().enumerate() {
-            let mut enabled: Vec<Element> =
-                tr.inputs.iter().map(|&(p, _)| Element::contact(id.place[p].clone(), false)).collect();
-            enabled.extend(tr.inhibitors.iter().map(|&(p, _)| Element::contact(id.place[p].clone(), true)));
-            enabled.extend(
-                inhibitors
-                    .iter()
-                    .filter(|&&(_, u)| u == t)
-                    .map(|&(s, _)| Element::contact(id.state[s].clone(), true)),
-            );
-            match condition(&net.conditions[t], false, &id.signal) {
-                Element::Series(es) if es.is_empty() => {}
-                c => enabled.push(c),
-            }
-            // The timer's rung comes after its transition's: the scan that fires the transition calls
-            // it with its input off, so the next occupation of the place starts it afresh.
-            let timer = id.timer[t].as_ref().map(|timer| {
-                let rung = Rung {
-                    comment: format!("{}: on-delay of {} ms", tr.id, net.delays[t]),
-                    condition: Element::Series(enabled.clone()),
-                    coils: vec![coil(timer, CoilKind::OnDelay(net.delays[t]))],
-                };
-                enabled.push(Element::contact(format!("{timer}.Q"), false));
-                rung
-            });
-            let mut condition = vec![Element::contact(id.fired.clone(), true)];
-            condition.extend(enabled);
-            let mut coils: Vec<Coil> =
-                tr.inputs.iter().map(|&(p, _)| coil(&id.place[p], CoilKind::Reset)).collect();
-            coils.extend(tr.outputs.iter().map(|&(p, _)| coil(&id.place[p], CoilKind::Set)));
-            if let Some(bit) = event_var(&events[t]) {
-                coils.push(coil(bit, CoilKind::Set));
-            }
-            coils.push(coil(&id.fired, CoilKind::Set));
-            rungs.push(Rung {
-                comment: format!("{}: event {}", tr.id, events[t]),
-                condition: Element::Series(condition),
-                coils,
-            });
-            rungs.extend(timer);
-        }
+        }];
+        rungs.extend(lowered.timers.iter().chain(&lowered.firing).cloned());
         for (s, e, target) in &auto_transitions {
             let bit = event_var(e).cloned().unwrap_or_default();
-            let mut coils =
-                vec![coil(&id.state[*s], CoilKind::Reset), coil(&id.state[*target], CoilKind::Set)];
+            let mut coils = vec![coil(&state[*s], CoilKind::Reset), coil(&state[*target], CoilKind::Set)];
             if aeem.contains(e) {
                 coils.push(coil(&bit, CoilKind::Reset));
             }
             rungs.push(Rung {
                 comment: format!("supervisor {} -{e}-> {}", sup.states[*s].name, sup.states[*target].name),
                 condition: Element::Series(vec![
-                    Element::contact(id.state[*s].clone(), false),
+                    Element::contact(state[*s].clone(), false),
                     Element::contact(bit, false),
                 ]),
                 coils,
             });
         }
-        for (k, s) in net.signals.iter().enumerate() {
-            if s.direction != Direction::Output {
-                continue;
-            }
-            let places: Vec<Element> = net
-                .actions
-                .iter()
-                .enumerate()
-                .filter(|(_, sets)| sets.contains(&(k, true)))
-                .map(|(p, _)| Element::contact(id.place[p].clone(), false))
-                .collect();
+        rungs.extend(lowered.actions);
+        if !event.is_empty() {
             rungs.push(Rung {
-                comment: format!("action: {} while a place naming it is marked", s.name),
-                condition: Element::Parallel(places),
-                coils: vec![coil(&id.signal[k], CoilKind::Out)],
+                comment: "end of scan: every event bit (AEEM's last step)".into(),
+                condition: Element::Series(Vec::new()),
+                coils: event.iter().map(|v| coil(v, CoilKind::Reset)).collect(),
             });
         }
-        let mut end: Vec<Coil> = id.event.iter().map(|v| coil(v, CoilKind::Reset)).collect();
-        end.push(coil(&id.fired, CoilKind::Reset));
-        rungs.push(Rung {
-            comment: "end of scan: every event bit (AEEM's last step) and this scan's firing".into(),
-            condition: Element::Series(Vec::new()),
-            coils: end,
-        });
 
         let mut bools = vec![
-            (id.init.clone(), "the initial marking is set".to_owned()),
+            (init.clone(), "the initial marking is set".to_owned()),
             (id.fired.clone(), "a plant transition fired in this scan".to_owned()),
         ];
         bools.extend(
             net.net.places.iter().zip(&id.place).map(|(p, v)| (v.clone(), format!("plant place {}", p.id))),
         );
         bools.extend(
-            sup.states
-                .iter()
-                .zip(&id.state)
-                .map(|(s, v)| (v.clone(), format!("supervisor state {}", s.name))),
+            sup.states.iter().zip(&state).map(|(s, v)| (v.clone(), format!("supervisor state {}", s.name))),
         );
         bools.extend(
             distinct
                 .iter()
-                .zip(&id.event)
+                .zip(&event)
                 .map(|(e, v)| (v.clone(), format!("event {e} occurred (read by the auto-net)"))),
         );
-        let timers = net
-            .net
-            .transitions
+        let timers = transitions
             .iter()
             .enumerate()
-            .filter_map(|(t, tr)| Some((id.timer[t].clone()?, tr.id.clone(), net.delays[t])))
+            .filter(|&(t, _)| net.delays[t] > 0)
+            .map(|(t, tr)| (id.timer[t].clone(), tr.id.clone(), net.delays[t]))
             .collect();
         let signals = net.signals.iter().zip(&id.signal).map(|(s, v)| (v.clone(), s.direction)).collect();
-        Controller {
+        Ok(Controller {
             rungs,
             inhibitors,
             auto_transitions,
@@ -271,6 +174,6 @@ impl Controller {
             timers,
             signals,
             states: sup.states.len(),
-        }
+        })
     }
 }

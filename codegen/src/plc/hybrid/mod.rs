@@ -1,95 +1,36 @@
 //! The hybrid controller (Uzam & Gelen 2013): the plant is an automation Petri net (conditions on its
 //! transitions, actions on its places, on-delays), the specifications are automata over the events its
-//! transitions generate; the supervisor is synthesised against the net's reachability graph, reduced,
-//! turned into an auto-net and coupled to the net by inhibitor arcs from its control data, and the whole
-//! is written as Ladder Diagram (and the same rungs in ST) — once with the reduced supervisor, once with
-//! the full one, side by side in the report as the paper's Table 4.
+//! transitions generate; the supervisor is synthesised against the net's reachability graph (by the
+//! project's pipeline, `Project::load` of a `[hybrid]` manifest), reduced here, turned into an auto-net
+//! and coupled to the net by inhibitor arcs from its control data, and the whole is written as Ladder
+//! Diagram (and the same rungs in ST) — once with the reduced supervisor, once with the full one, side
+//! by side in the report as the paper's Table 4.
 //!
 //! | part | module |
 //! |---|---|
 //! | the coupled net as rungs: auto-net, inhibitor arcs, AEEM bits, timers | [`controller`] |
+//! | the coupled net as a place/transition net, checked against plant ‖ supervisor | [`coupled`] |
 //! | the figures of one controller and the report of both | [`report`] |
 //!
-//! [`generate`] runs the steps from a manifest with `[net]` and `[hybrid]` sections.
+//! [`generate`] writes both controllers of a plant net and its supervisor.
 
 pub mod controller;
+pub mod coupled;
 pub mod report;
-
-use std::path::{Path, PathBuf};
 
 pub use controller::Controller;
 pub use report::{Figures, Report};
 
-use super::ld::{self, CoilKind, Element, Rung};
-use super::st::{Expr, Pou, Section, SectionKind, Stmt, Type, Var, VarClass};
-use super::{comment, names, strict, xml};
-use crate::formats::ParseError;
-use crate::manifest::Manifest;
-use crate::model::{Automaton, EventTable, Kind};
+use super::PlcError;
+use crate::model::Automaton;
 use crate::net::interpretation::{Direction, Interpretation};
-use crate::net::reachability::{reachability, Labels};
-use crate::net::{read_pnml, NetError};
-use crate::synth::{self, Config, SynthError};
-
-/// Why a hybrid controller could not be written; each names the file (and line where there is one).
-#[derive(Debug, thiserror::Error)]
-pub enum HybridError {
-    /// The manifest has no `[net]` or no `[hybrid]` section.
-    #[error("{}: a hybrid controller needs the sections [net] (the plant's automation net) and [hybrid] (its transitions' events)", file.display())]
-    Sections {
-        /// The manifest.
-        file: PathBuf,
-    },
-    /// A name of the `[hybrid]` section is wrong.
-    #[error("{}:{line}: {message}", file.display())]
-    Spec {
-        /// The manifest.
-        file: PathBuf,
-        /// The line of the key or value.
-        line: usize,
-        /// What is wrong.
-        message: String,
-    },
-    /// The net, its interpretation or its reachability graph.
-    #[error(transparent)]
-    Net(#[from] NetError),
-    /// A specification file.
-    #[error(transparent)]
-    Parse(#[from] ParseError),
-    /// Synthesis, reduction or the control data.
-    #[error(transparent)]
-    Synth(#[from] SynthError),
-    /// No supervisor exists: the specifications forbid what the net cannot be kept from.
-    #[error("{}: no supervisor exists: the specifications cannot be enforced on the net (supC is empty)", file.display())]
-    Empty {
-        /// The manifest.
-        file: PathBuf,
-    },
-    /// The manifest gives no specification and no supervisor, both, or more than one supervisor.
-    #[error("{}: a hybrid controller takes either `specs` (its supervisor is synthesised) or one ready supervisor in `supervisors`; {specs} specification file(s) and {supervisors} supervisor file(s) given", file.display())]
-    Source {
-        /// The manifest.
-        file: PathBuf,
-        /// How many specification files it lists.
-        specs: usize,
-        /// How many supervisor files it lists.
-        supervisors: usize,
-    },
-    /// The ready supervisor cannot control the net: an event no transition generates, an uncontrollable
-    /// event it refuses, or a state of the closed loop from which no marked state is reachable.
-    #[error("{}: supervisor '{name}': {problem}", file.display())]
-    Given {
-        /// The supervisor's file.
-        file: PathBuf,
-        /// The supervisor.
-        name: String,
-        /// What is wrong, with a trace where there is one.
-        problem: String,
-    },
-    /// The program breaks a rule of the standard: the writer's bug.
-    #[error("internal error, please report: the program is not strict IEC 61131-3: {0}")]
-    Strict(#[from] strict::Violation),
-}
+use crate::net::reachability::Labels;
+use crate::provenance::Provenance;
+use crate::scan::files::{self, File, Header};
+use crate::scan::ir::{Pou, Section, Type, Var, VarClass};
+use crate::scan::names;
+use crate::scan::{Graphic, Program};
+use crate::synth::{self, Config};
 
 /// One controller with its supervisor: the full one or the reduced one.
 #[derive(Clone, Debug)]
@@ -105,15 +46,9 @@ pub struct Side {
 /// What [`generate`] writes and reports.
 #[derive(Clone, Debug)]
 pub struct Output {
-    /// `(file name, contents)`: `<name>_hybrid.st`, `<name>_hybrid.xml` (reduced supervisor),
-    /// `<name>_hybrid_full.st`, `<name>_hybrid_full.xml` (unreduced).
-    pub files: Vec<(String, String)>,
-    /// The plant net with its interpretation.
-    pub net: Interpretation,
-    /// The event of each net transition.
-    pub events: Vec<String>,
-    /// The net's reachability graph, the plant.
-    pub plant: Automaton,
+    /// `(file name, contents)`: `<name>_hybrid.st`, `<name>_hybrid_config.st`, `<name>_hybrid.xml`
+    /// (reduced supervisor), then the same three `<name>_hybrid_full` files (unreduced).
+    pub files: Vec<File>,
     /// The reduced controller.
     pub reduced: Side,
     /// The unreduced controller.
@@ -122,183 +57,81 @@ pub struct Output {
     pub report: Report,
 }
 
-/// The net of `manifest` with its interpretation and the event of each of its transitions (with
-/// controllability).
-fn load_net(manifest: &Manifest) -> Result<(Interpretation, Labels), HybridError> {
-    let sections = || HybridError::Sections { file: manifest.file.clone() };
-    let (spec, hybrid) =
-        (manifest.net.as_ref().ok_or_else(sections)?, manifest.hybrid.as_ref().ok_or_else(sections)?);
-    let net = read_pnml(&manifest.resolve(spec.pnml.get_ref()))?;
-    let net =
-        Interpretation::bind(spec, &manifest.file, net, &EventTable::build([]).map_err(NetError::from)?)?;
-    let at = |span: std::ops::Range<usize>, message: String| HybridError::Spec {
-        file: manifest.file.clone(),
-        line: spec.line(span.start),
-        message,
-    };
-    for key in hybrid.events.keys() {
-        if net.net.transition(key.get_ref()).is_none() {
-            return Err(at(
-                key.span(),
-                format!("hybrid.events.{}: the net has no such transition", key.get_ref()),
-            ));
-        }
-    }
-    let mut events = Vec::new();
-    for t in &net.net.transitions {
-        match hybrid.events.iter().find(|(k, _)| *k.get_ref() == t.id) {
-            Some((_, e)) => events.push(e.get_ref().clone()),
-            None => {
-                return Err(at(
-                    spec.pnml.span(),
-                    format!("transition '{}' has no event in [hybrid.events]", t.id),
-                ))
-            }
-        }
-    }
-    for c in &hybrid.controllable {
-        if !events.contains(c.get_ref()) {
-            return Err(at(
-                c.span(),
-                format!("hybrid.controllable: no transition generates '{}'", c.get_ref()),
-            ));
-        }
-    }
-    let controllable = events.iter().map(|e| hybrid.controllable.iter().any(|c| c.get_ref() == e)).collect();
-    Ok((net, Labels { events, controllable }))
+/// The plant net of a hybrid controller: its interpretation, the event of each transition, and its
+/// reachability graph (the plant of synthesis).
+#[derive(Clone, Debug)]
+pub struct Plant {
+    /// The net with its interpretation (its signals: the `free` sensors and the `outputs` actuators).
+    pub net: Interpretation,
+    /// The event of each transition, with controllability.
+    pub labels: Labels,
+    /// The reachability graph as an automaton.
+    pub graph: Automaton,
 }
 
-/// Reads the manifest's net and specifications, synthesises, reduces and writes both controllers.
-pub fn generate(manifest: &Manifest, cfg: &Config, cycle_ms: u32) -> Result<Output, HybridError> {
-    let (net, labels) = load_net(manifest)?;
-    let plant = reachability(&net.net, &labels, &format!("G_{}", net.net.name), cfg.state_limit)?;
-    let plants = std::slice::from_ref(&plant);
-    let mut full = match (manifest.specs.as_slice(), manifest.supervisors.as_slice()) {
-        (specs, []) if !specs.is_empty() => synthesise(manifest, &plant, cfg)?,
-        ([], [one]) => given(&manifest.resolve(one), &plant, &labels, cfg)?,
-        (specs, supervisors) => {
-            return Err(HybridError::Source {
-                file: manifest.file.clone(),
-                specs: specs.len(),
-                supervisors: supervisors.len(),
-            })
-        }
-    };
+/// Writes the two controllers of the plant net `plant` under the supervisor `full` (synthesised, or
+/// ready and checked): reduces it, takes both supervisors' control data, checks each coupled net against
+/// plant ‖ `full` ([`coupled::check`]) and writes `<name>_hybrid` (reduced) and `<name>_hybrid_full`,
+/// each task running every `cycle_ms`, under `provenance`.
+pub fn generate(
+    plant: &Plant,
+    full: &Automaton,
+    name: &str,
+    cycle_ms: u32,
+    provenance: &Provenance,
+    cfg: &Config,
+) -> Result<Output, PlcError> {
+    let net = &plant.net;
+    token_check(net)?;
+    let plants = std::slice::from_ref(&plant.graph);
+    let mut full = full.clone();
     full.name = "SUPER".into();
     let mut reduced = synth::reduce(plants, &full, cfg)?;
     reduced.name = "RSUPER".into();
-    let side = |sup: Automaton| -> Result<Side, HybridError> {
+    let side = |sup: Automaton| -> Result<Side, PlcError> {
         let condat = synth::condat(plants, &sup, cfg)?;
-        let controller = Controller::new(&net, &labels.events, &sup, &condat);
+        let controller = Controller::new(net, &plant.labels.events, &sup, &condat)?;
+        coupled::check(&net.net, &plant.labels, &plant.graph, &full, &sup, &controller.inhibitors, cfg)?;
         Ok(Side { supervisor: sup, condat, controller })
     };
-    let (reduced, full) = (side(reduced)?, side(full)?);
-    let base = names::stem(&manifest.name);
-    let header = vec![
-        format!("@generated by codegen {} (`codegen plc`): do not edit.", env!("CARGO_PKG_VERSION")),
-        format!(
-            "Hybrid controller of '{}' ({}): the automation net {} coupled by inhibitor arcs to the auto-net of its supervisor.",
-            manifest.name,
-            manifest.file.display(),
-            net.net.name
-        ),
-    ];
+    let (reduced, full) = (side(reduced)?, side(full.clone())?);
+    let base = names::stem(name);
     let mut files = Vec::new();
-    for (suffix, s) in [("hybrid", &reduced), ("hybrid_full", &full)] {
-        let name = format!("{base}_{suffix}");
-        let pou = pou(&s.controller, &name, &s.supervisor.name);
-        strict::check(&[], &[&pou])?;
-        let mut lines = header.clone();
-        lines.push(format!(
-            "Supervisor {}: {} states; report: docs/hybrid.md.",
-            s.supervisor.name,
-            s.supervisor.states.len()
-        ));
-        files.push((format!("{name}.st"), format!("{}\n{}", comment(&lines), pou.text())));
-        let body = ld::body(&s.controller.rungs);
-        files.push((format!("{name}.xml"), xml::document(None, &[(&pou, &[body])], &name, cycle_ms, &lines)));
+    for (suffix, which, s) in [("hybrid", "reduced", &reduced), ("hybrid_full", "full", &full)] {
+        let header = Header {
+            about: vec![format!(
+                "Hybrid controller of '{name}': the automation net {} coupled by inhibitor arcs to the auto-net of its supervisor.",
+                net.net.name
+            )],
+            provenance: provenance.clone(),
+            options: vec![
+                ("encoding", "hybrid".into()),
+                ("supervisor", which.into()),
+                ("cycle_ms", cycle_ms.to_string()),
+            ],
+            notes: vec![format!(
+                "Supervisor {}: {} states; report: docs/hybrid.md.",
+                s.supervisor.name,
+                s.supervisor.states.len()
+            )],
+        };
+        let stem = format!("{base}_{suffix}");
+        let pou = pou(&s.controller, &stem, &s.supervisor.name);
+        let program = Program {
+            base: stem,
+            types: Vec::new(),
+            pous: vec![(pou, Graphic::Ladder(s.controller.rungs.clone()))],
+            cycle_ms,
+        };
+        files.extend(files::write(&program, &header)?);
     }
-    let report = Report::new(&net, &plant, &reduced, &full);
-    Ok(Output { files, net, events: labels.events, plant, reduced, full, report })
+    let report = Report::new(net, &plant.graph, &reduced, &full);
+    Ok(Output { files, reduced, full, report })
 }
 
-/// supC of the manifest's specifications against the net's reachability graph `plant`.
-fn synthesise(manifest: &Manifest, plant: &Automaton, cfg: &Config) -> Result<Automaton, HybridError> {
-    let mut specs = Vec::new();
-    for p in &manifest.specs {
-        for mut a in crate::formats::read_path(&manifest.resolve(p))? {
-            a.kind = Kind::Spec;
-            specs.push(a);
-        }
-    }
-    let full = synth::supc(std::slice::from_ref(plant), &specs, cfg)?;
-    if full.states.is_empty() {
-        return Err(HybridError::Empty { file: manifest.file.clone() });
-    }
-    Ok(full)
-}
-
-/// The ready supervisor of `file`, checked against the net's reachability graph `plant`: its events are
-/// the net's, it never refuses an uncontrollable event the net can generate, and the closed loop is
-/// nonblocking — so that the controller written on it keeps what synthesis would have guaranteed.
-fn given(file: &Path, plant: &Automaton, labels: &Labels, cfg: &Config) -> Result<Automaton, HybridError> {
-    let mut read = crate::formats::read_path(file)?;
-    let mut sup = match read.len() {
-        1 => read.remove(0),
-        n => {
-            return Err(HybridError::Given {
-                file: file.to_owned(),
-                name: file.display().to_string(),
-                problem: format!("the file holds {n} automata, a hybrid controller takes one supervisor"),
-            })
-        }
-    };
-    sup.kind = Kind::Supervisor;
-    let problem =
-        |problem: String| HybridError::Given { file: file.to_owned(), name: sup.name.clone(), problem };
-    let foreign: Vec<&str> = sup
-        .events
-        .iter()
-        .map(|e| e.name.as_str())
-        .filter(|e| !labels.events.iter().any(|n| n == e))
-        .collect();
-    if !foreign.is_empty() {
-        return Err(problem(format!("no transition of the net generates {}", foreign.join(", "))));
-    }
-    if sup.states.is_empty() {
-        return Err(problem("it has no state".into()));
-    }
-    for e in &mut sup.events {
-        if let Some(i) = labels.events.iter().position(|n| *n == e.name) {
-            e.controllable = labels.controllable[i];
-        }
-    }
-    let plants = std::slice::from_ref(plant);
-    if let Some(u) = synth::verify::controllability(plants, &sup, cfg)? {
-        return Err(problem(format!(
-            "not controllable: after {} it refuses the uncontrollable '{}' the net can generate (state {})",
-            trace(&u.trace),
-            u.event,
-            u.state
-        )));
-    }
-    if let Some(b) = synth::verify::nonblocking(&[plant.clone(), sup.clone()], cfg)? {
-        return Err(problem(format!(
-            "the closed loop blocks: after {} no marked state is reachable (state {})",
-            trace(&b.trace),
-            b.state
-        )));
-    }
-    Ok(sup)
-}
-
-/// A trace as words for a message.
-fn trace(events: &[String]) -> String {
-    if events.is_empty() {
-        "the initial state".into()
-    } else {
-        events.join(" ")
-    }
+/// Refuses a plant net the program cannot keep a place of in one bit, before anything is reduced.
+fn token_check(net: &Interpretation) -> Result<(), PlcError> {
+    Ok(super::token_passing::check(net)?)
 }
 
 /// The controller as a `PROGRAM <name>_main`: its signals, bits and timers, one statement per rung.
@@ -322,44 +155,13 @@ fn pou(c: &Controller, name: &str, supervisor: &str) -> Pou {
         program: true,
         name: format!("{name}_main"),
         vars: vec![(VarClass::Local, vars)],
-        sections: vec![Section {
-            kind: SectionKind::Rungs,
-            title: format!(
-                "initial marking, plant net, auto-net of {supervisor}, actions, end of scan: {} networks",
+        sections: vec![Section::new(
+            "rungs",
+            format!(
+                "initial marking, plant net (timers, transitions), auto-net of {supervisor}, actions, end of scan: {} networks",
                 c.rungs.len()
             ),
-            stmts: c.rungs.iter().flat_map(statements).collect(),
-        }],
+            c.rungs.iter().flat_map(|r| r.statements()).collect(),
+        )],
     }
 }
-
-/// A rung as ST: `IF condition THEN` its SET/RESET coils, an `OUT` coil as an assignment, a timer as
-/// its call.
-fn statements(r: &Rung) -> Vec<Stmt> {
-    let cond = r.condition.st();
-    let mut out = Vec::new();
-    let mut latched = Vec::new();
-    for c in &r.coils {
-        match c.kind {
-            CoilKind::Set | CoilKind::Reset => {
-                latched.push(Stmt::set(c.variable.clone(), Expr::Bool(c.kind == CoilKind::Set)))
-            }
-            CoilKind::Out => out.push(Stmt::set(c.variable.clone(), cond.clone())),
-            CoilKind::OnDelay(ms) => out.push(Stmt::Call(
-                c.variable.clone(),
-                vec![("IN".into(), cond.clone()), ("PT".into(), Expr::Time(ms))],
-            )),
-        }
-    }
-    if !latched.is_empty() {
-        if matches!(&r.condition, Element::Series(es) if es.is_empty()) {
-            out.extend(latched);
-        } else {
-            out.push(Stmt::when(cond, latched));
-        }
-    }
-    out
-}
-
-#[cfg(test)]
-mod tests;

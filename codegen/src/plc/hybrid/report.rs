@@ -2,7 +2,7 @@
 //! side, as the paper's Table 4 (transitions, places, their total, PLC memory).
 //!
 //! **Cost model.** The program's size is counted on its rungs as the instruction list a PLC compiles
-//! them to (`plc::ld`'s model: one instruction per contact, one to close each nested block, one per
+//! them to (`scan::ld`'s model: one instruction per contact, one to close each nested block, one per
 //! coil, two per timer call) at [`BYTES_PER_INSTRUCTION`] bytes each (a 16-bit word per instruction, as
 //! the compact PLCs' instruction lists); its data are its memory bits, a byte per eight. The paper's
 //! 380 and 422 bytes are Siemens S7-300 load memory of its own net, which this model does not

@@ -1,35 +1,31 @@
 //! Supervisor memory in a state-based program: where the plant state does not decide the feedback, the
-//! kept supervisors' states ([`super::sfbc::Memory`]) become further literals — each kept supervisor's
-//! state as an `INT`, and its binary code as `BOOL`s (⌈log2 states⌉ of them, least significant first)
-//! the rungs read — tracked from events as an event-based program tracks them. A command is known when
+//! kept supervisors' states become further literals ([`crate::feedback::memory::Layout`]) — each kept
+//! supervisor's state as an `INT`, and its binary code as `BOOL`s (⌈log2 states⌉ of them, least
+//! significant first) the rungs read — tracked from events as an event-based program tracks them. A command is known when
 //! its rung fires; an uncontrollable event is read as its component's state change between two scans
 //! (the previous state kept in an `INT`), so memory, unlike the rest of the program, depends on seeing
 //! every sensor change: a component that moves two steps between scans desynchronises it.
 
 use std::collections::BTreeMap;
 
-use crate::config::Cube;
+use crate::feedback::memory::Layout;
+use crate::feedback::{FeedbackError, Vector};
 use crate::model::EventId;
 use crate::pack::PackSet;
-use crate::plc::names::Names;
-use crate::plc::st::{Expr, Op, Stmt, Type, Var};
+use crate::scan::ir::{Expr, Op, Stmt, Type, Var};
+use crate::scan::names::Names;
 
-use super::{program, StateError, Vector};
+use super::rungs;
 
-/// The memory literals and the code that keeps them.
+/// The memory literals' names and the code that keeps them.
 #[derive(Clone, Debug, Default)]
-pub struct Memory {
-    /// Member indices of the kept supervisors.
-    pub kept: Vec<usize>,
-    /// Per kept supervisor, its state code's bits: their indices among the program's Boolean
-    /// variables, least significant first.
-    pub bits: Vec<Vec<usize>>,
+pub struct Tracking {
+    /// Where the memory bits are among the variables.
+    pub layout: Layout,
     /// Per kept supervisor, the `INT` holding its state.
     pub states: Vec<String>,
     /// Every memory bit's name, in index order.
     pub names: Vec<String>,
-    /// The index of the first memory bit (the number of signals).
-    pub base: usize,
     /// Declarations: the kept supervisors' states and bits (initial states set), each tracked
     /// component's last state.
     pub vars: Vec<Var>,
@@ -41,9 +37,9 @@ pub struct Memory {
 
 /// `CASE s OF q: s := q'; …` for event `e` in every kept supervisor holding it, then that supervisor's
 /// bits set from its new state.
-fn apply(set: &PackSet, m: &Memory, e: EventId) -> Vec<Stmt> {
+fn apply(set: &PackSet, m: &Tracking, e: EventId) -> Vec<Stmt> {
     let mut out = Vec::new();
-    for (k, &s) in m.kept.iter().enumerate() {
+    for (k, &s) in m.layout.kept.iter().enumerate() {
         let member = &set.members()[s];
         if !member.dfa.has_event(e.as_u32()) {
             continue;
@@ -59,34 +55,34 @@ fn apply(set: &PackSet, m: &Memory, e: EventId) -> Vec<Stmt> {
             continue;
         }
         out.push(Stmt::Case(Expr::var(state.clone()), arms, Vec::new()));
-        for (i, &bit) in m.bits[k].iter().enumerate() {
+        for (i, &bit) in m.layout.bits[k].iter().enumerate() {
             let digit = Expr::var(state.clone())
                 .op(Op::Div, Expr::Int(1 << i))
                 .op(Op::Mod, Expr::Int(2))
                 .op(Op::Eq, Expr::Int(1));
-            out.push(Stmt::set(m.names[bit - m.base].clone(), digit));
+            out.push(Stmt::set(m.names[bit - m.layout.base].clone(), digit));
         }
     }
     out
 }
 
-impl Memory {
-    /// The memory of the supervisors `kept` over `vector`'s signals: variables numbered from the signals'
-    /// count, names unique against them.
+impl Tracking {
+    /// The tracking of the memory bits of `layout` over `vector`'s signals, named `signal_names`:
+    /// variables numbered from the signals' count, names unique against them.
     pub fn new(
         set: &PackSet,
         vector: &Vector,
-        kept: &[usize],
+        layout: &Layout,
         signal_names: &[String],
-    ) -> Result<Memory, StateError> {
+    ) -> Result<Tracking, FeedbackError> {
         let members = set.members();
         let mut names = Names::default();
         for n in signal_names {
             names.reserve(n);
         }
-        let mut m = Memory { kept: kept.to_vec(), base: signal_names.len(), ..Memory::default() };
-        let mut index = signal_names.len();
-        for &s in kept {
+        let mut m = Tracking { layout: layout.clone(), ..Tracking::default() };
+        let kept = &layout.kept;
+        for (k, &s) in kept.iter().enumerate() {
             let sup = members[s].name();
             let initial = members[s].initial().index();
             let state = names.fresh("s", sup);
@@ -95,24 +91,14 @@ impl Memory {
                     .init(Expr::Int(initial as i64)),
             );
             m.states.push(state);
-            let mut per = Vec::new();
-            for i in 0..super::sfbc::bits(members[s].state_count()) as usize {
+            for i in 0..layout.bits[k].len() {
                 let name = names.fresh(&format!("m_{sup}"), &format!("b{i}"));
                 m.vars.push(
                     Var::new(name.clone(), Type::Bool, format!("memory: bit {i} of {sup}'s state"))
                         .init(Expr::Bool(initial >> i & 1 == 1)),
                 );
                 m.names.push(name);
-                per.push(index);
-                index += 1;
             }
-            m.bits.push(per);
-        }
-        if index > crate::config::MAX_SIGNALS {
-            return Err(StateError::Vector {
-                key: "state".into(),
-                message: format!("signals and memory bits exceed {}", crate::config::MAX_SIGNALS),
-            });
         }
         let all_names: Vec<String> = signal_names.iter().chain(&m.names).cloned().collect();
         let table = set.events();
@@ -128,7 +114,7 @@ impl Memory {
                         continue;
                     }
                     if let Some(other) = seen.insert((q, t.index()), e) {
-                        return Err(StateError::Vector {
+                        return Err(FeedbackError::Vector {
                             key: format!("state.components.{}", plant.name()),
                             message: format!(
                                 "{} and {} both lead from {} to {}: memory cannot tell them apart",
@@ -156,7 +142,7 @@ impl Memory {
                 .enumerate()
                 .map(|(q, &c)| {
                     (
-                        program::condition(&all_names, &[c]).st(),
+                        rungs::condition(&all_names, &[c]).st(),
                         vec![Stmt::set(now.clone(), Expr::Int(q as i64))],
                     )
                 })
@@ -195,18 +181,5 @@ impl Memory {
             }
         }
         Ok(m)
-    }
-
-    /// The literals of the kept supervisors in `states` (one per kept supervisor, in order): each
-    /// state's binary code on its supervisor's bits.
-    pub fn cube(&self, states: &[u32]) -> Cube {
-        let mut c = Cube::default();
-        for (k, &q) in states.iter().enumerate() {
-            for (i, &bit) in self.bits[k].iter().enumerate() {
-                c.mask |= 1 << bit;
-                c.value |= u64::from(q >> i & 1) << bit;
-            }
-        }
-        c
     }
 }

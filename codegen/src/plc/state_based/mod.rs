@@ -1,75 +1,45 @@
-//! State-based programs (state feedback control, docs/design.md §10; Côté, St-Denis & Kerjean): the program
-//! tracks no event — each scan it reads the plant's state from its signals and, per controllable event
-//! σ, evaluates F_σ over them; where F_σ holds, σ's command writes its outputs.
+//! State-based programs (state feedback control, docs/design.md §10; Côté, St-Denis & Kerjean): the
+//! program tracks no event — each scan it reads the plant's state from its signals and, per
+//! controllable event σ, evaluates F_σ over them; where F_σ holds, σ's command writes its outputs. The
+//! feedback itself is [`crate::feedback`]'s; this module writes it as a program.
 //!
 //! # Overview
 //!
-//! * [`vector`] — the manifest's `[state]` section bound to the set's plants and checked against them.
-//! * [`sfbc`] — f from the reachable closed loop plants ‖ supervisors; where the supervisors' memory
-//!   decides, the plant states with two traces, or the supervisors kept as memory.
-//! * [`guards`] — the rungs from guards read off the symbolic engine's BDDs (`--engine symbolic`), for
-//!   plants whose closed loop is too large to list.
-//! * [`minimise`] — F_σ as a prime, irredundant sum of products (BDDs), don't-cares only where no
-//!   reachable state's signals are.
-//! * [`program`] — the rungs (shared literals in series, products in parallel, SET/RESET coils), the ST
-//!   `PROGRAM` written by the project's ST writer ([`crate::plc::st`]) and the Ladder Diagram body
-//!   ([`crate::plc::ld`]) beside it in the PLCopen XML ([`crate::plc::xml`]).
-//! * [`firmware`] — the same rungs as the tables of the state-based firmware (`[runtime] mode =
-//!   "state"`): cubes as `(mask, value)` pairs over the packed signal word, each event's write.
-//! * [`report`] — |f|, rungs, literals and products per rung, instruction-list instructions and stack
-//!   depth ([`crate::plc::ld`]'s cost model), scan time, and the table of f as in the paper's Table 1.
+//! * [`rungs`] — F_σ factored into a rung (shared literals in series, products in parallel,
+//!   SET/RESET coils).
+//! * [`memory`] — where memory is kept, the supervisors' states tracked from events in ST.
+//! * [`program`] — the ST `PROGRAM` written by the project's ST writer ([`crate::scan::st`]), the Ladder
+//!   Diagram body ([`crate::scan::ld`]) beside it in the PLCopen XML, and the choice of one command per
+//!   scan ([`program::OnePerScan`]).
+//! * [`report`] — the figures of the program and its feedback, and f as a table.
 //!
 //! [`validate`] is the translation validation: for every reachable state x and every valuation of the
 //! signals that reads as x, each rung conducts exactly when f_σ(x) = 1.
 
-pub mod firmware;
-pub mod guards;
 pub mod memory;
-pub mod minimise;
 pub mod program;
 pub mod report;
-pub mod sfbc;
-pub mod vector;
+pub mod rungs;
 
-use crate::config::{Cube, ScanPolicy, Signals, SignalsError};
-use crate::emit::Provenance;
+use std::path::Path;
+
+use crate::config::{ScanPolicy, Signals};
+use crate::feedback::memory::Layout;
+use crate::feedback::{self, guards, product_size, FeedbackError, Sfbc, Vector};
 use crate::pack::PackSet;
-use crate::plc::names::sanitize;
-use crate::plc::{comment, header, ld, xml, PlcOptions};
-use crate::synth::{Reachable, SynthError};
+use crate::provenance::Provenance;
+use crate::scan::files::{self, File, Header};
+use crate::scan::names::sanitize;
+use crate::scan::{Graphic, Program as ScanProgram};
+use crate::symbolic::{self, Guards};
+use crate::synth::Config;
 
-pub use program::{EventRung, OnePerScan};
-pub use report::Report;
-pub use sfbc::Sfbc;
-pub use vector::Vector;
+use super::{about, PlcError, PlcOptions};
 
-/// Why a state-based program cannot be written.
-#[derive(Debug, thiserror::Error)]
-pub enum StateError {
-    /// The manifest has no `[state]` section.
-    #[error("--encoding state needs the manifest's [state] section (the plant's state vectors)")]
-    Missing,
-    /// The section is malformed.
-    #[error(transparent)]
-    Signals(#[from] SignalsError),
-    /// The section does not fit the set's plants.
-    #[error("{key}: {message}")]
-    Vector {
-        /// The key it is about.
-        key: String,
-        /// What is wrong.
-        message: String,
-    },
-    /// The closed loop could not be explored.
-    #[error("closed loop: {0}")]
-    Synth(#[from] SynthError),
-    /// The program breaks a rule of the strict IEC writer (a bug here, not in the input).
-    #[error("internal error, please report: the program is not strict IEC 61131-3: {0}")]
-    Strict(#[from] crate::plc::strict::Violation),
-    /// The supervisors' memory decides somewhere and memory is not allowed.
-    #[error("{0}")]
-    Memory(String),
-}
+pub use memory::Tracking;
+pub use program::OnePerScan;
+pub use report::{Report, SymbolicReport};
+pub use rungs::EventRung;
 
 /// What the command line adds to the manifest's `[state]` keys (each ORed with its key).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -82,11 +52,49 @@ pub struct StateOptions {
     pub choice: Option<ScanPolicy>,
 }
 
-/// The program's files, report and rungs.
+impl StateOptions {
+    /// The command-line words of these options after `--encoding state`, for the engine `engine`
+    /// (`--memory --exact --choice first`; `--exact --engine symbolic --choice first`).
+    pub fn words(&self, engine: &Engine) -> Vec<String> {
+        let symbolic = matches!(engine, Engine::Symbolic { .. });
+        let mut out = vec![String::from("--encoding state")];
+        if self.memory && !symbolic {
+            out.push("--memory".into());
+        }
+        if self.exact {
+            out.push("--exact".into());
+        }
+        if symbolic {
+            out.push("--engine symbolic".into());
+        }
+        if let Some(p) = self.choice {
+            out.push(format!("--choice {}", p.name()));
+        }
+        out
+    }
+}
+
+/// Where a state-based program's feedback comes from.
+#[derive(Clone, Default)]
+pub enum Engine {
+    /// The explicit closed loop of the project's supervisor set, listed state by state.
+    #[default]
+    Explicit,
+    /// Guards read off the BDDs of the monolithic supervisor of the project's plants and
+    /// specifications: for plants whose closed loop is too large to list.
+    Symbolic {
+        /// Limits and progress of the synthesis on BDDs.
+        cfg: Config,
+        /// The symbolic engine's settings.
+        options: symbolic::Options,
+    },
+}
+
+/// A state-based program from the explicit closed loop: its files, report and what they came from.
 #[derive(Clone, Debug)]
 pub struct Output {
     /// `(file name, contents)`: `<name>.st`, `<name>_config.st`, `<name>.xml`.
-    pub files: Vec<(String, String)>,
+    pub files: Vec<File>,
     /// The figures and the table of f.
     pub report: Report,
     /// One rung per controllable event, in order.
@@ -96,7 +104,7 @@ pub struct Output {
     /// The feedback.
     pub sfbc: Sfbc,
     /// The kept supervisors' memory (empty when the plant state decides).
-    pub memory: memory::Memory,
+    pub memory: Tracking,
     /// The choice of one command per scan, when the program makes one.
     pub one: Option<OnePerScan>,
 }
@@ -108,50 +116,26 @@ impl Output {
     }
 }
 
-fn variable_names(vector: &Vector, memory: &memory::Memory) -> Vec<String> {
+/// A state-based program written from guards.
+#[derive(Clone, Debug)]
+pub struct SymbolicOutput {
+    /// `(file name, contents)`, as [`Output::files`].
+    pub files: Vec<File>,
+    /// The figures.
+    pub report: SymbolicReport,
+    /// One rung per controllable event, in event id order.
+    pub rungs: Vec<EventRung>,
+    /// The state vectors bound to the set.
+    pub vector: Vector,
+}
+
+fn variable_names(vector: &Vector, memory: &Tracking) -> Vec<String> {
     vector.signals.signals.iter().map(|s| s.name.clone()).chain(memory.names.iter().cloned()).collect()
 }
 
-/// The cube of entry `e`: its plant state's formula and its kept supervisors' memory bits.
-fn entry_cube(vector: &Vector, f: &Sfbc, memory: &memory::Memory, e: &sfbc::Entry) -> Cube {
-    let x = vector.cube(&e.state[..f.plants]);
-    let m = memory.cube(&e.state[f.plants..]);
-    Cube { mask: x.mask | m.mask, value: x.value | m.value }
-}
-
-/// The feedback of `set` under `signals`' state vectors, and the state vectors bound to it.
-pub fn analyse(set: &PackSet, signals: Signals, memory: bool) -> Result<(Vector, Sfbc), StateError> {
-    let vector = Vector::bind(set, signals)?;
-    let f = Sfbc::compute(set, memory || vector.signals.memory)?;
-    Ok((vector, f))
-}
-
-/// The rungs of `f`: per controllable event, F_σ minimised between its ON set and the valuations no
-/// reachable state produces (none with `exact`).
-pub fn rungs(
-    set: &PackSet,
-    vector: &Vector,
-    f: &Sfbc,
-    memory: &memory::Memory,
-    exact: bool,
-) -> Vec<EventRung> {
-    let names = variable_names(vector, memory);
-    let u = minimise::Universe::new(names.len());
-    let cubes: Vec<Cube> = f.entries.iter().map(|e| entry_cube(vector, f, memory, e)).collect();
-    let reachable = u.union(&cubes);
-    let dc = if exact { u.union(&[]) } else { reachable.not() };
-    f.controllable
-        .iter()
-        .enumerate()
-        .map(|(i, &e)| {
-            let on: Vec<Cube> =
-                f.entries.iter().zip(&cubes).filter(|(en, _)| en.allowed[i]).map(|(_, &c)| c).collect();
-            let cover = u.minimise(&u.union(&on), &dc);
-            let command = vector.commands[e.index()].map_or(Cube::default(), |(_, c)| c);
-            let extra = memory.after.get(&e.as_u32()).cloned().unwrap_or_default();
-            program::rung(&names, set.events().name(e), cover, command, extra)
-        })
-        .collect()
+/// The error `source` of the state feedback, in `file`.
+fn in_file(file: &Path) -> impl Fn(FeedbackError) -> PlcError + '_ {
+    move |source| PlcError::Feedback { file: file.to_path_buf(), source: Box::new(source) }
 }
 
 /// Translation validation: for every entry of `f` (a reachable plant state x, with the kept supervisors'
@@ -163,7 +147,7 @@ pub fn validate(out: &Output, rungs: &[EventRung]) -> Result<usize, String> {
     let all = if names.len() == 64 { u64::MAX } else { (1u64 << names.len()) - 1 };
     let mut checked = 0;
     for e in &f.entries {
-        let x = entry_cube(vector, f, &out.memory, e);
+        let x = feedback::entry_cube(vector, f, &out.memory.layout, e);
         let free = all & !x.mask;
         let mut sub = free;
         loop {
@@ -187,98 +171,130 @@ pub fn validate(out: &Output, rungs: &[EventRung]) -> Result<usize, String> {
     Ok(checked)
 }
 
-/// States and transitions of the reachable product of `dfas` (the free plant G, or the specification E).
-pub fn product_size(dfas: &[&crate::model::Dfa]) -> Result<(usize, usize), SynthError> {
-    let r = Reachable::explore(dfas, sfbc::STATE_LIMIT)?;
-    Ok((r.dfa().state_count(), r.dfa().transition_count()))
-}
-
 /// Writes the state-based program of `set` with `opts` and the state vectors `signals`; `choices` allow
 /// supervisor memory (as `[state] memory`), keep F_σ free of don't-cares (as `[state] exact`) and fire
-/// one command per scan by a choice policy (as `[state] choice`). `event_based` is the event-based program's report for
-/// the same set, for the comparison figures.
+/// one command per scan by a choice policy (as `[state] choice`). `event_based` is the event-based
+/// program's size for the same set (statements, bound per scan), for the comparison figures. Errors of
+/// the feedback name `file`.
 pub fn generate(
     set: &PackSet,
     signals: Signals,
     opts: &PlcOptions,
     choices: StateOptions,
     provenance: &Provenance,
-    event_based: Option<&crate::plc::Report>,
-) -> Result<Output, StateError> {
+    event_based: Option<(usize, u64)>,
+    file: &Path,
+) -> Result<Output, PlcError> {
     let exact = choices.exact || signals.exact;
     let policy = choices.choice.or(signals.choice);
-    let (vector, f) = analyse(set, signals, choices.memory)?;
+    let (vector, f) = feedback::analyse(set, signals, choices.memory).map_err(in_file(file))?;
     if !f.conflicts.is_empty() && f.memory.is_none() {
-        return Err(StateError::Memory(report::conflicts_text(set, &f)));
+        return Err(in_file(file)(FeedbackError::Memory(report::conflicts_text(set, &f))));
     }
-    let signal_names = variable_names(&vector, &memory::Memory::default());
-    let memory = match &f.memory {
-        Some(m) => memory::Memory::new(set, &vector, &m.kept, &signal_names)?,
-        None => memory::Memory::default(),
+    let signal_names = variable_names(&vector, &Tracking::default());
+    let (layout, memory) = match &f.memory {
+        Some(m) => {
+            let layout = Layout::new(set, &m.kept, signal_names.len()).map_err(in_file(file))?;
+            let tracking = Tracking::new(set, &vector, &layout, &signal_names).map_err(in_file(file))?;
+            (layout, tracking)
+        }
+        None => (Layout::default(), Tracking::default()),
     };
-    let rungs = self::rungs(set, &vector, &f, &memory, exact);
+    let names = variable_names(&vector, &memory);
+    let rungs: Vec<EventRung> = feedback::rules(&vector, &f, &layout, exact)
+        .iter()
+        .map(|r| {
+            let extra = memory.after.get(&r.event.as_u32()).cloned().unwrap_or_default();
+            rungs::rung(set, &names, r, extra)
+        })
+        .collect();
     let one =
         policy.map(|policy| OnePerScan::new(policy, opts.seed, &vector, f.controllable.iter().copied()));
-    let files = program_files(set, &vector, &rungs, &memory, one.as_ref(), opts, exact, provenance)?;
+    let files = program_files(set, &vector, &rungs, &memory, one.as_ref(), opts, exact, provenance, file)?;
     let ns = opts.spec.instruction_ns.unwrap_or(1000);
     let plants: Vec<_> = set.members()[..f.plants].iter().map(|m| &m.dfa).collect();
-    let g = product_size(&plants)?;
+    let g = product_size(&plants).map_err(|e| in_file(file)(e.into()))?;
     let mut report = Report::new(set, &vector, &f, &rungs, g, ns, event_based);
     report.choice = policy.map(ScanPolicy::name);
     report.cycle_ms = opts.cycle_ms;
     Ok(Output { files, report, rungs, vector, sfbc: f, memory, one })
 }
 
-/// The tables of the state-based firmware (`[runtime] mode = "state"`) for `set` under the state vectors
-/// `signals`: the same f and the same rungs as the PLC program (F_σ exact when `[state] exact`), written
-/// by [`firmware::tables`]. A feedback the supervisors' memory decides is refused.
-pub fn firmware_tables(
+/// Writes the state-based program of `set`'s plants under `signals`' state vectors from `guards` (as
+/// [`generate`] does from the explicit closed loop; `choices.exact` keeps F_σ free of don't-cares, and
+/// `choices.choice`, else `[state] choice`, fires one command per scan chosen by that policy;
+/// `choices.memory` is not read: a program from guards keeps no memory). Errors of the feedback name
+/// `file`.
+pub fn from_guards(
     set: &PackSet,
     signals: Signals,
-    name: &str,
-    runtime: &crate::config::RuntimeConfig,
+    guards: &Guards,
+    opts: &PlcOptions,
+    choices: StateOptions,
     provenance: &Provenance,
-) -> Result<String, StateError> {
-    let exact = signals.exact;
-    let (vector, f) = analyse(set, signals, false)?;
-    let rungs = rungs(set, &vector, &f, &memory::Memory::default(), exact);
-    firmware::tables(set, &vector, &f, &rungs, name, runtime, provenance)
+    file: &Path,
+) -> Result<SymbolicOutput, PlcError> {
+    let exact = choices.exact || signals.exact;
+    let policy = choices.choice.or(signals.choice);
+    let vector = Vector::bind(set, signals).map_err(in_file(file))?;
+    let names = variable_names(&vector, &Tracking::default());
+    let rules = guards::rules(set, &vector, guards, exact).map_err(in_file(file))?;
+    let rungs: Vec<EventRung> = rules.iter().map(|r| rungs::rung(set, &names, r, Vec::new())).collect();
+    let one = policy.map(|policy| OnePerScan::new(policy, opts.seed, &vector, rules.iter().map(|r| r.event)));
+    let files = program_files(
+        set,
+        &vector,
+        &rungs,
+        &Tracking::default(),
+        one.as_ref(),
+        opts,
+        exact,
+        provenance,
+        file,
+    )?;
+    let report = SymbolicReport::new(guards, &rungs);
+    Ok(SymbolicOutput { files, report, rungs, vector })
 }
 
 /// The program's files from its rungs: `<name>.st` (the `PROGRAM`), `<name>_config.st` and
 /// `<name>.xml` (PLCopen XML with the Ladder Diagram body when no memory is kept and no choice is
 /// made), each with the header; `one` makes the scan fire one chosen rung.
 #[allow(clippy::too_many_arguments)]
-pub fn program_files(
+fn program_files(
     set: &PackSet,
     vector: &Vector,
     rungs: &[EventRung],
-    memory: &memory::Memory,
+    memory: &Tracking,
     one: Option<&OnePerScan>,
     opts: &PlcOptions,
     exact: bool,
     provenance: &Provenance,
-) -> Result<Vec<(String, String)>, StateError> {
+    file: &Path,
+) -> Result<Vec<File>, PlcError> {
     let base = sanitize(&opts.name);
-    let pou = program::pou(&vector.signals, &base, rungs, memory, one)?;
-    crate::plc::strict::check(&[], &[&pou])?;
+    let pou = program::pou(&vector.signals, &base, rungs, memory, one).map_err(in_file(file))?;
     let ns = opts.spec.instruction_ns.unwrap_or(1000);
-    let options = format!(
-        "Options: encoding=state memory={} exact={exact} choice={} cycle_ms={} instruction_ns={ns}",
-        !memory.kept.is_empty(),
-        one.map_or("none", |o| o.policy.name()),
-        opts.cycle_ms
-    );
-    let header: Vec<String> = header(set, opts, provenance)
-        .into_iter()
-        .map(|l| if l.starts_with("Options:") { options.clone() } else { l })
-        .collect();
-    let st = format!("{}\n{}", comment(&header), pou.text());
-    let config = format!("{}\n{}", comment(&header), xml::configuration_text(&base, opts.cycle_ms));
+    let header = Header {
+        about: vec![about(set, &opts.name)],
+        provenance: provenance.clone(),
+        options: vec![
+            ("encoding", "state".into()),
+            ("memory", (!memory.layout.kept.is_empty()).to_string()),
+            ("exact", exact.to_string()),
+            ("choice", one.map_or("none", |o| o.policy.name()).into()),
+            ("cycle_ms", opts.cycle_ms.to_string()),
+            ("instruction_ns", ns.to_string()),
+        ],
+        notes: Vec::new(),
+    };
     // The Ladder Diagram body holds the rungs alone: a program with memory tracks it, and one with a
     // choice policy chooses among its rungs, in ST only.
-    let ladder: Vec<ld::Rung> = rungs.iter().map(|r| r.rung.clone()).collect();
-    let bodies = if memory.kept.is_empty() && one.is_none() { vec![ld::body(&ladder)] } else { Vec::new() };
-    let xml = xml::document(None, &[(&pou, &bodies)], &base, opts.cycle_ms, &header);
-    Ok(vec![(format!("{base}.st"), st), (format!("{base}_config.st"), config), (format!("{base}.xml"), xml)])
+    let graphic = if memory.layout.kept.is_empty() && one.is_none() {
+        Graphic::Ladder(rungs.iter().map(|r| r.rung.clone()).collect())
+    } else {
+        Graphic::Text
+    };
+    let program =
+        ScanProgram { base, types: Vec::new(), pous: vec![(pou, graphic)], cycle_ms: opts.cycle_ms };
+    Ok(files::write(&program, &header)?)
 }

@@ -1,76 +1,20 @@
-//! The state-based program: per controllable event σ (in event id order) its F_σ factored into a rung —
-//! the literals every product shares in series (the precondition side), the rest of each product on a
-//! parallel branch — whose coils are the outputs σ's command writes (SET for TRUE, RESET for FALSE). The
-//! same rungs become the ST `PROGRAM` (one `IF` per rung, on the current image: a command written by one
-//! rung is seen by the rungs below) and the Ladder Diagram body. With a choice policy ([`OnePerScan`],
+//! The state-based program: its rungs ([`super::rungs`]) as the ST `PROGRAM` (one `IF` per rung, on the
+//! current image: a command written by one rung is seen by the rungs below) and the Ladder Diagram body. With a choice policy ([`OnePerScan`],
 //! `[state] choice`) the rungs' conditions fill the choice section's `enabled` array instead, the policy
 //! picks one ([`crate::plc::choice`], as in the event-based program) and only its command is written:
 //! where several commands are allowed in one plant state, each may be the one that fires there, and the
 //! plant may move before the next.
 
-use crate::config::ScanPolicy;
-use crate::config::{Cube, Direction, Signals};
+use crate::config::{Direction, ScanPolicy, Signals};
+use crate::feedback::{FeedbackError, Vector};
 use crate::model::EventId;
 use crate::plc::choice::{self, PlantChoice};
-use crate::plc::ld::{Coil, CoilKind, Element, Rung};
-use crate::plc::names::is_identifier;
-use crate::plc::st::{Expr, Pou, Section, SectionKind, Stmt, Type, Var, VarClass};
-use crate::plc::state_based::memory::Memory;
-use crate::plc::state_based::Vector;
+use crate::scan::ir::{Expr, Pou, Section, Stmt, Type, Var, VarClass};
+use crate::scan::ld::CoilKind;
+use crate::scan::names::is_identifier;
 
-use super::StateError;
-
-/// One controllable event's rung, with the formula it came from.
-#[derive(Clone, Debug)]
-pub struct EventRung {
-    /// The event.
-    pub event: String,
-    /// F_σ as a sum of cubes over the signals.
-    pub cubes: Vec<Cube>,
-    /// The rung.
-    pub rung: Rung,
-    /// What the ST rung does besides its coils when it fires (the kept supervisors' memory).
-    pub extra: Vec<Stmt>,
-}
-
-/// The literal of variable `i` (`names[i]`) with value `v` as a contact.
-fn contact(names: &[String], i: usize, v: bool) -> Element {
-    Element::contact(names.get(i).cloned().unwrap_or_default(), !v)
-}
-
-/// `cubes` over the variables `names` as a rung condition: shared literals in series, then the
-/// products' remainders in parallel.
-pub fn condition(names: &[String], cubes: &[Cube]) -> Element {
-    let Some(first) = cubes.first() else { return Element::Parallel(Vec::new()) };
-    let shared = cubes.iter().fold(first.mask, |m, c| m & c.mask & !(c.value ^ first.value));
-    let common = Cube { mask: shared, value: first.value & shared };
-    let mut series: Vec<Element> = common.literals().map(|(i, v)| contact(names, i, v)).collect();
-    let rest: Vec<Element> = cubes
-        .iter()
-        .map(|c| {
-            let r = Cube { mask: c.mask & !shared, value: c.value & !shared };
-            Element::Series(r.literals().map(|(i, v)| contact(names, i, v)).collect())
-        })
-        .collect();
-    if rest.len() > 1 {
-        series.push(Element::Parallel(rest));
-    }
-    Element::Series(series)
-}
-
-/// The rung of `event` with formula `cubes` over the variables `names` and command `command`; `extra`
-/// runs in ST when it fires.
-pub fn rung(names: &[String], event: &str, cubes: Vec<Cube>, command: Cube, extra: Vec<Stmt>) -> EventRung {
-    let coils = command
-        .literals()
-        .map(|(i, v)| Coil {
-            variable: names.get(i).cloned().unwrap_or_default(),
-            kind: if v { CoilKind::Set } else { CoilKind::Reset },
-        })
-        .collect();
-    let rung = Rung { comment: format!("{event}: F_{event}"), condition: condition(names, &cubes), coils };
-    EventRung { event: event.to_owned(), cubes, rung, extra }
-}
+use super::memory::Tracking;
+use super::rungs::EventRung;
 
 /// One command per scan, chosen among the rungs that conduct.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -126,13 +70,13 @@ pub fn pou(
     signals: &Signals,
     base: &str,
     rungs: &[EventRung],
-    memory: &Memory,
+    memory: &Tracking,
     one: Option<&OnePerScan>,
-) -> Result<Pou, StateError> {
+) -> Result<Pou, FeedbackError> {
     let mut vars = Vec::new();
     for s in &signals.signals {
         if !is_identifier(&s.name) {
-            return Err(StateError::Vector {
+            return Err(FeedbackError::Vector {
                 key: "state.components".into(),
                 message: format!("signal '{}' is not an IEC 61131-3 identifier", s.name),
             });
@@ -150,7 +94,7 @@ pub fn pou(
     if let Some(one) = one {
         let taken = vars.iter().find(|v| choice::VARIABLES.iter().any(|c| c.eq_ignore_ascii_case(&v.name)));
         if let Some(v) = taken {
-            return Err(StateError::Vector {
+            return Err(FeedbackError::Vector {
                 key: "state.choice".into(),
                 message: format!("signal '{}' has a name the choice section uses", v.name),
             });
@@ -178,21 +122,20 @@ pub fn pou(
         name: format!("{base}_main"),
         vars: vec![(VarClass::Local, vars)],
         sections: vec![
-            Section {
-                kind: SectionKind::Events,
-                title: "supervisor memory: sensor events read from the tracked components' state changes"
-                    .into(),
-                stmts: memory.detect.clone(),
-            },
-            Section {
-                kind: SectionKind::Rungs,
-                title: format!(
+            Section::new(
+                "events",
+                "supervisor memory: sensor events read from the tracked components' state changes",
+                memory.detect.clone(),
+            ),
+            Section::new(
+                "rungs",
+                format!(
                     "one rung per controllable event{}: {}",
                     one.map_or(String::new(), |o| format!(", one per scan chosen by {}", o.policy.name())),
                     events.join(", ")
                 ),
                 stmts,
-            },
+            ),
         ],
     })
 }

@@ -1,16 +1,20 @@
 //! What a state-based program costs and what its feedback is: |f|, rungs, literals and products per
-//! rung, instruction-list instructions and stack depth (the cost model of [`crate::plc::ld`]), the scan
+//! rung, instruction-list instructions and stack depth (the cost model of [`crate::scan::ld`]), the scan
 //! time at the `[plc] instruction_ns` per instruction, the event-based program's figures for the same
-//! set, and f as a table of plant states (component → state) and the events inhibited there — the
-//! paper's Table 1.
+//! set, and f as a table of plant states (component → state, with the kept supervisors' states where
+//! memory is kept) and the events inhibited there — the paper's Table 1. docs/state-based.md defines
+//! every figure.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
+use num_bigint::BigUint;
 use serde::Serialize;
 
-use super::{EventRung, Sfbc, Vector};
+use super::EventRung;
+use crate::feedback::{Sfbc, Vector};
 use crate::pack::PackSet;
+use crate::symbolic::Guards;
 
 /// One rung's figures.
 #[derive(Clone, Debug, Serialize)]
@@ -31,11 +35,14 @@ pub struct RungFigures {
     pub formula: String,
 }
 
-/// One plant state where f inhibits something.
+/// One state of f's domain where f inhibits something.
 #[derive(Clone, Debug, Serialize)]
 pub struct Row {
     /// Component → its state.
     pub state: BTreeMap<String, String>,
+    /// Kept supervisor → its state, where memory is kept.
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub memory: BTreeMap<String, String>,
     /// The physically possible controllable events f disables, in event order.
     pub disabled: Vec<String>,
 }
@@ -50,6 +57,8 @@ pub struct MemoryFigures {
     pub bits: u32,
     /// (plant state, event) pairs where memory decides.
     pub conflicts: usize,
+    /// f's domain: the reachable (plant state, kept supervisors' states) pairs.
+    pub domain_states: usize,
 }
 
 /// The event-based program's figures for the same set (the `int` encoding).
@@ -70,9 +79,10 @@ pub struct Report {
     pub plant_transitions: usize,
     /// Reachable states of plants ‖ supervisors.
     pub closed_loop_states: usize,
-    /// Reachable plant states under supervision (the domain of f).
+    /// Reachable plant states under supervision: the closed loop's states projected on the plants.
     pub reachable_plant_states: usize,
-    /// |f|: reachable plant states where f disables a physically possible controllable event.
+    /// |f|: the states of f's domain (reachable plant states, or (plant state, memory) pairs where
+    /// memory is kept) where f disables a physically possible controllable event.
     pub entries: usize,
     /// Rungs: one per controllable event.
     pub rungs: usize,
@@ -110,7 +120,7 @@ impl Report {
         rungs: &[EventRung],
         g: (usize, usize),
         ns: u32,
-        event_based: Option<&crate::plc::Report>,
+        event_based: Option<(usize, u64)>,
     ) -> Report {
         let per_rung: Vec<RungFigures> = rungs
             .iter()
@@ -132,7 +142,7 @@ impl Report {
             plant_states: g.0,
             plant_transitions: g.1,
             closed_loop_states: f.closed_states,
-            reachable_plant_states: f.entries.len(),
+            reachable_plant_states: f.plant_states,
             entries: f.size(),
             rungs: rungs.len(),
             signals: vector.signals.signals.len(),
@@ -143,15 +153,14 @@ impl Report {
             cycle_ms: 10,
             choice: None,
             per_rung,
-            event_based: event_based.map(|r| EventBased {
-                statements: r.statements.function_block + r.statements.program,
-                bound_per_scan: r.bound_per_scan,
-            }),
+            event_based: event_based
+                .map(|(statements, bound_per_scan)| EventBased { statements, bound_per_scan }),
             table: table(set, f),
             memory: f.memory.as_ref().map(|m| MemoryFigures {
                 kept: m.kept.iter().map(|&k| set.members()[k].name().to_owned()).collect(),
                 bits: m.bits,
                 conflicts: f.conflicts.len(),
+                domain_states: f.entries.len(),
             }),
         }
     }
@@ -159,9 +168,13 @@ impl Report {
     /// The report as text.
     pub fn text(&self) -> String {
         let mut out = String::new();
+        let domain = self
+            .memory
+            .as_ref()
+            .map_or(String::new(), |m| format!(", {} with the kept supervisors' states", m.domain_states));
         let _ = writeln!(
             out,
-            "state-based program: G {} states / {} transitions; closed loop {} states over {} plant states; |f| = {}",
+            "state-based program: G {} states / {} transitions; closed loop {} states over {} plant states{domain}; |f| = {}",
             self.plant_states, self.plant_transitions, self.closed_loop_states, self.reachable_plant_states, self.entries
         );
         let _ = writeln!(
@@ -211,27 +224,28 @@ impl Report {
         let _ = writeln!(out, "f ({} entries):", self.table.len());
         for row in &self.table {
             let state: Vec<String> = row.state.iter().map(|(c, s)| format!("{c}={s}")).collect();
-            let _ = writeln!(out, "  {} -> {}", state.join(" "), row.disabled.join(" "));
+            let memory: Vec<String> = row.memory.iter().map(|(c, s)| format!(" {c}={s}")).collect();
+            let memory = if memory.is_empty() { String::new() } else { format!(" |{}", memory.concat()) };
+            let _ = writeln!(out, "  {}{memory} -> {}", state.join(" "), row.disabled.join(" "));
         }
         out
     }
 }
 
-/// f as rows, in the order of the plant states.
+/// f as rows, in the order of its domain's states.
 fn table(set: &PackSet, f: &Sfbc) -> Vec<Row> {
     let members = set.members();
+    let name = |m: usize, s: u32| {
+        let a = &members[m].automaton;
+        (a.name.clone(), a.states[s as usize].name.clone())
+    };
+    let kept = f.memory.as_ref().map_or(&[][..], |m| m.kept.as_slice());
     f.entries
         .iter()
         .filter(|e| e.inhibits())
         .map(|e| Row {
-            state: e.state[..f.plants]
-                .iter()
-                .enumerate()
-                .map(|(p, &s)| {
-                    let a = &members[p].automaton;
-                    (a.name.clone(), a.states[s as usize].name.clone())
-                })
-                .collect(),
+            state: e.state[..f.plants].iter().enumerate().map(|(p, &s)| name(p, s)).collect(),
+            memory: kept.iter().zip(&e.state[f.plants..]).map(|(&k, &s)| name(k, s)).collect(),
             disabled: f
                 .controllable
                 .iter()
@@ -277,4 +291,70 @@ pub fn conflicts_text(set: &PackSet, f: &Sfbc) -> String {
         );
     }
     out
+}
+
+/// One rung's figures in a program written from guards.
+#[derive(Clone, Debug, Serialize)]
+pub struct SymbolicRung {
+    /// The controllable event.
+    pub event: String,
+    /// Products of F_σ.
+    pub products: usize,
+    /// Literals of F_σ as a sum of products.
+    pub literals: usize,
+    /// Nodes of the guard's BDD (over the state variables).
+    pub bdd_nodes: usize,
+}
+
+/// The figures of a state-based program written from guards (`--engine symbolic`).
+#[derive(Clone, Debug)]
+pub struct SymbolicReport {
+    /// Reachable plant states under the monolithic supervisor, exact.
+    pub reachable_plant_states: BigUint,
+    /// Per rung.
+    pub rungs: Vec<SymbolicRung>,
+}
+
+impl SymbolicReport {
+    /// The figures of `rungs` written from `guards`.
+    pub fn new(guards: &Guards, rungs: &[EventRung]) -> SymbolicReport {
+        let rungs = rungs
+            .iter()
+            .map(|r| SymbolicRung {
+                event: r.event.clone(),
+                products: r.cubes.len(),
+                literals: r.cubes.iter().map(|c| c.len()).sum(),
+                bdd_nodes: guards.guards.iter().find(|g| g.event == r.event).map_or(0, |g| g.allowed.size()),
+            })
+            .collect();
+        SymbolicReport { reachable_plant_states: guards.count(&guards.reachable), rungs }
+    }
+
+    /// The report as text.
+    pub fn text(&self) -> String {
+        let mut out = format!(
+            "reachable plant states: {}\nrung  products  literals  guard BDD nodes\n",
+            self.reachable_plant_states
+        );
+        for r in &self.rungs {
+            let _ = writeln!(out, "{}  {}  {}  {}", r.event, r.products, r.literals, r.bdd_nodes);
+        }
+        out
+    }
+}
+
+impl Serialize for SymbolicReport {
+    /// `reachable_plant_states` (a number while it fits in 64 bits, else its decimal string) and `rungs`.
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct as _;
+        let mut s = serializer.serialize_struct("SymbolicReport", 2)?;
+        match u64::try_from(&self.reachable_plant_states) {
+            Ok(n) => s.serialize_field("reachable_plant_states", &n)?,
+            Err(_) => {
+                s.serialize_field("reachable_plant_states", &self.reachable_plant_states.to_string())?
+            }
+        }
+        s.serialize_field("rungs", &self.rungs)?;
+        s.end()
+    }
 }

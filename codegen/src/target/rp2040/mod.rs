@@ -6,7 +6,7 @@
 //! the input pins the manifest's `[board]` section names, output pin changes become the commands the
 //! monitor judges, RESET powers the board on afresh, STATUS answers the counters the firmware publishes
 //! (`firmware::status`), EXIT ends the run. What only pins show it counts, and writes with the cost of the
-//! runtime's entry points to a stats file ([`BoardFigures`]). Its README documents all of it.
+//! runtime's entry points to a stats file ([`Harness::figures`]). Its README documents all of it.
 //!
 //! As with [`super::qemu`], the child is killed when the [`Harness`] value is dropped, when its deadline
 //! passes and when the thread that started it dies ([`super::child`]).
@@ -23,10 +23,6 @@ use super::sources::{self, SourcesError};
 use crate::config::{BoardSpec, SamplingSpec};
 use crate::link::StreamLink;
 use crate::model::EventTable;
-
-mod figures;
-
-pub use figures::{BoardFigures, CallCost, RuntimeCost};
 
 /// How to start the harness.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -254,8 +250,9 @@ impl Harness {
         self.process.wait(timeout)
     }
 
-    /// The figures the harness wrote when the run ended (call after [`Harness::wait`]).
-    pub fn figures(&self) -> Result<BoardFigures, HarnessError> {
+    /// The figures the harness wrote when the run ended (call after [`Harness::wait`]), read as `T`
+    /// (the report's `monitor::BoardFigures`: the harness writes them, the report carries them).
+    pub fn figures<T: serde::de::DeserializeOwned>(&self) -> Result<T, HarnessError> {
         let path = self.stats.clone();
         let text = std::fs::read_to_string(&path).map_err(|source| HarnessError::NoFigures {
             path: path.clone(),

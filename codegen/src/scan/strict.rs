@@ -16,8 +16,8 @@
 //! The grammar's punctuation is the printer's ([`super::st`]): `END_STRUCT;`, located and unlocated
 //! variables in separate blocks.
 
+use super::ir::{Expr, Op, Pou, Stmt, StructType, Type, Var, VarClass};
 use super::names::is_identifier;
-use super::st::{Expr, Op, Pou, Stmt, Type, Var, VarClass};
 
 /// A rule the program breaks. It is the writer's bug, never the user's: `generate` refuses to print a
 /// program that breaks one.
@@ -69,7 +69,7 @@ static TON: std::sync::LazyLock<Pou> = std::sync::LazyLock::new(|| Pou {
 });
 
 /// Checks the structure types and POUs of one program (see the module documentation for the rules).
-pub fn check(structs: &[(String, Vec<Var>)], pous: &[&Pou]) -> Result<(), Violation> {
+pub fn check(structs: &[StructType], pous: &[&Pou]) -> Result<(), Violation> {
     let scope = Scope { structs, pous };
     let mut addresses: Vec<(&str, &str)> = Vec::new();
     for (name, members) in structs {
@@ -371,11 +371,11 @@ fn show(t: &Ty) -> String {
 
 #[cfg(test)]
 mod tests {
+    use super::super::ir::Section;
     use super::*;
-    use crate::plc::st::{Section, SectionKind};
 
     fn pou(program: bool, vars: Vec<(VarClass, Vec<Var>)>, stmts: Vec<Stmt>) -> Pou {
-        let sections = vec![Section { kind: SectionKind::Run, title: String::new(), stmts }];
+        let sections = vec![Section::new("run", "", stmts)];
         Pou { program, name: if program { "p".into() } else { "fb".into() }, vars, sections }
     }
 

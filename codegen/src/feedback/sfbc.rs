@@ -4,13 +4,13 @@
 //! each such plant state is reported with a shortest trace to each side, and with memory allowed the
 //! fewest supervisors whose states settle every disagreement are kept as further state components.
 
-use std::collections::{BTreeMap, VecDeque};
+use std::collections::{BTreeMap, BTreeSet, VecDeque};
 
 use crate::model::EventId;
 use crate::pack::{PackSet, Role};
 use crate::synth::Reachable;
 
-use super::StateError;
+use super::FeedbackError;
 
 /// Most closed-loop states explored.
 pub const STATE_LIMIT: usize = 2_000_000;
@@ -63,9 +63,13 @@ pub struct Sfbc {
     pub controllable: Vec<EventId>,
     /// Number of plants (the first members of the set).
     pub plants: usize,
-    /// Reachable closed-loop states.
+    /// Reachable closed-loop states (plants ‖ supervisors).
     pub closed_states: usize,
-    /// The domain's reachable states, in order of their state vectors.
+    /// Reachable plant states under supervision: the closed loop's states projected on the plants, each
+    /// counted once.
+    pub plant_states: usize,
+    /// The domain's reachable states, in order of their state vectors: one per reachable plant state, or,
+    /// with memory kept, one per reachable (plant state, kept supervisors' states) pair.
     pub entries: Vec<Entry>,
     /// Plant states where memory decides (empty when the feedback is a function of the plant state).
     pub conflicts: Vec<Conflict>,
@@ -80,7 +84,7 @@ struct Closed {
 }
 
 impl Closed {
-    fn explore(set: &PackSet) -> Result<Closed, StateError> {
+    fn explore(set: &PackSet) -> Result<Closed, FeedbackError> {
         let dfas: Vec<_> = set.members().iter().map(|m| &m.dfa).collect();
         let reach = Reachable::explore(&dfas, STATE_LIMIT)?;
         let n = reach.dfa().state_count();
@@ -126,7 +130,7 @@ impl Sfbc {
     /// The feedback of `set`: with `memory`, the fewest supervisors whose states settle every
     /// disagreement are kept (and the conflicts stay reported); without, conflicts are left for the
     /// caller to refuse.
-    pub fn compute(set: &PackSet, memory: bool) -> Result<Sfbc, StateError> {
+    pub fn compute(set: &PackSet, memory: bool) -> Result<Sfbc, FeedbackError> {
         let members = set.members();
         let plants = members.iter().take_while(|m| m.role == Role::Plant).count();
         let table = set.events();
@@ -139,6 +143,7 @@ impl Sfbc {
         let en = enabled(&closed, &controllable);
         let n = closed.reach.dfa().state_count() as u32;
         let tuples: Vec<Vec<u32>> = (0..n).map(|s| closed.reach.tuple(s)).collect();
+        let plant_states = tuples.iter().map(|t| &t[..plants]).collect::<BTreeSet<_>>().len();
         let conflicts = conflicts(&closed, &tuples, &en, plants, &controllable);
         let kept = if memory && !conflicts.is_empty() {
             Some(keep(&tuples, &en, plants, members.len()))
@@ -172,7 +177,7 @@ impl Sfbc {
             .collect();
         let memory = kept
             .map(|kept| Memory { bits: kept.iter().map(|&k| bits(members[k].state_count())).sum(), kept });
-        Ok(Sfbc { controllable, plants, closed_states: n as usize, entries, conflicts, memory })
+        Ok(Sfbc { controllable, plants, closed_states: n as usize, plant_states, entries, conflicts, memory })
     }
 
     /// |f|: the domain's states where f disables a physically possible controllable event.
@@ -296,7 +301,51 @@ mod tests {
         f
     }
 
+    /// The closed loop by brute force: every state reached by stepping the composition from the initial
+    /// state.
+    fn closed_loop(set: &PackSet) -> BTreeSet<Vec<u32>> {
+        let all: Vec<&crate::model::Automaton> = set.members().iter().map(|m| &m.automaton).collect();
+        let c = Composition::new(&all, set.events()).unwrap();
+        let (mut seen, mut todo) = (BTreeSet::new(), vec![c.initial()]);
+        while let Some(s) = todo.pop() {
+            if !seen.insert(s.clone()) {
+                continue;
+            }
+            for e in c.enabled(&s) {
+                let mut t = s.clone();
+                c.step(&mut t, e);
+                todo.push(t);
+            }
+        }
+        seen
+    }
+
     proptest! {
+        /// The report's counts against brute force: closed-loop states, plant states (the closed loop
+        /// projected on the plants) and, with memory kept, the domain of (plant state, kept supervisors'
+        /// states) pairs — three different numbers as soon as a supervisor has memory.
+        #[test]
+        fn closed_loop_plant_states_and_the_domain_are_counted_apart(
+            g1 in arb_automaton("G1".into(), 4, 3),
+            g2 in arb_automaton("G2".into(), 3, 3),
+            s1 in arb_automaton("S1".into(), 4, 4),
+            s2 in arb_automaton("S2".into(), 3, 4),
+        ) {
+            let Ok(set) = PackSet::new(vec![g1, g2], vec![s1, s2]) else { return Ok(()) };
+            let all = closed_loop(&set);
+            let project = |keep: &[usize]| -> usize {
+                all.iter().map(|t| keep.iter().map(|&k| t[k]).collect::<Vec<_>>()).collect::<BTreeSet<_>>().len()
+            };
+            for memory in [false, true] {
+                let f = Sfbc::compute(&set, memory).unwrap();
+                prop_assert_eq!(f.closed_states, all.len());
+                prop_assert_eq!(f.plant_states, project(&[0, 1]));
+                let kept = f.memory.as_ref().map_or(Vec::new(), |m| m.kept.clone());
+                let domain: Vec<usize> = [0, 1].into_iter().chain(kept).collect();
+                prop_assert_eq!(f.entries.len(), project(&domain));
+            }
+        }
+
         /// f and its conflicts against brute force on random plants and supervisors.
         #[test]
         fn f_is_the_intersection_over_each_plant_state(

@@ -6,7 +6,7 @@ use crate::config::{Cube, Direction, Signals};
 use crate::model::EventId;
 use crate::pack::{PackSet, Role};
 
-use super::StateError;
+use super::FeedbackError;
 
 /// The state vector of every plant of a set.
 #[derive(Clone, Debug)]
@@ -24,8 +24,8 @@ pub struct Vector {
     pub initial: u64,
 }
 
-fn err(key: String, message: impl Into<String>) -> StateError {
-    StateError::Vector { key, message: message.into() }
+fn err(key: String, message: impl Into<String>) -> FeedbackError {
+    FeedbackError::Vector { key, message: message.into() }
 }
 
 impl Vector {
@@ -34,7 +34,7 @@ impl Vector {
     /// (and no other event one); then walks each component's reachable (state, signal values) pairs and
     /// requires that every transition leads to values its target's formula reads as that target — a
     /// command by writing its outputs, a sensor event by the inputs its target's formula fixes.
-    pub fn bind(set: &PackSet, signals: Signals) -> Result<Vector, StateError> {
+    pub fn bind(set: &PackSet, signals: Signals) -> Result<Vector, FeedbackError> {
         let plants: Vec<_> = set.members().iter().filter(|m| m.role == Role::Plant).collect();
         let table = set.events();
         let mut component = Vec::new();
@@ -97,6 +97,11 @@ impl Vector {
         Ok(vector)
     }
 
+    /// What `event`'s command writes: its outputs, nothing for an event that is no command.
+    pub fn command(&self, event: EventId) -> Cube {
+        self.commands.get(event.index()).copied().flatten().map_or(Cube::default(), |(_, c)| c)
+    }
+
     /// The input signals of plant `p`'s component.
     pub fn inputs(&self, p: usize) -> u64 {
         let c = self.component[p];
@@ -119,7 +124,7 @@ impl Vector {
         }
     }
 
-    fn walk(&self, set: &PackSet, p: usize) -> Result<(), StateError> {
+    fn walk(&self, set: &PackSet, p: usize) -> Result<(), FeedbackError> {
         let plant = &set.members()[p];
         let name = &plant.automaton.name;
         let mut seen = std::collections::BTreeSet::new();

@@ -1,78 +1,34 @@
-//! The rungs from guards read off the symbolic engine's BDDs ([`crate::symbolic::Guards`]) instead of
+//! The rules from guards read off the symbolic engine's BDDs ([`crate::symbolic::Guards`]) instead of
 //! the explicit closed loop ([`Sfbc`](super::Sfbc)): per controllable event, F_σ minimised between the
 //! valuations of the reachable plant states it allows and those no reachable plant state produces (none
-//! with `exact`) — the same formula [`rungs`](super::rungs) gives, without listing a state.
+//! with `exact`) — the same formula [`rules`](super::rules) gives, without listing a state.
 
-use crate::config::{Cube, ScanPolicy, Signals};
-use crate::emit::Provenance;
 use crate::pack::PackSet;
-use crate::plc::PlcOptions;
 use crate::symbolic::Guards;
 
 use super::minimise::Universe;
-use super::{memory, program, program_files, EventRung, OnePerScan, StateError, Vector};
+use super::{FeedbackError, Rule, Vector};
 
-/// A state-based program written from guards.
-#[derive(Clone, Debug)]
-pub struct GuardProgram {
-    /// `(file name, contents)`, as [`Output::files`](super::Output::files).
-    pub files: Vec<(String, String)>,
-    /// One rung per controllable event, in event id order.
-    pub rungs: Vec<EventRung>,
-    /// The state vectors bound to the set.
-    pub vector: Vector,
-}
-
-/// Writes the state-based program of `set`'s plants under `signals`' state vectors from `guards` (as
-/// [`generate`](super::generate) does from the explicit closed loop; `exact` keeps F_σ free of
-/// don't-cares, and `choice`, else `[state] choice`, fires one command per scan chosen by that policy).
-pub fn generate(
-    set: &PackSet,
-    signals: Signals,
-    guards: &Guards,
-    opts: &PlcOptions,
-    (exact, choice): (bool, Option<ScanPolicy>),
-    provenance: &Provenance,
-) -> Result<GuardProgram, StateError> {
-    let exact = exact || signals.exact;
-    let policy = choice.or(signals.choice);
-    let vector = Vector::bind(set, signals)?;
-    let rungs = rungs(set, &vector, guards, exact)?;
-    let events = rungs.iter().filter_map(|r| set.events().id(&r.event));
-    let one = policy.map(|policy| OnePerScan::new(policy, opts.seed, &vector, events));
-    let files = program_files(
-        set,
-        &vector,
-        &rungs,
-        &memory::Memory::default(),
-        one.as_ref(),
-        opts,
-        exact,
-        provenance,
-    )?;
-    Ok(GuardProgram { files, rungs, vector })
-}
-
-/// The rungs of `guards` (of the plants of `set`, bound to `vector`); memory deciding an event somewhere
-/// is [`StateError::Memory`] (a state-based program from guards keeps no memory).
-pub fn rungs(
+/// The rules of `guards` (of the plants of `set`, bound to `vector`), in event id order; memory deciding
+/// an event somewhere is [`FeedbackError::Memory`] (a feedback from guards keeps no memory).
+pub fn rules(
     set: &PackSet,
     vector: &Vector,
     guards: &Guards,
     exact: bool,
-) -> Result<Vec<EventRung>, StateError> {
-    let names: Vec<String> = vector.signals.signals.iter().map(|s| s.name.clone()).collect();
-    let n = names.len();
+) -> Result<Vec<Rule>, FeedbackError> {
+    let n = vector.signals.signals.len();
     let u = Universe::new(n);
     let reachable = guards.to_signals(&guards.reachable, &vector.cubes, n);
     let dc = if exact { u.union(&[]) } else { reachable.not() };
-    let mut order: Vec<&crate::symbolic::Guard> = guards.guards.iter().collect();
-    order.sort_by_key(|g| set.events().id(&g.event));
+    let mut order: Vec<(crate::model::EventId, &crate::symbolic::Guard)> =
+        guards.guards.iter().filter_map(|g| Some((set.events().id(&g.event)?, g))).collect();
+    order.sort_by_key(|(e, _)| *e);
     order
         .into_iter()
-        .map(|g| {
+        .map(|(event, g)| {
             if !g.memory.is_false() {
-                return Err(StateError::Memory(format!(
+                return Err(FeedbackError::Memory(format!(
                     "{}: the supervisor's memory decides it at {} plant states (the guard is no function of \
                      the plant state; --memory needs the explicit engine)",
                     g.event,
@@ -80,13 +36,7 @@ pub fn rungs(
                 )));
             }
             let on = guards.to_signals(&g.allowed, &vector.cubes, n);
-            let cover = u.minimise(&on, &dc);
-            let command = set
-                .events()
-                .id(&g.event)
-                .and_then(|e| vector.commands.get(e.index()).copied().flatten())
-                .map_or(Cube::default(), |(_, c)| c);
-            Ok(program::rung(&names, &g.event, cover, command, Vec::new()))
+            Ok(Rule { event, cubes: u.minimise(&on, &dc), command: vector.command(event) })
         })
         .collect()
 }
@@ -97,9 +47,9 @@ mod tests {
     use proptest::prelude::*;
 
     use super::*;
+    use crate::feedback::Sfbc;
     use crate::model::testing::{arb_automaton, with_kind};
     use crate::model::{Automaton, Kind};
-    use crate::plc::state_based::Sfbc;
     use crate::symbolic::Options;
     use crate::synth::families::random_seeded;
     use crate::synth::{Config, SynthError};

@@ -18,6 +18,7 @@
 
 use std::fmt::Write as _;
 
+use super::ir::{Expr, Op, Stmt};
 use crate::formats::xml_escape;
 
 /// A piece of a rung's condition.
@@ -144,8 +145,7 @@ impl Element {
     }
 
     /// The element as ST (`AND`, `OR`, `NOT`), parenthesised as needed.
-    pub fn st(&self) -> super::st::Expr {
-        use super::st::{Expr, Op};
+    pub fn st(&self) -> Expr {
         match self.simple() {
             Element::Contact { variable, negated: false } => Expr::var(variable.clone()),
             Element::Contact { variable, negated: true } => !Expr::var(variable.clone()),
@@ -156,6 +156,35 @@ impl Element {
 }
 
 impl Rung {
+    /// The rung as ST: `IF condition THEN` its SET/RESET coils `END_IF`, an `OUT` coil as an assignment
+    /// of the condition, a timer as its call with the condition as `IN`; a rung without contacts runs its
+    /// SET/RESET coils unconditionally.
+    pub fn statements(&self) -> Vec<Stmt> {
+        let cond = self.condition.st();
+        let mut out = Vec::new();
+        let mut latched = Vec::new();
+        for c in &self.coils {
+            match c.kind {
+                CoilKind::Set | CoilKind::Reset => {
+                    latched.push(Stmt::set(c.variable.clone(), Expr::Bool(c.kind == CoilKind::Set)))
+                }
+                CoilKind::Out => out.push(Stmt::set(c.variable.clone(), cond.clone())),
+                CoilKind::OnDelay(ms) => out.push(Stmt::Call(
+                    c.variable.clone(),
+                    vec![("IN".into(), cond.clone()), ("PT".into(), Expr::Time(ms))],
+                )),
+            }
+        }
+        if !latched.is_empty() {
+            if matches!(&self.condition, Element::Series(es) if es.is_empty()) {
+                out.extend(latched);
+            } else {
+                out.push(Stmt::when(cond, latched));
+            }
+        }
+        out
+    }
+
     /// The rung's instruction list: its condition and one instruction per coil.
     pub fn il(&self) -> IlCost {
         let c = if self.condition.contacts() == 0 { IlCost::default() } else { self.condition.il() };

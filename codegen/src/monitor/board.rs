@@ -1,6 +1,7 @@
 //! What a run on a board's pins showed that a byte link cannot: the figures the RP2040 harness
-//! (`harness/rp2040/`) counts and measures, which the closed loop's report
-//! ([`Report`](crate::monitor::Report)) carries as they come.
+//! (`harness/rp2040/`) counts and measures — its stats file, read by
+//! [`Harness::figures`](crate::target::rp2040::Harness::figures) — which the closed loop's report
+//! ([`Report`](super::Report)) carries as they come.
 
 use std::fmt;
 

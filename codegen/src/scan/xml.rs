@@ -1,25 +1,20 @@
-//! The program as PLCopen TC6 XML 2.01 (namespace `http://www.plcopen.org/xml/tc6_0201`): the `EVENTS`
-//! structure as a data type, the function block and the program as POUs with their interfaces and ST
-//! bodies, and the configuration with its resource and cyclic task. Importable by CODESYS, TwinCAT and
-//! Beremiz; validated in CI against the schema.
+//! A program as PLCopen TC6 XML 2.01 (namespace `http://www.plcopen.org/xml/tc6_0201`): its structure
+//! types as data types, its POUs with their interfaces and ST bodies (and an `<LD>` or `<SFC>` body
+//! where the program has one), and the configuration with its resource and cyclic task. Importable by
+//! CODESYS, TwinCAT and Beremiz; validated in CI against the schema.
 //!
 //! The schema requires a creation time; it is fixed (`1970-01-01T00:00:00`) so the file's bytes depend
 //! on its inputs only. The provenance header is an XML comment and the content header's `Comment`.
 
 use std::fmt::Write as _;
 
-use super::st::{Pou, Type, Var, VarClass};
+use super::ir::{Pou, Type, Var, VarClass};
+use super::ld;
+use super::program::{Graphic, Program};
 use crate::formats::xml_escape;
 
 /// Schema namespace.
 pub const NAMESPACE: &str = "http://www.plcopen.org/xml/tc6_0201";
-
-/// The configuration as ST text (its own file: some ST tools take POUs only).
-pub fn configuration_text(base: &str, cycle_ms: u32) -> String {
-    format!(
-        "CONFIGURATION {base}_config\n    RESOURCE {base}_resource ON PLC\n        TASK {base}_task (INTERVAL := T#{cycle_ms}ms, PRIORITY := 1);\n        PROGRAM {base}_instance WITH {base}_task : {base}_main;\n    END_RESOURCE\nEND_CONFIGURATION\n"
-    )
-}
 
 /// The schema's form of a type.
 fn data_type(ty: &Type) -> String {
@@ -51,9 +46,13 @@ fn variable(out: &mut String, v: &Var, indent: &str) {
     out.push_str("</variable>\n");
 }
 
-/// `p` as a `<pou>`, its ST body followed by `extra` bodies (their contents, such as an `<LD>` or an
-/// `<SFC>`); a POU without statements has the extra bodies only.
-fn pou(out: &mut String, p: &Pou, extra: &[String]) {
+/// `p` as a `<pou>`: its ST body (unless a chart stands for it), then its graphical body.
+fn pou(out: &mut String, p: &Pou, graphic: &Graphic) {
+    let extra = match graphic {
+        Graphic::Text => None,
+        Graphic::Ladder(rungs) => Some(ld::body(rungs)),
+        Graphic::Chart(chart) => Some(format!("<SFC>\n{}        </SFC>", chart.body())),
+    };
     let kind = if p.program { "program" } else { "functionBlock" };
     let _ = writeln!(out, "      <pou name=\"{}\" pouType=\"{kind}\">", xml_escape(&p.name));
     out.push_str("        <interface>\n");
@@ -70,24 +69,19 @@ fn pou(out: &mut String, p: &Pou, extra: &[String]) {
         let _ = writeln!(out, "          </{tag}>");
     }
     out.push_str("        </interface>\n");
-    if !p.sections.is_empty() || extra.is_empty() {
+    if !p.sections.is_empty() || extra.is_none() {
         let _ = writeln!(out, "        <body><ST><xhtml:p><![CDATA[{}]]></xhtml:p></ST></body>", p.body());
     }
-    for body in extra {
+    if let Some(body) = extra {
         let _ = writeln!(out, "        <body>{body}</body>");
     }
     out.push_str("      </pou>\n");
 }
 
-/// A project file of `pous`, each with its extra bodies, and the structure type `events` if any; the
-/// configuration runs `<base>_main` every `cycle_ms`.
-pub fn document(
-    events: Option<&(String, Vec<Var>)>,
-    pous: &[(&Pou, &[String])],
-    base: &str,
-    cycle_ms: u32,
-    header: &[String],
-) -> String {
+/// The project file of `program` under the comment `header`; its configuration runs `<base>_main`
+/// every cycle.
+pub fn document(program: &Program, header: &[String]) -> String {
+    let (base, cycle_ms) = (program.base.as_str(), program.cycle_ms);
     let mut out = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<!--\n");
     for l in header {
         let _ = writeln!(out, "  {}", l.replace("--", "- -"));
@@ -103,7 +97,7 @@ pub fn document(
     let _ = writeln!(out, "    <Comment>{}</Comment>", xml_escape(&header.join("\n")));
     out.push_str("    <coordinateInfo><fbd><scaling x=\"1\" y=\"1\"/></fbd><ld><scaling x=\"1\" y=\"1\"/></ld><sfc><scaling x=\"1\" y=\"1\"/></sfc></coordinateInfo>\n");
     out.push_str("  </contentHeader>\n  <types>\n    <dataTypes>\n");
-    if let Some((name, members)) = events {
+    for (name, members) in &program.types {
         let _ = writeln!(out, "      <dataType name=\"{}\"><baseType><struct>", xml_escape(name));
         for m in members {
             variable(&mut out, m, "        ");
@@ -111,8 +105,8 @@ pub fn document(
         out.push_str("      </struct></baseType></dataType>\n");
     }
     out.push_str("    </dataTypes>\n    <pous>\n");
-    for (p, extra) in pous {
-        pou(&mut out, p, extra);
+    for (p, graphic) in program.xml_pous() {
+        pou(&mut out, &p, graphic);
     }
     out.push_str("    </pous>\n  </types>\n  <instances>\n    <configurations>\n");
     let _ = writeln!(out, "      <configuration name=\"{base}_config\">");

@@ -1,5 +1,7 @@
-//! Where an emitted file comes from: the input files with their SHA-256, the tool version and the
-//! options, written into its header so a table in flash can be traced back to its models.
+//! Where a generated file comes from: the input files with their SHA-256 and the command that
+//! reproduces it, written into its header so a table in flash or a PLC program can be traced back to
+//! its models. Below every writer (the firmware's tables in [`crate::emit`], the PLC programs in
+//! [`crate::plc`]), so that each takes the same facts.
 
 use sha2::{Digest, Sha256};
 use std::io;

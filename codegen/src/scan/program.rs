@@ -1,0 +1,51 @@
+//! One PLC program as its files hold it: structure types, POUs each with the graphical body the XML
+//! carries for it, and the cyclic task that runs the program.
+
+use super::ir::{Pou, StructType, VarClass};
+use super::ld::Rung;
+use super::sfc::Chart;
+
+/// What the PLCopen XML carries for a POU besides (or instead of) its ST body.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Graphic {
+    /// Nothing: the XML body is the ST one.
+    Text,
+    /// The same logic as Ladder Diagram rungs, an `<LD>` body beside the ST one.
+    Ladder(Vec<Rung>),
+    /// A Sequential Function Chart instead of the ST body: the XML gives the POU's interface without
+    /// its locals (the chart's steps and their times stand for them) and the chart.
+    Chart(Chart),
+}
+
+/// A program: what its `.st`, `_config.st` and `.xml` files are written from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Program {
+    /// The stem of the file, configuration, resource, task and instance names; the task runs the
+    /// `PROGRAM` named `<base>_main`.
+    pub base: String,
+    /// Structure types, declared before the POUs.
+    pub types: Vec<StructType>,
+    /// The POUs, callees before their callers, each with its graphical body.
+    pub pous: Vec<(Pou, Graphic)>,
+    /// The task's interval in milliseconds.
+    pub cycle_ms: u32,
+}
+
+impl Program {
+    /// The POUs as the XML declares them: a charted POU with its interface only (no locals, no ST),
+    /// each with its graphical body.
+    pub fn xml_pous(&self) -> Vec<(Pou, &Graphic)> {
+        self.pous
+            .iter()
+            .map(|(p, g)| match g {
+                Graphic::Chart(_) => {
+                    let mut p = p.clone();
+                    p.vars.retain(|(class, _)| *class != VarClass::Local);
+                    p.sections.clear();
+                    (p, g)
+                }
+                _ => (p.clone(), g),
+            })
+            .collect()
+    }
+}
