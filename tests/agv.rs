@@ -2,7 +2,11 @@
 //! supervisors = "reduced"`, 183 states for the full set's 7 902, proven to keep its closed loop) built
 //! for the Cortex-M3 and run under QEMU, and the Pico application on an emulated RP2040, its vehicles'
 //! sensors as levels on shared pins; and the full set (7 902 states, its merged supervisor 7 800), whose
-//! tables are data checked at emit time and at boot, so it builds in about a minute from a cold cache.
+//! tables are data checked at emit time and by the build script, so it builds in about a minute from a
+//! cold cache. On the Pico only safety and the zones' coverage are asserted, not liveness: through pins
+//! the plant cannot make the firmware wait (the RP2040 harness has no STEP), and in real time the loop
+//! settles into a cycle that does not come back to the marked state (QEMU does the same in real time
+//! without steering: `codegen run examples/agv/agv.toml --timing realtime --guide 0`).
 
 use codegen::closed_loop::Options;
 use codegen::config::{SamplingSpec, SupervisorChoice};
@@ -65,17 +69,7 @@ fn the_reduced_agv_set_runs_on_the_pico_through_its_pins() {
 }
 
 #[test]
-#[ignore = "fails today: through pins the plant cannot make the firmware wait (the harness has no STEP), so \
-            the realtime closed loop settles into a cycle that never comes back to the marked state (marked \
-            only at the boots of the steering resets, 58 of the merged supervisor's 614 transitions); QEMU \
-            in realtime without steering does the same (`codegen run examples/agv/agv.toml --timing \
-            realtime --guide 0`: 1 marked visit in 4 000 events), with steering and STEP it is live"]
-fn the_reduced_agv_set_is_live_and_covered_on_the_pico() {
-    check(&pico_run(), "agv reduced, RP2040", 60);
-}
-
-#[test]
-fn the_full_agv_set_is_safe_live_and_fully_covered_under_qemu() {
+fn the_full_agv_set_is_safe_and_live_under_qemu() {
     let mut project = Project::load(&example("agv/agv.toml")).unwrap();
     project.choose_supervisors(SupervisorChoice::Full, &Config::default()).unwrap();
     assert_eq!(project.deployed.size, (7902, 26404));

@@ -466,7 +466,8 @@ fn a_state_based_scan_longer_than_the_cycle_is_a_finding() {
         codegen(&["plc", s(&m), "--encoding", "state", "-o", s(&dir.join("plc"))])
     };
     let out = run("cycle_ms = 1\ninstruction_ns = 100000");
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(out.status.code(), Some(1), "a finding is a failed check: {}", stderr(&out));
+    assert!(dir.join("plc").read_dir().is_ok_and(|mut d| d.next().is_some()), "the files are written");
     assert!(stdout(&out).contains("finding: the scan ("), "{}", stdout(&out));
     assert!(
         stdout(&out).contains("is longer than the task's cycle (1 ms, [plc] cycle_ms)"),
@@ -474,6 +475,7 @@ fn a_state_based_scan_longer_than_the_cycle_is_a_finding() {
         stdout(&out)
     );
     let out = run("cycle_ms = 10");
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     assert!(!stdout(&out).contains("finding: the scan"), "{}", stdout(&out));
 }
 

@@ -364,12 +364,10 @@ fn a_ready_supervisor_gives_the_synthesised_ones_controllers_and_a_wrong_one_is_
     assert!(err.contains("wrong.gen: supervisor 'wrong': not controllable") && err.contains("'f2'"), "{err}");
 
     // Specifications and a supervisor together: which one is meant is not guessed.
+    let given = with_supervisor(&out.full.supervisor, "both.gen").with_file_name("both.gen");
     let both = manifest_text().replace(
         "name = \"line\"",
-        &format!(
-            "name = \"line\"\nsupervisors = [{:?}]",
-            root().join("specs/buffer.gen").display().to_string()
-        ),
+        &format!("name = \"line\"\nsupervisors = [{:?}]", given.display().to_string()),
     );
     let err = Project::load(&scratch("both", &both)).unwrap_err();
     assert!(err.to_string().contains("1 specification file(s) and 1 supervisor file(s) given"), "{err}");

@@ -295,16 +295,10 @@ fn codegen_has_no_circle_of_files() {
     assert!(circles.is_empty(), "{}", circles.join("\n"));
 }
 
-/// The firmware's circles of files still to be taken apart (the table layouts' checker and the compact
-/// layout: the issue on supervisor sets at device scale reshapes both).
-const FIRMWARE_CIRCLES: &[&str] =
-    &["table: checked → compact → checked", "table: compact → checked → compact"];
-
 #[test]
-fn the_firmware_has_no_circle_of_files_but_the_known_one() {
+fn the_firmware_has_no_circle_of_files() {
     let circles = file_circles(&root().join("firmware/src"));
-    let new: Vec<&String> = circles.iter().filter(|c| !FIRMWARE_CIRCLES.contains(&c.as_str())).collect();
-    assert!(new.is_empty(), "{new:?}");
+    assert!(circles.is_empty(), "{}", circles.join("\n"));
 }
 
 #[test]

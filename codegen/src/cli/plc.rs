@@ -124,7 +124,8 @@ fn report(args: &Args, name: &str, written: &Written) -> Result<ExitCode, Error>
         write!(out, "{}", written.text())?;
         writeln!(out, "written to {}", args.output.display())?;
     }
-    Ok(ExitCode::SUCCESS)
+    // A finding (the scan longer than the task's cycle) is a failed check: the files are written, exit 1.
+    Ok(if written.has_finding() { ExitCode::from(1) } else { ExitCode::SUCCESS })
 }
 
 /// The form the arguments ask for, for `project`: a `[hybrid]` manifest is a hybrid controller whatever

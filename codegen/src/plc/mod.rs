@@ -140,6 +140,12 @@ impl Written {
         }
     }
 
+    /// Whether the report holds a finding (a state-based scan estimate longer than the task's cycle):
+    /// the files are written, and the command exits 1 as a check that failed.
+    pub fn has_finding(&self) -> bool {
+        matches!(self, Written::State(o) if o.report.scan_too_long())
+    }
+
     /// The files written: `(file name, contents)`.
     pub fn files(&self) -> &[File] {
         match self {

@@ -4,7 +4,7 @@
 //! nothing; a firmware may also run it at boot ([`CheckedSet::new`]).
 
 use super::layout::{self, COMPACT, INDEXED, OFFSET, RANKED};
-use super::{Position, SupervisorSet, TableError, MAX_AUTOMATA, MAX_EVENTS, MAX_MASKS};
+use super::{place, Position, SupervisorSet, TableError, MAX_AUTOMATA, MAX_EVENTS, MAX_MASKS};
 
 /// A set that passed [`SupervisorSet::check`] for `N` automata, with wide fields exactly when `WIDE`
 /// ([`SupervisorSet::wide`]), masks of `MASK` bytes ([`SupervisorSet::mask_bytes`]; 0 in the layouts
@@ -95,17 +95,6 @@ const fn beyond(events: usize, w: usize) -> u32 {
     } else {
         u32::MAX << (events - 32 * w)
     }
-}
-
-/// The place of event `e` in `alphabet`: the number of its events below `e`.
-pub(super) const fn place<const W: usize>(alphabet: &[u32; W], e: usize) -> usize {
-    let mut n = 0;
-    let mut w = 0;
-    while w < e / 32 {
-        n += alphabet[w].count_ones() as usize;
-        w += 1;
-    }
-    n + (alphabet[e / 32] & ((1u32 << (e % 32)) - 1)).count_ones() as usize
 }
 
 /// Bytes of one event's holder mask in a set of `automata` automata: one bit per automaton, at least one

@@ -19,8 +19,7 @@
 //! popcounts of their masks: bounded work whatever `s` is. The block ends with two bytes of padding, so
 //! that every field is read with three byte loads.
 
-use super::checked::place;
-use super::{Automaton, Event, Position, SupervisorSet};
+use super::{place, Automaton, Event, Position, SupervisorSet};
 
 /// Bytes of an automaton's header.
 pub const HEADER: usize = 8;

@@ -237,6 +237,17 @@ pub enum TableError {
     Block(u8),
 }
 
+/// The place of event `e` in `alphabet`: the number of its events below `e`.
+const fn place<const W: usize>(alphabet: &[u32; W], e: usize) -> usize {
+    let mut n = 0;
+    let mut w = 0;
+    while w < e / 32 {
+        n += alphabet[w].count_ones() as usize;
+        w += 1;
+    }
+    n + (alphabet[e / 32] & ((1u32 << (e % 32)) - 1)).count_ones() as usize
+}
+
 /// Position of `event`'s target among a state's targets: the bits of its out-mask below `event`.
 #[inline(always)]
 fn rank<const W: usize>(mask: &[u32; W], event: Event) -> usize {

@@ -1,9 +1,9 @@
 //! Reading the tables: checked readers for host tools and tests, and the runtime's hot path, which
 //! reads without bounds checks what [`SupervisorSet::check`] proved in bounds.
 
-use super::checked::{field, place};
+use super::checked::field;
 use super::layout::{COMPACT, INDEXED, MEMORY_SAFE, OFFSET, RANKED};
-use super::{rank, Automaton, Event, Position, SupervisorSet};
+use super::{place, rank, Automaton, Event, Position, SupervisorSet};
 
 /// Field `i` of the record at byte `at` (the mask id, then the targets), of 2 bytes when `WIDE`, read
 /// without bounds checks.

@@ -111,6 +111,12 @@ pub struct Report {
 }
 
 impl Report {
+    /// Whether the scan estimate (`scan_us`) is longer than the task's cycle (`cycle_ms`): a finding,
+    /// since the PLC could not run the program every cycle.
+    pub fn scan_too_long(&self) -> bool {
+        self.scan_us > f64::from(self.cycle_ms) * 1000.0
+    }
+
     /// The figures of `rungs` for `f` over `set`; `g` is the free plant's size, `ns` the time per
     /// instruction.
     pub fn new(
@@ -182,7 +188,7 @@ impl Report {
             "{} rungs over {} signals: {} IL instructions, stack depth {}, scan {:.1} us at {} ns per instruction",
             self.rungs, self.signals, self.il_instructions, self.stack_depth, self.scan_us, self.instruction_ns
         );
-        if self.scan_us > f64::from(self.cycle_ms) * 1000.0 {
+        if self.scan_too_long() {
             let _ = writeln!(
                 out,
                 "finding: the scan ({:.1} ms) is longer than the task's cycle ({} ms, [plc] cycle_ms): the PLC \
