@@ -5,7 +5,7 @@
 //! The limit holds *before* memory is taken, not after: a product's hash index grows by doubling, and the
 //! new index is written whole while the old one is still held, so a look made only now and then let the
 //! process overshoot by the index's size (35 % past a 1 GiB limit on three AGV copies). Every walk asks
-//! [`admit`] with the bytes it is about to take — before a new index, and before the predecessor lists
+//! `admit` with the bytes it is about to take — before a new index, and before the predecessor lists
 //! of a backward walk are built.
 
 use super::{Config, SynthError};

@@ -204,7 +204,7 @@ pub const IMAGE_CONST: &str = "const IMAGE: &[u8; ";
 const PER_LINE: usize = 24;
 
 /// `image` as the item `const IMAGE: &[u8; N] = b"…";` of Rust source, every byte as `\xHH`, lines of
-/// [`PER_LINE`] bytes continued with `\`, each line after the first indented by `indent`.
+/// `PER_LINE` bytes continued with `\`, each line after the first indented by `indent`.
 pub fn literal(image: &[u8], indent: &str) -> String {
     let mut out = format!("{IMAGE_CONST}{}] = b\"\\\n", image.len());
     for row in image.chunks(PER_LINE) {
