@@ -18,6 +18,11 @@
 //! 8. `aeem-set`, `transitions` — the chosen event applied once.
 //! 9. `aeem-reset` — every memory bit cleared.
 //! 10. `outputs` — set, clear, pulse countdown; all off in the safe state.
+//!
+//! In the bits encoding the `aeem-set`, `transitions` and `aeem-reset` sections are built as Ladder
+//! Diagram rungs and printed as their ST statements; with `--avalanche aeem` the program keeps those
+//! rungs, after one for the initial states, as its ladder ([`Program::rungs`]), which the XML carries
+//! beside the ST.
 
 use std::ops::Not as _;
 
@@ -372,12 +377,12 @@ impl Builder<'_> {
         out
     }
 
-    /// The transition trigger of event `e` in automaton `a`: its AEEM bit (also returned as the bit the
-    /// transition resets), or the event flag.
-    fn trigger(&self, a: usize, e: EventId) -> (&str, Option<&str>) {
+    /// The transition trigger of event `e` in automaton `a`: its AEEM bit (`true`: the transition
+    /// resets it), or the event flag.
+    fn trigger(&self, a: usize, e: EventId) -> (&str, bool) {
         match self.bits.iter().find(|(_, x, y)| *x == a && *y == e) {
-            Some((bit, ..)) => (bit, Some(bit.as_str())),
-            None => (&self.ev[e.index()], None),
+            Some((bit, ..)) => (bit, true),
+            None => (&self.ev[e.index()], false),
         }
     }
 
@@ -409,13 +414,15 @@ impl Builder<'_> {
             let m = &self.set.members()[a];
             for &s in &aut.plans[pass].order {
                 for &(e, t) in aut.out[s].iter().filter(|(e, _)| in_pass(*e)) {
-                    let (trig, bit) = self.trigger(a, e);
+                    let (trig, is_bit) = self.trigger(a, e);
                     let mut coils = Vec::new();
                     if t.index() != s {
                         coils.push(coil(&self.state_var(a, s), CoilKind::Reset));
                     }
                     coils.push(coil(&self.state_var(a, t.index()), CoilKind::Set));
-                    coils.extend(bit.map(|b| coil(b, CoilKind::Reset)));
+                    if is_bit {
+                        coils.push(coil(trig, CoilKind::Reset));
+                    }
                     let states = &m.automaton.states;
                     out.push(Rung {
                         comment: format!(
