@@ -64,7 +64,8 @@ pub struct Args {
     /// `[state] choice`; the XML then carries the ST body only).
     #[arg(long, value_enum, value_name = "POLICY")]
     choice: Option<ScanPolicy>,
-    /// Avalanche elimination in the bits encoding.
+    /// Avalanche elimination in the bits encoding (`aeem` also writes the supervisors' rungs as a Ladder
+    /// Diagram body in the XML).
     #[arg(long, value_enum, default_value_t = Avalanche::Auto)]
     avalanche: Avalanche,
     /// Choice policy (default: the manifest's `[plc]` or `[runtime]` policy, else local-queue).

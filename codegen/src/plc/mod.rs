@@ -19,8 +19,9 @@
 //!
 //! Event-based encodings: `int` — one integer state per automaton and a `CASE` per event, where no
 //! event can chain (a `CASE` takes one branch); `bits` — one `BOOL` per state and one statement per
-//! transition, the ladder form, where avalanche events need elimination. Output is deterministic: the
-//! same set and options give the same bytes (the XML's creation time is fixed).
+//! transition, the ladder form, where avalanche events need elimination; with `--avalanche aeem` (the
+//! seed documents' method) the XML carries those rungs as Ladder Diagram ([`Program::rungs`]). Output
+//! is deterministic: the same set and options give the same bytes (the XML's creation time is fixed).
 
 pub mod avalanche;
 pub mod choice;
@@ -344,7 +345,10 @@ fn assemble(
     let mut program = program::build(set, opts)?;
     let base = stem(&opts.name);
     let mut header = header(set, opts, provenance);
-    let mut pous = vec![(program.fb.clone(), Graphic::Text)];
+    // The bits encoding with AEEM carries the supervisors' rungs as an `<LD>` body beside the ST.
+    let ladder =
+        if program.rungs.is_empty() { Graphic::Text } else { Graphic::Ladder(program.rungs.clone()) };
+    let mut pous = vec![(program.fb.clone(), ladder)];
     if let Some(net) = net {
         let s = sequence::beside(net, &program, &base)?;
         program.main = s.main;

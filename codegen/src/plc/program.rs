@@ -18,6 +18,11 @@
 //! 8. `aeem-set`, `transitions` — the chosen event applied once.
 //! 9. `aeem-reset` — every memory bit cleared.
 //! 10. `outputs` — set, clear, pulse countdown; all off in the safe state.
+//!
+//! In the bits encoding the `aeem-set`, `transitions` and `aeem-reset` sections are built as Ladder
+//! Diagram rungs and printed as their ST statements; with `--avalanche aeem` the program keeps those
+//! rungs, after one for the initial states, as its ladder ([`Program::rungs`]), which the XML carries
+//! beside the ST.
 
 use std::ops::Not as _;
 
@@ -31,6 +36,7 @@ use super::io::{IoMap, Source};
 use super::{Encoding, PlcError, PlcOptions};
 use crate::config::{Action, Edge, ScanPolicy};
 use crate::scan::ir::{Expr, Op, Pou, Section, Stmt, Type, Var, VarClass};
+use crate::scan::ld::{Coil, CoilKind, Element, Rung};
 use crate::scan::names::{sanitize, stem, Names};
 
 /// The sections of the seed documents' structure (initialisation, AEEM set, transitions, AEEM reset),
@@ -60,6 +66,11 @@ pub struct Program {
     pub avalanche: Vec<(String, EventId, Method)>,
     /// The AEEM memory bits.
     pub memory_bits: Vec<String>,
+    /// The supervisors' ladder (bits with `--avalanche aeem`, the form of the seed documents): the rungs
+    /// of the seed structure in the order the block runs them — the initial states (the state part of
+    /// `init`), per pass a set rung per memory bit and a rung per transition, a reset rung per bit at
+    /// the end — whose ST is those sections' statements. Empty for the other forms.
+    pub rungs: Vec<Rung>,
     /// Choice sites with a cursor (local queue).
     pub sites: usize,
     /// Per controllable event, its request input (`req_<event>`), when the options ask for requests.
@@ -366,73 +377,104 @@ impl Builder<'_> {
         out
     }
 
-    /// The transition trigger of event `e` in automaton `a`: its AEEM bit, or the event flag.
-    fn trigger(&self, a: usize, e: EventId) -> (Expr, Option<&str>) {
+    /// The transition trigger of event `e` in automaton `a`: its AEEM bit (`true`: the transition
+    /// resets it), or the event flag.
+    fn trigger(&self, a: usize, e: EventId) -> (&str, bool) {
         match self.bits.iter().find(|(_, x, y)| *x == a && *y == e) {
-            Some((bit, ..)) => (Expr::var(bit), Some(bit.as_str())),
-            None => (Expr::var(&self.ev[e.index()]), None),
+            Some((bit, ..)) => (bit, true),
+            None => (&self.ev[e.index()], false),
         }
     }
 
-    fn aeem_set(&self, controllable: bool) -> Vec<Stmt> {
+    /// The AEEM set rungs of a pass: an event's flag sets its memory bit (AEEM's first step).
+    fn aeem_set(&self, controllable: bool) -> Vec<Rung> {
         self.bits
             .iter()
             .filter(|(_, _, e)| self.events().is_controllable(*e) == controllable)
-            .map(|(bit, _, e)| {
-                Stmt::when(Expr::var(&self.ev[e.index()]), vec![Stmt::set(bit, Expr::Bool(true))])
+            .map(|(bit, a, e)| Rung {
+                comment: format!(
+                    "event '{}' of {}: set its memory bit",
+                    self.events().name(*e),
+                    self.set.members()[*a].name()
+                ),
+                condition: Element::contact(self.ev[e.index()].clone(), false),
+                coils: vec![coil(bit, CoilKind::Set)],
             })
             .collect()
     }
 
-    fn transitions(&self, controllable: bool) -> Vec<Stmt> {
+    /// The bits encoding's transition rungs of a pass, grouped by source state in the plan's order: the
+    /// source state and the trigger in series; the source reset (unless a self-loop), the target set,
+    /// and the trigger's memory bit reset where it has one (AEEM's second step).
+    fn transition_rungs(&self, controllable: bool) -> Vec<Rung> {
         let pass = usize::from(controllable);
         let in_pass = |e: EventId| self.events().is_controllable(e) == controllable;
         let mut out = Vec::new();
-        match self.opts.encoding {
-            Encoding::Int => {
-                for e in self.events().ids().filter(|&e| in_pass(e)) {
-                    let mut body = Vec::new();
-                    for a in self.holders(e) {
-                        let var = &self.auts[a].name;
-                        let mut arms: Vec<(Vec<i64>, Vec<Stmt>)> = Vec::new();
-                        for (s, edges) in self.auts[a].out.iter().enumerate() {
-                            for &(_, t) in edges.iter().filter(|(x, _)| *x == e) {
-                                let set = Stmt::set(var, Expr::Int(t.index() as i64));
-                                match arms.iter_mut().find(|(_, b)| b[0] == set) {
-                                    Some((labels, _)) => labels.push(s as i64),
-                                    None => arms.push((vec![s as i64], vec![set])),
-                                }
-                            }
-                        }
-                        let els = if controllable { Vec::new() } else { self.fault("unexpected") };
-                        if arms.is_empty() {
-                            body.extend(els);
-                        } else {
-                            body.push(Stmt::Case(Expr::var(var), arms, els));
-                        }
+        for (a, aut) in self.auts.iter().enumerate() {
+            let m = &self.set.members()[a];
+            for &s in &aut.plans[pass].order {
+                for &(e, t) in aut.out[s].iter().filter(|(e, _)| in_pass(*e)) {
+                    let (trig, is_bit) = self.trigger(a, e);
+                    let mut coils = Vec::new();
+                    if t.index() != s {
+                        coils.push(coil(&self.state_var(a, s), CoilKind::Reset));
                     }
-                    if !body.is_empty() {
-                        out.push(Stmt::when(Expr::var(&self.ev[e.index()]), body));
+                    coils.push(coil(&self.state_var(a, t.index()), CoilKind::Set));
+                    if is_bit {
+                        coils.push(coil(trig, CoilKind::Reset));
                     }
+                    let states = &m.automaton.states;
+                    out.push(Rung {
+                        comment: format!(
+                            "{}: {} -{}-> {}",
+                            m.name(),
+                            states[s].name,
+                            self.events().name(e),
+                            states[t.index()].name
+                        ),
+                        condition: Element::Series(vec![
+                            Element::contact(self.state_var(a, s), false),
+                            Element::contact(trig, false),
+                        ]),
+                        coils,
+                    });
                 }
             }
-            Encoding::Bits => {
-                for (a, aut) in self.auts.iter().enumerate() {
-                    for &s in &aut.plans[pass].order {
-                        for &(e, t) in aut.out[s].iter().filter(|(e, _)| in_pass(*e)) {
-                            let (trig, bit) = self.trigger(a, e);
-                            let mut body = Vec::new();
-                            if t.index() != s {
-                                body.push(Stmt::set(self.state_var(a, s), Expr::Bool(false)));
-                            }
-                            body.push(Stmt::set(self.state_var(a, t.index()), Expr::Bool(true)));
-                            if let Some(bit) = bit {
-                                body.push(Stmt::set(bit, Expr::Bool(false)));
-                            }
-                            out.push(Stmt::when(self.at(a, s).op(Op::And, trig), body));
+        }
+        out
+    }
+
+    /// The transition statements of a pass: the bits encoding's rungs, or (int) a `CASE` per event and
+    /// holder.
+    fn transitions(&self, controllable: bool) -> Vec<Stmt> {
+        if self.opts.encoding == Encoding::Bits {
+            return statements(&self.transition_rungs(controllable));
+        }
+        let in_pass = |e: EventId| self.events().is_controllable(e) == controllable;
+        let mut out = Vec::new();
+        for e in self.events().ids().filter(|&e| in_pass(e)) {
+            let mut body = Vec::new();
+            for a in self.holders(e) {
+                let var = &self.auts[a].name;
+                let mut arms: Vec<(Vec<i64>, Vec<Stmt>)> = Vec::new();
+                for (s, edges) in self.auts[a].out.iter().enumerate() {
+                    for &(_, t) in edges.iter().filter(|(x, _)| *x == e) {
+                        let set = Stmt::set(var, Expr::Int(t.index() as i64));
+                        match arms.iter_mut().find(|(_, b)| b[0] == set) {
+                            Some((labels, _)) => labels.push(s as i64),
+                            None => arms.push((vec![s as i64], vec![set])),
                         }
                     }
                 }
+                let els = if controllable { Vec::new() } else { self.fault("unexpected") };
+                if arms.is_empty() {
+                    body.extend(els);
+                } else {
+                    body.push(Stmt::Case(Expr::var(var), arms, els));
+                }
+            }
+            if !body.is_empty() {
+                out.push(Stmt::when(Expr::var(&self.ev[e.index()]), body));
             }
         }
         out
@@ -518,8 +560,52 @@ impl Builder<'_> {
         ]
     }
 
-    fn aeem_reset(&self) -> Vec<Stmt> {
-        self.bits.iter().map(|(bit, ..)| Stmt::set(bit, Expr::Bool(false))).collect()
+    /// AEEM's last step: a rung per memory bit resetting it, whatever used it.
+    fn aeem_reset(&self) -> Vec<Rung> {
+        self.bits
+            .iter()
+            .map(|(bit, ..)| Rung {
+                comment: format!("end of scan: {bit} clear"),
+                condition: Element::Series(Vec::new()),
+                coils: vec![coil(bit, CoilKind::Reset)],
+            })
+            .collect()
+    }
+
+    /// The ladder's first rung: on the first scan and while `reset`, every automaton in its initial state
+    /// and every memory bit clear — what the `init` section does to them.
+    fn init_rung(&self) -> Rung {
+        let mut coils = Vec::new();
+        for (a, m) in self.set.members().iter().enumerate() {
+            let initial = m.initial().index();
+            for s in 0..m.state_count() {
+                let kind = if s == initial { CoilKind::Set } else { CoilKind::Reset };
+                coils.push(coil(&self.state_var(a, s), kind));
+            }
+        }
+        coils.extend(self.bits.iter().map(|(bit, ..)| coil(bit, CoilKind::Reset)));
+        Rung {
+            comment: "first scan and reset: initial states, memory bits clear".into(),
+            condition: Element::Parallel(vec![
+                Element::contact("ready", true),
+                Element::contact("reset", false),
+            ]),
+            coils,
+        }
+    }
+
+    /// The supervisors' ladder ([`Program::rungs`]): bits with AEEM only, else empty.
+    fn ladder(&self) -> Vec<Rung> {
+        if self.opts.encoding != Encoding::Bits || self.opts.avalanche != Avalanche::Aeem {
+            return Vec::new();
+        }
+        let mut out = vec![self.init_rung()];
+        for controllable in [false, true] {
+            out.extend(self.aeem_set(controllable));
+            out.extend(self.transition_rungs(controllable));
+        }
+        out.extend(self.aeem_reset());
+        out
     }
 
     fn outputs(&self) -> Vec<Stmt> {
@@ -554,15 +640,16 @@ impl Builder<'_> {
             Section::new("inputs", "sampled once, edges against the previous scan", self.inputs()),
             Section::new("events", "one latched input per scan, in event order", self.events_section()),
             Section::new("faults", "", self.faults()),
-            Section::new(AEEM_SET, "uncontrollable", self.aeem_set(false)),
+            Section::new(AEEM_SET, "uncontrollable", statements(&self.aeem_set(false))),
             Section::new(TRANSITIONS, "uncontrollable", self.transitions(false)),
             Section::new("enabled", "", self.enabled()),
             Section::new("choice", self.opts.policy.name(), self.choice()),
-            Section::new(AEEM_SET, "controllable", self.aeem_set(true)),
+            Section::new(AEEM_SET, "controllable", statements(&self.aeem_set(true))),
             Section::new(TRANSITIONS, "controllable", self.transitions(true)),
-            Section::new(AEEM_RESET, "", self.aeem_reset()),
+            Section::new(AEEM_RESET, "", statements(&self.aeem_reset())),
             Section::new("outputs", "", self.outputs()),
         ];
+        let rungs = self.ladder();
         let sites = self.site_count().max(0) as usize;
         let base = stem(&self.opts.name);
         let fb_name = format!("{base}_sct");
@@ -749,6 +836,16 @@ impl Builder<'_> {
         avalanche.sort_by_key(|(a, e, _)| (rank(a), *e));
         let memory_bits = std::mem::take(&mut self.bits).into_iter().map(|(b, ..)| b).collect();
         let requests = std::mem::take(&mut self.req);
-        Program { events_type, fb, main, io: self.io, avalanche, memory_bits, sites, requests }
+        Program { events_type, fb, main, io: self.io, avalanche, memory_bits, rungs, sites, requests }
     }
+}
+
+/// A coil of `kind` on `variable`.
+fn coil(variable: &str, kind: CoilKind) -> Coil {
+    Coil { variable: variable.to_owned(), kind }
+}
+
+/// The rungs as the ST statements that run them, top to bottom.
+fn statements(rungs: &[Rung]) -> Vec<Stmt> {
+    rungs.iter().flat_map(Rung::statements).collect()
 }

@@ -10,7 +10,9 @@ use super::sfc::Chart;
 pub enum Graphic {
     /// Nothing: the XML body is the ST one.
     Text,
-    /// The same logic as Ladder Diagram rungs, an `<LD>` body beside the ST one.
+    /// Ladder Diagram rungs, an `<LD>` body beside the ST one: the same logic (the state-based and hybrid
+    /// programs), or the rungs that part of the ST body runs (the event-based block's supervisors, whose
+    /// interface — inputs, event latching, choice, outputs — is ST only).
     Ladder(Vec<Rung>),
     /// A Sequential Function Chart instead of the ST body: the XML gives the POU's interface without
     /// its locals (the chart's steps and their times stand for them) and the chart.
