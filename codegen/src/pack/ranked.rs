@@ -433,7 +433,9 @@ mod tests {
                 let max = if packed.wide { WIDE_HANDLE } else { NARROW_HANDLE };
                 proptest::prop_assert!(usize::from(last) <= max);
                 if b.scale > 1 && !packed.wide {
-                    let lens: Vec<usize> = (0..m.state_count()).map(|s| 1 + m.degree(s)).collect();
+                    // In the block's order of records (the initial state's first).
+                    let order = packed.records(a).unwrap();
+                    let lens: Vec<usize> = order.iter().map(|r| 1 + m.degree(r.state)).collect();
                     proptest::prop_assert!(extent(&lens, usize::from(b.scale) - 1).0 > NARROW_HANDLE);
                 }
             }
