@@ -233,21 +233,26 @@ fn the_one_program_validates_with_its_sfc_and_its_st_parses() {
 /// by the interpreter's scan clock. A timer starts in the first scan that sees its input place marked,
 /// so t0 fires in scan 6 (its timer started in scan 1 and reaches 50 ms in scan 6) and t1, whose place
 /// scan 7 first sees marked, in scan 10.
-#[test]
-fn a_delayed_transition_fires_when_its_timer_runs_out() {
+/// The ring net p0 –t0→ p1 –t1→ p0, one token in p0: what the delay tests interpret.
+fn ring() -> codegen::net::model::Net {
     use codegen::net::model::{Net, Place, Transition};
-    let (p, ..) = program("station-rtpn/net3.toml");
     let t = |id: &str, from: usize, to: usize| Transition {
         id: id.into(),
         inputs: vec![(from, 1)],
         outputs: vec![(to, 1)],
         ..Transition::default()
     };
-    let net = Net {
+    Net {
         name: "d".into(),
         places: vec![Place { id: "p0".into(), initial: 1 }, Place { id: "p1".into(), initial: 0 }],
         transitions: vec![t("t0", 0, 1), t("t1", 1, 0)],
-    };
+    }
+}
+
+#[test]
+fn a_delayed_transition_fires_when_its_timer_runs_out() {
+    let (p, ..) = program("station-rtpn/net3.toml");
+    let net = ring();
     let text = "name = \"d\"\n[net]\npnml = \"d.pnml\"\n[net.delays]\nt0 = 50\nt1 = 30\n";
     let m = Manifest::parse(std::path::Path::new("d.toml"), text).unwrap();
     let net = Interpretation::bind(m.net.as_ref().unwrap(), &m.file, net, p.set.events()).unwrap();
@@ -276,22 +281,11 @@ fn a_delayed_transition_fires_when_its_timer_runs_out() {
 #[test]
 fn the_sequence_and_the_hybrid_controller_give_a_delay_one_meaning() {
     use codegen::model::{EventTable, Kind};
-    use codegen::net::model::{Net, Place, Transition};
     use codegen::net::reachability::{reachability, Labels};
     use codegen::plc::hybrid::{self, Plant};
     use codegen::provenance::Provenance;
     use codegen::synth::Config;
-    let t = |id: &str, from: usize, to: usize| Transition {
-        id: id.into(),
-        inputs: vec![(from, 1)],
-        outputs: vec![(to, 1)],
-        ..Transition::default()
-    };
-    let net = Net {
-        name: "d".into(),
-        places: vec![Place { id: "p0".into(), initial: 1 }, Place { id: "p1".into(), initial: 0 }],
-        transitions: vec![t("t0", 0, 1), t("t1", 1, 0)],
-    };
+    let net = ring();
     let text = "name = \"d\"\n[net]\npnml = \"d.pnml\"\nfree = [\"c\"]\n[net.conditions]\nt1 = \"c\"\n[net.delays]\nt0 = 50\nt1 = 30\n";
     let m = Manifest::parse(std::path::Path::new("d.toml"), text).unwrap();
     let net =
