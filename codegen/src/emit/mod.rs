@@ -1,6 +1,7 @@
-//! Emitting the Rust source the firmware compiles: the [`ranked`](crate::pack::ranked) tables of a
-//! supervisor set as `static` data in flash (the records of every automaton in one block, the out-mask
-//! pool, and the `SupervisorSet` over them, checked at compile time as a `CheckedSet`), with the side
+//! Emitting the Rust source the firmware compiles: the tables of a supervisor set in their layout as one
+//! image of bytes in flash (`firmware::table::image`: the records of every automaton, the out-mask pool,
+//! and the `SupervisorSet` sliced from it; checked when written and again by the firmware's build
+//! script, which hands the compiler a digest instead of evaluating the check), with the side
 //! tables the runtime's hot path needs, event ids as constants, event and automaton names apart for
 //! logs, the choice-policy type and the runtime's type sized exactly, and the run-time configuration,
 //! under a provenance header ([`crate::provenance`]).
@@ -12,6 +13,8 @@
 //!   the runtime's limits checked ([`firmware::table::MAX_AUTOMATA`], every controllable event generated
 //!   by a plant). Same inputs, byte-identical output: nothing in it depends on the time, the machine or a
 //!   hash map's order.
+//! * `header` — the comment block both writers open with: what the file holds, its provenance, the
+//!   run-time options.
 //! * [`board`] — the board tables of the manifest's `[board]` section ([`BoardSpec`](crate::config::BoardSpec)): pins of inputs and
 //!   outputs for a real board.
 //! * [`state`] — the state-based firmware's tables (`[runtime] mode = "state"`): the state feedback of
@@ -26,6 +29,7 @@
 
 pub mod board;
 mod error;
+mod header;
 pub mod policy;
 pub mod rust;
 pub mod state;
