@@ -1,4 +1,4 @@
-//! `--supervisors` (and `[runtime] supervisors`) end to end on the cell: `emit` and `plc` deploy the
+//! `--supervisors` (and `[runtime] supervisors`) end to end on the cell: `emit`, `plc` and `pack` deploy the
 //! chosen set, say which in their report and in the emitted provenance, spell a choice that differs from
 //! the manifest's out in the recorded command, and that command reproduces the file.
 
@@ -90,4 +90,28 @@ fn a_choice_that_changes_the_closed_loop_is_refused() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("supervisors = \"monolithic\": the closed loop of S_monolithic against every plant differs from the full set's"), "{err}");
     assert!(!dir.join("t.rs").exists(), "nothing written");
+}
+
+#[test]
+fn pack_measures_the_chosen_set() {
+    let bytes = |choice: &str| {
+        let out = codegen(&["pack", "examples/cell/cell.toml", "--supervisors", choice, "--json"]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert!(json["supervisors"].as_str().unwrap().starts_with(choice), "{json}");
+        json["layouts"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|l| l["supervisor_bytes"].as_u64().unwrap())
+            .collect::<Vec<_>>()
+    };
+    let (full, reduced) = (bytes("full"), bytes("reduced"));
+    // Every layout holds the reduced supervisors in fewer bytes than the full ones.
+    assert_eq!(full.len(), reduced.len());
+    assert!(full.iter().zip(&reduced).all(|(f, r)| r < f), "full {full:?}, reduced {reduced:?}");
+    let text =
+        String::from_utf8(codegen(&["pack", "examples/cell/cell.toml", "--supervisors", "reduced"]).stdout)
+            .unwrap();
+    assert!(text.starts_with("supervisors: reduced: 6 supervisors, 24 states"), "{text}");
 }

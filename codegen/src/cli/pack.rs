@@ -3,10 +3,10 @@
 use std::io::Write;
 use std::process::ExitCode;
 
-use codegen::config::RuntimeConfig;
-use codegen::pack::{report::Report, Layout, PackSet};
+use codegen::config::{RuntimeConfig, SupervisorChoice};
+use codegen::pack::{report::Report, Layout};
 use codegen::project::comparison::modular_and_monolithic;
-use codegen::project::supervisors;
+use codegen::project::deployed_set;
 use codegen::synth::Config;
 
 use super::files::Files;
@@ -32,7 +32,12 @@ pub struct Args {
     /// board's flash; a core that runs none says why.
     #[arg(long, value_parser = parse_layout)]
     layout: Option<Layout>,
-    /// Print JSON (schema 1): layouts (name, bytes, supervisor_bytes, per_automaton, side_tables,
+    /// Which supervisors to measure: the full set, each supervisor reduced, or one monolithic
+    /// supervisor, full or reduced — the set `emit` and `run` deploy, proven to give the plants the full
+    /// set's closed loop first [default: the manifest's `[runtime] supervisors`, else full].
+    #[arg(long = "supervisors", id = "deploy", value_enum, value_name = "CHOICE")]
+    deploy: Option<SupervisorChoice>,
+    /// Print JSON (schema 1): supervisors (the deployed set), layouts (name, bytes, supervisor_bytes, per_automaton, side_tables,
     /// runs_on, fits), cores (core, board, layout or refused), floor_bytes, paper (matrix, chained_list,
     /// memory_safe), comparisons, automata.
     #[arg(long)]
@@ -50,12 +55,13 @@ fn parse_layout(name: &str) -> Result<Layout, String> {
 pub fn run(args: Args) -> Result<ExitCode, Error> {
     let loaded = args.input.load()?;
     let runtime = loaded.manifest.as_ref().map_or_else(RuntimeConfig::default, |m| m.runtime.clone());
-    let closed = supervisors(loaded.models)?;
-    let set = PackSet::new(closed.plants.clone(), closed.supervisors)?;
-    let comparisons = if closed.specs.is_empty() {
+    let choice = args.deploy.unwrap_or(runtime.supervisors);
+    let (set, deployed) = deployed_set(&loaded, &Config::default(), choice)?;
+    let models = &loaded.models;
+    let comparisons = if models.specs.is_empty() {
         Vec::new()
     } else {
-        modular_and_monolithic(&closed.plants, &closed.specs, set.events().len(), &Config::default())
+        modular_and_monolithic(&models.plants, &models.specs, set.events().len(), &Config::default())
     };
     let layouts: Vec<Layout> = match args.layout {
         Some(l) => vec![l],
@@ -64,9 +70,12 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     let report = Report::new(set, &layouts, comparisons).with_runtime(&runtime);
     let mut out = std::io::stdout().lock();
     if args.json {
+        let mut json = report.to_json();
+        json["supervisors"] = deployed.to_string().into();
         // Serialised first so a closed pipe surfaces as an io::Error, which `main` treats as success.
-        writeln!(out, "{}", serde_json::to_string_pretty(&report.to_json())?)?;
+        writeln!(out, "{}", serde_json::to_string_pretty(&json)?)?;
     } else {
+        writeln!(out, "supervisors: {deployed}")?;
         write!(out, "{report}")?;
     }
     out.flush()?;
