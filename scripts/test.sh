@@ -27,6 +27,9 @@ python3 -m unittest discover -s scripts/measure
 python3 scripts/measure/cost.py
 python3 scripts/measure/pico_cost.py
 python3 scripts/measure/footprint.py
+# The cell deployed reduced, on both cores (tables, code, instructions per event).
+python3 scripts/measure/layouts.py --layouts ranked --supervisors reduced --pico-events 20000 \
+  --expected .ci/expected/cell-reduced.txt
 # The station's state feedback against its event-based tables on the Cortex-M3 (flash, RAM, instructions).
 python3 scripts/measure/state.py
 python3 scripts/measure/footprint.py --target-dir target/v0-mangling \
