@@ -8,8 +8,9 @@
 //! 8N1, TIOCEXCL) — the serial path, not a socket standing in for it.
 //!
 //! Lock-step rounds (the firmware answers SYNC and STEP, as under QEMU): 0 violations, full coverage and
-//! the marked-state liveness the pin runs cannot measure. Then the plant's own timing at two answer
-//! rates — a fixed delay and a uniform range — where verdicts could depend on time: the monitor's read
+//! the marked-state liveness the pin runs cannot measure. Then the plant's own timing at different answer
+//! rates — a fixed delay; a uniform range with two commands answered at rates of their own — where
+//! verdicts could depend on time: the monitor's read
 //! window (0.5 s) and stall timeout (10 s) are the margins; the emulator answers a byte in well under a
 //! millisecond of wall time when it is not starved.
 
@@ -139,12 +140,18 @@ fn the_pico_link_build_runs_the_cell_closed_loop_over_a_serial_port() {
     assert_eq!(fw.events_in, lockstep.uncontrollable, "events taken by the firmware: {lockstep}");
     assert_eq!(fw.commands_out, lockstep.commands, "commands fired by the firmware: {lockstep}");
 
-    // The plant's own timing at two answer rates: a fixed 500 µs, and uniform in 0..3 ms.
+    // The plant's own timing at different answer rates: a fixed 500 µs; uniform in 0..3 ms with two
+    // devices answering at rates of their own (the robot's r_c1b1 after a fixed 2 ms, the machine's
+    // m1_ini_a after 1..5 ms), as `--answer-delay-us COMMAND=MIN..MAX` sets them.
     let events = 3_000;
-    for (tag, delay_us) in [("fixed-500us", (500, 500)), ("uniform-0-3ms", (0, 3_000))] {
+    let own = vec![("r_c1b1".to_owned(), (2_000, 2_000)), ("m1_ini_a".to_owned(), (1_000, 5_000))];
+    for (tag, delay_us, answer_delay_us) in
+        [("fixed-500us", (500, 500), Vec::new()), ("uniform-0-3ms-per-command", (0, 3_000), own)]
+    {
         let mut options = Options::for_events(events);
         options.session = SessionConfig::realtime();
         options.plant.delay_us = delay_us;
+        options.plant.answer_delay_us = answer_delay_us;
         check(&run_over_serial(&project, &elf, &scratch, tag, &options), events, tag);
     }
 }
