@@ -324,7 +324,7 @@ mod tests {
                 PlantConfig { answer_delay_us: vec![(name.into(), (1, 2))], ..PlantConfig::default() };
             let m1 = machine("M1", "a1", "b1");
             let table = EventTable::build([&m1]).unwrap();
-            let err = VirtualPlant::new(&[&m1], &table, config).err().expect("refused");
+            let Err(err) = VirtualPlant::new(&[&m1], &table, config) else { panic!("{name}: taken") };
             assert!(err.to_string().contains(name), "{err}");
         }
     }
