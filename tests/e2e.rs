@@ -15,6 +15,7 @@ mod loopback;
 mod mutants;
 mod net;
 mod pico;
+mod pico_link;
 mod plc;
 mod plc_state;
 mod race;

@@ -60,6 +60,10 @@ pub struct RunArgs {
     /// Delay before each plant event, in microseconds: MIN..MAX (uniform).
     #[arg(long, value_name = "MIN..MAX", value_parser = parse_delay, default_value = "0..100")]
     pub delay_us: Delay,
+    /// A command answered at a rate of its own: the plant's answer to COMMAND comes MIN..MAX µs after
+    /// it (uniform; MIN..MIN a fixed delay) instead of after --delay-us. Repeat for several commands.
+    #[arg(long, value_name = "COMMAND=MIN..MAX", value_parser = parse_answer_delay)]
+    pub answer_delay_us: Vec<(String, Delay)>,
     /// Print the report as JSON (schema version in its `schema` field).
     #[arg(long)]
     pub json: bool,
@@ -110,6 +114,14 @@ fn parse_delay(s: &str) -> Result<Delay, String> {
     Ok(Delay(lo, hi))
 }
 
+fn parse_answer_delay(s: &str) -> Result<(String, Delay), String> {
+    let (command, range) = s.split_once('=').ok_or_else(|| format!("'{s}' is not COMMAND=MIN..MAX"))?;
+    if command.is_empty() {
+        return Err(format!("'{s}' names no command"));
+    }
+    Ok((command.to_owned(), parse_delay(range)?))
+}
+
 impl RunArgs {
     /// The closed-loop options for a firmware running `runtime`, with its seed unless `--seed`
     /// overrides it.
@@ -119,6 +131,7 @@ impl RunArgs {
             plant: PlantConfig {
                 seed: self.seed.unwrap_or(runtime.seed),
                 delay_us: (self.delay_us.0, self.delay_us.1),
+                answer_delay_us: self.answer_delay_us.iter().map(|(c, d)| (c.clone(), (d.0, d.1))).collect(),
                 burst_per_mille: self.burst.per_mille,
                 burst_max: self.burst.max,
                 race_per_mille: self.race,

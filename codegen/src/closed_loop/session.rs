@@ -523,7 +523,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             return self.out_of_step();
         }
         self.active();
-        self.next_emit = Some(Instant::now() + Duration::from_micros(self.plant.next_delay_us(false)));
+        self.next_emit = Some(Instant::now() + Duration::from_micros(self.plant.next_delay_us(None)));
         Ok(())
     }
 
@@ -624,7 +624,9 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
                 self.waited = false;
                 match self.judge(c, self.micros()) {
                     Verdict::Ok | Verdict::Desync { resolved: true } => {
-                        let mut delay = Duration::from_micros(self.plant.next_delay_us(true));
+                        let mut delay = Duration::from_micros(
+                            self.plant.next_delay_us(Some(EventId::from_u32(u32::from(c)))),
+                        );
                         // While it steers, the plant looks at every command (see `emit`).
                         if self.plant.steers() && self.monitor.is_steering() {
                             delay = Duration::ZERO;

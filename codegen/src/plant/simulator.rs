@@ -9,8 +9,13 @@ use crate::model::{Automaton, Composition, EventId, EventTable, ModelError};
 pub struct PlantConfig {
     /// Seed of every random draw.
     pub seed: u64,
-    /// Delay before the next uncontrollable event, in microseconds, drawn uniformly from `min..=max`.
+    /// Delay before the next uncontrollable event, in microseconds, drawn uniformly from `min..=max`
+    /// (fixed when `min == max`).
     pub delay_us: (u64, u64),
+    /// Per command (by name): the delay before the plant's answer to it, in place of `delay_us` — the
+    /// plant's devices answering at rates of their own. A name that is not a command of the set is
+    /// refused by [`VirtualPlant::new`].
+    pub answer_delay_us: Vec<(String, (u64, u64))>,
     /// Chance (per mille) that an emission is a burst of several events sent back to back, so that they
     /// reach the controller between two of its reads (simultaneity).
     pub burst_per_mille: u32,
@@ -30,6 +35,7 @@ impl Default for PlantConfig {
         PlantConfig {
             seed: 1,
             delay_us: (0, 100),
+            answer_delay_us: Vec::new(),
             burst_per_mille: 100,
             burst_max: 4,
             race_per_mille: 100,
@@ -91,6 +97,9 @@ pub struct VirtualPlant {
     explore_per_mille: u32,
     /// Per global event: when the uncontrollable event, enabled since some time, is due.
     due: Vec<Option<u64>>,
+    /// Per global event: the delay range of the answer to it when it is a command with a rate of its own
+    /// ([`PlantConfig::answer_delay_us`]).
+    answer_delay: Vec<Option<(u64, u64)>>,
 }
 
 /// Longest activity duration, in plant events, as a power of two: a duration is drawn uniformly below
@@ -101,7 +110,15 @@ impl VirtualPlant {
     /// A plant made of `plants` over the global numbering of `table`, in its initial state.
     pub fn new(plants: &[&Automaton], table: &EventTable, config: PlantConfig) -> Result<Self, ModelError> {
         let plants = Composition::new(plants, table)?;
+        let mut answer_delay = vec![None; table.len()];
+        for (name, range) in &config.answer_delay_us {
+            match table.id(name).filter(|&e| table.is_controllable(e)) {
+                Some(e) => answer_delay[e.index()] = Some(*range),
+                None => return Err(ModelError::UnknownEvent(format!("{name} (not a command of the set)"))),
+            }
+        }
         Ok(VirtualPlant {
+            answer_delay,
             state: plants.initial(),
             plants,
             controllable: table.ids().map(|e| table.is_controllable(e)).collect(),
@@ -227,15 +244,16 @@ impl VirtualPlant {
         Some(e)
     }
 
-    /// Microseconds to wait before the next emission. Right after a command the plant may answer at once
-    /// (a race with the controller's next decision).
-    pub fn next_delay_us(&mut self, after_command: bool) -> u64 {
-        if after_command && self.rng.chance(self.config.race_per_mille) {
-            0
-        } else {
-            let (lo, hi) = self.config.delay_us;
-            self.rng.between(lo, hi)
+    /// Microseconds to wait before the next emission; `after` is the command just taken, if any. Right
+    /// after a command the plant may answer at once (a race with the controller's next decision), else
+    /// after that command's own delay ([`PlantConfig::answer_delay_us`]) or the plant's.
+    pub fn next_delay_us(&mut self, after: Option<EventId>) -> u64 {
+        if after.is_some() && self.rng.chance(self.config.race_per_mille) {
+            return 0;
         }
+        let own = after.and_then(|e| self.answer_delay.get(e.index()).copied().flatten());
+        let (lo, hi) = own.unwrap_or(self.config.delay_us);
+        self.rng.between(lo, hi)
     }
 }
 
@@ -278,9 +296,37 @@ mod tests {
     #[test]
     fn races_answer_at_once_only_after_commands() {
         let config = PlantConfig { race_per_mille: 1000, delay_us: (10, 20), ..PlantConfig::default() };
-        let (mut p, _) = two_machines(config);
-        assert_eq!(p.next_delay_us(true), 0);
-        assert!((10..=20).contains(&p.next_delay_us(false)));
+        let (mut p, t) = two_machines(config);
+        assert_eq!(p.next_delay_us(t.id("a1")), 0);
+        assert!((10..=20).contains(&p.next_delay_us(None)));
+    }
+
+    #[test]
+    fn a_command_with_a_rate_of_its_own_is_answered_after_its_delay() {
+        let config = PlantConfig {
+            race_per_mille: 0,
+            delay_us: (10, 20),
+            answer_delay_us: vec![("a1".into(), (5_000, 5_000)), ("a2".into(), (300, 400))],
+            ..PlantConfig::default()
+        };
+        let (mut p, t) = two_machines(config);
+        for _ in 0..50 {
+            assert_eq!(p.next_delay_us(t.id("a1")), 5_000);
+            assert!((300..=400).contains(&p.next_delay_us(t.id("a2"))));
+            assert!((10..=20).contains(&p.next_delay_us(None)));
+        }
+    }
+
+    #[test]
+    fn an_answer_delay_for_an_event_that_is_no_command_is_refused() {
+        for name in ["b1", "nope"] {
+            let config =
+                PlantConfig { answer_delay_us: vec![(name.into(), (1, 2))], ..PlantConfig::default() };
+            let m1 = machine("M1", "a1", "b1");
+            let table = EventTable::build([&m1]).unwrap();
+            let Err(err) = VirtualPlant::new(&[&m1], &table, config) else { panic!("{name}: taken") };
+            assert!(err.to_string().contains(name), "{err}");
+        }
     }
 
     proptest! {
@@ -303,7 +349,7 @@ mod tests {
                         assert!(reference.step(&mut shadow, e), "emitted an impossible event");
                         log.push(e);
                     }
-                    log.push(EventId::from_u32(p.next_delay_us(true) as u32));
+                    log.push(EventId::from_u32(p.next_delay_us(Some(t.id(name).unwrap())) as u32));
                     assert_eq!(p.state(), &shadow[..]);
                 }
                 log

@@ -51,7 +51,7 @@ use crate::provenance::{Input, Provenance};
 use crate::symbolic::Guards;
 use crate::synth::deploy::{self, Summary};
 use crate::synth::{local_modular, Config, Supervisor, SynthError};
-use crate::target::image::{build_pico_image, build_qemu_image, ImageError};
+use crate::target::image::{build_pico_image, build_pico_link_image, build_qemu_image, ImageError};
 
 /// A supervisor set with everything the tables, the firmware build and the closed loop need.
 #[derive(Clone, Debug)]
@@ -680,6 +680,15 @@ impl Project {
         self.for_board()?;
         self.fit(Core::CortexM0Plus, &Core::CortexM0Plus.flash())?;
         Ok(build_pico_image(&self.tables_file(dir)?, &dir.join("firmware.elf"))?)
+    }
+
+    /// Builds the Pico's link build on this project's tables in `dir` (the supervisors driven over UART0
+    /// by `codegen plant --connect serial:…`); returns the ELF. As [`Project::pico_image`], but no
+    /// `[board]` pin map is needed.
+    pub fn pico_link_image(&self, dir: &Path) -> Result<PathBuf, ProjectError> {
+        self.for_board()?;
+        self.fit(Core::CortexM0Plus, &Core::CortexM0Plus.flash())?;
+        Ok(build_pico_link_image(&self.tables_file(dir)?, &dir.join("firmware-link.elf"))?)
     }
 
     /// Refuses `mode = "state"` for a board's application (the Pico image, a `codegen new` project's

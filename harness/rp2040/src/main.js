@@ -4,6 +4,7 @@
 //
 //   node src/main.js --elf FILE --pins FILE.json --socket PATH [--seed N] [--input-pulse-us N]
 //                    [--short-pulse-us N] [--together] [--overlap] [--rtt FILE] [--stats FILE] [--trace FILE]
+//   node src/main.js --uart --elf FILE --socket PATH [--seed N] [--rtt FILE] [--stats FILE]
 
 import fs from 'node:fs';
 import net from 'node:net';
@@ -12,12 +13,15 @@ import { parseArgs } from 'node:util';
 import { Harness } from './harness.js';
 import { firmwareImage } from './image.js';
 import { defaultInputPulseNs, PinMap } from './pins.js';
+import { BitSource } from './rosc.js';
+import { UartHarness } from './uart.js';
 
 /** Wall time one burst of stepping may take before the host's bytes are read again. */
 const SLICE_MS = 2;
 
 const USAGE = `usage: main.js --elf FILE --pins FILE.json --socket PATH [--seed N] [--input-pulse-us N]
-                [--short-pulse-us N] [--together] [--overlap] [--rtt FILE] [--stats FILE] [--trace FILE]`;
+                [--short-pulse-us N] [--together] [--overlap] [--rtt FILE] [--stats FILE] [--trace FILE]
+       main.js --uart --elf FILE --socket PATH [--seed N] [--rtt FILE] [--stats FILE]`;
 
 function fail(message, code = 2) {
   process.stderr.write(`rp2040 harness: ${message}\n`);
@@ -40,13 +44,14 @@ function options() {
         trace: { type: 'string' },
         together: { type: 'boolean', default: false },
         overlap: { type: 'boolean', default: false },
+        uart: { type: 'boolean', default: false },
       },
       strict: true,
     }));
   } catch (e) {
     fail(`${e.message}\n${USAGE}`);
   }
-  for (const required of ['elf', 'pins', 'socket']) if (!values[required]) fail(`--${required} is required\n${USAGE}`);
+  for (const required of values.uart ? ['elf', 'socket'] : ['elf', 'pins', 'socket']) if (!values[required]) fail(`--${required} is required\n${USAGE}`);
   const number = (name) => {
     const v = values[name];
     if (v === undefined) return undefined;
@@ -69,6 +74,10 @@ function main() {
     img = firmwareImage(fs.readFileSync(opts.elf), opts.elf);
   } catch (e) {
     fail(e.message);
+  }
+  if (opts.uart) {
+    serveUart(opts, img);
+    return;
   }
   let map;
   try {
@@ -140,6 +149,69 @@ function main() {
       else setImmediate(run);
     };
     socket.on('data', (bytes) => harness.receive(bytes));
+    setImmediate(run);
+  });
+  server.listen(opts.socket);
+}
+
+/** Listens on `opts.socket` and wires the one host that connects to UART0 of the link build `img`,
+ * until the host hangs up (status 0) or the firmware faults (3). */
+function serveUart(opts, img) {
+  const log = opts.rtt ? fs.openSync(opts.rtt, 'w') : null;
+  fs.rmSync(opts.socket, { force: true });
+  const server = net.createServer({ allowHalfOpen: false });
+  server.maxConnections = 1;
+  server.on('error', (e) => fail(`${opts.socket}: ${e.message}`));
+  server.on('connection', (socket) => {
+    server.close();
+    let harness;
+    try {
+      const bits = new BitSource(opts.seed);
+      harness = new UartHarness(img, bits, (bytes) => socket.write(bytes), log === null ? null : (bytes) => fs.writeSync(log, bytes));
+    } catch (e) {
+      fail(e.message);
+    }
+    process.stderr.write(`rp2040 harness: ${opts.elf} on an emulated RP2040 (rp2040js), UART0 to the host; seed ${opts.seed}\n`);
+    let ended = false;
+    const end = (code) => {
+      if (ended) return;
+      ended = true;
+      const report = harness.report();
+      if (opts.stats) fs.writeFileSync(opts.stats, `${JSON.stringify(report, null, 2)}\n`);
+      const c = report.cost;
+      process.stderr.write(
+        `rp2040 harness: ${report.emulated_ms} ms emulated, ${report.bytes_in} bytes in, ${report.bytes_out} bytes out; ` +
+          `apply ${c.apply.avg_cycles}/${c.apply.max_cycles} cycles, decision ${c.decision.avg_cycles}/${c.decision.max_cycles} cycles (avg/max)\n`,
+      );
+      socket.end(() => process.exit(code));
+      setTimeout(() => process.exit(code), 1000).unref();
+    };
+    socket.on('close', () => end(0));
+    socket.on('error', () => end(0));
+    // As in pin mode, but a core asleep with nothing to feed it waits for the host's next bytes.
+    let waiting = false;
+    const run = () => {
+      waiting = false;
+      if (ended) return;
+      try {
+        const until = Date.now() + SLICE_MS;
+        do harness.step();
+        while (Date.now() < until && !harness.idle && !harness.takeSent());
+      } catch (e) {
+        process.stderr.write(`rp2040 harness: ${e.message}\n`);
+        end(3);
+        return;
+      }
+      if (harness.idle) waiting = true;
+      else setImmediate(run);
+    };
+    socket.on('data', (bytes) => {
+      harness.receive(bytes);
+      if (waiting) {
+        waiting = false;
+        setImmediate(run);
+      }
+    });
     setImmediate(run);
   });
   server.listen(opts.socket);

@@ -1,0 +1,202 @@
+//! The Pico's link build (RP2040, rp2040-hal): the supervisors of `cell-pico` driven over UART0 by the
+//! virtual plant (`codegen plant --connect serial:DEVICE`) instead of by pins — the byte protocol the
+//! QEMU firmware speaks (`firmware::link`), the same runtime and event loop. UART0 receive interrupt →
+//! HOLD/GO filter → input buffer; the decision loop in `idle`; commands back out on UART0; defmt over RTT.
+//!
+//! UART0 is GP0 (TX) and GP1 (RX), 115 200 baud 8N1: on a real Pico, through a USB-UART adapter or the
+//! debug probe's UART (docs/boards.md, "The board in the loop"); on the emulated RP2040, the harness's
+//! `--uart` mode. It boots on hold, as the QEMU firmware does: the host resets and releases it, so a
+//! lock-step run (STEP, SYNC) repeats exactly from the seeds. Its choices draw on the manifest's seed
+//! (`firmware::rng::SeedEntropy`), as under QEMU; EXIT, which a board cannot obey, leaves it idle.
+#![no_std]
+#![no_main]
+
+use defmt_rtt as _;
+use panic_probe as _;
+
+/// The emitted tables.
+#[allow(dead_code)]
+mod tables {
+    include!(env!("SCT_TABLES_FILE"));
+}
+
+use firmware::event_loop::{Note, Port};
+use firmware::link::Hold;
+use firmware::status::Published;
+use rp2040_hal::gpio::bank0::{Gpio0, Gpio1};
+use rp2040_hal::gpio::{FunctionUart, Pin, PullDown};
+use rp2040_hal::pac::UART0;
+use rp2040_hal::uart::Writer;
+
+/// Second-stage bootloader for the Pico's W25Q080 flash.
+#[link_section = ".boot2"]
+#[used]
+static BOOT2: [u8; 256] = rp2040_boot2::BOOT_LOADER_W25Q080;
+
+/// The Pico's crystal.
+const XOSC_HZ: u32 = 12_000_000;
+
+/// The link's baud rate (`codegen::link::DEFAULT_BAUD`: `serial:DEVICE` without `@BAUD`).
+const BAUD: u32 = 115_200;
+
+/// The decision gate; HOLD and GO set it from the receive interrupt. On hold from boot: the host
+/// releases the firmware after its RESET (`firmware::link`).
+static HOLD: Hold = Hold::on_hold();
+
+/// The runtime's counters after every turn of the loop, for a debugger or the emulator harness (which
+/// times the runtime's entry points by them); the host reads them over the link with STATUS.
+#[no_mangle]
+static SCT_STATUS: Published = Published::new();
+
+/// The runtime on the tables made for the Cortex-M0+, its choices seeded from the manifest.
+type Rt = tables::m0plus::Runtime<tables::Policy, firmware::rng::SeedEntropy>;
+
+type UartPins = (Pin<Gpio0, FunctionUart, PullDown>, Pin<Gpio1, FunctionUart, PullDown>);
+
+/// UART0's transmit half as the event loop's port; notes become defmt warnings.
+struct UartPort(Writer<UART0, UartPins>);
+
+impl Port for UartPort {
+    fn send(&mut self, byte: u8) {
+        self.0.write_full_blocking(&[byte]);
+    }
+
+    fn note(&mut self, note: Note) {
+        match note {
+            Note::Unexpected { event, automaton } => {
+                defmt::warn!("unexpected event {=u8} in automaton {=u8}", event, automaton)
+            }
+            Note::Unknown(byte) => defmt::warn!("unknown byte {=u8:#x}", byte),
+            Note::Safe => defmt::error!("fault: safe state, deciding stopped"),
+            Note::Redecided => defmt::debug!("guard: input arrived while choosing"),
+        }
+    }
+}
+
+/// Stops for good after a configuration error (logged).
+fn halt(why: &str) -> ! {
+    defmt::error!("halt: {=str}", why);
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
+
+#[rtic::app(device = rp2040_hal::pac)]
+mod app {
+    use super::{halt, tables, Rt, UartPins, UartPort, BAUD, HOLD, SCT_STATUS, XOSC_HZ};
+    use firmware::event_loop::{EventLoop, Poll};
+    use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
+    use firmware::link::READY;
+    use firmware::rng::SeedEntropy;
+    use rp2040_hal::clocks::{init_clocks_and_plls, Clock};
+    use rp2040_hal::fugit::RateExtU32;
+    use rp2040_hal::pac::UART0;
+    use rp2040_hal::uart::{DataBits, Reader, StopBits, UartConfig, UartPeripheral};
+    use rp2040_hal::{Sio, Watchdog};
+
+    #[shared]
+    struct Shared {
+        reader: Reader<UART0, UartPins>,
+    }
+
+    #[local]
+    struct Local {
+        producer: InputProducer<'static>,
+        consumer: InputConsumer<'static>,
+        runtime: Rt,
+        port: UartPort,
+    }
+
+    #[init(local = [queue: InputQueue<{ tables::INPUT_SLOTS }> = InputQueue::new()])]
+    fn init(cx: init::Context) -> (Shared, Local) {
+        let mut pac = cx.device;
+        let mut watchdog = Watchdog::new(pac.WATCHDOG);
+        let Ok(clocks) = init_clocks_and_plls(
+            XOSC_HZ,
+            pac.XOSC,
+            pac.CLOCKS,
+            pac.PLL_SYS,
+            pac.PLL_USB,
+            &mut pac.RESETS,
+            &mut watchdog,
+        ) else {
+            halt("clocks")
+        };
+        let sio = Sio::new(pac.SIO);
+        let pins = rp2040_hal::gpio::Pins::new(pac.IO_BANK0, pac.PADS_BANK0, sio.gpio_bank0, &mut pac.RESETS);
+        let uart_pins: UartPins = (pins.gpio0.into_function(), pins.gpio1.into_function());
+        let config = UartConfig::new(BAUD.Hz(), DataBits::Eight, None, StopBits::One);
+        let Ok(uart) = UartPeripheral::new(pac.UART0, uart_pins, &mut pac.RESETS)
+            .enable(config, clocks.peripheral_clock.freq())
+        else {
+            halt("uart")
+        };
+        let (mut reader, writer) = uart.split();
+        reader.enable_rx_interrupt();
+
+        let (producer, consumer) = cx.local.queue.split();
+        // The tables were checked when they were compiled (`tables::m0plus::CHECKED`).
+        let runtime = Rt::new(
+            tables::m0plus::CHECKED,
+            tables::CONFIG,
+            tables::Policy::default(),
+            SeedEntropy::new(tables::SEED),
+        );
+        defmt::info!(
+            "{=str} over UART0: {=usize} automata, {=usize} events, input buffer {=usize}",
+            tables::NAME,
+            tables::m0plus::SET.automata.len(),
+            tables::EVENT_NAMES.len(),
+            tables::INPUT_SLOTS - 1
+        );
+        let mut port = UartPort(writer);
+        firmware::event_loop::Port::send(&mut port, READY);
+        (Shared { reader }, Local { producer, consumer, runtime, port })
+    }
+
+    /// Moves received bytes into the input buffer (HOLD and GO act here). Bounded by the buffer's room:
+    /// when it is full the receive interrupt is masked until the loop has drained it, so further bytes
+    /// wait in the UART's FIFO (32 bytes; on a real line, past that, the UART drops them and the host's
+    /// lock-step rounds, a few bytes each, never come near it).
+    #[task(binds = UART0_IRQ, shared = [reader], local = [producer])]
+    fn uart0(mut cx: uart0::Context) {
+        let q = cx.local.producer;
+        cx.shared.reader.lock(|reader| loop {
+            if !q.has_room() {
+                reader.disable_rx_interrupt();
+                return;
+            }
+            let mut byte = [0u8];
+            // Nothing more (WouldBlock), or a framing/parity/break error on the line: the byte in error
+            // is dropped (popped with its error flags); the interrupt comes again for what follows.
+            if !matches!(reader.read_raw(&mut byte), Ok(1)) {
+                return;
+            }
+            if let Some(byte) = HOLD.filter(byte[0]) {
+                if q.push(byte).is_err() {
+                    q.count_overflow();
+                }
+            }
+        });
+    }
+
+    /// The decision loop; sleeps in `wfi` while there is nothing to do.
+    #[idle(shared = [reader], local = [consumer, runtime, port])]
+    fn idle(mut cx: idle::Context) -> ! {
+        let (rx, rt, port) = (cx.local.consumer, cx.local.runtime, cx.local.port);
+        let mut event_loop = EventLoop::new();
+        loop {
+            let poll = event_loop.turn(rt, rx, &HOLD, port);
+            SCT_STATUS.store(&rt.counters().to_array(), rt.is_safe());
+            cx.shared.reader.lock(|reader| reader.enable_rx_interrupt());
+            if poll != Poll::Busy {
+                // EXIT (Poll::Exit) ends an emulation; a board stays up for the next host: idle.
+                cortex_m::interrupt::free(|_| {
+                    if poll.may_sleep(rx, &HOLD) {
+                        cortex_m::asm::wfi();
+                    }
+                });
+            }
+        }
+    }
+}
