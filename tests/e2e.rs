@@ -22,4 +22,5 @@ mod safe_state;
 mod stalls;
 mod state_firmware;
 mod station;
+mod vendor;
 mod wide;

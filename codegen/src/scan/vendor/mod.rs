@@ -5,6 +5,7 @@
 //! |---|---|---|
 //! | Beckhoff TwinCAT 3 | [`twincat`] | `.TcPOU` per POU, `.TcDUT` per structure, `.TcGVL` for the I/O, `.TcTTO` task |
 //! | CODESYS V3 | [`codesys`] | one PLCopen XML project with CODESYS' project structure and object ids |
+//! | Siemens TIA Portal | [`tia`] | SCL sources (`.scl`, `.udt`, `.db`) and a PLC tag table (`_tags.csv`) |
 //!
 //! No vendor module builds logic: each prints the IR the generic files print, renaming only what the
 //! dialect asks (located I/O moved to a global list, the task in the vendor's task object), so the
@@ -12,6 +13,7 @@
 //! the same program give the same bytes: object ids are name-derived ([`guid`]), never random.
 
 pub mod codesys;
+pub mod tia;
 pub mod twincat;
 
 use sha2::{Digest, Sha256};
@@ -27,6 +29,8 @@ pub enum Vendor {
     Twincat,
     /// CODESYS V3 (PLCopen XML import).
     Codesys,
+    /// Siemens TIA Portal, S7-1200/1500 (SCL external sources and a tag table).
+    Tia,
 }
 
 impl Vendor {
@@ -41,6 +45,7 @@ impl Vendor {
             out.extend(match self {
                 Vendor::Twincat => twincat::files(s),
                 Vendor::Codesys => codesys::files(s),
+                Vendor::Tia => tia::files(s),
             });
         }
         Ok(out)
