@@ -23,4 +23,5 @@ mod safe_state;
 mod stalls;
 mod state_firmware;
 mod station;
+mod vendor;
 mod wide;

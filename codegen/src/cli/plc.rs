@@ -8,6 +8,7 @@ use codegen::config::{RuntimeConfig, ScanPolicy, SupervisorChoice};
 use codegen::plc::state_based::{Engine, StateOptions};
 use codegen::plc::{Avalanche, Encoding, Form, Written};
 use codegen::project::{Project, ProjectError};
+use codegen::scan::vendor::Vendor;
 use codegen::symbolic::Options;
 use codegen::synth::Config;
 
@@ -76,6 +77,12 @@ pub struct Args {
     /// manifest's `[runtime] supervisors`, else full].
     #[arg(long = "supervisors", id = "deploy", value_enum, value_name = "CHOICE")]
     deploy: Option<SupervisorChoice>,
+    /// Write the program as a vendor's project files instead of the generic ST and PLCopen XML
+    /// (docs/plc.md: what each vendor gets and how to import it): `twincat` (`.TcPOU`, `.TcDUT`,
+    /// `.TcGVL`, `.TcTTO`), `codesys` (PLCopen XML with CODESYS' project structure) or `tia` (SCL
+    /// sources and a PLC tag table).
+    #[arg(long, value_enum)]
+    vendor: Option<Vendor>,
     /// Print the report as JSON (schema 1).
     #[arg(long)]
     json: bool,
@@ -198,6 +205,9 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     if matches!(written, Written::Symbolic(_)) {
         eprintln!("engine: the guards were read off the symbolic supervisor's BDDs");
     }
-    write(&args.output, written.files())?;
+    match args.vendor {
+        None => write(&args.output, written.files())?,
+        Some(v) => write(&args.output, &v.files(written.sources()).map_err(|e| e.to_string())?)?,
+    }
     report(&args, &project.name, &written)
 }

@@ -38,7 +38,7 @@ use crate::config::{OnFault, RuntimeConfig};
 use crate::net::Interpretation;
 use crate::pack::PackSet;
 use crate::provenance::Provenance;
-use crate::scan::files::{self, File, Header};
+use crate::scan::files::{File, Header, Source};
 use crate::scan::names::stem;
 use crate::scan::{Graphic, Program as ScanProgram};
 
@@ -154,6 +154,17 @@ impl Written {
             Written::State(o) => &o.files,
             Written::Symbolic(o) => &o.files,
             Written::Hybrid(o) => &o.files,
+        }
+    }
+
+    /// The programs the files are written from, with their headers, in the files' order: what a
+    /// vendor's printer ([`crate::scan::vendor`]) prints.
+    pub fn sources(&self) -> &[Source] {
+        match self {
+            Written::Event(o) => &o.sources,
+            Written::State(o) => &o.sources,
+            Written::Symbolic(o) => &o.sources,
+            Written::Hybrid(o) => &o.sources,
         }
     }
 
@@ -305,6 +316,8 @@ pub struct Output {
     pub report: Report,
     /// The program's syntax trees.
     pub program: Program,
+    /// The program the files are written from, for a vendor's printer.
+    pub sources: Vec<Source>,
 }
 
 /// Writes the program for `set` with `opts`; `provenance` goes into every file's header.
@@ -367,9 +380,10 @@ fn assemble(
         pous,
         cycle_ms: opts.cycle_ms,
     };
-    let files = files::write(&scan, &header)?;
+    let source = Source { program: scan, header };
+    let files = source.files()?;
     let report = Report::new(set, opts, &program, &files)?;
-    Ok(Output { files, report, program })
+    Ok(Output { files, report, program, sources: vec![source] })
 }
 
 /// The set's line of a header: its plants, supervisors and events.

@@ -47,6 +47,23 @@ impl Header {
 /// A written file: its name and contents.
 pub type File = (String, String);
 
+/// A program with its header: what its generic files are written from, kept beside them so that a
+/// vendor's printer ([`super::vendor`]) prints the very program the generic files hold.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Source {
+    /// The program.
+    pub program: Program,
+    /// Its header.
+    pub header: Header,
+}
+
+impl Source {
+    /// The generic files of the program ([`write`]).
+    pub fn files(&self) -> Result<Vec<File>, Violation> {
+        write(&self.program, &self.header)
+    }
+}
+
 /// The files of `program` under `header`: `<base>.st`, `<base>_config.st`, `<base>.xml`. A program that
 /// breaks a strict rule is not written (the writer's bug: [`Violation`]).
 pub fn write(program: &Program, header: &Header) -> Result<Vec<File>, Violation> {

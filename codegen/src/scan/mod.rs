@@ -26,6 +26,7 @@ pub mod program;
 pub mod sfc;
 pub mod st;
 pub mod strict;
+pub mod vendor;
 pub mod xml;
 
 pub use files::{File, Header};

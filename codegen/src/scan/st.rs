@@ -9,8 +9,25 @@ use std::fmt::Write as _;
 
 use super::ir::{Expr, Pou, Stmt, Type, Var, VarClass};
 
+/// How a printer writes a variable reference (the first name of a member path): the generic ST
+/// writes it as it is; a dialect may mark it (SCL's `#local`, `"global"`).
+pub type Names<'a> = &'a dyn Fn(&str) -> String;
+
+/// The generic ST's names: as they are.
+fn plain(name: &str) -> String {
+    name.to_owned()
+}
+
+/// `path` (`a.b.c`) with its first name written by `names`.
+fn reference(path: &str, names: Names) -> String {
+    match path.split_once('.') {
+        Some((head, tail)) => format!("{}.{tail}", names(head)),
+        None => names(path),
+    }
+}
+
 impl Expr {
-    fn write(&self, out: &mut String) {
+    fn write(&self, out: &mut String, names: Names) {
         match self {
             Expr::Bool(b) => out.push_str(if *b { "TRUE" } else { "FALSE" }),
             Expr::Int(i) => {
@@ -19,25 +36,26 @@ impl Expr {
             Expr::Time(ms) => {
                 let _ = write!(out, "T#{ms}ms");
             }
-            Expr::Var(v) => out.push_str(v),
+            Expr::Var(v) => out.push_str(&reference(v, names)),
             Expr::Index(v, i) => {
-                out.push_str(v);
+                out.push_str(&reference(v, names));
                 out.push('[');
-                i.write(out);
+                i.write(out, names);
                 out.push(']');
             }
             Expr::Not(e) => {
                 out.push_str("NOT ");
-                e.write_operand(out, e.precedence() < 8);
+                e.write_operand(out, e.precedence() < 8, names);
             }
             Expr::Bin(a, op, b) => {
                 let p = op.precedence();
-                a.write_operand(out, a.precedence() < p);
+                a.write_operand(out, a.precedence() < p, names);
                 let _ = write!(out, " {} ", op.text());
                 let same = matches!(&**b, Expr::Bin(_, o, _) if *o == *op);
                 b.write_operand(
                     out,
                     b.precedence() < p || (b.precedence() == p && !(same && op.associative())),
+                    names,
                 );
             }
             Expr::Call(f, args) => {
@@ -47,18 +65,18 @@ impl Expr {
                     if i > 0 {
                         out.push_str(", ");
                     }
-                    a.write(out);
+                    a.write(out, names);
                 }
                 out.push(')');
             }
         }
     }
 
-    fn write_operand(&self, out: &mut String, parens: bool) {
+    fn write_operand(&self, out: &mut String, parens: bool, names: Names) {
         if parens {
             out.push('(');
         }
-        self.write(out);
+        self.write(out, names);
         if parens {
             out.push(')');
         }
@@ -66,70 +84,76 @@ impl Expr {
 
     /// The expression as ST text.
     pub fn text(&self) -> String {
+        self.text_with(&plain)
+    }
+
+    /// The expression as text, its variables written by `names`.
+    pub fn text_with(&self, names: Names) -> String {
         let mut s = String::new();
-        self.write(&mut s);
+        self.write(&mut s, names);
         s
     }
 }
 
 impl Stmt {
-    fn write(&self, out: &mut String, indent: usize) {
+    fn write(&self, out: &mut String, indent: usize, names: Names) {
         let pad = "    ".repeat(indent);
         match self {
             Stmt::Assign(t, v) => {
-                let _ = writeln!(out, "{pad}{} := {};", t.text(), v.text());
+                let _ = writeln!(out, "{pad}{} := {};", t.text_with(names), v.text_with(names));
             }
             Stmt::If(arms, els) => {
                 for (i, (c, body)) in arms.iter().enumerate() {
                     let kw = if i == 0 { "IF" } else { "ELSIF" };
-                    let _ = writeln!(out, "{pad}{kw} {} THEN", c.text());
-                    write_block(out, body, indent + 1);
+                    let _ = writeln!(out, "{pad}{kw} {} THEN", c.text_with(names));
+                    write_block(out, body, indent + 1, names);
                 }
                 if !els.is_empty() {
                     let _ = writeln!(out, "{pad}ELSE");
-                    write_block(out, els, indent + 1);
+                    write_block(out, els, indent + 1, names);
                 }
                 let _ = writeln!(out, "{pad}END_IF;");
             }
             Stmt::Case(e, arms, els) => {
-                let _ = writeln!(out, "{pad}CASE {} OF", e.text());
+                let _ = writeln!(out, "{pad}CASE {} OF", e.text_with(names));
                 for (labels, body) in arms {
                     let labels: Vec<String> = labels.iter().map(i64::to_string).collect();
                     let _ = writeln!(out, "{pad}    {}:", labels.join(", "));
-                    write_block(out, body, indent + 2);
+                    write_block(out, body, indent + 2, names);
                 }
                 if !els.is_empty() {
                     let _ = writeln!(out, "{pad}ELSE");
-                    write_block(out, els, indent + 2);
+                    write_block(out, els, indent + 2, names);
                 }
                 let _ = writeln!(out, "{pad}END_CASE;");
             }
             Stmt::For(v, from, to, body) => {
-                let _ = writeln!(out, "{pad}FOR {v} := {from} TO {to} DO");
-                write_block(out, body, indent + 1);
+                let _ = writeln!(out, "{pad}FOR {} := {from} TO {to} DO", names(v));
+                write_block(out, body, indent + 1, names);
                 let _ = writeln!(out, "{pad}END_FOR;");
             }
             Stmt::Exit => {
                 let _ = writeln!(out, "{pad}EXIT;");
             }
             Stmt::Call(inst, args) => {
-                let args: Vec<String> = args.iter().map(|(n, e)| format!("{n} := {}", e.text())).collect();
-                let _ = writeln!(out, "{pad}{inst}({});", args.join(", "));
+                let args: Vec<String> =
+                    args.iter().map(|(n, e)| format!("{n} := {}", e.text_with(names))).collect();
+                let _ = writeln!(out, "{pad}{}({});", reference(inst, names), args.join(", "));
             }
         }
     }
 }
 
-fn write_block(out: &mut String, stmts: &[Stmt], indent: usize) {
+fn write_block(out: &mut String, stmts: &[Stmt], indent: usize, names: Names) {
     for s in stmts {
-        s.write(out, indent);
+        s.write(out, indent, names);
     }
 }
 
 /// Statements as ST text, one per line at `indent` levels of four spaces.
 pub fn statements(stmts: &[Stmt], indent: usize) -> String {
     let mut out = String::new();
-    write_block(&mut out, stmts, indent);
+    write_block(&mut out, stmts, indent, &plain);
     out
 }
 
@@ -212,6 +236,11 @@ impl Pou {
 
     /// The body as ST text, each section under its marker.
     pub fn body(&self) -> String {
+        self.body_with(&plain)
+    }
+
+    /// [`Pou::body`] with the variables written by `names`: a dialect's body of the same statements.
+    pub fn body_with(&self, names: Names) -> String {
         let mut out = String::new();
         for s in &self.sections {
             if s.stmts.is_empty() {
@@ -219,7 +248,7 @@ impl Pou {
             }
             let title = if s.title.is_empty() { String::new() } else { format!(" - {}", s.title) };
             let _ = writeln!(out, "(* section: {}{title} *)", s.label);
-            write_block(&mut out, &s.stmts, 0);
+            write_block(&mut out, &s.stmts, 0, names);
         }
         out
     }

@@ -46,8 +46,18 @@ fn variable(out: &mut String, v: &Var, indent: &str) {
     out.push_str("</variable>\n");
 }
 
-/// `p` as a `<pou>`: its ST body (unless a chart stands for it), then its graphical body.
-fn pou(out: &mut String, p: &Pou, graphic: &Graphic) {
+/// What a vendor adds to the generic document ([`document_with`]): an `<addData>` element for each POU
+/// and data type by name, and one for the project. The logic is the generic document's.
+pub struct Additions<'a> {
+    /// The `<addData>` of the POU or data type named.
+    pub element: &'a dyn Fn(&str) -> String,
+    /// The project's `<addData>`.
+    pub project: String,
+}
+
+/// `p` as a `<pou>`: its ST body (unless a chart stands for it), then its graphical body and the
+/// vendor's additions.
+fn pou(out: &mut String, p: &Pou, graphic: &Graphic, add: Option<&Additions>) {
     let extra = match graphic {
         Graphic::Text => None,
         Graphic::Ladder(rungs) => Some(ld::body(rungs)),
@@ -75,12 +85,20 @@ fn pou(out: &mut String, p: &Pou, graphic: &Graphic) {
     if let Some(body) = extra {
         let _ = writeln!(out, "        <body>{body}</body>");
     }
+    if let Some(add) = add {
+        let _ = writeln!(out, "        {}", (add.element)(&p.name));
+    }
     out.push_str("      </pou>\n");
 }
 
 /// The project file of `program` under the comment `header`; its configuration runs `<base>_main`
 /// every cycle.
 pub fn document(program: &Program, header: &[String]) -> String {
+    document_with(program, header, None)
+}
+
+/// [`document`] with a vendor's additions.
+pub fn document_with(program: &Program, header: &[String], add: Option<&Additions>) -> String {
     let (base, cycle_ms) = (program.base.as_str(), program.cycle_ms);
     let mut out = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<!--\n");
     for l in header {
@@ -102,18 +120,26 @@ pub fn document(program: &Program, header: &[String]) -> String {
         for m in members {
             variable(&mut out, m, "        ");
         }
-        out.push_str("      </struct></baseType></dataType>\n");
+        out.push_str("      </struct></baseType>");
+        if let Some(add) = add {
+            out.push_str(&(add.element)(name));
+        }
+        out.push_str("</dataType>\n");
     }
     out.push_str("    </dataTypes>\n    <pous>\n");
     for (p, graphic) in program.xml_pous() {
-        pou(&mut out, &p, graphic);
+        pou(&mut out, &p, graphic, add);
     }
     out.push_str("    </pous>\n  </types>\n  <instances>\n    <configurations>\n");
     let _ = writeln!(out, "      <configuration name=\"{base}_config\">");
     let _ = writeln!(out, "        <resource name=\"{base}_resource\">");
     let _ = writeln!(out, "          <task name=\"{base}_task\" interval=\"T#{cycle_ms}ms\" priority=\"1\">");
     let _ = writeln!(out, "            <pouInstance name=\"{base}_instance\" typeName=\"{base}_main\"/>");
-    out.push_str("          </task>\n        </resource>\n      </configuration>\n    </configurations>\n  </instances>\n</project>\n");
+    out.push_str("          </task>\n        </resource>\n      </configuration>\n    </configurations>\n  </instances>\n");
+    if let Some(add) = add {
+        let _ = writeln!(out, "  {}", add.project);
+    }
+    out.push_str("</project>\n");
     out
 }
 

@@ -26,7 +26,7 @@ use crate::model::Automaton;
 use crate::net::interpretation::{Direction, Interpretation};
 use crate::net::reachability::Labels;
 use crate::provenance::Provenance;
-use crate::scan::files::{self, File, Header};
+use crate::scan::files::{File, Header, Source};
 use crate::scan::ir::{Pou, Section, Type, Var, VarClass};
 use crate::scan::names;
 use crate::scan::{Graphic, Program};
@@ -49,6 +49,8 @@ pub struct Output {
     /// `(file name, contents)`: `<name>_hybrid.st`, `<name>_hybrid_config.st`, `<name>_hybrid.xml`
     /// (reduced supervisor), then the same three `<name>_hybrid_full` files (unreduced).
     pub files: Vec<File>,
+    /// The two programs the files are written from, reduced first, for a vendor's printer.
+    pub sources: Vec<Source>,
     /// The reduced controller.
     pub reduced: Side,
     /// The unreduced controller.
@@ -96,7 +98,7 @@ pub fn generate(
     };
     let (reduced, full) = (side(reduced)?, side(full.clone())?);
     let base = names::stem(name);
-    let mut files = Vec::new();
+    let (mut files, mut sources) = (Vec::new(), Vec::new());
     for (suffix, which, s) in [("hybrid", "reduced", &reduced), ("hybrid_full", "full", &full)] {
         let header = Header {
             about: vec![format!(
@@ -123,10 +125,12 @@ pub fn generate(
             pous: vec![(pou, Graphic::Ladder(s.controller.rungs.clone()))],
             cycle_ms,
         };
-        files.extend(files::write(&program, &header)?);
+        let source = Source { program, header };
+        files.extend(source.files()?);
+        sources.push(source);
     }
     let report = Report::new(net, &plant.graph, &reduced, &full);
-    Ok(Output { files, reduced, full, report })
+    Ok(Output { files, sources, reduced, full, report })
 }
 
 /// Refuses a plant net the program cannot keep a place of in one bit, before anything is reduced.

@@ -28,7 +28,7 @@ use crate::feedback::memory::Layout;
 use crate::feedback::{self, guards, product_size, FeedbackError, Sfbc, Vector};
 use crate::pack::PackSet;
 use crate::provenance::Provenance;
-use crate::scan::files::{self, File, Header};
+use crate::scan::files::{File, Header, Source};
 use crate::scan::names::sanitize;
 use crate::scan::{Graphic, Program as ScanProgram};
 use crate::symbolic::{self, Guards};
@@ -95,6 +95,8 @@ pub enum Engine {
 pub struct Output {
     /// `(file name, contents)`: `<name>.st`, `<name>_config.st`, `<name>.xml`.
     pub files: Vec<File>,
+    /// The program the files are written from, for a vendor's printer.
+    pub sources: Vec<Source>,
     /// The figures and the table of f.
     pub report: Report,
     /// One rung per controllable event, in order.
@@ -121,6 +123,8 @@ impl Output {
 pub struct SymbolicOutput {
     /// `(file name, contents)`, as [`Output::files`].
     pub files: Vec<File>,
+    /// The program the files are written from, for a vendor's printer.
+    pub sources: Vec<Source>,
     /// The figures.
     pub report: SymbolicReport,
     /// One rung per controllable event, in event id order.
@@ -210,14 +214,15 @@ pub fn generate(
         .collect();
     let one =
         policy.map(|policy| OnePerScan::new(policy, opts.seed, &vector, f.controllable.iter().copied()));
-    let files = program_files(set, &vector, &rungs, &memory, one.as_ref(), opts, exact, provenance, file)?;
+    let source = program_source(set, &vector, &rungs, &memory, one.as_ref(), opts, exact, provenance, file)?;
+    let files = source.files()?;
     let ns = opts.spec.instruction_ns.unwrap_or(1000);
     let plants: Vec<_> = set.members()[..f.plants].iter().map(|m| &m.dfa).collect();
     let g = product_size(&plants).map_err(|e| in_file(file)(e.into()))?;
     let mut report = Report::new(set, &vector, &f, &rungs, g, ns, event_based);
     report.choice = policy.map(ScanPolicy::name);
     report.cycle_ms = opts.cycle_ms;
-    Ok(Output { files, report, rungs, vector, sfbc: f, memory, one })
+    Ok(Output { files, sources: vec![source], report, rungs, vector, sfbc: f, memory, one })
 }
 
 /// Writes the state-based program of `set`'s plants under `signals`' state vectors from `guards` (as
@@ -241,7 +246,7 @@ pub fn from_guards(
     let rules = guards::rules(set, &vector, guards, exact).map_err(in_file(file))?;
     let rungs: Vec<EventRung> = rules.iter().map(|r| rungs::rung(set, &names, r, Vec::new())).collect();
     let one = policy.map(|policy| OnePerScan::new(policy, opts.seed, &vector, rules.iter().map(|r| r.event)));
-    let files = program_files(
+    let source = program_source(
         set,
         &vector,
         &rungs,
@@ -252,15 +257,16 @@ pub fn from_guards(
         provenance,
         file,
     )?;
+    let files = source.files()?;
     let report = SymbolicReport::new(guards, &rungs);
-    Ok(SymbolicOutput { files, report, rungs, vector })
+    Ok(SymbolicOutput { files, sources: vec![source], report, rungs, vector })
 }
 
-/// The program's files from its rungs: `<name>.st` (the `PROGRAM`), `<name>_config.st` and
-/// `<name>.xml` (PLCopen XML with the Ladder Diagram body when no memory is kept and no choice is
-/// made), each with the header; `one` makes the scan fire one chosen rung.
+/// The program from its rungs with its header, whose files are `<name>.st` (the `PROGRAM`),
+/// `<name>_config.st` and `<name>.xml` (PLCopen XML with the Ladder Diagram body when no memory is kept
+/// and no choice is made); `one` makes the scan fire one chosen rung.
 #[allow(clippy::too_many_arguments)]
-fn program_files(
+fn program_source(
     set: &PackSet,
     vector: &Vector,
     rungs: &[EventRung],
@@ -270,7 +276,7 @@ fn program_files(
     exact: bool,
     provenance: &Provenance,
     file: &Path,
-) -> Result<Vec<File>, PlcError> {
+) -> Result<Source, PlcError> {
     let base = sanitize(&opts.name);
     let pou = program::pou(&vector.signals, &base, rungs, memory, one).map_err(in_file(file))?;
     let ns = opts.spec.instruction_ns.unwrap_or(1000);
@@ -296,5 +302,5 @@ fn program_files(
     };
     let program =
         ScanProgram { base, types: Vec::new(), pous: vec![(pou, graphic)], cycle_ms: opts.cycle_ms };
-    Ok(files::write(&program, &header)?)
+    Ok(Source { program, header })
 }
