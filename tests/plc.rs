@@ -7,18 +7,15 @@
 use std::path::Path;
 use std::process::Command;
 
-use codegen::closed_loop::{attach, Options, SessionConfig};
+use codegen::closed_loop::Options;
 use codegen::config::ScanPolicy;
 use codegen::emit::Provenance;
-use codegen::link::memory;
-use codegen::link::protocol::EXIT;
-use codegen::link::ByteLink;
+use codegen::interpreter::{sections, Plc};
 use codegen::model::Automaton;
 use codegen::pack::PackSet;
+use codegen::plc::closed_loop::{run, Driver, IoMap};
 use codegen::plc::{generate, Avalanche, Encoding, Output, PlcOptions};
 use codegen::project::Project;
-use end_to_end::plc::{spawn_plc, Driver, IoMap};
-use end_to_end::st::{sections, Plc};
 use end_to_end::{assert_clean, example, root, Scratch};
 
 /// The example systems run closed loop on the PLC interpreter, by manifest under `examples/`. One line
@@ -232,23 +229,20 @@ fn every_system_runs_closed_loop_safe_live_and_covering_in_both_encodings() {
             opts.encoding = encoding;
             let out = program(&set, &opts);
             assert!(out.report.avalanche.iter().all(|a| a.method != "none"), "{:?}", out.report.avalanche);
-            let driver = Driver::new(st(&out), IoMap::new(&out.report, set.events())).unwrap();
-            let (mut host, target) = memory::pair();
-            let plc = spawn_plc(driver, target);
-            // Lock-step rounds, as `codegen run` runs a firmware: the plant's events of a round, then
-            // the program scans until it has decided all it can on them (SYNC), however fast the
-            // interpreter runs. The scan-cycle driver speaks no STEP: the plant steers by rounds.
-            let session = SessionConfig { step: false, ..SessionConfig::default() };
-            let options = Options { events: EVENTS, session, ..Options::default() };
-            let report = attach(&mut host, &set, &opts.name, &options, &mut |_| {}).unwrap();
-            host.send(&[EXIT]).unwrap();
-            let stats = plc.join().unwrap().unwrap_or_else(|e| panic!("{manifest} {encoding:?}: {e}"));
+            // The product's run (`codegen run --target plc`): lock-step rounds, as `codegen run` runs a
+            // firmware — the plant's events of a round, then the program scans until it has decided all
+            // it can on them (SYNC), however fast the interpreter runs.
+            let options = Options { events: EVENTS, ..Options::default() };
+            let report = run(st(&out), &out.report, &set, &opts.name, &options, &mut |_| {})
+                .unwrap_or_else(|e| panic!("{manifest} {encoding:?}: {e}"));
+            let stats = report.scan.unwrap_or_else(|| panic!("{manifest}: no scan figures"));
             assert_clean(&report, &format!("{manifest} {encoding:?}"));
             let what = format!("{manifest} {encoding:?}: {report}");
             assert!(report.marked_visits > 500, "{what}");
             assert!(report.longest_marked_gap < 2_000, "{what}");
             assert!(report.full_coverage(), "{what}");
             assert!(stats.max_statements <= out.report.bound_per_scan, "{what}: {stats:?}");
+            assert_eq!(stats.bound_per_scan, out.report.bound_per_scan, "{what}");
             eprintln!("{what}\n  {stats:?}, bound {}", out.report.bound_per_scan);
             traces.push(report.trace_sha256);
         }
@@ -284,7 +278,7 @@ fn the_program_and_the_firmware_runtime_agree_step_by_step() {
             for policy in [ScanPolicy::First, ScanPolicy::GlobalQueue, ScanPolicy::LocalQueue] {
                 let opts = PlcOptions { encoding, policy, ..base.clone() };
                 let out = program(&set, &opts);
-                let mut d = Driver::new(st(&out), IoMap::new(&out.report, set.events())).unwrap();
+                let mut d = Driver::new(st(&out), IoMap::new(&out.report, set.events()).unwrap()).unwrap();
                 d.plc.set_bool("hold", true).unwrap();
                 let config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 0 };
                 let mut rng = 0x2545_f491_u32;
@@ -308,7 +302,7 @@ fn the_program_and_the_firmware_runtime_agree_step_by_step() {
                                 let e = possible[draw(possible.len())];
                                 rt.apply(e);
                                 let mut used = Vec::new();
-                                while d.edge(e, &mut used).unwrap() != end_to_end::plc::Edge::Made {
+                                while d.edge(e, &mut used).unwrap() != codegen::plc::closed_loop::Edge::Made {
                                     assert!(d.scan().unwrap().is_empty());
                                     used.clear();
                                 }
@@ -398,9 +392,9 @@ fn write_all(dir: &Path) -> Vec<std::path::PathBuf> {
         for (name, n) in sections(plc.body(&fb).unwrap()) {
             assert_eq!(out.report.statements.sections.get(name.as_str()), Some(&n), "{name}");
         }
-        let config = end_to_end::st::parse(&out.files[1].1).unwrap();
+        let config = codegen::interpreter::parse(&out.files[1].1).unwrap();
         assert!(
-            matches!(&config[0], end_to_end::st::Unit::Configuration { programs, .. } if programs[0].2 == format!("{}_MAIN", fb.trim_end_matches("_sct").to_ascii_uppercase()))
+            matches!(&config[0], codegen::interpreter::Unit::Configuration { programs, .. } if programs[0].2 == format!("{}_MAIN", fb.trim_end_matches("_sct").to_ascii_uppercase()))
         );
         let sub = dir.join(i.to_string());
         std::fs::create_dir_all(&sub).unwrap();
@@ -572,11 +566,11 @@ fn r22_every_generated_program_is_strict_iec_61131_3() {
         let (text, config, xml) = (&files[0].1, &files[1].1, &files[2].1);
         // Strictly taken: keywords, located variables, conversions, semicolons, writes (see the test above).
         Plc::load(text).unwrap_or_else(|e| panic!("{what}: {e}"));
-        end_to_end::st::parse(config).unwrap_or_else(|e| panic!("{what} configuration: {e}"));
+        codegen::interpreter::parse(config).unwrap_or_else(|e| panic!("{what} configuration: {e}"));
         // And the five constructs, looked for in the text itself.
-        let units = end_to_end::st::parse(text).unwrap();
+        let units = codegen::interpreter::parse(text).unwrap();
         for unit in &units {
-            let end_to_end::st::Unit::Pou { program, vars, .. } = unit else { continue };
+            let codegen::interpreter::Unit::Pou { program, vars, .. } = unit else { continue };
             for d in vars {
                 assert!(!["EN", "ENO"].contains(&d.name.as_str()), "{what}: {}", d.name);
                 assert!(d.address.is_none() || (*program && d.class == "VAR"), "{what}: {} located", d.name);

@@ -1,6 +1,9 @@
-//! The emitted ST program as a firmware on the link: a wrapper speaking the firmware's byte protocol
-//! (`firmware::link`) around the scan-cycle interpreter, so the virtual plant and the monitor judge the
-//! PLC program as they judge the firmware under QEMU.
+//! The event-based program run closed loop (`codegen run --target plc`): the emitted ST text under the
+//! scan-cycle interpreter ([`crate::interpreter`]), wrapped so it speaks the firmware's byte protocol
+//! (`firmware::link`) on an in-memory link, so the virtual plant and the monitor judge the PLC program
+//! as they judge the firmware under QEMU — the same [`Session`](crate::closed_loop::Session), the same
+//! [`Report`], with the scan figures added ([`ScanFigures`]). [`run`] is the entry; [`Driver`] and
+//! [`spawn_plc`] are its parts, which the tests drive scan by scan.
 //!
 //! Event bytes from the plant become edges of the program's input variables (or `EVENTS` members), as
 //! the report's I/O map says: one event per scan, in the order sent (a PLC scans much faster than its
@@ -24,13 +27,17 @@ use std::collections::{BTreeMap, VecDeque};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
-use codegen::link::memory::MemoryLink;
-use codegen::link::ByteLink;
-use codegen::model::EventTable;
-use codegen::plc::Report;
 use firmware::link::{EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, SYNC};
 
-use crate::st::Plc;
+use super::report::Report as ProgramReport;
+use crate::closed_loop::{attach, ClosedLoopError, Options, SessionConfig};
+use crate::config::ScanPolicy;
+use crate::interpreter::Plc;
+use crate::link::memory::{self, MemoryLink};
+use crate::link::ByteLink;
+use crate::model::EventTable;
+use crate::monitor::{ChoiceModel, Report, ScanFigures};
+use crate::pack::PackSet;
 
 /// The path of the function block instance in the program.
 const FB: &str = "sct";
@@ -51,19 +58,26 @@ pub struct IoMap {
 }
 
 impl IoMap {
-    /// The map the report gives, over the set's event ids.
-    pub fn new(report: &Report, events: &EventTable) -> IoMap {
+    /// The map the program's report gives, over the set's event ids; an event the set does not have, or
+    /// one beyond the link's ids, is an error.
+    pub fn new(report: &ProgramReport, events: &EventTable) -> Result<IoMap, String> {
         let mut map = IoMap::default();
         for io in &report.variables.io {
-            let id = events.id(&io.event).map(|e| e.as_u32()).unwrap_or_else(|| panic!("event {}", io.event));
-            let id = u8::try_from(id).unwrap_or_else(|_| panic!("event id {id} beyond the link"));
+            let id = events
+                .id(&io.event)
+                .map(|e| e.as_u32())
+                .ok_or(format!("event {} is not in the set", io.event))?;
+            let id = u8::try_from(id)
+                .ok()
+                .filter(|&id| id <= MAX_EVENT)
+                .ok_or(format!("event id {id} beyond the link"))?;
             if io.direction == "input" {
                 map.inputs.insert(id, InputLine { path: io.variable.clone(), edge: io.kind });
             } else {
                 map.outputs.entry(io.variable.clone()).or_default().push((id, io.kind));
             }
         }
-        map
+        Ok(map)
     }
 }
 
@@ -302,4 +316,65 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
             idle = n == 0 && fifo.is_empty() && quiet && !answered;
         }
     })
+}
+
+/// Why a program's closed-loop run failed (as opposed to finding violations, which are in its report).
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The interpreter refused the program (a strict compiler's refusal, [`crate::interpreter::check`]),
+    /// or the program failed while running (an integer out of its type's range, an index out of its
+    /// array, more than one command in a scan, an output changed with no event of it fired).
+    #[error("the PLC program: {0}")]
+    Program(String),
+    /// The closed loop around it failed.
+    #[error(transparent)]
+    ClosedLoop(#[from] ClosedLoopError),
+}
+
+/// Runs the event-based program `text` (its `.st` file) with its report `program` closed loop against
+/// `set`'s plants, judged by plants ‖ supervisors, for `options.events` events; returns the report,
+/// with the scan figures and the duration on the PLC's own clock (scans × `program.cycle_ms`). The
+/// session runs in lock-step rounds and without STEP (the wrapper does not speak it): the plant's
+/// events of a round, then the program scans until it has decided all it can on them, so the run is a
+/// function of the plant's seed, however fast the interpreter runs. The monitor models the program's
+/// choice policy (`options.choices` is not read).
+pub fn run(
+    text: &str,
+    program: &ProgramReport,
+    set: &PackSet,
+    name: &str,
+    options: &Options,
+    progress: &mut dyn FnMut(&Report),
+) -> Result<Report, RunError> {
+    let mut driver = Driver::new(text, IoMap::new(program, set.events()).map_err(RunError::Program)?)
+        .map_err(RunError::Program)?;
+    driver.plc.set_cycle_ms(program.cycle_ms);
+    let (mut host, target) = memory::pair();
+    let plc = spawn_plc(driver, target);
+    // The monitor models the program's choice policy: `first` as the firmware's; the queues and the
+    // program's generator as a uniform choice.
+    let choices =
+        if program.policy == ScanPolicy::First.name() { ChoiceModel::First } else { ChoiceModel::Uniform };
+    let options = Options {
+        session: SessionConfig { lockstep: true, step: false, ..options.session.clone() },
+        choices,
+        ..options.clone()
+    };
+    let report = attach(&mut host, set, name, &options, progress);
+    // EXIT ends the program's thread; were the link down, the thread has ended already.
+    let _ = host.send(&[EXIT]);
+    drop(host);
+    let stats = plc.join().map_err(|_| RunError::Program("the interpreter's thread panicked".into()))?;
+    // The program's own failure first: it is why the session failed, when it did.
+    let stats = stats.map_err(RunError::Program)?;
+    let mut report = report?;
+    report.target = "plc".into();
+    report.scan = Some(ScanFigures {
+        scans: stats.scans,
+        max_statements: stats.max_statements,
+        bound_per_scan: program.bound_per_scan,
+        cycle_ms: program.cycle_ms,
+    });
+    report.finish(stats.scans as f64 * f64::from(program.cycle_ms) / 1000.0);
+    Ok(report)
 }
