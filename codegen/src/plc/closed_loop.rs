@@ -14,8 +14,10 @@
 //! controllable events that drive no output. HOLD sets the `hold` input at once; GO clears it in order,
 //! once the events before it have been applied, so that the events a host sends between HOLD and GO
 //! are all made before the program decides on any of them — as the firmware takes a whole write before
-//! it decides, though here one input changes once per scan (STEP: not spoken here; a session with it
-//! runs with `SessionConfig::step` off). RESET, STATUS and EXIT are answered in order, once the events
+//! it decides, though here one input changes once per scan. STEP, once the events before it have been
+//! applied, clears `hold` and lets the scans run until one fires a command or has nothing to decide
+//! (no edge, nothing pending), then sets `hold` again and answers SYNC; the bytes after it wait for
+//! that — so the plant takes its turn between any two commands, as with a firmware in steps. RESET, STATUS and EXIT are answered in order, once the events
 //! before them have been applied (no edge waiting, `pending` low): RESET by a scan with `reset` (and
 //! `hold`) set, then READY; STATUS from the block's counters. SYNC, once the events before it have been applied, is answered after the first
 //! scan that runs with `hold` low, makes no edge, fires no command and leaves nothing pending: the
@@ -27,7 +29,7 @@ use std::collections::{BTreeMap, VecDeque};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
-use firmware::link::{EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, SYNC};
+use firmware::link::{EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, STEP, SYNC};
 
 use super::report::Report as ProgramReport;
 use crate::closed_loop::{attach, ClosedLoopError, Options, SessionConfig};
@@ -234,6 +236,8 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
         let mut idle = false;
         // A SYNC came in, in order, and waits for a scan that decides nothing.
         let mut sync_asked = false;
+        // A STEP was taken: the scans decide until one fires a command or has nothing to decide.
+        let mut stepping = false;
         loop {
             let wait = if idle { Duration::from_millis(2) } else { Duration::ZERO };
             let n = link.recv(&mut buf, wait).map_err(io)?;
@@ -259,6 +263,16 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
                     SYNC => {
                         fifo.pop_front();
                         sync_asked = true;
+                    }
+                    STEP => {
+                        // Its one decision sees every event before it, and none after it.
+                        if !used.is_empty() || driver.plc.get_bool(&format!("{FB}.pending"))? {
+                            break;
+                        }
+                        fifo.pop_front();
+                        driver.plc.set_bool("hold", false)?;
+                        stepping = true;
+                        break;
                     }
                     GO => {
                         fifo.pop_front();
@@ -300,7 +314,13 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
             out.extend(&commands);
             let pending = driver.plc.get_bool(&format!("{FB}.pending"))?;
             let quiet = commands.is_empty() && used.is_empty() && !pending;
-            if sync_asked && quiet && !held {
+            if stepping && !held && (!commands.is_empty() || quiet) {
+                // The step's decision is taken (a command, or none to take): hold again, answer SYNC.
+                stepping = false;
+                driver.plc.set_bool("hold", true)?;
+                answered = true;
+                out.push(SYNC);
+            } else if sync_asked && quiet && !held && !stepping {
                 sync_asked = false;
                 answered = true;
                 out.push(SYNC);
@@ -334,7 +354,7 @@ pub enum RunError {
 /// Runs the event-based program `text` (its `.st` file) with its report `program` closed loop against
 /// `set`'s plants, judged by plants ‖ supervisors, for `options.events` events; returns the report,
 /// with the scan figures and the duration on the PLC's own clock (scans × `program.cycle_ms`). The
-/// session runs in lock-step rounds and without STEP (the wrapper does not speak it): the plant's
+/// session runs in lock-step rounds, in steps as a firmware's (`options.session.step`): the plant's
 /// events of a round, then the program scans until it has decided all it can on them, so the run is a
 /// function of the plant's seed, however fast the interpreter runs. The monitor models the program's
 /// choice policy (`options.choices` is not read).
@@ -356,18 +376,25 @@ pub fn run(
     let choices =
         if program.policy == ScanPolicy::First.name() { ChoiceModel::First } else { ChoiceModel::Uniform };
     let options = Options {
-        session: SessionConfig { lockstep: true, step: false, ..options.session.clone() },
+        session: SessionConfig { lockstep: true, ..options.session.clone() },
         choices,
         ..options.clone()
     };
     let report = attach(&mut host, set, name, &options, progress);
-    // EXIT ends the program's thread; were the link down, the thread has ended already.
+    // EXIT ends the program's thread (the link stays open for its last answer); were the link down, the
+    // thread has ended already.
     let _ = host.send(&[EXIT]);
-    drop(host);
     let stats = plc.join().map_err(|_| RunError::Program("the interpreter's thread panicked".into()))?;
+    drop(host);
     // The program's own failure first: it is why the session failed, when it did.
-    let stats = stats.map_err(RunError::Program)?;
-    let mut report = report?;
+    let (stats, mut report) = match (stats, report) {
+        (Ok(stats), Ok(report)) => (stats, report),
+        (Err(program), Err(session)) => {
+            return Err(RunError::Program(format!("{program} (the session: {session})")))
+        }
+        (Err(program), Ok(_)) => return Err(RunError::Program(program)),
+        (Ok(_), Err(session)) => return Err(session.into()),
+    };
     report.target = "plc".into();
     report.scan = Some(ScanFigures {
         scans: stats.scans,
