@@ -9,9 +9,11 @@ use serde::Serialize;
 /// The scan figures of a PLC program's run under the interpreter.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct ScanFigures {
-    /// Scans the program ran (the boot scan and the scans a RESET runs not counted).
+    /// Scans that did something: made an input's edge, fired a command or left the program something
+    /// pending (the scans a PLC repeats while it waits for its plant, the boot scan and a RESET's scan
+    /// not counted — so the figure is a function of the seed).
     pub scans: u64,
-    /// Most statements one scan executed.
+    /// Most statements one of those scans executed.
     pub max_statements: u64,
     /// The bound on statements per scan the program's report states (`codegen plc`); a run never
     /// exceeds it.

@@ -83,10 +83,13 @@ impl IoMap {
     }
 }
 
-/// What the wrapper measured, returned when the host sends EXIT.
+/// What the wrapper measured, returned when the host sends EXIT: over the scans that did something —
+/// made an edge, fired a command or left the program something pending. The scans a PLC repeats while
+/// it waits for its plant change nothing and are not counted, so the figures are a function of what
+/// the host sent, not of how fast the interpreter ran.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ScanStats {
-    /// Scans run.
+    /// Scans that did something.
     pub scans: u64,
     /// Most statements one scan executed.
     pub max_statements: u64,
@@ -99,8 +102,8 @@ pub struct Driver {
     io: IoMap,
     levels: BTreeMap<String, bool>,
     outputs: BTreeMap<String, bool>,
-    /// Statistics.
-    pub stats: ScanStats,
+    /// Statements the last scan executed.
+    statements: u64,
 }
 
 /// What one attempt to make an event's edge did.
@@ -118,13 +121,7 @@ impl Driver {
     /// A driver for `text` (the `.st` file) with the map of its report, after its first scan.
     pub fn new(text: &str, io: IoMap) -> Result<Driver, String> {
         let plc = Plc::load(text)?;
-        let mut d = Driver {
-            plc,
-            io,
-            levels: BTreeMap::new(),
-            outputs: BTreeMap::new(),
-            stats: ScanStats::default(),
-        };
+        let mut d = Driver { plc, io, levels: BTreeMap::new(), outputs: BTreeMap::new(), statements: 0 };
         // The boot scan: initial states, the inputs' first sample.
         d.reset()?;
         Ok(d)
@@ -164,8 +161,7 @@ impl Driver {
     /// Runs one scan; returns the commands it fired, as output changes and `fired` show them.
     pub fn scan(&mut self) -> Result<Vec<u8>, String> {
         let n = self.plc.scan()?;
-        self.stats.scans += 1;
-        self.stats.max_statements = self.stats.max_statements.max(n);
+        self.statements = n;
         let fired = self.plc.get_int(&format!("{FB}.fired"))?;
         let mut commands = Vec::new();
         let mut seen_fired = false;
@@ -238,6 +234,7 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
         let mut sync_asked = false;
         // A STEP was taken: the scans decide until one fires a command or has nothing to decide.
         let mut stepping = false;
+        let mut stats = ScanStats::default();
         loop {
             let wait = if idle { Duration::from_millis(2) } else { Duration::ZERO };
             let n = link.recv(&mut buf, wait).map_err(io)?;
@@ -299,7 +296,7 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
                             }
                             _ => {
                                 link.send(&out).map_err(io)?;
-                                return Ok(driver.stats);
+                                return Ok(stats);
                             }
                         }
                     }
@@ -314,6 +311,10 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
             out.extend(&commands);
             let pending = driver.plc.get_bool(&format!("{FB}.pending"))?;
             let quiet = commands.is_empty() && used.is_empty() && !pending;
+            if !quiet {
+                stats.scans += 1;
+                stats.max_statements = stats.max_statements.max(driver.statements);
+            }
             if stepping && !held && (!commands.is_empty() || quiet) {
                 // The step's decision is taken (a command, or none to take): hold again, answer SYNC.
                 stepping = false;
