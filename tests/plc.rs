@@ -253,6 +253,24 @@ fn every_system_runs_closed_loop_safe_live_and_covering_in_both_encodings() {
     }
 }
 
+// See: issue 36 (a run that sees a violation: exit 1 through the same report).
+/// A broken program — the factory's with the buffer supervisor's condition dropped from `start1`'s
+/// enabling, so machine 1 may start with the buffer full — run as `codegen run --target plc` runs it:
+/// the monitor sees the violation.
+#[test]
+fn a_broken_program_run_closed_loop_is_caught() {
+    let (set, opts) = system("factory/factory.toml");
+    let out = program(&set, &opts);
+    let guard = "enabled[0] := st_M1 = 0 AND (st_S_Buffer = 0 OR st_S_Buffer = 4 OR st_S_Buffer = 6) AND";
+    assert!(st(&out).contains(guard), "the factory's start1 enabling changed: update the mutant");
+    let broken = st(&out).replace(guard, "enabled[0] := st_M1 = 0 AND");
+    let options = Options { events: 2_000, ..Options::default() };
+    let report = run(&broken, &out.report, &set, &opts.name, &options, &mut |_| {}).unwrap();
+    assert!(report.violations > 0, "the broken program passed: {report}");
+    let clean = run(st(&out), &out.report, &set, &opts.name, &options, &mut |_| {}).unwrap();
+    assert_eq!(clean.violations, 0, "{clean}");
+}
+
 /// The same plant trace through the program and through the firmware runtime (compiled for the host),
 /// with the deterministic policies, which both implement: the same commands, the same states.
 #[test]
