@@ -84,9 +84,9 @@ impl IoMap {
 }
 
 /// What the wrapper measured, returned when the host sends EXIT: over the scans that did something —
-/// made an edge, fired a command or left the program something pending. The scans a PLC repeats while
-/// it waits for its plant change nothing and are not counted, so the figures are a function of what
-/// the host sent, not of how fast the interpreter ran.
+/// made an edge, fired a command, or ran off hold with something pending. The scans a PLC repeats while
+/// it waits for its plant or for the host's GO change nothing and are not counted, so the figures are a
+/// function of what the host sent, not of how fast the interpreter ran.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ScanStats {
     /// Scans that did something.
@@ -311,7 +311,10 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
             out.extend(&commands);
             let pending = driver.plc.get_bool(&format!("{FB}.pending"))?;
             let quiet = commands.is_empty() && used.is_empty() && !pending;
-            if !quiet {
+            // A scan on hold that made no edge waits for the host (GO, STEP): how many of those run is
+            // the machine's timing, not the program's work.
+            let waiting = held && used.is_empty() && commands.is_empty();
+            if !quiet && !waiting {
                 stats.scans += 1;
                 stats.max_statements = stats.max_statements.max(driver.statements);
             }
