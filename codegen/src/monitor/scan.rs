@@ -9,9 +9,9 @@ use serde::Serialize;
 /// The scan figures of a PLC program's run under the interpreter.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct ScanFigures {
-    /// Scans that did something: made an input's edge, fired a command or ran off hold with something
-    /// pending (the scans a PLC repeats while it waits for its plant or the host, the boot scan and a
-    /// RESET's scan not counted — so the figure is a function of the seed).
+    /// Scans that made an input's edge or fired a command (the scans a PLC repeats while it waits for
+    /// its plant or the host or works off what is pending, the boot scan and a RESET's scan not
+    /// counted — so the figure is a function of the seed).
     pub scans: u64,
     /// Most statements one of those scans executed.
     pub max_statements: u64,

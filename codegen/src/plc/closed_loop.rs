@@ -83,9 +83,9 @@ impl IoMap {
     }
 }
 
-/// What the wrapper measured, returned when the host sends EXIT: over the scans that did something —
-/// made an edge, fired a command, or ran off hold with something pending. The scans a PLC repeats while
-/// it waits for its plant or for the host's GO change nothing and are not counted, so the figures are a
+/// What the wrapper measured, returned when the host sends EXIT: over the scans that made an input's
+/// edge or fired a command. The scans a PLC repeats while it waits for its plant or the host, or works
+/// off what is pending, are not counted: their number is the machine's timing, so the figures are a
 /// function of what the host sent, not of how fast the interpreter ran.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ScanStats {
@@ -311,10 +311,10 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
             out.extend(&commands);
             let pending = driver.plc.get_bool(&format!("{FB}.pending"))?;
             let quiet = commands.is_empty() && used.is_empty() && !pending;
-            // A scan on hold that made no edge waits for the host (GO, STEP): how many of those run is
-            // the machine's timing, not the program's work.
-            let waiting = held && used.is_empty() && commands.is_empty();
-            if !quiet && !waiting {
+            // Only a scan that made an edge or fired a command is counted: how many scans a program
+            // waits or works off what is pending before the host's next byte arrives is the machine's
+            // timing, not the program's work.
+            if !used.is_empty() || !commands.is_empty() {
                 stats.scans += 1;
                 stats.max_statements = stats.max_statements.max(driver.statements);
             }
