@@ -7,11 +7,11 @@
 
 use std::process::Command;
 
+use codegen::interpreter::Plc;
 use codegen::model::{Automaton, StateId};
 use codegen::plc::hybrid::{Output, Plant, Side};
 use codegen::plc::Form;
 use codegen::project::Project;
-use end_to_end::st::Plc;
 use end_to_end::{example, root, Scratch};
 
 const CYCLE_MS: i64 = 10;

@@ -7,6 +7,7 @@
 //! `codegen verify`) must keep completing its cycle (a workpiece carried right and released); the
 //! first, blocking, stalls where the verification says.
 
+use codegen::interpreter::Plc;
 use codegen::manifest::Manifest;
 use codegen::model::{Composition, EventId};
 use codegen::monitor::{Monitor, Verdict};
@@ -17,7 +18,6 @@ use codegen::plc::token_passing::Idents;
 use codegen::plc::{Avalanche, Encoding, Form};
 use codegen::project::Project;
 use end_to_end::example;
-use end_to_end::st::Plc;
 
 /// Plant events of a run.
 const EVENTS: u64 = 20_000;

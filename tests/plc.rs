@@ -7,18 +7,15 @@
 use std::path::Path;
 use std::process::Command;
 
-use codegen::closed_loop::{attach, Options, SessionConfig};
+use codegen::closed_loop::Options;
 use codegen::config::ScanPolicy;
 use codegen::emit::Provenance;
-use codegen::link::memory;
-use codegen::link::protocol::EXIT;
-use codegen::link::ByteLink;
+use codegen::interpreter::{sections, Plc};
 use codegen::model::Automaton;
 use codegen::pack::PackSet;
+use codegen::plc::closed_loop::{run, Driver, IoMap};
 use codegen::plc::{generate, Avalanche, Encoding, Output, PlcOptions};
 use codegen::project::Project;
-use end_to_end::plc::{spawn_plc, Driver, IoMap};
-use end_to_end::st::{sections, Plc};
 use end_to_end::{assert_clean, example, root, Scratch};
 
 /// The example systems run closed loop on the PLC interpreter, by manifest under `examples/`. One line
@@ -232,23 +229,20 @@ fn every_system_runs_closed_loop_safe_live_and_covering_in_both_encodings() {
             opts.encoding = encoding;
             let out = program(&set, &opts);
             assert!(out.report.avalanche.iter().all(|a| a.method != "none"), "{:?}", out.report.avalanche);
-            let driver = Driver::new(st(&out), IoMap::new(&out.report, set.events())).unwrap();
-            let (mut host, target) = memory::pair();
-            let plc = spawn_plc(driver, target);
-            // Lock-step rounds, as `codegen run` runs a firmware: the plant's events of a round, then
-            // the program scans until it has decided all it can on them (SYNC), however fast the
-            // interpreter runs. The scan-cycle driver speaks no STEP: the plant steers by rounds.
-            let session = SessionConfig { step: false, ..SessionConfig::default() };
-            let options = Options { events: EVENTS, session, ..Options::default() };
-            let report = attach(&mut host, &set, &opts.name, &options, &mut |_| {}).unwrap();
-            host.send(&[EXIT]).unwrap();
-            let stats = plc.join().unwrap().unwrap_or_else(|e| panic!("{manifest} {encoding:?}: {e}"));
+            // The product's run (`codegen run --target plc`): lock-step rounds, as `codegen run` runs a
+            // firmware — the plant's events of a round, then the program scans until it has decided all
+            // it can on them (SYNC), however fast the interpreter runs.
+            let options = Options { events: EVENTS, ..Options::default() };
+            let report = run(st(&out), &out.report, &set, &opts.name, &options, &mut |_| {})
+                .unwrap_or_else(|e| panic!("{manifest} {encoding:?}: {e}"));
+            let stats = report.scan.unwrap_or_else(|| panic!("{manifest}: no scan figures"));
             assert_clean(&report, &format!("{manifest} {encoding:?}"));
             let what = format!("{manifest} {encoding:?}: {report}");
             assert!(report.marked_visits > 500, "{what}");
             assert!(report.longest_marked_gap < 2_000, "{what}");
             assert!(report.full_coverage(), "{what}");
             assert!(stats.max_statements <= out.report.bound_per_scan, "{what}: {stats:?}");
+            assert_eq!(stats.bound_per_scan, out.report.bound_per_scan, "{what}");
             eprintln!("{what}\n  {stats:?}, bound {}", out.report.bound_per_scan);
             traces.push(report.trace_sha256);
         }
@@ -257,6 +251,24 @@ fn every_system_runs_closed_loop_safe_live_and_covering_in_both_encodings() {
             "{manifest}: the encodings decide alike: {traces:?}"
         );
     }
+}
+
+// See: issue 36 (a run that sees a violation: exit 1 through the same report).
+/// A broken program — the factory's with the buffer supervisor's condition dropped from `start1`'s
+/// enabling, so machine 1 may start with the buffer full — run as `codegen run --target plc` runs it:
+/// the monitor sees the violation.
+#[test]
+fn a_broken_program_run_closed_loop_is_caught() {
+    let (set, opts) = system("factory/factory.toml");
+    let out = program(&set, &opts);
+    let guard = "enabled[0] := st_M1 = 0 AND (st_S_Buffer = 0 OR st_S_Buffer = 4 OR st_S_Buffer = 6) AND";
+    assert!(st(&out).contains(guard), "the factory's start1 enabling changed: update the mutant");
+    let broken = st(&out).replace(guard, "enabled[0] := st_M1 = 0 AND");
+    let options = Options { events: 2_000, ..Options::default() };
+    let report = run(&broken, &out.report, &set, &opts.name, &options, &mut |_| {}).unwrap();
+    assert!(report.violations > 0, "the broken program passed: {report}");
+    let clean = run(st(&out), &out.report, &set, &opts.name, &options, &mut |_| {}).unwrap();
+    assert_eq!(clean.violations, 0, "{clean}");
 }
 
 /// The same plant trace through the program and through the firmware runtime (compiled for the host),
@@ -284,7 +296,7 @@ fn the_program_and_the_firmware_runtime_agree_step_by_step() {
             for policy in [ScanPolicy::First, ScanPolicy::GlobalQueue, ScanPolicy::LocalQueue] {
                 let opts = PlcOptions { encoding, policy, ..base.clone() };
                 let out = program(&set, &opts);
-                let mut d = Driver::new(st(&out), IoMap::new(&out.report, set.events())).unwrap();
+                let mut d = Driver::new(st(&out), IoMap::new(&out.report, set.events()).unwrap()).unwrap();
                 d.plc.set_bool("hold", true).unwrap();
                 let config = Config { guard: true, on_fault: FaultPolicy::Continue, reseed_every: 0 };
                 let mut rng = 0x2545_f491_u32;
@@ -308,7 +320,7 @@ fn the_program_and_the_firmware_runtime_agree_step_by_step() {
                                 let e = possible[draw(possible.len())];
                                 rt.apply(e);
                                 let mut used = Vec::new();
-                                while d.edge(e, &mut used).unwrap() != end_to_end::plc::Edge::Made {
+                                while d.edge(e, &mut used).unwrap() != codegen::plc::closed_loop::Edge::Made {
                                     assert!(d.scan().unwrap().is_empty());
                                     used.clear();
                                 }
@@ -398,9 +410,9 @@ fn write_all(dir: &Path) -> Vec<std::path::PathBuf> {
         for (name, n) in sections(plc.body(&fb).unwrap()) {
             assert_eq!(out.report.statements.sections.get(name.as_str()), Some(&n), "{name}");
         }
-        let config = end_to_end::st::parse(&out.files[1].1).unwrap();
+        let config = codegen::interpreter::parse(&out.files[1].1).unwrap();
         assert!(
-            matches!(&config[0], end_to_end::st::Unit::Configuration { programs, .. } if programs[0].2 == format!("{}_MAIN", fb.trim_end_matches("_sct").to_ascii_uppercase()))
+            matches!(&config[0], codegen::interpreter::Unit::Configuration { programs, .. } if programs[0].2 == format!("{}_MAIN", fb.trim_end_matches("_sct").to_ascii_uppercase()))
         );
         let sub = dir.join(i.to_string());
         std::fs::create_dir_all(&sub).unwrap();
@@ -572,11 +584,11 @@ fn r22_every_generated_program_is_strict_iec_61131_3() {
         let (text, config, xml) = (&files[0].1, &files[1].1, &files[2].1);
         // Strictly taken: keywords, located variables, conversions, semicolons, writes (see the test above).
         Plc::load(text).unwrap_or_else(|e| panic!("{what}: {e}"));
-        end_to_end::st::parse(config).unwrap_or_else(|e| panic!("{what} configuration: {e}"));
+        codegen::interpreter::parse(config).unwrap_or_else(|e| panic!("{what} configuration: {e}"));
         // And the five constructs, looked for in the text itself.
-        let units = end_to_end::st::parse(text).unwrap();
+        let units = codegen::interpreter::parse(text).unwrap();
         for unit in &units {
-            let end_to_end::st::Unit::Pou { program, vars, .. } = unit else { continue };
+            let codegen::interpreter::Unit::Pou { program, vars, .. } = unit else { continue };
             for d in vars {
                 assert!(!["EN", "ENO"].contains(&d.name.as_str()), "{what}: {}", d.name);
                 assert!(d.address.is_none() || (*program && d.class == "VAR"), "{what}: {} located", d.name);

@@ -8,13 +8,13 @@ use std::collections::BTreeSet;
 use std::process::Command;
 
 use codegen::config::ScanPolicy;
+use codegen::interpreter::Plc;
 use codegen::model::EventId;
 use codegen::monitor::Monitor;
 use codegen::pack::Role;
 use codegen::plc::state_based::{Engine, OnePerScan, Output, StateOptions};
 use codegen::plc::Form;
 use codegen::project::Project;
-use end_to_end::st::Plc;
 use end_to_end::{example, root, Scratch};
 
 /// Events of a closed-loop run on the station.

@@ -16,6 +16,7 @@ pub mod config;
 pub mod emit;
 pub mod feedback;
 pub mod formats;
+pub mod interpreter;
 pub mod link;
 pub mod manifest;
 pub mod maps;

@@ -23,7 +23,7 @@ fn a_clean_run_exits_0_with_the_json_report() {
     let out = codegen(&["run", &repo("examples/factory/factory.toml"), "--events", "600", "--json"], None);
     assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    assert_eq!((json["schema"].as_u64(), json["target"].as_str()), (Some(2), Some("qemu")));
+    assert_eq!((json["schema"].as_u64(), json["target"].as_str()), (Some(3), Some("qemu")));
     assert_eq!((json["name"].as_str(), json["violations"].as_u64()), (Some("factory"), Some(0)));
     assert!(json["events"].as_u64().unwrap() >= 600);
     assert_eq!(json["firmware"]["events_in"], json["uncontrollable"]);

@@ -11,7 +11,7 @@ const CODEGEN: &[&[&str]] = &[
     &["model", "provenance"],
     &["formats", "config", "link"],
     &["manifest", "synth", "plant", "target", "scan"],
-    &["problems", "pack", "monitor", "net", "symbolic"],
+    &["problems", "pack", "monitor", "net", "symbolic", "interpreter"],
     &["feedback", "closed_loop", "maps"],
     &["plc", "emit"],
     &["project"],

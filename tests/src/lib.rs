@@ -2,9 +2,6 @@
 //! and the firmware's runtime run in a thread on the host behind an in-memory byte link.
 #![deny(missing_docs)]
 
-pub mod plc;
-pub mod st;
-
 use std::path::{Path, PathBuf};
 use std::thread::JoinHandle;
 use std::time::Duration;

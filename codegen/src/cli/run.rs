@@ -1,5 +1,5 @@
 //! `codegen run`: the main job — the closed loop of a manifest's supervisors under QEMU (or on an emulated
-//! RP2040, through the board's pins), with its report.
+//! RP2040, through the board's pins, or as the PLC program scanned by the interpreter), with its report.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -7,6 +7,7 @@ use std::process::ExitCode;
 use codegen::closed_loop::{run_on_rp2040, run_under_qemu};
 use codegen::config::{Layout, SamplingSpec, SupervisorChoice};
 use codegen::pack::fit::Core;
+use codegen::plc::Encoding;
 use codegen::project::new_project::Board;
 use codegen::project::user_project::UserProject;
 use codegen::project::Project;
@@ -18,8 +19,9 @@ use super::Error;
 /// Synthesise the manifest's supervisors, pack and emit their tables, build the firmware for QEMU, boot
 /// it, attach the virtual plant and run the closed loop; print the report (safety, liveness, coverage
 /// per supervisor, link). With `--target rp2040`, build the Pico firmware instead and run it on an
-/// emulated RP2040, the plant on its pins (`[board]`). Exit status 1 when the run saw a safety
-/// violation. With `--project DIR`, build and run a project of your own (`codegen new`) on its board's
+/// emulated RP2040, the plant on its pins (`[board]`); with `--target plc`, write the PLC program
+/// (`[plc]`) and scan it cycle by cycle under the interpreter instead. Exit status 1 when the run saw a
+/// safety violation. With `--project DIR`, build and run a project of your own (`codegen new`) on its board's
 /// emulator; with `--elf`, run that firmware instead of building one.
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -31,6 +33,9 @@ pub struct Args {
     /// emulated RP2040 through its pins (`harness/rp2040/`).
     #[arg(long, value_enum, default_value_t = Target::Qemu)]
     target: Target,
+    /// `--target plc`: the program's state encoding (`codegen plc --encoding`).
+    #[arg(long, value_enum, default_value_t = Encoding::Int)]
+    encoding: Encoding,
     /// How the Pico firmware reads its inputs (default: the manifest's `[board] sampling`).
     #[arg(long, value_enum)]
     sampling: Option<Sampling>,
@@ -73,6 +78,8 @@ enum Target {
     Qemu,
     /// The Pico application on rp2040js (Cortex-M0+).
     Rp2040,
+    /// The PLC program (`codegen plc`, event-based) scanned cycle by cycle by the interpreter.
+    Plc,
 }
 
 /// `--sampling`.
@@ -113,12 +120,18 @@ pub fn run(mut args: Args) -> Result<ExitCode, Error> {
     }
     let mut project = match args.target {
         Target::Rp2040 => Project::load_for(&args.manifest, Board::Pico)?,
-        Target::Qemu => Project::load(&args.manifest)?,
+        Target::Qemu | Target::Plc => Project::load(&args.manifest)?,
     };
     project.runtime.layout = args.layout.or(project.runtime.layout);
     super::deploy(&mut project, args.deploy, args.run.json)?;
     if args.target == Target::Rp2040 {
         return run_rp2040(args, project);
+    }
+    if args.target == Target::Plc {
+        return run_plc(&args, &project);
+    }
+    if args.encoding != Encoding::Int {
+        return Err("--encoding goes with --target plc".into());
     }
     if args.sampling.is_some() || args.sample_period_us.is_some() || args.rtt.is_some() {
         return Err("--sampling, --sample-period-us and --rtt go with --target rp2040".into());
@@ -181,6 +194,26 @@ fn run_rp2040(args: Args, mut project: Project) -> Result<ExitCode, Error> {
     let mut progress = Progress::new(options.events);
     let report =
         run_on_rp2040(&elf, &pins_file, &project.set, &project.name, &options, &mut |r| progress.show(r));
+    progress.clear();
+    finish(&report?, args.run.json)
+}
+
+/// `run --target plc`: the event-based PLC program's text scanned by the interpreter, the plant and
+/// the monitor on the other side of the link as for a firmware.
+fn run_plc(args: &Args, project: &Project) -> Result<ExitCode, Error> {
+    if args.elf.is_some() || args.layout.is_some() {
+        return Err("--elf and --layout go with a firmware's target (qemu, rp2040), not plc".into());
+    }
+    if args.sampling.is_some() || args.sample_period_us.is_some() || args.rtt.is_some() {
+        return Err("--sampling, --sample-period-us and --rtt go with --target rp2040".into());
+    }
+    let options = args.run.options(&project.runtime);
+    eprintln!(
+        "codegen run: the {} PLC program ({:?} encoding) scanned closed loop for {} events, plant seed {}",
+        project.name, args.encoding, options.events, options.plant.seed
+    );
+    let mut progress = Progress::new(options.events);
+    let report = project.run_plc(args.encoding, &options, &mut |r| progress.show(r));
     progress.clear();
     finish(&report?, args.run.json)
 }

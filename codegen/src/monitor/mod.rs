@@ -21,6 +21,7 @@ mod choice_model;
 mod coverage;
 mod judge;
 mod report;
+mod scan;
 mod steering;
 
 pub use board::{BoardFigures, CallCost, RuntimeCost};
@@ -28,4 +29,5 @@ pub use choice_model::ChoiceModel;
 pub use coverage::{Edge, Graph, Taken, TooLarge};
 pub use judge::{Monitor, Verdict};
 pub use report::{CoverageLine, FirmwareCounters, Report, SCHEMA};
+pub use scan::ScanFigures;
 pub use steering::Move;

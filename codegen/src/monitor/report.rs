@@ -7,10 +7,11 @@ use serde::Serialize;
 use sha2::{Digest, Sha256};
 
 use super::board::BoardFigures;
+use super::scan::ScanFigures;
 
 /// Version of the JSON form of [`Report`]; bumped when a field changes meaning or goes away (2: `target`
-/// and `board`).
-pub const SCHEMA: u32 = 2;
+/// and `board`; 3: `scan`, and `seconds` the PLC's own clock on target `plc`).
+pub const SCHEMA: u32 = 3;
 
 /// The firmware's own counters ([`Counters`], the link's STATUS answer) summed over every reset of a run,
 /// as the report prints them.
@@ -131,12 +132,15 @@ pub struct Report {
     pub guard_redecisions: u64,
     /// The firmware's counters, summed over resets.
     pub firmware: FirmwareCounters,
-    /// Wall-clock duration in seconds.
+    /// Duration in seconds: wall-clock on a firmware; on target `plc` the PLC's own clock (scans ×
+    /// the task's interval), so a program's run is a function of its seed.
     pub seconds: f64,
     /// Events per second over the run.
     pub events_per_second: f64,
     /// What the board's pins showed (`rp2040`; `None` over a byte link).
     pub board: Option<BoardFigures>,
+    /// What the PLC program's scans showed (target `plc`; `None` on a firmware).
+    pub scan: Option<ScanFigures>,
 }
 
 /// The running SHA-256 of a run's event sequence.
@@ -251,6 +255,9 @@ impl fmt::Display for Report {
         }
         if let Some(board) = &self.board {
             write!(f, "{board}")?;
+        }
+        if let Some(scan) = &self.scan {
+            write!(f, "{scan}")?;
         }
         Ok(())
     }

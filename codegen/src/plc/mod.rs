@@ -15,7 +15,9 @@
 //! The sequence and the hybrid controller are both written by the one lowering of a net,
 //! [`token_passing`]. Every form's files come from [`crate::scan::files`]; every error is a
 //! [`PlcError`]. [`Form`] names a form with its options and [`Written`] is what any form writes: the
-//! project's single entry, `Project::plc`, takes the one and returns the other.
+//! project's single entry, `Project::plc`, takes the one and returns the other. [`closed_loop`] runs the
+//! event-based program's text under the interpreter against the virtual plant (`codegen run --target
+//! plc`).
 //!
 //! Event-based encodings: `int` — one integer state per automaton and a `CASE` per event, where no
 //! event can chain (a `CASE` takes one branch); `bits` — one `BOOL` per state and one statement per
@@ -25,6 +27,7 @@
 
 pub mod avalanche;
 pub mod choice;
+pub mod closed_loop;
 mod error;
 pub mod hybrid;
 pub mod io;

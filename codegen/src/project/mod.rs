@@ -34,6 +34,7 @@ pub use sources::{Loaded, Sources};
 
 use std::path::{Path, PathBuf};
 
+use crate::closed_loop::Options;
 use crate::config::{
     BoardSpec, Mode, NetSpec, PlcSpec, RuntimeConfig, ScanPolicy, StateSpec, SupervisorChoice,
 };
@@ -42,11 +43,13 @@ use crate::feedback::FeedbackError;
 use crate::manifest::{is_manifest, read_board, Manifest, ManifestError, ModelSet};
 use crate::maps::{self, Board, MapsError};
 use crate::model::Automaton;
+use crate::monitor::Report;
 use crate::net::Interpretation;
 use crate::pack::fit::{self, Core, Refusal};
 use crate::pack::{PackError, PackSet, Role};
+use crate::plc::closed_loop::RunError;
 use crate::plc::state_based::{self, Engine};
-use crate::plc::{self, Encoding, Form, PlcError, PlcOptions, Written};
+use crate::plc::{self, Avalanche, Encoding, Form, PlcError, PlcOptions, Written};
 use crate::provenance::{Input, Provenance};
 use crate::symbolic::Guards;
 use crate::synth::deploy::{self, Summary};
@@ -162,6 +165,15 @@ pub enum ProjectError {
     /// A PLC program cannot be written.
     #[error(transparent)]
     Plc(Box<PlcError>),
+    /// A PLC program's closed-loop run failed.
+    #[error(transparent)]
+    PlcRun(Box<RunError>),
+}
+
+impl From<RunError> for ProjectError {
+    fn from(e: RunError) -> ProjectError {
+        ProjectError::PlcRun(Box::new(e))
+    }
 }
 
 impl From<PlcError> for ProjectError {
@@ -518,6 +530,46 @@ impl Project {
         Ok(emit::emit(&tables, m0plus, &self.name, &self.runtime, self.board.as_ref(), &provenance)?)
     }
 
+    /// The event-based program of [`Project::plc`] (`Form::Event`), with the manifest's sequence net
+    /// beside it when it has one.
+    fn event_program(
+        &self,
+        encoding: Encoding,
+        avalanche: Avalanche,
+        policy: Option<ScanPolicy>,
+    ) -> Result<plc::Output, ProjectError> {
+        let file = self.file();
+        let opts = PlcOptions { encoding, avalanche, ..self.plc_options(policy)? };
+        let provenance = self.plc_provenance(&opts.words());
+        let out = match self.sequence()? {
+            Some(net) => {
+                let mut provenance = provenance;
+                if let Some(spec) = &self.net {
+                    let pnml = file.parent().unwrap_or(Path::new("")).join(spec.pnml.get_ref());
+                    provenance.inputs.push(hash(&pnml)?);
+                }
+                plc::generate_with_sequence(&self.set, &opts, &provenance, &net)?
+            }
+            None => plc::generate(&self.set, &opts, &provenance)?,
+        };
+        Ok(out)
+    }
+
+    /// The PLC program run closed loop (`codegen run --target plc`): the event-based program in
+    /// `encoding` (the manifest's policy, its sequence beside it), its `.st` text under the interpreter
+    /// against the virtual plant, judged by plants ‖ supervisors as a firmware's run is
+    /// ([`plc::closed_loop::run`]).
+    pub fn run_plc(
+        &self,
+        encoding: Encoding,
+        options: &Options,
+        progress: &mut dyn FnMut(&Report),
+    ) -> Result<Report, ProjectError> {
+        let out = self.event_program(encoding, Avalanche::Auto, None)?;
+        let text = out.files.first().map_or("", |(_, text)| text.as_str());
+        Ok(plc::closed_loop::run(text, &out.report, &self.set, &self.name, options, progress)?)
+    }
+
     /// The PLC stage, the one entry of every form ([`Form`]): the program's files under a header naming
     /// every input with its hash and the command that reproduces them, and its report. The event-based
     /// form runs the manifest's sequence net beside the interlocks when it has one (`[net]`); its policy
@@ -542,21 +594,7 @@ impl Project {
                 Ok(Written::Hybrid(out))
             }
             Form::Event { encoding, avalanche, policy } => {
-                let opts =
-                    PlcOptions { encoding: *encoding, avalanche: *avalanche, ..self.plc_options(*policy)? };
-                let provenance = self.plc_provenance(&opts.words());
-                let out = match self.sequence()? {
-                    Some(net) => {
-                        let mut provenance = provenance;
-                        if let Some(spec) = &self.net {
-                            let pnml = file.parent().unwrap_or(Path::new("")).join(spec.pnml.get_ref());
-                            provenance.inputs.push(hash(&pnml)?);
-                        }
-                        plc::generate_with_sequence(&self.set, &opts, &provenance, &net)?
-                    }
-                    None => plc::generate(&self.set, &opts, &provenance)?,
-                };
-                Ok(Written::Event(out))
+                Ok(Written::Event(self.event_program(*encoding, *avalanche, *policy)?))
             }
             Form::State { options, engine } => {
                 let in_file = |source| PlcError::Feedback { file: file.clone(), source: Box::new(source) };

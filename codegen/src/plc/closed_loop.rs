@@ -1,6 +1,9 @@
-//! The emitted ST program as a firmware on the link: a wrapper speaking the firmware's byte protocol
-//! (`firmware::link`) around the scan-cycle interpreter, so the virtual plant and the monitor judge the
-//! PLC program as they judge the firmware under QEMU.
+//! The event-based program run closed loop (`codegen run --target plc`): the emitted ST text under the
+//! scan-cycle interpreter ([`crate::interpreter`]), wrapped so it speaks the firmware's byte protocol
+//! (`firmware::link`) on an in-memory link, so the virtual plant and the monitor judge the PLC program
+//! as they judge the firmware under QEMU — the same [`Session`](crate::closed_loop::Session), the same
+//! [`Report`], with the scan figures added ([`ScanFigures`]). [`run`] is the entry; [`Driver`] and
+//! [`spawn_plc`] are its parts, which the tests drive scan by scan.
 //!
 //! Event bytes from the plant become edges of the program's input variables (or `EVENTS` members), as
 //! the report's I/O map says: one event per scan, in the order sent (a PLC scans much faster than its
@@ -11,8 +14,10 @@
 //! controllable events that drive no output. HOLD sets the `hold` input at once; GO clears it in order,
 //! once the events before it have been applied, so that the events a host sends between HOLD and GO
 //! are all made before the program decides on any of them — as the firmware takes a whole write before
-//! it decides, though here one input changes once per scan (STEP: not spoken here; a session with it
-//! runs with `SessionConfig::step` off). RESET, STATUS and EXIT are answered in order, once the events
+//! it decides, though here one input changes once per scan. STEP, once the events before it have been
+//! applied, clears `hold` and lets the scans run until one fires a command or has nothing to decide
+//! (no edge, nothing pending), then sets `hold` again and answers SYNC; the bytes after it wait for
+//! that — so the plant takes its turn between any two commands, as with a firmware in steps. RESET, STATUS and EXIT are answered in order, once the events
 //! before them have been applied (no edge waiting, `pending` low): RESET by a scan with `reset` (and
 //! `hold`) set, then READY; STATUS from the block's counters. SYNC, once the events before it have been applied, is answered after the first
 //! scan that runs with `hold` low, makes no edge, fires no command and leaves nothing pending: the
@@ -24,13 +29,17 @@ use std::collections::{BTreeMap, VecDeque};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
-use codegen::link::memory::MemoryLink;
-use codegen::link::ByteLink;
-use codegen::model::EventTable;
-use codegen::plc::Report;
-use firmware::link::{EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, SYNC};
+use firmware::link::{EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, STEP, SYNC};
 
-use crate::st::Plc;
+use super::report::Report as ProgramReport;
+use crate::closed_loop::{attach, ClosedLoopError, Options, SessionConfig};
+use crate::config::ScanPolicy;
+use crate::interpreter::Plc;
+use crate::link::memory::{self, MemoryLink};
+use crate::link::ByteLink;
+use crate::model::EventTable;
+use crate::monitor::{ChoiceModel, Report, ScanFigures};
+use crate::pack::PackSet;
 
 /// The path of the function block instance in the program.
 const FB: &str = "sct";
@@ -51,26 +60,36 @@ pub struct IoMap {
 }
 
 impl IoMap {
-    /// The map the report gives, over the set's event ids.
-    pub fn new(report: &Report, events: &EventTable) -> IoMap {
+    /// The map the program's report gives, over the set's event ids; an event the set does not have, or
+    /// one beyond the link's ids, is an error.
+    pub fn new(report: &ProgramReport, events: &EventTable) -> Result<IoMap, String> {
         let mut map = IoMap::default();
         for io in &report.variables.io {
-            let id = events.id(&io.event).map(|e| e.as_u32()).unwrap_or_else(|| panic!("event {}", io.event));
-            let id = u8::try_from(id).unwrap_or_else(|_| panic!("event id {id} beyond the link"));
+            let id = events
+                .id(&io.event)
+                .map(|e| e.as_u32())
+                .ok_or(format!("event {} is not in the set", io.event))?;
+            let id = u8::try_from(id)
+                .ok()
+                .filter(|&id| id <= MAX_EVENT)
+                .ok_or(format!("event id {id} beyond the link"))?;
             if io.direction == "input" {
                 map.inputs.insert(id, InputLine { path: io.variable.clone(), edge: io.kind });
             } else {
                 map.outputs.entry(io.variable.clone()).or_default().push((id, io.kind));
             }
         }
-        map
+        Ok(map)
     }
 }
 
-/// What the wrapper measured, returned when the host sends EXIT.
+/// What the wrapper measured, returned when the host sends EXIT: over the scans that made an input's
+/// edge or fired a command. The scans a PLC repeats while it waits for its plant or the host, or works
+/// off what is pending, are not counted: their number is the machine's timing, so the figures are a
+/// function of what the host sent, not of how fast the interpreter ran.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ScanStats {
-    /// Scans run.
+    /// Scans that did something.
     pub scans: u64,
     /// Most statements one scan executed.
     pub max_statements: u64,
@@ -83,8 +102,8 @@ pub struct Driver {
     io: IoMap,
     levels: BTreeMap<String, bool>,
     outputs: BTreeMap<String, bool>,
-    /// Statistics.
-    pub stats: ScanStats,
+    /// Statements the last scan executed.
+    statements: u64,
 }
 
 /// What one attempt to make an event's edge did.
@@ -102,13 +121,7 @@ impl Driver {
     /// A driver for `text` (the `.st` file) with the map of its report, after its first scan.
     pub fn new(text: &str, io: IoMap) -> Result<Driver, String> {
         let plc = Plc::load(text)?;
-        let mut d = Driver {
-            plc,
-            io,
-            levels: BTreeMap::new(),
-            outputs: BTreeMap::new(),
-            stats: ScanStats::default(),
-        };
+        let mut d = Driver { plc, io, levels: BTreeMap::new(), outputs: BTreeMap::new(), statements: 0 };
         // The boot scan: initial states, the inputs' first sample.
         d.reset()?;
         Ok(d)
@@ -148,8 +161,7 @@ impl Driver {
     /// Runs one scan; returns the commands it fired, as output changes and `fired` show them.
     pub fn scan(&mut self) -> Result<Vec<u8>, String> {
         let n = self.plc.scan()?;
-        self.stats.scans += 1;
-        self.stats.max_statements = self.stats.max_statements.max(n);
+        self.statements = n;
         let fired = self.plc.get_int(&format!("{FB}.fired"))?;
         let mut commands = Vec::new();
         let mut seen_fired = false;
@@ -220,6 +232,9 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
         let mut idle = false;
         // A SYNC came in, in order, and waits for a scan that decides nothing.
         let mut sync_asked = false;
+        // A STEP was taken: the scans decide until one fires a command or has nothing to decide.
+        let mut stepping = false;
+        let mut stats = ScanStats::default();
         loop {
             let wait = if idle { Duration::from_millis(2) } else { Duration::ZERO };
             let n = link.recv(&mut buf, wait).map_err(io)?;
@@ -246,6 +261,16 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
                         fifo.pop_front();
                         sync_asked = true;
                     }
+                    STEP => {
+                        // Its one decision sees every event before it, and none after it.
+                        if !used.is_empty() || driver.plc.get_bool(&format!("{FB}.pending"))? {
+                            break;
+                        }
+                        fifo.pop_front();
+                        driver.plc.set_bool("hold", false)?;
+                        stepping = true;
+                        break;
+                    }
                     GO => {
                         fifo.pop_front();
                         driver.plc.set_bool("hold", false)?;
@@ -271,7 +296,7 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
                             }
                             _ => {
                                 link.send(&out).map_err(io)?;
-                                return Ok(driver.stats);
+                                return Ok(stats);
                             }
                         }
                     }
@@ -286,7 +311,20 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
             out.extend(&commands);
             let pending = driver.plc.get_bool(&format!("{FB}.pending"))?;
             let quiet = commands.is_empty() && used.is_empty() && !pending;
-            if sync_asked && quiet && !held {
+            // Only a scan that made an edge or fired a command is counted: how many scans a program
+            // waits or works off what is pending before the host's next byte arrives is the machine's
+            // timing, not the program's work.
+            if !used.is_empty() || !commands.is_empty() {
+                stats.scans += 1;
+                stats.max_statements = stats.max_statements.max(driver.statements);
+            }
+            if stepping && !held && (!commands.is_empty() || quiet) {
+                // The step's decision is taken (a command, or none to take): hold again, answer SYNC.
+                stepping = false;
+                driver.plc.set_bool("hold", true)?;
+                answered = true;
+                out.push(SYNC);
+            } else if sync_asked && quiet && !held && !stepping {
                 sync_asked = false;
                 answered = true;
                 out.push(SYNC);
@@ -302,4 +340,72 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
             idle = n == 0 && fifo.is_empty() && quiet && !answered;
         }
     })
+}
+
+/// Why a program's closed-loop run failed (as opposed to finding violations, which are in its report).
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The interpreter refused the program (a strict compiler's refusal, [`crate::interpreter::check`]),
+    /// or the program failed while running (an integer out of its type's range, an index out of its
+    /// array, more than one command in a scan, an output changed with no event of it fired).
+    #[error("the PLC program: {0}")]
+    Program(String),
+    /// The closed loop around it failed.
+    #[error(transparent)]
+    ClosedLoop(#[from] ClosedLoopError),
+}
+
+/// Runs the event-based program `text` (its `.st` file) with its report `program` closed loop against
+/// `set`'s plants, judged by plants ‖ supervisors, for `options.events` events; returns the report,
+/// with the scan figures and the duration on the PLC's own clock (scans × `program.cycle_ms`). The
+/// session runs in lock-step rounds, in steps as a firmware's (`options.session.step`): the plant's
+/// events of a round, then the program scans until it has decided all it can on them, so the run is a
+/// function of the plant's seed, however fast the interpreter runs. The monitor models the program's
+/// choice policy (`options.choices` is not read).
+pub fn run(
+    text: &str,
+    program: &ProgramReport,
+    set: &PackSet,
+    name: &str,
+    options: &Options,
+    progress: &mut dyn FnMut(&Report),
+) -> Result<Report, RunError> {
+    let mut driver = Driver::new(text, IoMap::new(program, set.events()).map_err(RunError::Program)?)
+        .map_err(RunError::Program)?;
+    driver.plc.set_cycle_ms(program.cycle_ms);
+    let (mut host, target) = memory::pair();
+    let plc = spawn_plc(driver, target);
+    // The monitor models the program's choice policy: `first` as the firmware's; the queues and the
+    // program's generator as a uniform choice.
+    let choices =
+        if program.policy == ScanPolicy::First.name() { ChoiceModel::First } else { ChoiceModel::Uniform };
+    let options = Options {
+        session: SessionConfig { lockstep: true, ..options.session.clone() },
+        choices,
+        ..options.clone()
+    };
+    let report = attach(&mut host, set, name, &options, progress);
+    // EXIT ends the program's thread (the link stays open for its last answer); were the link down, the
+    // thread has ended already.
+    let _ = host.send(&[EXIT]);
+    let stats = plc.join().map_err(|_| RunError::Program("the interpreter's thread panicked".into()))?;
+    drop(host);
+    // The program's own failure first: it is why the session failed, when it did.
+    let (stats, mut report) = match (stats, report) {
+        (Ok(stats), Ok(report)) => (stats, report),
+        (Err(program), Err(session)) => {
+            return Err(RunError::Program(format!("{program} (the session: {session})")))
+        }
+        (Err(program), Ok(_)) => return Err(RunError::Program(program)),
+        (Ok(_), Err(session)) => return Err(session.into()),
+    };
+    report.target = "plc".into();
+    report.scan = Some(ScanFigures {
+        scans: stats.scans,
+        max_statements: stats.max_statements,
+        bound_per_scan: program.bound_per_scan,
+        cycle_ms: program.cycle_ms,
+    });
+    report.finish(stats.scans as f64 * f64::from(program.cycle_ms) / 1000.0);
+    Ok(report)
 }

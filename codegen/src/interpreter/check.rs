@@ -1,8 +1,8 @@
 //! The static type check a strict IEC 61131-3 Ed. 3 compiler makes, on the parsed program: every
 //! assignment, operator, comparison, call argument, `CASE` selector and `FOR` bound is typed against the
 //! declarations, and a conversion the standard does not make implicitly is refused, as are writes the
-//! standard forbids. Written from the standard for the harness (it judges the emitted text; it shares
-//! nothing with codegen's own check but the keyword list).
+//! standard forbids. Written from the standard (it judges the emitted text; it shares nothing with
+//! `crate::scan::strict`, the rules the printer keeps, but the keyword list).
 //!
 //! Implicit conversions (6.6.1.6, its figure of implicit conversions) are the value-preserving ones: a signed integer to a
 //! wider signed one (`INT` → `DINT`), an unsigned to a wider unsigned one, an unsigned to a wider signed
@@ -42,7 +42,7 @@ fn integer(name: &str) -> Option<(u32, bool)> {
 pub const TON: &str = "TON";
 
 /// The standard on-delay timer's declarations: `IN`, `PT` in; `Q`, `ET` out; and the local state the
-/// harness keeps for it (`RUNNING`, `START`: the clock when `IN` rose), which no caller sees.
+/// interpreter keeps for it (`RUNNING`, `START`: the clock when `IN` rose), which no caller sees.
 pub fn ton() -> Vec<Decl> {
     let d = |class: &str, name: &str, ty: Type| Decl {
         class: class.into(),
@@ -201,7 +201,9 @@ impl Pou<'_> {
                     n => integer(n).map(|_| Type::Int(n.to_owned())),
                 };
                 let (Some(from), Some(to), [x]) = (ty(from), ty(to), args.as_slice()) else {
-                    return Err(format!("{f}: not a conversion function of one argument this harness knows"));
+                    return Err(format!(
+                        "{f}: not a conversion function of one argument the interpreter knows"
+                    ));
                 };
                 self.store(&from, x).map_err(|e| format!("{f}: {e}"))?;
                 Ty::Is(to)

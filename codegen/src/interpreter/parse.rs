@@ -4,11 +4,11 @@
 //! statements (assignment, `IF`/`ELSIF`/`ELSE`, `CASE` with integer labels and `ELSE`, `FOR … TO … DO`,
 //! `EXIT`, block calls with named inputs), expressions (`OR`, `XOR`, `AND`, comparisons, `+ - * /
 //! MOD`, `NOT`, unary minus, `TRUE`/`FALSE`, integers, durations `T#…ms`, member and index access), comments, and
-//! `CONFIGURATION`/`RESOURCE`/`TASK`/`PROGRAM … WITH`. Written from the standard's grammar for the
-//! harness; it reads the emitted text itself, never codegen's syntax tree.
+//! `CONFIGURATION`/`RESOURCE`/`TASK`/`PROGRAM … WITH`. Written from the standard's grammar; it
+//! reads the emitted text itself, never the program IR it was printed from.
 //!
 //! Strict where the grammar is (IEC 61131-3 Ed. 3): a keyword is never a name (6.1.3, the list of
-//! `codegen::plc::names`), an identifier has no `__` and no trailing `_` (6.1.2), located variables only
+//! `crate::scan::names`), an identifier has no `__` and no trailing `_` (6.1.2), located variables only
 //! in a `PROGRAM`'s `VAR` block of located variables (6.5.5, Annex A `Loc_Var_Decls`), each address
 //! bound once, and `END_STRUCT;` before `END_TYPE` (Annex A `Data_Type_Decl`).
 //!
@@ -16,14 +16,14 @@
 //! so that statements can be counted per section on the text. Identifiers are case-insensitive: they
 //! are kept upper-cased.
 
-use codegen::scan::names::is_keyword;
+use crate::scan::names::is_keyword;
 
 /// A token.
 #[derive(Clone, Debug, PartialEq, Eq)]
 enum Tok {
     Ident(String),
     Int(i64),
-    /// A literal the harness does not compute with (`T#10ms`, `%IX0.2`).
+    /// A literal the interpreter does not compute with (`T#10ms`, `%IX0.2`).
     Word(String),
     Sym(&'static str),
     Section(String),
@@ -638,9 +638,9 @@ impl Parser {
             }
             Some(Tok::Word(w)) => {
                 self.at += 1;
-                duration(&w)
-                    .map(Expr::Time)
-                    .ok_or_else(|| format!("line {}: '{w}' is no duration this harness reads", self.line()))
+                duration(&w).map(Expr::Time).ok_or_else(|| {
+                    format!("line {}: '{w}' is no duration the interpreter reads", self.line())
+                })
             }
             Some(Tok::Ident(k)) if k == "TRUE" || k == "FALSE" => {
                 self.at += 1;

@@ -1,0 +1,137 @@
+//! `codegen run --target plc` as a binary: the PLC program of every example with a `[plc]` section
+//! scanned closed loop by the interpreter, exit 0 with `"violations": 0` in the JSON; the factory and the
+//! cell with full coverage and their scan figures; the same seed giving the same bytes; exit 2 for the
+//! firmware's options. (Exit 1 on a violation: `tests/plc.rs` runs a broken program through the same
+//! `plc::closed_loop::run` the command calls, and the exit status is the QEMU run's `finish`.)
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn codegen(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_codegen")).args(args).output().expect("run codegen")
+}
+
+fn repo(rel: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(rel).display().to_string()
+}
+
+/// `codegen run MANIFEST --target plc --events N --json` and extra `args`: its exit status, its JSON
+/// report and its stdout's bytes.
+fn run(manifest: &str, events: u64, args: &[&str]) -> (Option<i32>, serde_json::Value, Vec<u8>) {
+    let events = events.to_string();
+    let mut all = vec!["run", manifest, "--target", "plc", "--events", &events, "--json"];
+    all.extend(args);
+    let out = codegen(&all);
+    let json = serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("{manifest}: {e}: {}", String::from_utf8_lossy(&out.stderr)));
+    (out.status.code(), json, out.stdout)
+}
+
+/// Every example whose manifest has a `[plc]` section, found in `examples/`.
+fn plc_examples() -> Vec<String> {
+    let mut found = Vec::new();
+    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples");
+    for dir in std::fs::read_dir(&examples).unwrap() {
+        let dir = dir.unwrap().path();
+        let Ok(files) = std::fs::read_dir(&dir) else { continue };
+        for file in files {
+            let file = file.unwrap().path();
+            if file.extension().is_some_and(|e| e == "toml")
+                && std::fs::read_to_string(&file).unwrap().lines().any(|l| l.trim() == "[plc]")
+            {
+                found.push(file.display().to_string());
+            }
+        }
+    }
+    found.sort();
+    found
+}
+
+// See: issue 36 (the contract: every example with a `[plc]` section, 0 violations).
+#[test]
+fn every_plc_example_runs_with_no_violation() {
+    let examples = plc_examples();
+    assert!(examples.len() >= 3, "{examples:?}");
+    for manifest in &examples {
+        let (code, json, _) = run(manifest, 300, &[]);
+        assert_eq!(code, Some(0), "{manifest}: {json}");
+        assert_eq!(json["violations"].as_u64(), Some(0), "{manifest}: {json}");
+        assert_eq!(json["target"].as_str(), Some("plc"), "{manifest}");
+        assert!(json["events"].as_u64().unwrap() >= 300, "{manifest}: {json}");
+    }
+}
+
+// See: issue 36 (done when: the factory and the cell closed loop through `--target plc`, 0 violations
+// and full coverage).
+#[test]
+fn the_factory_and_the_cell_run_clean_with_full_coverage_and_their_scans() {
+    for (manifest, events) in [("examples/factory/factory.toml", 3_000), ("examples/cell/cell.toml", 20_000)]
+    {
+        for encoding in ["int", "bits"] {
+            let what = format!("{manifest} {encoding}");
+            let (code, json, _) = run(&repo(manifest), events, &["--encoding", encoding]);
+            assert_eq!(code, Some(0), "{what}: {json}");
+            assert_eq!((json["schema"].as_u64(), json["violations"].as_u64()), (Some(3), Some(0)), "{what}");
+            assert!(json["full_coverage_at"].is_u64(), "{what}: {json}");
+            assert_eq!(json["uncovered"].as_array().map(Vec::len), Some(0), "{what}: {json}");
+            for line in json["coverage"].as_array().unwrap() {
+                assert_eq!(line["taken"], line["reachable"], "{what}: {line}");
+            }
+            let link = ["lost", "stalls", "reboots", "resyncs", "garbled", "overflows"];
+            for key in link {
+                assert_eq!(json[key].as_u64(), Some(0), "{what}: {key}: {json}");
+            }
+            assert_eq!(json["firmware"]["events_in"], json["uncontrollable"], "{what}");
+            assert_eq!(json["firmware"]["commands_out"], json["commands"], "{what}");
+            let scan = &json["scan"];
+            let (scans, max, bound) = (
+                scan["scans"].as_u64().unwrap(),
+                scan["max_statements"].as_u64().unwrap(),
+                scan["bound_per_scan"].as_u64().unwrap(),
+            );
+            assert!(scans >= json["uncontrollable"].as_u64().unwrap(), "{what}: one edge per scan: {scan}");
+            assert!(0 < max && max <= bound, "{what}: {scan}");
+            assert_eq!(scan["cycle_ms"].as_u64(), Some(10), "{what}");
+            // The PLC's own clock: scans of 10 ms.
+            assert!((json["seconds"].as_f64().unwrap() - scans as f64 * 0.01).abs() < 1e-6, "{what}");
+            eprintln!("{what}: {} events, {scan}", json["events"]);
+        }
+    }
+}
+
+// See: issue 36 (the run is a function of its seed). Known gap: the count of scans (and `seconds`, the
+// PLC clock derived from it) can differ by one between two runs on a loaded machine, at the run's end;
+// everything else is compared byte for byte.
+#[test]
+fn the_same_seed_gives_the_same_json_but_for_the_last_scan() {
+    let manifest = repo("examples/factory/factory.toml");
+    let timed = |mut json: serde_json::Value| {
+        let scans = json["scan"]["scans"].as_u64().unwrap();
+        for key in ["seconds", "events_per_second"] {
+            json[key] = serde_json::Value::Null;
+        }
+        json["scan"]["scans"] = serde_json::Value::Null;
+        (json.to_string(), scans)
+    };
+    let (_, first, _) = run(&manifest, 1_000, &["--seed", "7"]);
+    let (_, again, _) = run(&manifest, 1_000, &["--seed", "7"]);
+    let ((first, a), (again, b)) = (timed(first), timed(again));
+    assert_eq!(first, again);
+    assert!(a.abs_diff(b) <= 1, "scans {a} and {b}");
+    let (_, other, _) = run(&manifest, 1_000, &["--seed", "8"]);
+    let first: serde_json::Value = serde_json::from_str(&first).unwrap();
+    assert_ne!(first["trace_sha256"], other["trace_sha256"], "another seed, another trace");
+}
+
+#[test]
+fn a_firmware_option_is_refused_with_exit_2() {
+    for extra in [["--layout", "ranked"], ["--sampling", "timer"]] {
+        let mut args = vec!["run", "examples/factory/factory.toml", "--target", "plc"];
+        args.extend(extra);
+        let factory = repo("examples/factory/factory.toml");
+        args[1] = &factory;
+        let out = codegen(&args);
+        assert_eq!(out.status.code(), Some(2), "{extra:?}: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(String::from_utf8_lossy(&out.stderr).contains("go with"), "{extra:?}");
+    }
+}
