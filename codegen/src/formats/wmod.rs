@@ -135,8 +135,11 @@ pub(super) struct Graph<'a, 'i> {
     pub nodes: Vec<(&'a str, bool, bool, usize)>,
     /// Its edges: the element, its line, source and target names, and the events labelling it with
     /// their lines.
-    pub edges: Vec<(Node<'a, 'i>, usize, &'a str, &'a str, Vec<(&'a str, usize)>)>,
+    pub edges: Vec<GraphEdge<'a, 'i>>,
 }
+
+/// An edge as written: the element, its line, source and target names, and its events with their lines.
+pub(super) type GraphEdge<'a, 'i> = (Node<'a, 'i>, usize, &'a str, &'a str, Vec<(&'a str, usize)>);
 
 /// Reads the graph of `<SimpleComponent>` `c`.
 pub(super) fn graph<'a, 'i>(

@@ -9,6 +9,9 @@ use crate::formats::builder::Builder;
 use crate::formats::ParseError;
 use crate::model::{Automaton, Kind};
 
+/// A state of an unfolded automaton: its components' states and its variables' values.
+type Key = (Vec<usize>, Vec<i64>);
+
 /// The most states one unfolded automaton may have: a larger product is refused, not built.
 pub const MAX_STATES: usize = 1 << 20;
 
@@ -121,7 +124,7 @@ fn product(file: &Path, efa: &Efa, members: &[usize], vars: &[usize]) -> Result<
     let mut env: Vec<i64> = efa.variables.iter().map(|v| v.initial).collect();
     let values = |env: &[i64]| vars.iter().map(|&v| env[v]).collect::<Vec<i64>>();
     let key = (init, values(&env));
-    let mut seen: HashMap<(Vec<usize>, Vec<i64>), _> = HashMap::new();
+    let mut seen: HashMap<Key, _> = HashMap::new();
     let mut queue = VecDeque::new();
     let first = add_state(&mut b, efa, &comps, vars, &key, &mut env, line)?;
     b.initial(first, line)?;
@@ -148,7 +151,7 @@ fn product(file: &Path, efa: &Efa, members: &[usize], vars: &[usize]) -> Result<
             if enabled.iter().any(Vec::is_empty) {
                 continue;
             }
-            let mut successor: Option<((Vec<usize>, Vec<i64>), usize)> = None;
+            let mut successor: Option<(Key, usize)> = None;
             let mut pick = vec![0usize; holders.len()];
             loop {
                 let chosen: Vec<&Edge> = pick.iter().zip(&enabled).map(|(&i, es)| es[i]).collect();
@@ -228,7 +231,7 @@ fn step(
     vars: &[usize],
     holders: &[usize],
     chosen: &[&Edge],
-) -> Option<(Vec<usize>, Vec<i64>)> {
+) -> Option<Key> {
     let mut next_states = states.to_vec();
     let mut next: Vec<Option<i64>> = vec![None; vars.len()];
     for (&h, edge) in holders.iter().zip(chosen) {
@@ -268,7 +271,7 @@ fn add_state(
     efa: &Efa,
     comps: &[&Component],
     vars: &[usize],
-    key: &(Vec<usize>, Vec<i64>),
+    key: &Key,
     env: &mut [i64],
     line: usize,
 ) -> Result<crate::model::StateId, ParseError> {
