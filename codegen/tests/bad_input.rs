@@ -40,7 +40,16 @@ const CASES: &[(&str, &str)] = &[
     ("wmod/duplicate_component.wmod", "line 25: second component 'M' (first on line 9)"),
     ("wmod/empty.wmod", "line 1: malformed XML: the document does not have a root node"),
     ("wmod/foreach.wmod", "line 9: unsupported: <ForeachComponent Name=\"i\"> (foreach blocks)"),
-    ("wmod/guard.wmod", "line 18: unsupported: <GuardActionBlock> (guards and actions)"),
+    (
+        "wmod/guard.wmod",
+        "line 18: unsupported: <SimpleIdentifier Name=\"y\">: 'y' is not a variable of this module \
+         (constants, enumeration values and events in expressions are not supported)",
+    ),
+    (
+        "wmod/mixed_kinds.wmod",
+        "line 14: unsupported: 'S' (spec) and 'M' (plant) share variables; variables shared by \
+         components of different kinds are not supported",
+    ),
     (
         "wmod/nondeterministic.wmod",
         "line 23: nondeterministic: state 'idle' has event 'go' to both 'busy' and 'idle'",
@@ -58,7 +67,16 @@ const CASES: &[(&str, &str)] = &[
     ),
     ("wmod/unknown_event.wmod", "line 20: event 'stop' is not declared in <EventDeclList>"),
     ("wmod/unknown_node.wmod", "line 19: unknown state 'broken'"),
-    ("wmod/variable.wmod", "line 9: unsupported: <VariableComponent Name=\"x\"> (variables)"),
+    (
+        "wmod/two_initial_values.wmod",
+        "line 11: unsupported: <VariableInitial>: the initial predicate of 'x' holds for several values; \
+         exactly one is supported",
+    ),
+    (
+        "wmod/unbounded.wmod",
+        "line 10: unsupported: <SimpleIdentifier Name=\"N\">: the range of 'x' is unbounded or not constant",
+    ),
+    ("wmod/variable.wmod", "line 9: variable 'x' has no <VariableRange>"),
     ("xmd/dangling_event.xmd", "line 9: transition 2 refers to unknown event '9'"),
     ("xmd/dangling_state.xmd", "line 9: transition 2 refers to unknown state '7'"),
     ("xmd/duplicate_state_name.xmd", "line 5: duplicate state name 'idle'"),

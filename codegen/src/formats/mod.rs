@@ -24,6 +24,7 @@ mod builder;
 mod contract;
 mod decode;
 pub mod dot;
+pub mod efa;
 mod error;
 mod faudes_xml;
 pub mod gen;

@@ -7,9 +7,11 @@
 //! SUPERVISOR) sets [`Kind`]. Nodes list their propositions in an `<EventList>`; a component that
 //! mentions `:accepting` nowhere has every state marked (Supremica's rule).
 //!
-//! Only plain modules are read. Variables, parameters, constants, `foreach` blocks, instances, indexed
-//! names, guards and actions, group nodes and other propositions change the meaning of the graph;
-//! they are refused with the element and its line, never flattened silently. Layout elements are skipped.
+//! A module with variables (`<VariableComponent>`) or guards and actions (`<GuardActionBlock>`) is an
+//! extended finite automaton: [`efa`] reads it and unfolds the variables into plain automata, exactly.
+//! Parameters, constants, `foreach` blocks, instances, indexed names, group nodes and other
+//! propositions change the meaning of the graph; they are refused with the element and its line,
+//! never flattened silently. Layout elements are skipped.
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -18,6 +20,7 @@ use std::path::Path;
 use roxmltree::{Document, Node};
 
 use super::builder::Builder;
+use super::efa;
 use super::xml::{self, escape};
 use super::ParseError;
 use crate::model::{Automaton, EventTable, Kind};
@@ -71,7 +74,8 @@ pub fn read(file: &Path, text: &str) -> Result<Vec<Automaton>, ParseError> {
     }
     for n in root.descendants().filter(Node::is_element) {
         let name = n.tag_name().name();
-        if !PLAIN.contains(&name) && !LAYOUT.contains(&name) && name != "EventList" {
+        let known = PLAIN.contains(&name) || LAYOUT.contains(&name) || efa::wmod::ELEMENTS.contains(&name);
+        if !known && name != "EventList" {
             return Err(ParseError::unsupported(file, line(n), format!("{} ({})", element(n), why(name))));
         }
     }
@@ -93,6 +97,8 @@ pub fn read(file: &Path, text: &str) -> Result<Vec<Automaton>, ParseError> {
         }
     }
     let mut automata = Vec::new();
+    let efa =
+        root.descendants().any(|n| n.has_tag_name("VariableComponent") || n.has_tag_name("GuardActionBlock"));
     let mut seen: HashMap<&str, usize> = HashMap::new();
     for c in root.descendants().filter(|n| n.has_tag_name("SimpleComponent")) {
         let name = attr(file, &doc, c, "Name")?;
@@ -106,18 +112,43 @@ pub fn read(file: &Path, text: &str) -> Result<Vec<Automaton>, ParseError> {
                 format!("second component '{name}' (first on line {first})"),
             ));
         }
-        automata.push(component(file, &doc, c, &events, &propositions)?);
+        if !efa {
+            automata.push(component(file, graph(file, &doc, c, &events, &propositions)?)?);
+        }
+    }
+    if efa {
+        return efa::wmod::read(file, &doc, root, &events, &propositions);
     }
     Ok(automata)
 }
 
-fn component(
+/// A component's graph as written: role, alphabet, nodes and edges, checked against the module's
+/// declarations but not yet built (plain and EFA components share it).
+pub(super) struct Graph<'a, 'i> {
+    /// The component's name.
+    pub name: &'a str,
+    /// Its role.
+    pub kind: Kind,
+    /// Its alphabet in declaration order: name, controllable, line first used.
+    pub alphabet: Vec<(&'a str, bool, usize)>,
+    /// Its nodes: name, marked, initial, line.
+    pub nodes: Vec<(&'a str, bool, bool, usize)>,
+    /// Its edges: the element, its line, source and target names, and the events labelling it with
+    /// their lines.
+    pub edges: Vec<GraphEdge<'a, 'i>>,
+}
+
+/// An edge as written: the element, its line, source and target names, and its events with their lines.
+pub(super) type GraphEdge<'a, 'i> = (Node<'a, 'i>, usize, &'a str, &'a str, Vec<(&'a str, usize)>);
+
+/// Reads the graph of `<SimpleComponent>` `c`.
+pub(super) fn graph<'a, 'i>(
     file: &Path,
-    doc: &Document,
-    c: Node,
-    events: &[(&str, bool)],
+    doc: &'a Document<'i>,
+    c: Node<'a, 'i>,
+    events: &[(&'a str, bool)],
     propositions: &[&str],
-) -> Result<Automaton, ParseError> {
+) -> Result<Graph<'a, 'i>, ParseError> {
     let line = |n: Node| xml::line(doc, n);
     let kind = match attr(file, doc, c, "Kind")? {
         "PLANT" => Kind::Plant,
@@ -131,9 +162,9 @@ fn component(
             ))
         }
     };
-    let mut b = Builder::new(file, attr(file, doc, c, "Name")?, kind);
-    let graph = c.children().find(|n| n.has_tag_name("Graph"));
-    let Some(graph) = graph else { return b.finish() };
+    let mut g =
+        Graph { name: attr(file, doc, c, "Name")?, kind, alphabet: vec![], nodes: vec![], edges: vec![] };
+    let Some(graph) = c.children().find(|n| n.has_tag_name("Graph")) else { return Ok(g) };
     let labels = |parent| labels(file, doc, parent);
     let nodes = children(graph, "NodeList", "SimpleNode");
     let edges = children(graph, "EdgeList", "Edge");
@@ -163,13 +194,12 @@ fn component(
     }
     for &(name, controllable) in events {
         if let Some(&at) = used.get(name) {
-            b.event(name, controllable, at)?;
+            g.alphabet.push((name, controllable, at));
         }
     }
 
     let mut any_accepting = accepting_in_alphabet;
     for &n in &nodes {
-        let at = line(n);
         let mut marked = false;
         for p in n
             .children()
@@ -190,26 +220,37 @@ fn component(
             marked = true;
         }
         any_accepting |= marked;
-        let s = b.state(attr(file, doc, n, "Name")?, marked, at)?;
-        if n.attribute("Initial") == Some("true") {
+        let initial = n.attribute("Initial") == Some("true");
+        g.nodes.push((attr(file, doc, n, "Name")?, marked, initial, line(n)));
+    }
+    if !any_accepting {
+        g.nodes.iter_mut().for_each(|n| n.1 = true);
+    }
+    for &e in &edges {
+        let names = labels(e)?;
+        if let Some((_, at)) = names.iter().find(|(name, _)| *name == ACCEPTING) {
+            return Err(ParseError::syntax(file, *at, format!("proposition {ACCEPTING} labels an edge")));
+        }
+        g.edges.push((e, line(e), attr(file, doc, e, "Source")?, attr(file, doc, e, "Target")?, names));
+    }
+    Ok(g)
+}
+
+fn component(file: &Path, g: Graph) -> Result<Automaton, ParseError> {
+    let mut b = Builder::new(file, g.name, g.kind);
+    for &(name, controllable, at) in &g.alphabet {
+        b.event(name, controllable, at)?;
+    }
+    for &(name, marked, initial, at) in &g.nodes {
+        let s = b.state(name, marked, at)?;
+        if initial {
             b.initial(s, at)?;
         }
     }
-    if !any_accepting {
-        b.mark_all();
-    }
-    for &e in &edges {
-        let at = line(e);
-        let source = b.state_named(attr(file, doc, e, "Source")?, at)?;
-        let target = b.state_named(attr(file, doc, e, "Target")?, at)?;
-        for (name, label_at) in labels(e)? {
-            if name == ACCEPTING {
-                return Err(ParseError::syntax(
-                    file,
-                    label_at,
-                    format!("proposition {ACCEPTING} labels an edge"),
-                ));
-            }
+    for &(_, at, source, target, ref names) in &g.edges {
+        let source = b.state_named(source, at)?;
+        let target = b.state_named(target, at)?;
+        for &(name, label_at) in names {
             let event = b.event_named(name, label_at)?;
             b.transition(source, event, target, label_at);
         }
@@ -236,7 +277,7 @@ fn labels<'a>(
 }
 
 /// `<Tag Name="...">` for messages.
-fn element(n: Node) -> String {
+pub(super) fn element(n: Node) -> String {
     match n.attribute("Name") {
         Some(name) => format!("<{} Name=\"{name}\">", n.tag_name().name()),
         None => format!("<{}>", n.tag_name().name()),
@@ -246,8 +287,6 @@ fn element(n: Node) -> String {
 /// Why an element is refused.
 fn why(tag: &str) -> &'static str {
     match tag {
-        "VariableComponent" | "VariableRange" | "VariableInitial" | "VariableMarking" => "variables",
-        "GuardActionBlock" | "Guards" | "Actions" => "guards and actions",
         "ForeachComponent" | "ForeachEvent" => "foreach blocks",
         "Instance" | "ParameterBinding" | "ParameterList" | "SimpleParameter" | "EventParameter"
         | "IntParameter" => "parameters and module instances",
@@ -258,7 +297,12 @@ fn why(tag: &str) -> &'static str {
     }
 }
 
-fn attr<'a>(file: &Path, doc: &Document, n: Node<'a, '_>, name: &str) -> Result<&'a str, ParseError> {
+pub(super) fn attr<'a>(
+    file: &Path,
+    doc: &Document,
+    n: Node<'a, '_>,
+    name: &str,
+) -> Result<&'a str, ParseError> {
     n.attribute(name).ok_or_else(|| {
         ParseError::syntax(
             file,
@@ -393,13 +437,15 @@ mod tests {
     }
 
     #[test]
-    fn guards_are_refused_by_element_and_line() {
+    fn unsupported_guard_operators_are_refused_by_element_and_line() {
         let text = module(&MACHINE.replace(
             "<LabelBlock><SimpleIdentifier Name=\"go\"/></LabelBlock>",
-            "<LabelBlock><SimpleIdentifier Name=\"go\"/></LabelBlock>\n<GuardActionBlock/>",
+            "<LabelBlock><SimpleIdentifier Name=\"go\"/></LabelBlock>\n<GuardActionBlock><Guards>\
+             <BinaryExpression Operator=\"^\"><IntConstant Value=\"1\"/><IntConstant Value=\"1\"/>\
+             </BinaryExpression></Guards></GuardActionBlock>",
         ));
         let msg = read(Path::new("m.wmod"), &text).unwrap_err().to_string();
-        assert_eq!(msg, "m.wmod: line 13: unsupported: <GuardActionBlock> (guards and actions)");
+        assert_eq!(msg, "m.wmod: line 13: unsupported: <BinaryExpression>: operator '^'");
     }
 
     #[test]

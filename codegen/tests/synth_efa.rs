@@ -1,0 +1,105 @@
+//! Supremica modules with variables (EFA): the published kyllercg buffer unfolds to the counter it
+//! models, and an EFA specification synthesises, with either engine, the supervisor its plain twin
+//! gives; the contract (`synth MODULE --monolithic -o DIR --format wmod`, then `convert` to a
+//! libFAUDES `.gen`) as written.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use codegen::formats::{read_path, wmod};
+use codegen::model::{Automaton, Kind};
+use codegen::synth::language::equal;
+
+fn codegen(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_codegen")).args(args).output().expect("run codegen")
+}
+
+fn repo(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(rel)
+}
+
+/// The counter `put`/`get` over 0..=max, marked at 0.
+fn counter(max: usize) -> Automaton {
+    let mut a = Automaton::new("counter", Kind::Plant);
+    let states: Vec<_> = (0..=max).map(|k| a.add_state(format!("c{k}"), k == 0).unwrap()).collect();
+    let (get, put) = (a.add_event("get", true).unwrap(), a.add_event("put", true).unwrap());
+    for k in 0..max {
+        a.add_transition(states[k], put, states[k + 1]);
+        a.add_transition(states[k + 1], get, states[k]);
+    }
+    a.initial = Some(states[0]);
+    a
+}
+
+/// The kyllercg module with only the component called `keep`.
+fn only(text: &str, keep: &str, drop: &str) -> Automaton {
+    let open = format!("<SimpleComponent Kind=\"PLANT\" Name=\"{drop}\">");
+    let start = text.find(&open).unwrap();
+    let end = start + text[start..].find("</SimpleComponent>").unwrap() + "</SimpleComponent>".len();
+    let text = format!("{}{}", &text[..start], &text[end..]);
+    let mut a = wmod::read(Path::new("kyllercg_buffer.wmod"), &text).unwrap();
+    assert_eq!(a.len(), 1);
+    assert_eq!(a[0].name, keep);
+    a.remove(0)
+}
+
+#[test]
+fn kyllercg_buffer_and_buffer_min_are_the_same_counter_0_to_3() {
+    let file = repo("codegen/tests/data/efa/kyllercg_buffer.wmod");
+    let both = read_path(&file).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(both.len(), 1, "the two components share item_qty: one product");
+    assert_eq!((both[0].name.as_str(), both[0].kind), ("Buffer_Min||Buffer", Kind::Plant));
+    assert_eq!((both[0].states.len(), both[0].transitions.len(), both[0].marked_count()), (6, 10, 1));
+    let bytes = std::fs::read(&file).unwrap();
+    let text: String = bytes.iter().map(|&b| char::from(b)).collect(); // windows-1252 comment only
+    let buffer = only(&text, "Buffer", "Buffer_Min");
+    let buffer_min = only(&text, "Buffer_Min", "Buffer");
+    assert_eq!(buffer_min.states.len(), 4);
+    for a in [&both[0], &buffer, &buffer_min] {
+        assert_eq!(equal(a, &counter(3)).unwrap(), None, "{}", a.name);
+    }
+}
+
+fn synth(module: &Path, engine: &str, dir: &Path) -> Automaton {
+    let _ = std::fs::remove_dir_all(dir);
+    let out = codegen(&[
+        "synth",
+        module.to_str().unwrap(),
+        "--monolithic",
+        "--engine",
+        engine,
+        "-o",
+        dir.to_str().unwrap(),
+        "--format",
+        "wmod",
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let stem = module.file_stem().unwrap().to_str().unwrap();
+    let written = dir.join(format!("{stem}.wmod"));
+    let mut sups: Vec<Automaton> = read_path(&written)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .into_iter()
+        .filter(|a| a.kind == Kind::Supervisor)
+        .collect();
+    assert_eq!(sups.len(), 1);
+    // The contract: the module converts to a libFAUDES generator.
+    let gen = dir.join("supervisor.gen");
+    let module = dir.join("supervisor_only.wmod");
+    std::fs::write(&module, wmod::write("s", &sups).unwrap()).unwrap();
+    let out = codegen(&["convert", module.to_str().unwrap(), gen.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let back = read_path(&gen).unwrap_or_else(|e| panic!("{e}")).remove(0);
+    assert_eq!(equal(&back, &sups[0]).unwrap(), None);
+    sups.remove(0)
+}
+
+#[test]
+fn an_efa_spec_synthesises_its_plain_twins_supervisor_with_both_engines() {
+    let tmp = Path::new(env!("CARGO_TARGET_TMPDIR")).join("synth_efa");
+    let plain = synth(&repo("codegen/tests/data/efa/buffer_plain.wmod"), "explicit", &tmp.join("plain"));
+    assert_eq!((plain.states.len(), plain.transitions.len()), (10, 16));
+    for engine in ["explicit", "symbolic"] {
+        let efa = synth(&repo("examples/efa/buffer.wmod"), engine, &tmp.join(engine));
+        assert_eq!(equal(&efa, &plain).unwrap(), None, "{engine}");
+    }
+}
