@@ -32,6 +32,7 @@ mod gen_tokens;
 pub(crate) mod hash;
 pub mod nadzoru;
 pub mod wmod;
+mod wmod_graph;
 pub mod xmd;
 mod xml;
 

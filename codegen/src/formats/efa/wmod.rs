@@ -11,7 +11,7 @@ use roxmltree::{Document, Node};
 
 use super::expr::{Action, AssignOp, BinaryOp, Expr, UnaryOp};
 use super::{Component, Edge, Efa, Variable};
-use crate::formats::wmod::{attr, element, graph};
+use crate::formats::wmod_graph::{attr, element, graph};
 use crate::formats::{xml, ParseError};
 use crate::model::{Automaton, ModelError};
 
