@@ -58,7 +58,7 @@ pub struct Source {
 }
 
 impl Source {
-    /// The generic files of the program ([`write`]).
+    /// The generic files of the program ([`write()`]).
     pub fn files(&self) -> Result<Vec<File>, Violation> {
         write(&self.program, &self.header)
     }
