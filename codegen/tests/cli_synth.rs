@@ -120,3 +120,27 @@ fn a_small_memory_limit_stops_a_growing_product_cleanly() {
     let args: Vec<&str> = args.iter().copied().filter(|a| *a != "--memory-limit" && *a != "1M").collect();
     assert!(codegen(&args).status.success());
 }
+
+#[test]
+fn synth_says_which_specifications_are_controllable_as_written_the_rtpn_papers_all_but_the_last_two() {
+    let net1 = repo("examples/station-rtpn/net1.toml");
+    let out = codegen(&["synth", &net1, "--json"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let specs = json["specifications"].as_array().unwrap();
+    let verdicts: Vec<(&str, bool)> =
+        specs.iter().map(|s| (s["name"].as_str().unwrap(), s["controllable"].as_bool().unwrap())).collect();
+    assert_eq!(verdicts.len(), 7);
+    assert!(verdicts[..5].iter().all(|&(_, c)| c), "{verdicts:?}");
+    assert_eq!(&verdicts[5..], [("piston_out_arm_away", false), ("arm_left_piston_in", false)]);
+    // Each refusal names a word, the state it reaches and the uncontrollable event refused there.
+    let refusal = &specs[5]["refusal"];
+    assert_eq!(refusal["event"], "sf1");
+    assert_eq!(refusal["trace"], serde_json::json!(["af1", "sb0"]));
+    let text = String::from_utf8(codegen(&["synth", &net1]).stdout).unwrap();
+    assert!(
+        text.contains("controllable as written (each specification against its local plant): 5 of 7"),
+        "{text}"
+    );
+    assert!(text.contains("  not arm_left_piston_in: after af1 sb0 sf1 ar1 sl0 al1 ar0,"), "{text}");
+}

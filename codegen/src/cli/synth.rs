@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 use codegen::formats::write_path;
 use codegen::model::{Automaton, Kind};
+use codegen::synth::as_written::{AsWritten, Verdict};
 use codegen::synth::{self, Config, LocalModularResult, Supervisor};
 use serde_json::json;
 
@@ -61,7 +62,8 @@ pub struct Args {
     #[arg(long, value_enum, default_value_t = BddOrder::EventGraph)]
     bdd_order: BddOrder,
     /// Print JSON: schema, supervisors (name, specs, plants, states, transitions), nonconflicting, merged,
-    /// total_states, total_transitions (with --reduce, each supervisor's unreduced_states,
+    /// total_states, total_transitions, specifications (name, local_plant, controllable as written,
+    /// refusal, undecided) (with --reduce, each supervisor's unreduced_states,
     /// unreduced_transitions and lower_bound; with --condat, condat: supervisor → state → disabled events).
     #[arg(long)]
     json: bool,
@@ -167,17 +169,36 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
         }
     }
     let conflict = if nonconflicting { None } else { Some(Conflict::find(&rows, &cfg)?) };
+    let as_written = synth::as_written::specifications(&plants, &specs, &cfg)?;
     let mut out = std::io::stdout().lock();
     if args.json {
         let mut value = to_json(&name, &rows, nonconflicting, &merged);
         value["engine"] = json!(if ran_symbolic { "symbolic" } else { "explicit" });
+        value["specifications"] = as_written
+            .iter()
+            .map(|v| {
+                json!({
+                    "name": v.spec,
+                    "local_plant": v.plants,
+                    "controllable": v.controllable(),
+                    "refusal": match &v.verdict {
+                        Verdict::Refuses(r) => json!({ "trace": r.trace, "state": r.state, "event": r.event }),
+                        _ => serde_json::Value::Null,
+                    },
+                    "undecided": match &v.verdict {
+                        Verdict::Undecided(why) => json!(why),
+                        _ => serde_json::Value::Null,
+                    },
+                })
+            })
+            .collect();
         if let Some(c) = &conflict {
             value["conflict"] = json!({ "supervisors": c.supervisors, "trace": c.trace, "state": c.state });
         }
         let text = serde_json::to_string_pretty(&value)?;
         writeln!(out, "{text}")?;
     } else {
-        write_table(&mut out, &rows, nonconflicting, &merged)?;
+        write_table(&mut out, &rows, &as_written, nonconflicting, &merged)?;
         if let Some(c) = &conflict {
             writeln!(out, "{c}")?;
         }
@@ -345,6 +366,7 @@ fn write_condat(out: &mut impl Write, sup: &Automaton, data: &[Vec<String>]) -> 
 fn write_table(
     out: &mut impl Write,
     rows: &[Row],
+    as_written: &[AsWritten],
     nonconflicting: bool,
     merged: &[Vec<String>],
 ) -> std::io::Result<()> {
@@ -396,6 +418,30 @@ fn write_table(
             line.push_str("  ");
         }
         writeln!(out, "{}", line.trim_end())?;
+    }
+    let controllable = as_written.iter().filter(|v| v.controllable() == Some(true)).count();
+    writeln!(
+        out,
+        "controllable as written (each specification against its local plant): {controllable} of {}",
+        as_written.len()
+    )?;
+    for v in as_written {
+        match &v.verdict {
+            Verdict::Controllable => {}
+            Verdict::Refuses(r) => {
+                let after = if r.trace.is_empty() {
+                    String::from("initially")
+                } else {
+                    format!("after {}", r.trace.join(" "))
+                };
+                writeln!(
+                    out,
+                    "  not {}: {after}, in state {}, it refuses the uncontrollable '{}' its plant generates",
+                    v.spec, r.state, r.event
+                )?;
+            }
+            Verdict::Undecided(why) => writeln!(out, "  undecided {}: {why}", v.spec)?,
+        }
     }
     for group in merged {
         writeln!(out, "merged: {} (their supervisors conflicted)", group.join(" + "))?;

@@ -15,6 +15,7 @@ use std::collections::HashMap;
 
 use crate::model::{Automaton, Kind};
 
+use super::as_written::shares_event;
 use super::product::tuple_name;
 use super::supc::{supc_dfa, Synthesised};
 use super::verify::first_blocking;
@@ -93,11 +94,7 @@ impl Run<'_> {
     fn plants_of(&self, group: &[usize]) -> Vec<usize> {
         (0..self.plants.len())
             .filter(|&i| {
-                !self.local
-                    || group.iter().any(|&j| {
-                        let spec = self.spec_dfa(j);
-                        self.plant_dfa(i).alphabet.iter().any(|&e| spec.has_event(e))
-                    })
+                !self.local || group.iter().any(|&j| shares_event(self.plant_dfa(i), self.spec_dfa(j)))
             })
             .collect()
     }

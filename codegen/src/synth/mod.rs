@@ -19,12 +19,14 @@
 //! - [`reduce()`]: supervisor reduction (Su–Wonham control congruence, as TCT `supreduce`).
 //! - [`deploy::deploy`]: the supervisors a project runs (full, reduced, monolithic, monolithic reduced),
 //!   proven to give the full set's closed loop.
+//! - [`as_written`]: which specifications are controllable as written, against their local plants.
 //! - [`condat()`]: the control data (TCT `condat`): per supervisor state, the controllable events it disables.
 //!
 //! The worst case is the product: `n` components of `k` states can reach `k^n` states. [`Config::state_limit`]
 //! bounds it and the walk stops with [`SynthError::StateLimit`] naming the limit.
 
 mod architecture;
+pub mod as_written;
 mod condat;
 mod config;
 pub mod deploy;

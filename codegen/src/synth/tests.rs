@@ -204,6 +204,38 @@ fn cfg() -> Config {
     Config::default()
 }
 
+/// The shortest word (breadth-first over the words of `sigma`, each tuple of states visited once) that
+/// `plants` ‖ `spec` generates and after which the plants generate an uncontrollable event of `sigma` the
+/// specification refuses; with that event.
+fn first_refusal(plants: &[&Automaton], spec: &Automaton, sigma: &[String]) -> Option<(Word, String)> {
+    let all: Vec<&Automaton> = plants.iter().copied().chain([spec]).collect();
+    let mut seen = BTreeSet::new();
+    let mut frontier: Vec<Word> = vec![vec![]];
+    while !frontier.is_empty() {
+        let mut next = Vec::new();
+        for w in frontier {
+            let Some(tuple) = tuple_after(&all, &w) else { continue };
+            if !seen.insert(tuple) {
+                continue;
+            }
+            for e in sigma {
+                let mut x = w.clone();
+                x.push(e.clone());
+                // The plants generate only events of their alphabets.
+                let generated =
+                    plants.iter().any(|g| g.event_id(e).is_some()) && run_all(plants, &x).is_some();
+                let uncontrollable = EVENTS.iter().any(|&(n, c)| n == e && !c);
+                if uncontrollable && generated && run_all(&all, &x).is_none() {
+                    return Some((w, e.clone()));
+                }
+                next.push(x);
+            }
+        }
+        frontier = next;
+    }
+    None
+}
+
 fn plant_pool() -> Vec<usize> {
     vec![0, 1, 2, 3, 4]
 }
@@ -590,4 +622,35 @@ fn naive_supc(plants: &[Automaton], spec: &Automaton) -> Automaton {
         a.states.clear();
     }
     a
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    #[test]
+    fn a_specification_is_controllable_as_written_unless_a_shortest_word_meets_a_refused_uncontrollable_event(
+        g1 in automaton("G1", Kind::Plant, vec![0, 2], 3),
+        g2 in automaton("G2", Kind::Plant, vec![1, 3], 3),
+        e in automaton("E", Kind::Spec, vec![0, 1, 2, 3], 4),
+    ) {
+        let verdict = as_written::specifications(&[g1.clone(), g2.clone()], std::slice::from_ref(&e), &cfg()).unwrap();
+        let v = &verdict[0];
+        // The local plant: the plants sharing an event with the specification.
+        let local: Vec<&Automaton> =
+            [&g1, &g2].into_iter().filter(|g| g.events.iter().any(|x| e.event_id(&x.name).is_some())).collect();
+        let names: Vec<String> = local.iter().map(|g| g.name.clone()).collect();
+        prop_assert_eq!(&v.plants, &names);
+        let mut parts = local.clone();
+        parts.push(&e);
+        let sigma = alphabet(&parts);
+        let expected = first_refusal(&local, &e, &sigma);
+        prop_assert_eq!(v.controllable(), Some(expected.is_none()));
+        if let (as_written::Verdict::Refuses(r), Some((word, _))) = (&v.verdict, &expected) {
+            // A shortest word, and what it says holds: the plants generate the event, the specification refuses it.
+            prop_assert_eq!(r.trace.len(), word.len());
+            let mut x = r.trace.clone();
+            x.push(r.event.clone());
+            prop_assert!(run_all(&local, &x).is_some() && run_all(&parts, &x).is_none(), "{:?}", r);
+        }
+    }
 }
