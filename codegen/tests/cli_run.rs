@@ -38,7 +38,8 @@ fn a_clean_run_exits_0_with_the_json_report() {
 fn the_pico_link_build_runs_in_lock_step_and_takes_the_qemu_runs_trace() {
     let factory = repo("examples/factory/factory.toml");
     let json_of = |target: &str| {
-        let out = codegen(&["run", &factory, "--target", target, "--events", "600", "--seed", "2", "--json"], None);
+        let out =
+            codegen(&["run", &factory, "--target", target, "--events", "600", "--seed", "2", "--json"], None);
         assert_eq!(out.status.code(), Some(0), "{target}: {}", String::from_utf8_lossy(&out.stderr));
         serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
     };
@@ -57,7 +58,11 @@ fn the_pico_link_build_runs_in_lock_step_and_takes_the_qemu_runs_trace() {
     ] {
         let out = codegen(&[&["run", factory.as_str(), "--events", "10"][..], args].concat(), None);
         assert_eq!(out.status.code(), Some(2), "{args:?}");
-        assert!(String::from_utf8_lossy(&out.stderr).contains(says), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains(says),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
     }
 }
 

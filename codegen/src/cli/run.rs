@@ -188,7 +188,9 @@ pub fn run(mut args: Args) -> Result<ExitCode, Error> {
 /// `run --target rp2040 --io link`: the Pico's link build over UART0, in lock-step as under QEMU.
 fn run_rp2040_link(args: Args, project: Project) -> Result<ExitCode, Error> {
     if args.sampling.is_some() || args.sample_period_us.is_some() {
-        return Err("--sampling and --sample-period-us go with --io pins (the link build reads no pins)".into());
+        return Err(
+            "--sampling and --sample-period-us go with --io pins (the link build reads no pins)".into()
+        );
     }
     // Tables the Pico cannot run are refused before anything is built, naming what would fit.
     project.fit(Core::CortexM0Plus, &Core::CortexM0Plus.flash())?;
