@@ -3,22 +3,26 @@
 //! for the Cortex-M3 and run under QEMU, and the Pico application on an emulated RP2040, its vehicles'
 //! sensors as levels on shared pins; and the full set (7 902 states, its merged supervisor 7 800), whose
 //! tables are data checked at emit time and by the build script, so it builds in about a minute from a
-//! cold cache. On the Pico only safety and the zones' coverage are asserted, not liveness: through pins
-//! the plant cannot make the firmware wait (the RP2040 harness has no STEP), and in real time the loop
-//! settles into a cycle that does not come back to the marked state (QEMU does the same in real time
-//! without steering: `codegen run examples/agv/agv.toml --timing realtime --guide 0`).
+//! cold cache — under QEMU, and as the Pico's link build on the emulated RP2040 (its `indexed` tables,
+//! 449 188 B, fit the Pico's flash only). Through the pins only safety and the zones' coverage are
+//! asserted, not liveness: through pins the plant cannot make the firmware wait (the RP2040 harness has
+//! no STEP there), and in real time the loop settles into a cycle that does not come back to the marked
+//! state (QEMU does the same in real time without steering: `codegen run examples/agv/agv.toml --timing
+//! realtime --guide 0`). Over the link build's UART0 the run is in lock-step, and liveness is asserted.
 
 use codegen::closed_loop::Options;
 use codegen::config::{SamplingSpec, SupervisorChoice};
 use codegen::monitor::Report;
 use codegen::project::Project;
 use codegen::synth::Config;
-use end_to_end::{assert_clean, example, pico_closed_loop, qemu_closed_loop};
+use end_to_end::{assert_clean, example, pico_closed_loop, pico_link_closed_loop, qemu_closed_loop};
 
 /// Events of a QEMU run (seed 1: 613 of the merged supervisor's 614 reachable controllable transitions
 /// taken, every other supervisor's all), and of a Pico run (slower: the RP2040 is emulated in JavaScript).
 const EVENTS: u64 = 40_000;
 const PICO_EVENTS: u64 = 10_000;
+/// Events of the full set's run on the RP2040 over its link (lock-step; see the test for its cost).
+const PICO_LINK_EVENTS: u64 = 3_000;
 
 /// Safe, a clean link, marked states visited throughout, and at least `percent` % of every
 /// supervisor's reachable controllable transitions taken (full coverage of the 614 of the merged
@@ -78,4 +82,21 @@ fn the_full_agv_set_is_safe_and_live_under_qemu() {
         "agv full, QEMU",
         60,
     );
+}
+
+/// The full set (the merged supervisor's 7 800 states) as the Pico's link build on the emulated RP2040,
+/// lock-step over UART0: safe, in step, and live. Coverage is not asserted: the merged supervisor's
+/// 4 408 reachable controllable transitions take more events than CI spends (docs/layouts.md).
+#[test]
+fn the_full_agv_set_is_safe_and_live_on_the_pico_over_its_link() {
+    let mut project = Project::load(&example("agv/agv.toml")).unwrap();
+    project.choose_supervisors(SupervisorChoice::Full, &Config::default()).unwrap();
+    let report = pico_link_closed_loop(&project, &Options::for_events(PICO_LINK_EVENTS));
+    let what = "agv full, RP2040 link";
+    eprintln!("{what}: {report}");
+    assert_eq!(report.target, "rp2040", "{what}");
+    assert!(report.events >= PICO_LINK_EVENTS, "{what}: {report}");
+    assert_clean(&report, what);
+    assert!(report.marked_visits >= report.events / 500, "{what}: {report}");
+    assert!(report.longest_marked_gap < 2_000, "{what}: {report}");
 }

@@ -1,5 +1,6 @@
-//! `codegen run` as a binary: a clean run's exit status and JSON, and exit 2 with a message for a file
-//! that is no project and for an emulator that cannot start. (Exit 1 on a violation: `tests/mutants.rs`
+//! `codegen run` as a binary: a clean run's exit status and JSON (under QEMU, and on the emulated
+//! RP2040 over its link), and exit 2 with a message for a file that is no project, for options that go
+//! with another target and for an emulator that cannot start. (Exit 1 on a violation: `tests/mutants.rs`
 //! kills wrong firmware through the same `run_under_qemu` the command calls.)
 
 use std::path::Path;
@@ -27,6 +28,42 @@ fn a_clean_run_exits_0_with_the_json_report() {
     assert_eq!((json["name"].as_str(), json["violations"].as_u64()), (Some("factory"), Some(0)));
     assert!(json["events"].as_u64().unwrap() >= 600);
     assert_eq!(json["firmware"]["events_in"], json["uncontrollable"]);
+}
+
+/// `run --target rp2040` runs the Pico's link build over UART0 in lock-step rounds (the default `--io
+/// link`): the QEMU run's report, liveness included, and — the trace being a function of the seeds alone
+/// in lock-step — the very trace the Cortex-M3 takes. `--io` is refused beside another target, and the
+/// pin options beside the link build.
+#[test]
+fn the_pico_link_build_runs_in_lock_step_and_takes_the_qemu_runs_trace() {
+    let factory = repo("examples/factory/factory.toml");
+    let json_of = |target: &str| {
+        let out =
+            codegen(&["run", &factory, "--target", target, "--events", "600", "--seed", "2", "--json"], None);
+        assert_eq!(out.status.code(), Some(0), "{target}: {}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
+    };
+    let (qemu, pico) = (json_of("qemu"), json_of("rp2040"));
+    assert_eq!((pico["target"].as_str(), pico["violations"].as_u64()), (Some("rp2040"), Some(0)), "{pico}");
+    assert!(pico["board"].is_null(), "no pin figures over the link: {pico}");
+    assert!(pico["marked_visits"].as_u64().unwrap() > 0, "liveness measured: {pico}");
+    assert_eq!(pico["firmware"]["events_in"], pico["uncontrollable"], "{pico}");
+    assert!(pico["full_coverage_at"].as_u64().is_some(), "{pico}");
+    assert_eq!(pico["events"], qemu["events"], "{pico}\n{qemu}");
+    assert_eq!(pico["trace_sha256"], qemu["trace_sha256"], "one trace on both cores: {pico}\n{qemu}");
+
+    for (args, says) in [
+        (&["--target", "qemu", "--io", "pins"][..], "--io goes with --target rp2040"),
+        (&["--target", "rp2040", "--sampling", "timer"][..], "go with --io pins"),
+    ] {
+        let out = codegen(&[&["run", factory.as_str(), "--events", "10"][..], args].concat(), None);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains(says),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
 }
 
 #[test]

@@ -2,7 +2,7 @@
 with `codegen emit examples/cell/cell.toml --layout L`, then on the Cortex-M3 (QEMU lm3s6965evb) the runtime's
 code and tables and the instructions per uncontrollable event and per decision (`cargo qemu-cost`, exact
 under -icount), and on the emulated RP2040's Cortex-M0+ the Pico image's flash and the instructions per call
-(`codegen run --target rp2040 --layout L`). Prints a Markdown table. `--supervisors` measures another
+(`codegen run --target rp2040 --io pins --layout L`). Prints a Markdown table. `--supervisors` measures another
 deployment of the cell (reduced, monolithic, monolithic-reduced: the set `emit` and `run` deploy); with
 `--expected FILE` the figures of the one layout measured are checked against FILE (the full set's default
 layout is checked by cost.py, footprint.py and pico_cost.py).
@@ -58,7 +58,7 @@ def measure(layout, supervisors, target_dir, pico_events):
         m0 = pico_cost.footprint(rows)
     finally:
         del os.environ["SCT_TABLES"]
-    report = json.loads(codegen(["run", "--target", "rp2040", *deploy, "--events", str(pico_events), "--json"],
+    report = json.loads(codegen(["run", "--target", "rp2040", "--io", "pins", *deploy, "--events", str(pico_events), "--json"],
                                 target_dir))
     m0.update(pico_cost.parse(report))
     return m3, m0

@@ -57,7 +57,7 @@ def footprint(rows):
 
 
 def parse(report):
-    """The cost figures of one `codegen run --target rp2040 --json` report; exits naming what is wrong."""
+    """The cost figures of one `codegen run --target rp2040 --io pins --json` report; exits naming what is wrong."""
     board = report.get("board")
     if report.get("target") != "rp2040" or not board:
         sys.exit("pico cost: the report is not from a run on the RP2040 harness")
@@ -90,7 +90,7 @@ def main():
     elf = os.path.join(target_dir, "thumbv6m-none-eabi", "release", "cell-pico")
     rows = sections(elf)
     check_memory(elf, rows)
-    cmd = ["cargo", "run", "--quiet", "--release", "-p", "codegen", "--", "run", "--target", "rp2040",
+    cmd = ["cargo", "run", "--quiet", "--release", "-p", "codegen", "--", "run", "--target", "rp2040", "--io", "pins",
            "--events", str(EVENTS), "--json"]
     env = dict(os.environ, CARGO_TARGET_DIR=os.path.abspath(target_dir))
     run = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True)

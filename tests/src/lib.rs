@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
-use codegen::closed_loop::{run_on_rp2040, run_under_qemu, Options};
+use codegen::closed_loop::{run_on_rp2040, run_on_rp2040_link, run_under_qemu, Options};
 use codegen::config::SamplingSpec;
 use codegen::formats::read_path;
 use codegen::link::memory::MemoryLink;
@@ -219,6 +219,16 @@ pub fn pico_closed_loop(project: &Project, sampling: SamplingSpec, options: &Opt
     let (elf, pins) = pico_image(project, sampling, &scratch);
     let options = steered_for(project, options);
     run_on_rp2040(&elf, &pins, &project.set, &project.name, &options, &mut |_| {})
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Builds `project`'s Pico link build (`cell-pico-link`, the link protocol on UART0) and runs the closed
+/// loop with `options` on the emulated RP2040 — in lock-step rounds and steps, as under QEMU.
+pub fn pico_link_closed_loop(project: &Project, options: &Options) -> Report {
+    let scratch = Scratch::new(&format!("{}-pico-link", project.name));
+    let elf = project.pico_link_image(scratch.path()).unwrap_or_else(|e| panic!("{e}"));
+    let options = steered_for(project, options);
+    run_on_rp2040_link(&elf, &project.set, &project.name, &options, &mut |_| {})
         .unwrap_or_else(|e| panic!("{e}"))
 }
 

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use codegen::closed_loop::{run_on_rp2040, run_under_qemu};
+use codegen::closed_loop::{run_on_rp2040, run_on_rp2040_link, run_under_qemu};
 use codegen::config::{Layout, SamplingSpec, SupervisorChoice};
 use codegen::pack::fit::Core;
 use codegen::plc::Encoding;
@@ -19,7 +19,8 @@ use super::Error;
 /// Synthesise the manifest's supervisors, pack and emit their tables, build the firmware for QEMU, boot
 /// it, attach the virtual plant and run the closed loop; print the report (safety, liveness, coverage
 /// per supervisor, link). With `--target rp2040`, build the Pico firmware instead and run it on an
-/// emulated RP2040, the plant on its pins (`[board]`); with `--target plc`, write the PLC program
+/// emulated RP2040: its link build over UART0, in lock-step as under QEMU (`--io link`), or the pin
+/// application with the plant on its pins (`--io pins`, `[board]`); with `--target plc`, write the PLC program
 /// (`[plc]`) and scan it cycle by cycle under the interpreter instead. Exit status 1 when the run saw a
 /// safety violation. With `--project DIR`, build and run a project of your own (`codegen new`) on its board's
 /// emulator; with `--elf`, run that firmware instead of building one.
@@ -29,10 +30,16 @@ pub struct Args {
     /// Supremica module; by default the cell, in the repository's checkout.
     #[arg(default_value = DEFAULT_MANIFEST)]
     manifest: PathBuf,
-    /// What runs the firmware: QEMU's lm3s6965evb over its UART, or the Pico application on an
-    /// emulated RP2040 through its pins (`harness/rp2040/`).
+    /// What runs the firmware: QEMU's lm3s6965evb over its UART, or a Pico application on an
+    /// emulated RP2040 (`harness/rp2040/`; `--io` says which).
     #[arg(long, value_enum, default_value_t = Target::Qemu)]
     target: Target,
+    /// `--target rp2040`: how the plant reaches the Pico — `link`: the link build over UART0, in
+    /// lock-step rounds as under QEMU (liveness measured); `pins`: the pin application (the LED/button
+    /// build, the one `codegen new` writes), the plant on the `[board]` pins, with its own timing
+    /// [default: link; pins with `--project`].
+    #[arg(long, value_enum)]
+    io: Option<Io>,
     /// `--target plc`: the program's state encoding (`codegen plc --encoding`).
     #[arg(long, value_enum, default_value_t = Encoding::Int)]
     encoding: Encoding,
@@ -82,6 +89,15 @@ enum Target {
     Plc,
 }
 
+/// `--io`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum Io {
+    /// The link build (`cell-pico-link`): the firmware link protocol on UART0.
+    Link,
+    /// The pin application (`cell-pico`): the plant on the manifest's `[board]` pins.
+    Pins,
+}
+
 /// `--sampling`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 enum Sampling {
@@ -107,6 +123,14 @@ pub fn run(mut args: Args) -> Result<ExitCode, Error> {
                 .into())
             }
         };
+        if args.io == Some(Io::Link) {
+            return Err(format!(
+                "{}: --io link: the project's application drives pins; its board runs with --io pins",
+                dir.display()
+            )
+            .into());
+        }
+        args.io = Some(Io::Pins);
         eprintln!("codegen run: building {} (cargo build --release in {})", user.name, dir.display());
         args.elf = Some(user.build()?);
         args.manifest = user.manifest;
@@ -125,7 +149,13 @@ pub fn run(mut args: Args) -> Result<ExitCode, Error> {
     project.runtime.layout = args.layout.or(project.runtime.layout);
     super::deploy(&mut project, args.deploy, args.run.json)?;
     if args.target == Target::Rp2040 {
-        return run_rp2040(args, project);
+        return match args.io.unwrap_or(Io::Link) {
+            Io::Link => run_rp2040_link(args, project),
+            Io::Pins => run_rp2040(args, project),
+        };
+    }
+    if args.io.is_some() {
+        return Err("--io goes with --target rp2040".into());
     }
     if args.target == Target::Plc {
         return run_plc(&args, &project);
@@ -155,7 +185,37 @@ pub fn run(mut args: Args) -> Result<ExitCode, Error> {
     finish(&report?, args.run.json)
 }
 
-/// `run --target rp2040`: the Pico firmware on the manifest's pins, sampling as asked.
+/// `run --target rp2040 --io link`: the Pico's link build over UART0, in lock-step as under QEMU.
+fn run_rp2040_link(args: Args, project: Project) -> Result<ExitCode, Error> {
+    if args.sampling.is_some() || args.sample_period_us.is_some() {
+        return Err(
+            "--sampling and --sample-period-us go with --io pins (the link build reads no pins)".into()
+        );
+    }
+    // Tables the Pico cannot run are refused before anything is built, naming what would fit.
+    project.fit(Core::CortexM0Plus, &Core::CortexM0Plus.flash())?;
+    let mut options = args.run.options(&project.runtime);
+    options.rp2040.seed = options.plant.seed;
+    options.rp2040.rtt = args.rtt.clone();
+    let scratch = Scratch::new()?;
+    let elf = match &args.elf {
+        Some(elf) => elf.clone(),
+        None => {
+            eprintln!("codegen run: building the {} link firmware for the Pico", project.name);
+            project.pico_link_image(&scratch.0)?
+        }
+    };
+    eprintln!(
+        "codegen run: closed loop on an emulated RP2040 over UART0 for {} events, plant seed {}",
+        options.events, options.plant.seed
+    );
+    let mut progress = Progress::new(options.events);
+    let report = run_on_rp2040_link(&elf, &project.set, &project.name, &options, &mut |r| progress.show(r));
+    progress.clear();
+    finish(&report?, args.run.json)
+}
+
+/// `run --target rp2040 --io pins`: the Pico firmware on the manifest's pins, sampling as asked.
 fn run_rp2040(args: Args, mut project: Project) -> Result<ExitCode, Error> {
     // Tables the Pico cannot run are refused before its pins are read: what would fit comes first.
     project.fit(Core::CortexM0Plus, &Core::CortexM0Plus.flash())?;

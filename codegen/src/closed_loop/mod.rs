@@ -1,7 +1,8 @@
 //! The closed loop: a supervisor set's plants as the [virtual plant](crate::plant), its plants ‖
 //! supervisors as the [monitor](crate::monitor), attached to a firmware over a [link](crate::link) — one
 //! that is already running ([`attach`]), or a firmware image booted under an emulator for the run: QEMU
-//! ([`run_under_qemu`]), or the Pico image on an emulated RP2040 through its pins ([`run_on_rp2040`]).
+//! ([`run_under_qemu`]), or a Pico image on an emulated RP2040: the link build over its UART0
+//! ([`run_on_rp2040_link`]) or the pin application through its pins ([`run_on_rp2040`]).
 //! The [`Session`] drives the link protocol's control side.
 
 mod session;
@@ -200,4 +201,36 @@ pub fn run_on_rp2040(
     harness.wait(EXIT_WITHIN);
     report.board = Some(harness.figures()?);
     Ok(report)
+}
+
+/// Runs the Pico's link build `elf` (`cell-pico-link`) on the RP2040 harness, its UART0 the link, and
+/// runs the closed loop as [`run_under_qemu`] does — in lock-step rounds and steps unless `options` say
+/// otherwise, so the report has the same liveness and coverage as QEMU's. The board cannot obey EXIT:
+/// the run ends by closing the link, and the harness must then leave cleanly.
+pub fn run_on_rp2040_link(
+    elf: &Path,
+    set: &PackSet,
+    name: &str,
+    options: &Options,
+    progress: &mut dyn FnMut(&Report),
+) -> Result<Report, ClosedLoopError> {
+    let (mut harness, mut link) = Harness::start_uart(elf, &options.rp2040)?;
+    let mut report = attach(&mut link, set, name, options, progress).map_err(|e| match e {
+        ClosedLoopError::Session { source, .. } => {
+            ClosedLoopError::Session { source, stderr: harness.stderr() }
+        }
+        other => other,
+    })?;
+    report.target = "rp2040".into();
+    drop(link);
+    match harness.wait(EXIT_WITHIN).and_then(|s| s.code()) {
+        Some(0) => Ok(report),
+        status => Err(ClosedLoopError::Exit {
+            status: status.map_or_else(
+                || format!("no exit code {} s after the link closed", EXIT_WITHIN.as_secs()),
+                |c| format!("the harness exited with status {c}"),
+            ),
+            stderr: harness.stderr(),
+        }),
+    }
 }

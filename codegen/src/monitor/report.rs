@@ -73,8 +73,9 @@ pub struct CoverageLine {
 pub struct Report {
     /// JSON schema version.
     pub schema: u32,
-    /// What ran the firmware: `qemu`, `rp2040` (emulated Pico, through its pins), or `link` (a firmware
-    /// started elsewhere, `codegen plant`).
+    /// What ran the firmware: `qemu`, `rp2040` (emulated Pico: its link build over UART0, or the pin
+    /// application through its pins, which `board` then describes), or `link` (a firmware started
+    /// elsewhere, `codegen plant`).
     pub target: String,
     /// Name of the supervisor set.
     pub name: String,
@@ -137,7 +138,8 @@ pub struct Report {
     pub seconds: f64,
     /// Events per second over the run.
     pub events_per_second: f64,
-    /// What the board's pins showed (`rp2040`; `None` over a byte link).
+    /// What the board's pins showed (`rp2040` through its pins; `None` over a byte link, the Pico's
+    /// UART0 included).
     pub board: Option<BoardFigures>,
     /// What the PLC program's scans showed (target `plc`; `None` on a firmware).
     pub scan: Option<ScanFigures>,

@@ -1,12 +1,19 @@
-//! Runs the Pico board firmware on an emulated RP2040: the pin map the harness drives, and the harness
-//! process (`harness/rp2040/`, Node and rp2040js), which the closed loop talks to as it talks to QEMU.
+//! Runs the Pico firmware on an emulated RP2040: the harness process (`harness/rp2040/`, Node and
+//! rp2040js), which the closed loop talks to as it talks to QEMU, in one of two modes.
 //!
-//! The harness loads the same ELF `cargo pico-build` makes, listens on a Unix socket and speaks the
-//! firmware link protocol there (`firmware::link`): the plant's uncontrollable events become edges on
-//! the input pins the manifest's `[board]` section names, output pin changes become the commands the
-//! monitor judges, RESET powers the board on afresh, STATUS answers the counters the firmware publishes
-//! (`firmware::status`), EXIT ends the run. What only pins show it counts, and writes with the cost of the
-//! runtime's entry points to a stats file ([`Harness::figures`]). Its README documents all of it.
+//! - **Pins** ([`Harness::start`]): the harness loads the pin application (`cargo pico-build`, or a
+//!   `codegen new` project's build), listens on a Unix socket and speaks the firmware link protocol there
+//!   (`firmware::link`) on the firmware's behalf: the plant's uncontrollable events become edges on the
+//!   input pins the manifest's `[board]` section names ([`pin_map`]), output pin changes become the
+//!   commands the monitor judges, RESET powers the board on afresh, STATUS answers the counters the
+//!   firmware publishes (`firmware::status`), EXIT ends the run. What only pins show it counts, and
+//!   writes with the cost of the runtime's entry points to a stats file ([`Harness::figures`]). No SYNC
+//!   nor STEP: the run takes the plant's own timing.
+//! - **Link** ([`Harness::start_uart`], the harness's `--uart`): it loads the link build
+//!   (`cargo pico-link-build`) and wires UART0 to the socket byte for byte; the firmware answers the
+//!   protocol itself, SYNC and STEP included, so the closed loop runs in lock-step as under QEMU.
+//!
+//! The harness's README documents both.
 //!
 //! As with [`super::qemu`], the child is killed when the [`Harness`] value is dropped, when its deadline
 //! passes and when the thread that started it dies ([`super::child`]).
@@ -200,11 +207,43 @@ pub struct Harness {
 }
 
 impl Harness {
-    /// Starts the harness on `elf` with the pin map file `pins`, and connects to it.
+    /// Starts the harness on `elf` (the pin application, `cell-pico`) with the pin map file `pins`, and
+    /// connects to it: the harness speaks the link protocol on the firmware's behalf, through its pins.
     pub fn start(
         elf: &Path,
         pins: &Path,
         config: &HarnessConfig,
+    ) -> Result<(Self, StreamLink), HarnessError> {
+        Self::spawn(elf, config, |cmd| {
+            cmd.arg("--pins").arg(pins);
+            if let Some(us) = config.input_pulse_us {
+                cmd.arg("--input-pulse-us").arg(us.to_string());
+            }
+            if config.together {
+                cmd.arg("--together");
+            }
+            if config.overlap {
+                cmd.arg("--overlap");
+            }
+        })
+    }
+
+    /// Starts the harness in its `--uart` mode on `elf` (the link build, `cell-pico-link`), and connects
+    /// to it: the link is UART0's bytes, which the firmware answers itself (SYNC and STEP included, so
+    /// the closed loop runs in lock-step as under QEMU). The pin options of `config` do not apply. The
+    /// board cannot obey EXIT: the harness ends when the link is closed.
+    pub fn start_uart(elf: &Path, config: &HarnessConfig) -> Result<(Self, StreamLink), HarnessError> {
+        Self::spawn(elf, config, |cmd| {
+            cmd.arg("--uart");
+        })
+    }
+
+    /// Spawns the harness on `elf` with the options common to both modes and those `mode` adds, and
+    /// connects to its socket.
+    fn spawn(
+        elf: &Path,
+        config: &HarnessConfig,
+        mode: impl FnOnce(&mut Command),
     ) -> Result<(Self, StreamLink), HarnessError> {
         static COUNTER: AtomicU32 = AtomicU32::new(0);
         let dir = std::env::temp_dir().join(format!(
@@ -220,20 +259,12 @@ impl Harness {
             None => sources::harness_script()?,
         };
         let mut cmd = Command::new(&config.node);
-        cmd.arg(&script).arg("--elf").arg(elf).arg("--pins").arg(pins).arg("--socket").arg(&socket);
+        cmd.arg(&script).arg("--elf").arg(elf).arg("--socket").arg(&socket);
         cmd.arg("--stats").arg(&stats).arg("--seed").arg(config.seed.to_string());
         if let Some(rtt) = &config.rtt {
             cmd.arg("--rtt").arg(rtt);
         }
-        if let Some(us) = config.input_pulse_us {
-            cmd.arg("--input-pulse-us").arg(us.to_string());
-        }
-        if config.together {
-            cmd.arg("--together");
-        }
-        if config.overlap {
-            cmd.arg("--overlap");
-        }
+        mode(&mut cmd);
         let process = Emulator::spawn(&mut cmd, config.timeout)
             .map_err(|source| HarnessError::Spawn { program: config.node.clone(), source })?;
         let mut harness = Harness { process, dir, stats };
