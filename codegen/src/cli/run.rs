@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use codegen::closed_loop::{run_on_rp2040, run_under_qemu};
+use codegen::closed_loop::{run_on_rp2040, run_under_qemu, Options};
 use codegen::config::{Layout, SamplingSpec, SupervisorChoice};
 use codegen::pack::fit::Core;
 use codegen::plc::Encoding;
@@ -52,7 +52,8 @@ pub struct Args {
     #[arg(long = "supervisors", id = "deploy", value_enum, value_name = "CHOICE")]
     deploy: Option<SupervisorChoice>,
     /// Run this firmware ELF instead of building one: a project of your own (`codegen new`, then
-    /// `cargo build --release`), built from the same manifest.
+    /// `cargo build --release`), built from the same manifest (under QEMU, one that reports other tables
+    /// is refused, exit 2).
     #[arg(long, value_name = "ELF")]
     elf: Option<PathBuf>,
     /// Build and run a project of your own (`codegen new DIR --board B`): `cargo build --release` in
@@ -136,7 +137,8 @@ pub fn run(mut args: Args) -> Result<ExitCode, Error> {
     if args.sampling.is_some() || args.sample_period_us.is_some() || args.rtt.is_some() {
         return Err("--sampling, --sample-period-us and --rtt go with --target rp2040".into());
     }
-    let options = args.run.options(&project.runtime);
+    // A firmware (`--elf`) that runs other tables is refused before the run (`Options::tables`).
+    let options = Options { tables: project.table_digests()?, ..args.run.options(&project.runtime) };
     let scratch = Scratch::new()?;
     let elf = match &args.elf {
         Some(elf) => elf.clone(),
