@@ -1,9 +1,11 @@
 //! `codegen run` as a binary: a clean run's exit status and JSON, and exit 2 with a message for a file
-//! that is no project and for an emulator that cannot start. (Exit 1 on a violation: `tests/mutants.rs`
+//! that is no project, for an emulator that cannot start and for a firmware built from other tables. (Exit 1 on a violation: `tests/mutants.rs`
 //! kills wrong firmware through the same `run_under_qemu` the command calls.)
 
 use std::path::Path;
 use std::process::{Command, Output};
+
+use codegen::project::Project;
 
 fn codegen(args: &[&str], path: Option<&str>) -> Output {
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_codegen"));
@@ -27,6 +29,28 @@ fn a_clean_run_exits_0_with_the_json_report() {
     assert_eq!((json["name"].as_str(), json["violations"].as_u64()), (Some("factory"), Some(0)));
     assert!(json["events"].as_u64().unwrap() >= 600);
     assert_eq!(json["firmware"]["events_in"], json["uncontrollable"]);
+}
+
+/// `run --elf` with a firmware built from other tables — the factory's, booted for the cell's manifest —
+/// is refused over the link before anything runs (exit 2), naming both tables' digests; it used to run
+/// and report thousands of violations (issue 35).
+#[test]
+fn a_firmware_built_from_other_tables_is_refused_naming_both() {
+    let factory = Project::load(Path::new(&repo("examples/factory/factory.toml"))).unwrap();
+    let cell = Project::load(Path::new(&repo("examples/cell/cell.toml"))).unwrap();
+    let scratch = std::env::temp_dir().join(format!("codegen-cli-other-tables-{}", std::process::id()));
+    std::fs::create_dir_all(&scratch).unwrap();
+    let elf = factory.image(&scratch).unwrap_or_else(|e| panic!("{e}"));
+    let elf = elf.display().to_string();
+    let out = codegen(&["run", &repo("examples/cell/cell.toml"), "--elf", &elf, "--events", "100"], None);
+    std::fs::remove_dir_all(&scratch).ok();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    let (theirs, ours) = (factory.table_digests().unwrap(), cell.table_digests().unwrap());
+    assert_eq!(ours.len(), 2, "the Cortex-M3's and the Cortex-M0+'s tables: {ours:?}");
+    let named = format!("the firmware runs tables {}, the project's are {}", theirs[0], ours.join(" or "));
+    assert!(err.contains(&named), "{err}");
+    assert!(out.stdout.is_empty(), "no report: {}", String::from_utf8_lossy(&out.stdout));
 }
 
 #[test]

@@ -179,7 +179,9 @@ pub fn qemu_closed_loops_judged(
 ) -> Vec<Report> {
     let scratch = Scratch::new(&project.name);
     let elf = firmware_image(project, &scratch);
-    let options = steered_for(project, options);
+    // The firmware must report the project's tables (it does: built from them here).
+    let tables = project.table_digests().unwrap_or_else(|e| panic!("{e}"));
+    let options = Options { tables, ..steered_for(project, options) };
     let run = |seed: u64| {
         let mut options = options.clone();
         options.plant.seed = seed;
