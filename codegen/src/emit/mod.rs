@@ -44,8 +44,8 @@ pub use rust::emit;
 /// (the Cortex-M3's, and the Cortex-M0+'s in `m0plus`), the whole tables' in the state-based ones.
 pub(crate) const DIGEST_ITEM: &str = "pub const DIGEST: &str = \"";
 
-/// The digests the emitted tables `text` declare ([`DIGEST_ITEM`]), in the order written, without
-/// repeats: the tables a firmware built on `text` may report over the link.
+/// The digests the emitted tables `text` declare (`pub const DIGEST: &str = "…";`), in the order
+/// written, without repeats: the tables a firmware built on `text` may report over the link.
 ///
 /// ```
 /// let text = "pub const DIGEST: &str = \"00112233445566ff\";\nmod m0plus {\n    pub const DIGEST: &str = \"0123456789abcdef\";\n}\n";
