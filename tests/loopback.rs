@@ -1,7 +1,7 @@
 //! The virtual plant driving the firmware's runtime — the very code that ships, compiled for the host —
 //! over an in-memory byte link: the closed loop without QEMU.
 
-use codegen::closed_loop::{attach, parts, Options, Session, SessionConfig};
+use codegen::closed_loop::{attach, parts, ClosedLoopError, Options, Session, SessionConfig, SessionError};
 use codegen::config::ChoicePolicy;
 use codegen::link::memory;
 use codegen::link::protocol::EXIT;
@@ -42,6 +42,27 @@ fn cell_closed_loop_on_the_cortex_m0_plus_tables() {
     let firmware =
         spawn_host_firmware::<_, 1, 10, false, 4, { layout::INDEXED }, 33>(tables, CONFIG, policy, 7, target);
     closed_loop(&set, host, firmware);
+}
+
+/// A firmware whose loop does not report its tables (a firmware from before TABLES: the host-compiled
+/// one here is given no digest) is refused when the run expects tables, at once: its STATUS answer
+/// without a TABLES answer before it tells, where waiting would end in `NoAnswer` after the timeout.
+#[test]
+fn a_firmware_that_does_not_report_its_tables_is_refused_at_once() {
+    let set = published_cell();
+    let tables = HostTables::new(ranked::encode(&set).unwrap()).unwrap();
+    let (mut host, target) = memory::pair();
+    let policy = RandomLocalQueue::<1, 3>::default();
+    let firmware =
+        spawn_host_firmware::<_, 1, 10, false, 3, { layout::RANKED }, 33>(tables, CONFIG, policy, 7, target);
+    let options = Options { events: 100, tables: vec!["0123456789abcdef".into()], ..Options::default() };
+    let refused = attach(&mut host, &set, "cell", &options, &mut |_| {});
+    let Err(ClosedLoopError::Session { source: SessionError::TablesUnreported, .. }) = refused else {
+        panic!("not refused as a firmware that does not report its tables: {refused:?}");
+    };
+    assert!(refused.unwrap_err().to_string().contains("does not report its tables"));
+    host.send(&[EXIT]).unwrap();
+    assert_eq!(firmware.join().unwrap(), Some(0));
 }
 
 /// The cell's virtual plant against `firmware` over `host` for 20 000 events: safe, live, every

@@ -101,7 +101,9 @@ fn run_over_serial(project: &Project, elf: &Path, scratch: &Scratch, tag: &str, 
     let from_board = pump(stream.try_clone().unwrap(), master);
     let endpoint: Endpoint = format!("serial:{device}").parse().unwrap();
     let mut link = endpoint.connect().unwrap_or_else(|e| panic!("{device}: {e}"));
-    let options = Options { choices: ChoiceModel::of(project.runtime.policy), ..options.clone() };
+    // As `codegen plant` does: the link build must report the project's (Cortex-M0+) tables.
+    let tables = project.table_digests().unwrap_or_else(|e| panic!("{e}"));
+    let options = Options { choices: ChoiceModel::of(project.runtime.policy), tables, ..options.clone() };
     let report = attach(&mut link, &project.set, &project.name, &options, &mut |_| {})
         .unwrap_or_else(|e| panic!("{tag}: {e}"));
     drop(link);

@@ -1,10 +1,13 @@
 //! `codegen run` as a binary: a clean run's exit status and JSON (under QEMU, and on the emulated
 //! RP2040 over its link), and exit 2 with a message for a file that is no project, for options that go
-//! with another target and for an emulator that cannot start. (Exit 1 on a violation: `tests/mutants.rs`
+//! with another target, for an emulator that cannot start and for a firmware built from other tables.
+//! (Exit 1 on a violation: `tests/mutants.rs`
 //! kills wrong firmware through the same `run_under_qemu` the command calls.)
 
 use std::path::Path;
 use std::process::{Command, Output};
+
+use codegen::project::Project;
 
 fn codegen(args: &[&str], path: Option<&str>) -> Output {
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_codegen"));
@@ -64,6 +67,29 @@ fn the_pico_link_build_runs_in_lock_step_and_takes_the_qemu_runs_trace() {
             String::from_utf8_lossy(&out.stderr)
         );
     }
+}
+
+/// `run --elf` with a firmware built from other tables — the factory's, booted for the cell's manifest —
+/// is refused over the link before anything runs (exit 2), naming both tables' digests; it used to run
+/// and report thousands of violations (issue 35).
+#[test]
+fn a_firmware_built_from_other_tables_is_refused_naming_both() {
+    let factory = Project::load(Path::new(&repo("examples/factory/factory.toml"))).unwrap();
+    let cell = Project::load(Path::new(&repo("examples/cell/cell.toml"))).unwrap();
+    let scratch = std::env::temp_dir().join(format!("codegen-cli-other-tables-{}", std::process::id()));
+    std::fs::create_dir_all(&scratch).unwrap();
+    let elf = factory.image(&scratch).unwrap_or_else(|e| panic!("{e}"));
+    let elf = elf.display().to_string();
+    let out = codegen(&["run", &repo("examples/cell/cell.toml"), "--elf", &elf, "--events", "100"], None);
+    std::fs::remove_dir_all(&scratch).ok();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    let (theirs, ours) = (factory.table_digests().unwrap(), cell.table_digests().unwrap());
+    assert_eq!(ours.len(), 2, "the Cortex-M3's and the Cortex-M0+'s tables: {ours:?}");
+    let named = format!("the firmware runs tables {}, the project's are {}", theirs[0], ours.join(" or "));
+    assert!(err.contains(&named), "{err}");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(!stdout.contains("violations"), "refused before the run, no report: {stdout}");
 }
 
 #[test]

@@ -6,7 +6,9 @@
 //! runtime in the tests.
 
 use crate::input_queue::InputConsumer;
-use crate::link::{Hold, EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, STEP, SYNC};
+use crate::link::{
+    Hold, EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, STEP, SYNC, TABLES, TABLES_BYTES,
+};
 use crate::runtime::{Applied, Decide, Decision};
 
 /// Where the loop's outgoing bytes and notes go (a UART and a log on the target, a vector in tests).
@@ -65,7 +67,8 @@ impl Poll {
     }
 }
 
-/// The loop's state beyond the runtime's: whether SAFE was announced.
+/// The loop's state beyond the runtime's: whether SAFE was announced, a SYNC or STEP pending, and the
+/// digest of the tables it answers TABLES with.
 #[derive(Debug, Default)]
 pub struct EventLoop {
     safe_announced: bool,
@@ -73,12 +76,25 @@ pub struct EventLoop {
     sync_asked: bool,
     /// A STEP came in: the next decision is the last before the loop holds again.
     step: bool,
+    /// The hex digits of the runtime's tables' digest, sent in answer to TABLES; `None`: TABLES is an
+    /// unknown byte here.
+    tables: Option<&'static [u8; TABLES_BYTES]>,
 }
 
 impl EventLoop {
-    /// A loop that has not announced anything yet (the caller sends READY at boot).
+    /// A loop that has not announced anything yet (the caller sends READY at boot) and does not report
+    /// its tables: TABLES is an unknown byte, as in a firmware from before it (a board on its pins,
+    /// which no host asks).
     pub const fn new() -> Self {
-        Self { safe_announced: false, sync_asked: false, step: false }
+        Self { safe_announced: false, sync_asked: false, step: false, tables: None }
+    }
+
+    /// [`EventLoop::new`], answering TABLES with `digest`: the `DIGEST` of the emitted tables the
+    /// runtime runs (16 hex digits, `firmware::table::image::digest`), so that a host refuses to drive
+    /// a firmware built from other tables. A `digest` of another length is reported as none.
+    pub const fn with_tables(digest: &'static str) -> Self {
+        let tables = if digest.len() == TABLES_BYTES { digest.as_bytes().first_chunk() } else { None };
+        Self { tables, ..Self::new() }
     }
 
     /// One turn of the loop: drains the input buffer into the runtime, then takes at most one decision
@@ -111,6 +127,11 @@ impl EventLoop {
                             port.send(b);
                         }
                     }
+                }
+                // Without a digest, TABLES falls through to the unknown bytes.
+                TABLES if self.tables.is_some() => {
+                    port.send(TABLES);
+                    self.tables.into_iter().flatten().for_each(|&b| port.send(b));
                 }
                 EXIT => return Poll::Exit(u8::from(rt.is_safe())),
                 SYNC => self.sync_asked = true,

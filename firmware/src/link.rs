@@ -15,6 +15,7 @@
 //! | `0xF5` HOLD, `0xF6` GO | host → fw | stop / resume deciding; handled in the receive interrupt ([`Hold`]) so that a burst can be queued between two decisions |
 //! | `0xF7` SYNC | both | request: answer SYNC once nothing is enabled (or in the safe state) and deciding is not on hold; so a host can run the loop in lock-step, every round's decisions taken on every input it sent |
 //! | `0xF8` STEP | host → fw | decide once on every input sent before it (fire at most one command), then hold again and answer SYNC; so a host can take its turn between any two decisions of a controller that never runs out of commands |
+//! | `0xF9` TABLES | both | request: which tables does the firmware run? answered by `0xF9` then the [`TABLES_BYTES`] ASCII hex digits of their digest (`firmware::table::image::digest`, the `DIGEST` of the emitted tables), so that a host refuses a firmware built from another manifest; a loop given no digest ([`EventLoop::new`](crate::event_loop::EventLoop::new)) treats it as any unknown byte, as a firmware from before TABLES does |
 //!
 //! A firmware a host drives (QEMU's, the host-compiled one of the tests) boots on hold ([`Hold::on_hold`]):
 //! it sends READY and decides nothing until the host's first GO or STEP.
@@ -45,6 +46,12 @@ pub const GO: u8 = 0xF6;
 pub const SYNC: u8 = 0xF7;
 /// Host → firmware: take one decision, then hold and answer [`SYNC`].
 pub const STEP: u8 = 0xF8;
+/// Host → firmware: which tables do you run; firmware → host: the answer's first byte, then the
+/// digest's [`TABLES_BYTES`] hex digits.
+pub const TABLES: u8 = 0xF9;
+/// Bytes of a TABLES answer after its leading [`TABLES`]: the 16 lowercase hex digits of the tables'
+/// digest, as the emitted tables' `DIGEST` spells it.
+pub const TABLES_BYTES: usize = 16;
 /// Highest event id the link can carry.
 pub const MAX_EVENT: u8 = 0xEF;
 /// Bytes of a STATUS answer after its leading [`STATUS`]: the six counters of

@@ -113,6 +113,32 @@ fn a_status_answer_reads_back_as_the_runtimes_counters() {
 }
 
 #[test]
+fn tables_is_answered_with_the_digest_and_unknown_to_a_loop_without_one() {
+    let digest = "0123456789abcdef";
+    let mut b = Bench::new::<8>(FaultPolicy::Continue);
+    b.event_loop = EventLoop::with_tables(digest);
+    b.settle();
+    b.wire.sent.clear();
+    b.send(&[link::HOLD, link::TABLES, link::STATUS]);
+    assert_eq!(b.settle(), Poll::Held);
+    assert_eq!(b.wire.sent[0], link::TABLES);
+    assert_eq!(&b.wire.sent[1..=link::TABLES_BYTES], digest.as_bytes());
+    assert_eq!(status(&b.wire.sent[1 + link::TABLES_BYTES..]), [0, 2, 0, 0, 0, 0]);
+    // No digest, or one that is not 16 digits: TABLES is an unknown byte, as in a firmware from before
+    // it, and the STATUS after it is answered alone (what a host tells such a firmware by).
+    for event_loop in [EventLoop::new(), EventLoop::with_tables("0123")] {
+        let mut b = Bench::new::<8>(FaultPolicy::Continue);
+        b.event_loop = event_loop;
+        b.settle();
+        b.wire.sent.clear();
+        b.send(&[link::HOLD, link::TABLES, link::STATUS]);
+        b.settle();
+        assert_eq!(status(&b.wire.sent), [0, 2, 0, 0, 0, 1]);
+        assert_eq!(b.wire.notes, [Note::Unknown(link::TABLES)]);
+    }
+}
+
+#[test]
 fn hold_queues_a_burst_and_go_releases_it() {
     let mut b = Bench::new::<8>(FaultPolicy::Continue);
     b.send(&[link::HOLD]);
@@ -170,8 +196,8 @@ fn guard_drops_a_choice_when_an_input_arrived() {
 fn faults_are_counted_and_continue_keeps_deciding() {
     let mut b = Bench::new::<4>(FaultPolicy::Continue);
     b.settle();
-    // In state 4: to4 is unexpected; 0xF9 and event 200 are unknown; a (controllable) from the host too.
-    b.send(&[TO4, 0xF9, 200]);
+    // In state 4: to4 is unexpected; 0xFA and event 200 are unknown; a (controllable) from the host too.
+    b.send(&[TO4, 0xFA, 200]);
     b.settle();
     b.send(&[A]);
     for event in [TO1, TO1] {
@@ -199,7 +225,7 @@ fn each_fault_enters_the_safe_state_which_reset_leaves() {
     type Inject = fn(&mut InputProducer<'_>);
     let faults: [(&str, Inject); 4] = [
         ("unexpected", |tx| tx.push(TO4).unwrap()),
-        ("unknown control byte", |tx| tx.push(0xF9).unwrap()),
+        ("unknown control byte", |tx| tx.push(0xFA).unwrap()),
         ("event beyond the set", |tx| tx.push(77).unwrap()),
         ("overflow", |tx| tx.count_overflow()),
     ];

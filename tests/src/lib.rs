@@ -179,7 +179,9 @@ pub fn qemu_closed_loops_judged(
 ) -> Vec<Report> {
     let scratch = Scratch::new(&project.name);
     let elf = firmware_image(project, &scratch);
-    let options = steered_for(project, options);
+    // The firmware must report the project's tables (it does: built from them here).
+    let tables = project.table_digests().unwrap_or_else(|e| panic!("{e}"));
+    let options = Options { tables, ..steered_for(project, options) };
     let run = |seed: u64| {
         let mut options = options.clone();
         options.plant.seed = seed;
@@ -227,7 +229,9 @@ pub fn pico_closed_loop(project: &Project, sampling: SamplingSpec, options: &Opt
 pub fn pico_link_closed_loop(project: &Project, options: &Options) -> Report {
     let scratch = Scratch::new(&format!("{}-pico-link", project.name));
     let elf = project.pico_link_image(scratch.path()).unwrap_or_else(|e| panic!("{e}"));
-    let options = steered_for(project, options);
+    // The link build must report the project's (Cortex-M0+) tables, as `codegen run` asks.
+    let tables = project.table_digests().unwrap_or_else(|e| panic!("{e}"));
+    let options = Options { tables, ..steered_for(project, options) };
     run_on_rp2040_link(&elf, &project.set, &project.name, &options, &mut |_| {})
         .unwrap_or_else(|e| panic!("{e}"))
 }

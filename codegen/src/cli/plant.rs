@@ -19,7 +19,8 @@ use super::Error;
 /// models' events, judges every event against plants ‖ supervisors and prints the closed-loop report.
 ///
 /// The firmware must run the tables of the same manifest (`codegen emit`, or a project of your own
-/// built from it: `--project DIR`). Exit status 1 when the run saw a safety violation.
+/// built from it: `--project DIR`): it is asked which it runs, and one that runs others is refused
+/// (exit 2). Exit status 1 when the run saw a safety violation.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The project manifest (plants, specifications or supervisors, `[runtime]`).
@@ -150,7 +151,8 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
         None => args.manifest,
     };
     let project = Project::load(&manifest)?;
-    let options = args.run.options(&project.runtime);
+    // A firmware that runs other tables is refused before the run (`Options::tables`).
+    let options = Options { tables: project.table_digests()?, ..args.run.options(&project.runtime) };
     let mut link = args.connect.connect().map_err(|e| format!("connecting to {:?}: {e}", args.connect))?;
     let mut progress = Progress::new(options.events);
     let report = attach(&mut link, &project.set, &project.name, &options, &mut |r| progress.show(r));

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use codegen::closed_loop::{run_on_rp2040, run_on_rp2040_link, run_under_qemu};
+use codegen::closed_loop::{run_on_rp2040, run_on_rp2040_link, run_under_qemu, Options};
 use codegen::config::{Layout, SamplingSpec, SupervisorChoice};
 use codegen::pack::fit::Core;
 use codegen::plc::Encoding;
@@ -59,7 +59,8 @@ pub struct Args {
     #[arg(long = "supervisors", id = "deploy", value_enum, value_name = "CHOICE")]
     deploy: Option<SupervisorChoice>,
     /// Run this firmware ELF instead of building one: a project of your own (`codegen new`, then
-    /// `cargo build --release`), built from the same manifest.
+    /// `cargo build --release`), built from the same manifest (under QEMU, one that reports other tables
+    /// is refused, exit 2).
     #[arg(long, value_name = "ELF")]
     elf: Option<PathBuf>,
     /// Build and run a project of your own (`codegen new DIR --board B`): `cargo build --release` in
@@ -166,7 +167,8 @@ pub fn run(mut args: Args) -> Result<ExitCode, Error> {
     if args.sampling.is_some() || args.sample_period_us.is_some() || args.rtt.is_some() {
         return Err("--sampling, --sample-period-us and --rtt go with --target rp2040".into());
     }
-    let options = args.run.options(&project.runtime);
+    // A firmware (`--elf`) that runs other tables is refused before the run (`Options::tables`).
+    let options = Options { tables: project.table_digests()?, ..args.run.options(&project.runtime) };
     let scratch = Scratch::new()?;
     let elf = match &args.elf {
         Some(elf) => elf.clone(),
@@ -194,7 +196,8 @@ fn run_rp2040_link(args: Args, project: Project) -> Result<ExitCode, Error> {
     }
     // Tables the Pico cannot run are refused before anything is built, naming what would fit.
     project.fit(Core::CortexM0Plus, &Core::CortexM0Plus.flash())?;
-    let mut options = args.run.options(&project.runtime);
+    // A link build (`--elf`) that runs other tables is refused before the run (`Options::tables`).
+    let mut options = Options { tables: project.table_digests()?, ..args.run.options(&project.runtime) };
     options.rp2040.seed = options.plant.seed;
     options.rp2040.rtt = args.rtt.clone();
     let scratch = Scratch::new()?;

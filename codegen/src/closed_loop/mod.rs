@@ -42,6 +42,10 @@ pub struct Options {
     pub rp2040: HarnessConfig,
     /// The controller's choice policy as the plant's steering models it.
     pub choices: ChoiceModel,
+    /// The digests of the tables the firmware must run ([`crate::project::Project::table_digests`]):
+    /// asked over the link before the run ([`Session::check_tables`]), a firmware that runs others is
+    /// refused. Empty: not asked — the RP2040 pin harness and the PLC driver do not speak TABLES.
+    pub tables: Vec<String>,
 }
 
 impl Default for Options {
@@ -54,6 +58,7 @@ impl Default for Options {
             qemu: QemuConfig::default(),
             rp2040: HarnessConfig::default(),
             choices: ChoiceModel::RandomLocalQueue,
+            tables: Vec::new(),
         }
     }
 }
@@ -120,7 +125,8 @@ pub fn parts(set: &PackSet, options: &Options) -> Result<(VirtualPlant, Monitor)
 }
 
 /// Runs the closed loop over an open `link` to a firmware running `set`; returns the report. The
-/// firmware is left on hold.
+/// firmware is left on hold. With [`Options::tables`], a firmware that does not report one of them is
+/// refused before anything runs.
 pub fn attach(
     link: &mut dyn ByteLink,
     set: &PackSet,
@@ -133,6 +139,9 @@ pub fn attach(
     monitor.report_mut().name = name.to_owned();
     monitor.report_mut().seed = options.plant.seed;
     let mut session = Session::new(link, &mut plant, &mut monitor, options.session.clone());
+    if !options.tables.is_empty() {
+        session.check_tables(&options.tables)?;
+    }
     session.sync(false)?;
     session.run(options.events, progress)?;
     Ok(session.finish()?)
@@ -184,9 +193,10 @@ pub fn run_on_rp2040(
     progress: &mut dyn FnMut(&Report),
 ) -> Result<Report, ClosedLoopError> {
     let (mut harness, mut link) = Harness::start(elf, pins, &options.rp2040)?;
-    // The harness speaks the protocol for the board's pins, without lock-step rounds or STEP.
+    // The harness speaks the protocol for the board's pins, without lock-step rounds, STEP or TABLES.
     let options = &Options {
         session: SessionConfig { lockstep: false, step: false, ..options.session.clone() },
+        tables: Vec::new(),
         ..options.clone()
     };
     let mut report = attach(&mut link, set, name, options, progress).map_err(|e| match e {

@@ -34,7 +34,7 @@
 
 use std::time::{Duration, Instant};
 
-use crate::link::protocol::{Decoder, Frame, GO, HOLD, RESET, STATUS, STEP, SYNC};
+use crate::link::protocol::{Decoder, Frame, GO, HOLD, RESET, STATUS, STEP, SYNC, TABLES};
 use crate::link::ByteLink;
 use crate::model::EventId;
 use crate::monitor::{FirmwareCounters, Monitor, Move, Report, Verdict};
@@ -124,6 +124,25 @@ pub enum SessionError {
         /// How long.
         timeout: Duration,
     },
+    /// The firmware runs other tables than the project's ([`Session::check_tables`]).
+    #[error(
+        "the firmware runs tables {firmware}, the project's are {}: it was built from another manifest (or \
+         before the models changed); build the firmware from this project and flash or boot it again",
+        project.join(" or ")
+    )]
+    OtherTables {
+        /// The digest the firmware reported.
+        firmware: String,
+        /// The digests of the project's tables (one per image: the Cortex-M3's, the Cortex-M0+'s).
+        project: Vec<String>,
+    },
+    /// The firmware answered STATUS but not TABLES before it ([`Session::check_tables`]).
+    #[error(
+        "the firmware does not report its tables (no answer to TABLES, 0xF9): it predates the tables check \
+         or its application does not report them; build the firmware from this project and flash or boot it \
+         again"
+    )]
+    TablesUnreported,
 }
 
 /// The virtual plant and the monitor attached to one firmware link; see the module documentation.
@@ -195,6 +214,28 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
     /// The monitor's figures so far.
     pub fn report(&self) -> &Report {
         self.monitor.report()
+    }
+
+    /// Asks the firmware which tables it runs (HOLD, TABLES, STATUS) and refuses it unless it reports the
+    /// digest of one of `project` (the digests of the project's table images): driving a firmware built
+    /// from other tables would judge it against the wrong supervisors. A firmware that does not know
+    /// TABLES answers STATUS alone (and counts an unknown byte): refused at once, without waiting out a
+    /// timeout. The firmware is left on hold; call before [`Session::sync`].
+    pub fn check_tables(&mut self, project: &[String]) -> Result<(), SessionError> {
+        self.link.send(&[HOLD, TABLES, STATUS])?;
+        let mut reported = None;
+        self.await_frame("STATUS", false, |f| match f {
+            Frame::Tables(digest) => {
+                reported = Some(digest);
+                false
+            }
+            frame => matches!(frame, Frame::Status(_)),
+        })?;
+        let firmware = String::from_utf8_lossy(&reported.ok_or(SessionError::TablesUnreported)?).into_owned();
+        if project.contains(&firmware) {
+            return Ok(());
+        }
+        Err(SessionError::OtherTables { firmware, project: project.to_vec() })
     }
 
     /// Brings the firmware to its initial state, in step with plant and monitor, and lets it decide.
@@ -424,7 +465,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
                         self.handle(frame)?;
                         return Ok(None);
                     }
-                    Frame::Status(_) => {}
+                    Frame::Status(_) | Frame::Tables(_) => {}
                     Frame::Unknown(_) => self.garbled += 1,
                 }
             }
@@ -646,7 +687,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
                 self.monitor.report_mut().reboots += 1;
                 self.out_of_step()?;
             }
-            Frame::Status(_) | Frame::Sync => {}
+            Frame::Status(_) | Frame::Tables(_) | Frame::Sync => {}
             Frame::Unknown(_) => self.garbled += 1,
         }
         Ok(())
@@ -695,7 +736,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
                 self.monitor.report_mut().reboots += 1;
                 self.in_step = false;
             }
-            Frame::Status(_) | Frame::Sync => {}
+            Frame::Status(_) | Frame::Tables(_) | Frame::Sync => {}
             Frame::Unknown(_) => self.garbled += 1,
         }
     }

@@ -38,3 +38,26 @@ pub use crate::provenance::{Input, Provenance};
 pub use board::BoardError;
 pub use error::EmitError;
 pub use rust::emit;
+
+/// How emitted tables declare the digest a firmware built on them answers the link's TABLES with
+/// (`firmware::link::TABLES`), up to the digest's 16 hex digits: an image's in the event-based tables
+/// (the Cortex-M3's, and the Cortex-M0+'s in `m0plus`), the whole tables' in the state-based ones.
+pub(crate) const DIGEST_ITEM: &str = "pub const DIGEST: &str = \"";
+
+/// The digests the emitted tables `text` declare (`pub const DIGEST: &str = "…";`), in the order
+/// written, without repeats: the tables a firmware built on `text` may report over the link.
+///
+/// ```
+/// let text = "pub const DIGEST: &str = \"00112233445566ff\";\nmod m0plus {\n    pub const DIGEST: &str = \"0123456789abcdef\";\n}\n";
+/// assert_eq!(codegen::emit::digests(text), ["00112233445566ff", "0123456789abcdef"]);
+/// ```
+pub fn digests(text: &str) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for line in text.lines() {
+        let digest = line.trim_start().strip_prefix(DIGEST_ITEM).and_then(|rest| rest.strip_suffix("\";"));
+        if let Some(d) = digest.filter(|d| !out.iter().any(|o| o == d)) {
+            out.push(d.to_owned());
+        }
+    }
+    out
+}

@@ -7,7 +7,7 @@ use firmware::build::{bitset, unowned, SideTables};
 
 use super::header;
 use super::policy::{fault_value, ram_bytes, rust_type};
-use super::EmitError;
+use super::{EmitError, DIGEST_ITEM};
 use crate::config::{BoardSpec, ChoicePolicy, RuntimeConfig, SamplingSpec};
 use crate::pack::tables::Packed;
 use crate::provenance::Provenance;
@@ -220,7 +220,7 @@ fn m0plus_module(
             let _ = writeln!(out, "    // The `{}` tables: {e}.", layout_name(packed.layout.id()));
             let _ = writeln!(
                 out,
-                "    pub use super::{{Position, Runtime, CHECKED, LAYOUT, MASK_BYTES, SET, WIDE}};"
+                "    pub use super::{{Position, Runtime, CHECKED, DIGEST, LAYOUT, MASK_BYTES, SET, WIDE}};"
             );
         }
     }
@@ -229,7 +229,7 @@ fn m0plus_module(
 }
 
 /// The layout's constants, the `Position` and `Runtime` types and the tables of `packed` with their side
-/// tables `side`: the image (`IMAGE`, `DIGEST`, checked here with the runtime's own check), its sections
+/// tables `side`: the image (`IMAGE`, `DIGEST` — public, the firmware reports it —, checked here with the runtime's own check), its sections
 /// in flash (`SECTIONS`), `SET` and `CHECKED` over them.
 fn tables(out: &mut String, packed: &Packed, side: &SideTables) -> Result<(), EmitError> {
     let layout = layout_name(packed.layout.id());
@@ -266,9 +266,10 @@ fn tables(out: &mut String, packed: &Packed, side: &SideTables) -> Result<(), Em
     let _ = writeln!(out, "{}", firmware::build::image::literal(&image, ""));
     let _ = writeln!(
         out,
-        "/// The image's digest: the build script hands the compiler those of the images it checked."
+        "/// The image's digest: the build script hands the compiler those of the images it checked, and the \
+         firmware answers the link's TABLES with it (`firmware::link`)."
     );
-    let _ = writeln!(out, "const DIGEST: &str = \"{}\";", firmware::build::image::digest_hex(&image));
+    let _ = writeln!(out, "{DIGEST_ITEM}{}\";", firmware::build::image::digest_hex(&image));
     let sections = image.len() - firmware::table::image::header_bytes(packed.words());
     let _ = writeln!(out, "/// The image's sections in flash, 4-byte aligned.");
     let _ = writeln!(

@@ -13,15 +13,15 @@ use crate::feedback::{analyse, rules, FeedbackError};
 use crate::pack::PackSet;
 use crate::provenance::Provenance;
 
-use super::header;
+use super::{header, DIGEST_ITEM};
 
 use super::rust::{preamble, Const};
 
 /// `tables` as Rust source for the firmware applications: the names the applications use are those of
 /// the event-based tables — `NAME`, `event`, `EVENT_WORDS`, `INPUT_SLOTS`, `SEED`, `Policy`, `CONFIG`,
 /// `EVENT_NAMES`, `AUTOMATON_NAMES` (the components), `Runtime<P, E>` and `CHECKED` (here the
-/// `firmware::state::StateTables` the runtime takes) — with `SIGNAL_NAMES`, `COMPONENTS`, `SIGNALS` and
-/// `TABLES` besides. Deterministic.
+/// `firmware::state::StateTables` the runtime takes) and `DIGEST` — with `SIGNAL_NAMES`, `COMPONENTS`,
+/// `SIGNALS` and `TABLES` besides. Deterministic.
 fn rust(
     tables: &StateTables,
     set: &PackSet,
@@ -45,6 +45,8 @@ fn rust(
         tables.cubes.len()
     )];
     header::write(&mut out, &facts, provenance, runtime, (&[String::from("mode=state")], &[]));
+    // Where the tables begin: their digest covers what follows the header (which names the command).
+    let body = out.len();
     let layout: Vec<String> = tables.signals.iter().enumerate().map(|(i, s)| format!("{i} {s}")).collect();
     let _ = writeln!(out, "// Signal word, bit by bit: {}.", layout.join(", "));
     let _ = writeln!(out);
@@ -173,6 +175,13 @@ fn rust(
     let _ = writeln!(out, "/// What the applications hand the runtime (the event-based tables' name).");
     let _ =
         writeln!(out, "pub static CHECKED: &firmware::state::StateTables<'static, EVENT_WORDS> = &TABLES;");
+    let digest = firmware::build::image::digest_hex(out.get(body..).unwrap_or_default().as_bytes());
+    let _ = writeln!(
+        out,
+        "/// The tables' digest, which the firmware answers the link's TABLES with (`firmware::link`): \
+         FNV-1a of this file from below its header up to here (state tables have no image)."
+    );
+    let _ = writeln!(out, "{DIGEST_ITEM}{digest}\";");
     out
 }
 

@@ -3,11 +3,13 @@
 //!
 //! Bytes `0x00..=0xEF` are event ids: host → firmware an uncontrollable event the plant produced,
 //! firmware → host a command the firmware fired. Control bytes: [`RESET`], [`STATUS`], [`EXIT`],
-//! [`READY`], [`SAFE`], [`HOLD`], [`GO`], [`SYNC`], [`STEP`] (see each). The firmware's side is in `firmware/src/link.rs`.
+//! [`READY`], [`SAFE`], [`HOLD`], [`GO`], [`SYNC`], [`STEP`], [`TABLES`] (see each). The firmware's side is in `firmware/src/link.rs`.
 
 // The byte values and the STATUS answer's format are the firmware's own (`firmware::link`), so the two
 // ends cannot drift apart.
-pub use firmware::link::{EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, STATUS_BYTES, STEP, SYNC};
+pub use firmware::link::{
+    EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, STATUS_BYTES, STEP, SYNC, TABLES, TABLES_BYTES,
+};
 pub use firmware::runtime::Counters;
 
 /// One message from the firmware.
@@ -23,12 +25,14 @@ pub enum Frame {
     Sync,
     /// A complete [`STATUS`] answer: the firmware's counters since its last reset.
     Status(Counters),
+    /// A complete [`TABLES`] answer: the hex digits of the digest of the tables the firmware runs.
+    Tables([u8; TABLES_BYTES]),
     /// A byte the protocol does not define in this direction.
     Unknown(u8),
 }
 
-/// Turns the firmware's byte stream into [`Frame`]s, one byte at a time (a STATUS answer may arrive
-/// split over several reads).
+/// Turns the firmware's byte stream into [`Frame`]s, one byte at a time (a STATUS or TABLES answer may
+/// arrive split over several reads).
 ///
 /// # Examples
 ///
@@ -41,18 +45,21 @@ pub enum Frame {
 /// ```
 #[derive(Clone, Debug, Default)]
 pub struct Decoder {
-    status: Option<Vec<u8>>,
+    /// An answer under way: its leading byte ([`STATUS`] or [`TABLES`]) and its bytes so far.
+    answer: Option<(u8, Vec<u8>)>,
 }
 
 impl Decoder {
     /// Feeds one byte; returns a frame when one is complete.
     pub fn push(&mut self, byte: u8) -> Option<Frame> {
-        if let Some(buf) = &mut self.status {
+        if let Some((lead, buf)) = &mut self.answer {
             buf.push(byte);
-            let answer: &[u8; STATUS_BYTES] = buf.as_slice().try_into().ok()?;
-            let counters = Counters::from_status(answer);
-            self.status = None;
-            return Some(Frame::Status(counters));
+            let frame = match *lead {
+                STATUS => Frame::Status(Counters::from_status(buf.as_slice().try_into().ok()?)),
+                _ => Frame::Tables(buf.as_slice().try_into().ok()?),
+            };
+            self.answer = None;
+            return Some(frame);
         }
         Some(match byte {
             0..=MAX_EVENT => Frame::Command(byte),
@@ -60,7 +67,11 @@ impl Decoder {
             SAFE => Frame::Safe,
             SYNC => Frame::Sync,
             STATUS => {
-                self.status = Some(Vec::with_capacity(STATUS_BYTES));
+                self.answer = Some((STATUS, Vec::with_capacity(STATUS_BYTES)));
+                return None;
+            }
+            TABLES => {
+                self.answer = Some((TABLES, Vec::with_capacity(TABLES_BYTES)));
                 return None;
             }
             other => Frame::Unknown(other),
@@ -90,6 +101,21 @@ mod tests {
             unknown_bytes: 0x0102_0304,
         };
         assert_eq!(frames, [Frame::Command(7), Frame::Status(expected), Frame::Safe]);
+    }
+
+    #[test]
+    fn tables_answer_split_anywhere_decodes() {
+        let mut bytes = vec![TABLES];
+        bytes.extend_from_slice(b"0123456789abcde\xf1");
+        bytes.extend([STATUS, 0xF1]);
+        let mut d = Decoder::default();
+        let mut frames = Vec::new();
+        for chunk in bytes.chunks(3) {
+            frames.extend(chunk.iter().filter_map(|&b| d.push(b)));
+        }
+        // A digest byte may be any value: one equal to STATUS is the answer's, not a new answer.
+        assert_eq!(frames, [Frame::Tables(*b"0123456789abcde\xf1")]);
+        assert_eq!(d.push(SAFE), None, "inside the STATUS answer that followed");
     }
 
     #[test]

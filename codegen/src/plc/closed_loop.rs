@@ -382,6 +382,8 @@ pub fn run(
     let options = Options {
         session: SessionConfig { lockstep: true, ..options.session.clone() },
         choices,
+        // The program has no tables' digest to report.
+        tables: Vec::new(),
         ..options.clone()
     };
     let report = attach(&mut host, set, name, &options, progress);

@@ -530,6 +530,13 @@ impl Project {
         Ok(emit::emit(&tables, m0plus, &self.name, &self.runtime, self.board.as_ref(), &provenance)?)
     }
 
+    /// The digests of the tables [`Project::emit`] writes (`DIGEST`: the Cortex-M3's image and the
+    /// Cortex-M0+'s, or the state tables'): what a firmware built from this project answers the link's
+    /// TABLES with, and what `codegen plant` and `codegen run` hold it to ([`crate::closed_loop::Options`]).
+    pub fn table_digests(&self) -> Result<Vec<String>, ProjectError> {
+        Ok(emit::digests(&self.emit()?))
+    }
+
     /// The event-based program of [`Project::plc`] (`Form::Event`), with the manifest's sequence net
     /// beside it when it has one.
     fn event_program(

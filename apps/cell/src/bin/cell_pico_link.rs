@@ -7,7 +7,8 @@
 //! debug probe's UART (docs/boards.md, "The board in the loop"); on the emulated RP2040, the harness's
 //! `--uart` mode. It boots on hold, as the QEMU firmware does: the host resets and releases it, so a
 //! lock-step run (STEP, SYNC) repeats exactly from the seeds. Its choices draw on the manifest's seed
-//! (`firmware::rng::SeedEntropy`), as under QEMU; EXIT, which a board cannot obey, leaves it idle.
+//! (`firmware::rng::SeedEntropy`), as under QEMU; EXIT, which a board cannot obey, leaves it idle. It
+//! answers TABLES with the digest of the Cortex-M0+'s tables (`tables::m0plus::DIGEST`).
 #![no_std]
 #![no_main]
 
@@ -184,7 +185,7 @@ mod app {
     #[idle(shared = [reader], local = [consumer, runtime, port])]
     fn idle(mut cx: idle::Context) -> ! {
         let (rx, rt, port) = (cx.local.consumer, cx.local.runtime, cx.local.port);
-        let mut event_loop = EventLoop::new();
+        let mut event_loop = EventLoop::with_tables(tables::m0plus::DIGEST);
         loop {
             let poll = event_loop.turn(rt, rx, &HOLD, port);
             SCT_STATUS.store(&rt.counters().to_array(), rt.is_safe());

@@ -192,8 +192,8 @@ const IMAGE: &[u8; 1516] = b"\
     \xe4\x03\xe4\x03\xe4\x03\xe4\x03\xe4\x03\xe4\x03\xe4\x03\xe4\x03\xe4\x03\xe8\x00\xe8\x00\xe8\x00\
     \xe8\x00\xe8\x00\
 ";
-/// The image's digest: the build script hands the compiler those of the images it checked.
-const DIGEST: &str = "415f38e4045e9754";
+/// The image's digest: the build script hands the compiler those of the images it checked, and the firmware answers the link's TABLES with it (`firmware::link`).
+pub const DIGEST: &str = "415f38e4045e9754";
 /// The image's sections in flash, 4-byte aligned.
 static SECTIONS: firmware::table::image::Aligned<[u8; 1468]> =
     firmware::table::image::Aligned(*firmware::table::image::sections(IMAGE));
@@ -452,8 +452,8 @@ pub mod m0plus {
         \x03\xe4\x03\xe4\x03\xe4\x03\xe4\x03\xe4\x03\xe4\x03\xe4\x03\xe4\x03\xe4\x03\xe8\x00\xe8\x00\xe8\
         \x00\xe8\x00\xe8\x00\x00\x00\x00\
     ";
-    /// The image's digest: the build script hands the compiler those of the images it checked.
-    const DIGEST: &str = "73a03502079d7f66";
+    /// The image's digest: the build script hands the compiler those of the images it checked, and the firmware answers the link's TABLES with it (`firmware::link`).
+    pub const DIGEST: &str = "73a03502079d7f66";
     /// The image's sections in flash, 4-byte aligned.
     static SECTIONS: firmware::table::image::Aligned<[u8; 5072]> =
         firmware::table::image::Aligned(*firmware::table::image::sections(IMAGE));

@@ -3,7 +3,8 @@
 //!
 //! Tables: `SCT_TABLES_FILE` (see `build.rs`), the cell's by default: supervisor tables
 //! (`[runtime] mode = "event"`) or the state feedback's (`mode = "state"`, `firmware::state`), which
-//! define the same names (`Runtime`, `CHECKED`, `CONFIG`, `Policy`, …), so one application runs both. Run with `cargo qemu` from the
+//! define the same names (`Runtime`, `CHECKED`, `DIGEST`, `CONFIG`, `Policy`, …), so one application runs
+//! both; the loop answers the link's TABLES with the tables' `DIGEST`, so a host refuses other tables. Run with `cargo qemu` from the
 //! repository root, or start QEMU on a socket for the virtual plant (docs/firmware.md, "Run the cell under QEMU").
 #![no_std]
 #![no_main]
@@ -101,7 +102,7 @@ mod app {
         );
         uart::init();
         uart::send(READY);
-        (Shared {}, Local { producer, consumer, runtime, event_loop: EventLoop::new() })
+        (Shared {}, Local { producer, consumer, runtime, event_loop: EventLoop::with_tables(tables::DIGEST) })
     }
 
     /// Moves received bytes into the input buffer (HOLD and GO act here). Bounded by the buffer's room:
