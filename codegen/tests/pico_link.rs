@@ -1,13 +1,15 @@
-//! The board in the loop: the Pico's link build (`cell-pico-link`, the supervisors driven over UART0)
-//! on the emulated RP2040, and **the `codegen` binary** attached to it through a serial port —
-//! `codegen plant --project DIR --connect serial:DEVICE`, as a user runs it against a flashed Pico.
+//! The board in the loop: the Pico's link builds — `cell-pico-usb` (the supervisors driven over the
+//! Pico's USB port, a CDC-ACM serial device) and `cell-pico-link` (over UART0) — on the emulated RP2040,
+//! and **the `codegen` binary** attached to each through a serial port — `codegen plant --project DIR
+//! --connect serial:DEVICE`, as a user runs it against a flashed Pico.
 //!
 //! `DIR` is a project `codegen new DIR --board pico` wrote (the cell starter: `examples/cell/cell.toml`);
 //! the link build is built on the tables of that project's manifest. The harness
-//! (`harness/rp2040/src/main.js --uart`) wires UART0 to a Unix socket; the test makes a pseudo-terminal
-//! pair and copies bytes between its master and that socket, so `codegen plant` opens the terminal's
-//! device path as it opens `/dev/ttyACM0` (the `serialport` crate, raw 8N1, TIOCEXCL) — the serial path,
-//! not a socket standing in for it.
+//! (`harness/rp2040/src/main.js --usb`: the USB port enumerated by rp2040js's CDC host; `--uart`: UART0)
+//! wires the link to a Unix socket; the test makes a pseudo-terminal pair and copies bytes between its
+//! master and that socket, so `codegen plant` opens the terminal's device path as it opens
+//! `/dev/ttyACM0` (the `serialport` crate, raw 8N1, TIOCEXCL) — the serial path, not a socket standing
+//! in for it.
 //!
 //! Lock-step rounds (the firmware answers SYNC and STEP, as under QEMU): 0 violations, full coverage and
 //! the marked-state liveness the pin runs cannot measure. Then the plant's own timing at different answer
@@ -30,14 +32,42 @@ use common::{repo, Temp};
 use serde_json::Value;
 use serialport::{SerialPort, TTYPort};
 
-/// The harness in `--uart` mode on `elf`, killed when dropped.
-struct UartHarness(Child);
+/// Which link build, and the harness's mode that carries its link.
+#[derive(Clone, Copy)]
+enum Link {
+    /// `cell-pico-usb`, `--usb`.
+    Usb,
+    /// `cell-pico-link`, `--uart`.
+    Uart,
+}
 
-impl UartHarness {
-    fn start(elf: &Path, socket: &Path, stats: &Path) -> (Self, UnixStream) {
+impl Link {
+    /// The link build on `project`'s tables, built in `dir`.
+    fn image(self, project: &Project, dir: &Path) -> PathBuf {
+        match self {
+            Link::Usb => project.pico_usb_image(dir),
+            Link::Uart => project.pico_link_image(dir),
+        }
+        .unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    /// The harness's option.
+    fn mode(self) -> &'static str {
+        match self {
+            Link::Usb => "--usb",
+            Link::Uart => "--uart",
+        }
+    }
+}
+
+/// The harness in `--usb` or `--uart` mode on `elf`, killed when dropped.
+struct LinkHarness(Child);
+
+impl LinkHarness {
+    fn start(link: Link, elf: &Path, socket: &Path, stats: &Path) -> (Self, UnixStream) {
         let child = Command::new("node")
             .arg(repo("harness/rp2040/src/main.js"))
-            .arg("--uart")
+            .arg(link.mode())
             .arg("--elf")
             .arg(elf)
             .arg("--socket")
@@ -47,7 +77,7 @@ impl UartHarness {
             .stdin(Stdio::null())
             .spawn()
             .unwrap_or_else(|e| panic!("node: {e} (scripts/setup.sh installs Node and the harness)"));
-        let harness = UartHarness(child);
+        let harness = LinkHarness(child);
         let deadline = Instant::now() + Duration::from_secs(30);
         loop {
             match UnixStream::connect(socket) {
@@ -59,7 +89,7 @@ impl UartHarness {
     }
 }
 
-impl Drop for UartHarness {
+impl Drop for LinkHarness {
     fn drop(&mut self) {
         let _ = self.0.kill();
         let _ = self.0.wait();
@@ -99,11 +129,11 @@ fn new_pico_project(temp: &Path) -> PathBuf {
 }
 
 /// Runs `codegen plant --project DIR --connect serial:/dev/pts/N --json ARGS` against `elf` on the
-/// emulated RP2040, through a pseudo-terminal; returns the JSON report.
-fn plant_over_serial(dir: &Path, elf: &Path, temp: &Path, tag: &str, args: &[&str]) -> Value {
+/// emulated RP2040, its `link` through a pseudo-terminal; returns the JSON report.
+fn plant_over_serial(link: Link, dir: &Path, elf: &Path, temp: &Path, tag: &str, args: &[&str]) -> Value {
     let socket = temp.join(format!("{tag}.sock"));
     let stats = temp.join(format!("{tag}.json"));
-    let (harness, stream) = UartHarness::start(elf, &socket, &stats);
+    let (harness, stream) = LinkHarness::start(link, elf, &socket, &stats);
     // The slave end stays open here for the whole run, so the master never reads a hang-up.
     let (master, slave) = TTYPort::pair().expect("a pseudo-terminal pair");
     let device = slave.name().expect("the pseudo-terminal's device path");
@@ -155,20 +185,23 @@ fn check(report: &Value, events: u64, what: &str) {
     assert!(report["full_coverage_at"].is_u64(), "{what}: {report}");
 }
 
-#[test]
-fn codegen_plant_runs_the_cell_closed_loop_against_the_pico_link_build_over_a_serial_port() {
-    let temp = Temp(std::env::temp_dir().join(format!("codegen-pico-link-{}", std::process::id())));
+/// `codegen plant` against `link`'s build: lock-step, then the plant's timing at different rates.
+fn closed_loop_over_serial(link: Link, tag: &str) {
+    let temp = Temp(std::env::temp_dir().join(format!("codegen-pico-{tag}-{}", std::process::id())));
     let _ = std::fs::remove_dir_all(&temp.0);
     std::fs::create_dir_all(&temp.0).unwrap();
     let dir = new_pico_project(&temp.0);
     let manifest = UserProject::open(&dir).unwrap_or_else(|e| panic!("{e}")).manifest;
     let project = Project::load(&manifest).unwrap_or_else(|e| panic!("{e}"));
-    let elf = project.pico_link_image(&temp.0).unwrap_or_else(|e| panic!("{e}"));
+    let elf = link.image(&project, &temp.0);
+    let run = |what: &str, args: &[&str]| {
+        plant_over_serial(link, &dir, &elf, &temp.0, &format!("{tag}-{what}"), args)
+    };
 
     // Lock-step (the default): the same trace for the same seeds, and the liveness the pin runs cannot
     // measure.
     let events = 5_000;
-    let lockstep = plant_over_serial(&dir, &elf, &temp.0, "lockstep", &["--events", &events.to_string()]);
+    let lockstep = run("lockstep", &["--events", &events.to_string()]);
     check(&lockstep, events, "lock-step");
     assert!(n(&lockstep, "marked_visits") >= events / 100, "{lockstep}");
     assert!(n(&lockstep, "longest_marked_gap") < 2_000, "{lockstep}");
@@ -198,7 +231,17 @@ fn codegen_plant_runs_the_cell_closed_loop_against_the_pico_link_build_over_a_se
         ],
     ]
     .concat();
-    for (tag, args) in [("fixed-500us", fixed), ("uniform-0-3ms-per-command", own)] {
-        check(&plant_over_serial(&dir, &elf, &temp.0, tag, &args), 3_000, tag);
+    for (what, args) in [("fixed-500us", fixed), ("uniform-0-3ms-per-command", own)] {
+        check(&run(what, &args), 3_000, what);
     }
+}
+
+#[test]
+fn codegen_plant_runs_the_cell_closed_loop_against_the_pico_usb_link_build_over_a_serial_port() {
+    closed_loop_over_serial(Link::Usb, "usb");
+}
+
+#[test]
+fn codegen_plant_runs_the_cell_closed_loop_against_the_pico_uart_link_build_over_a_serial_port() {
+    closed_loop_over_serial(Link::Uart, "uart");
 }
