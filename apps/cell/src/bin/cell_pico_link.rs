@@ -48,16 +48,16 @@ impl Port for UartPort {
 
 #[rtic::app(device = rp2040_hal::pac)]
 mod app {
-    use super::link_app::{halt, Rt, HOLD, SCT_STATUS, XOSC_HZ};
+    use super::link_app::{halt, Rt, HOLD, SCT_STATUS};
     use super::{tables, UartPins, UartPort, BAUD};
     use firmware::event_loop::{EventLoop, Poll};
     use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
     use firmware::link::READY;
-    use rp2040_hal::clocks::{init_clocks_and_plls, Clock};
+    use rp2040_hal::clocks::Clock;
     use rp2040_hal::fugit::RateExtU32;
     use rp2040_hal::pac::UART0;
     use rp2040_hal::uart::{DataBits, Reader, StopBits, UartConfig, UartPeripheral};
-    use rp2040_hal::{Sio, Watchdog};
+    use rp2040_hal::Sio;
 
     #[shared]
     struct Shared {
@@ -75,18 +75,14 @@ mod app {
     #[init(local = [queue: InputQueue<{ tables::INPUT_SLOTS }> = InputQueue::new()])]
     fn init(cx: init::Context) -> (Shared, Local) {
         let mut pac = cx.device;
-        let mut watchdog = Watchdog::new(pac.WATCHDOG);
-        let Ok(clocks) = init_clocks_and_plls(
-            XOSC_HZ,
+        let clocks = super::link_app::clocks(
             pac.XOSC,
             pac.CLOCKS,
             pac.PLL_SYS,
             pac.PLL_USB,
             &mut pac.RESETS,
-            &mut watchdog,
-        ) else {
-            halt("clocks")
-        };
+            pac.WATCHDOG,
+        );
         let sio = Sio::new(pac.SIO);
         let pins = rp2040_hal::gpio::Pins::new(pac.IO_BANK0, pac.PADS_BANK0, sio.gpio_bank0, &mut pac.RESETS);
         let uart_pins: UartPins = (pins.gpio0.into_function(), pins.gpio1.into_function());

@@ -78,16 +78,14 @@ const VID_PID: (u16, u16) = (0x16c0, 0x27dd);
 
 #[rtic::app(device = rp2040_hal::pac)]
 mod app {
-    use super::link_app::{halt, Rt, HOLD, SCT_STATUS, XOSC_HZ};
+    use super::link_app::{halt, Rt, HOLD, SCT_STATUS};
     use super::{tables, Usb, UsbPort, STARVED, VID_PID};
     use core::sync::atomic::Ordering;
     use firmware::event_loop::{EventLoop, Poll, Port};
     use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
     use firmware::link::READY;
-    use rp2040_hal::clocks::init_clocks_and_plls;
     use rp2040_hal::pac::Interrupt;
     use rp2040_hal::usb::UsbBus;
-    use rp2040_hal::Watchdog;
     use usb_device::bus::UsbBusAllocator;
     use usb_device::prelude::{StringDescriptors, UsbDeviceBuilder, UsbVidPid};
     use usbd_serial::SerialPort;
@@ -110,18 +108,14 @@ mod app {
     ])]
     fn init(cx: init::Context) -> (Shared, Local) {
         let mut pac = cx.device;
-        let mut watchdog = Watchdog::new(pac.WATCHDOG);
-        let Ok(clocks) = init_clocks_and_plls(
-            XOSC_HZ,
+        let clocks = super::link_app::clocks(
             pac.XOSC,
             pac.CLOCKS,
             pac.PLL_SYS,
             pac.PLL_USB,
             &mut pac.RESETS,
-            &mut watchdog,
-        ) else {
-            halt("clocks")
-        };
+            pac.WATCHDOG,
+        );
         let bus: &'static UsbBusAllocator<UsbBus> = cx.local.bus.insert(UsbBusAllocator::new(UsbBus::new(
             pac.USBCTRL_REGS,
             pac.USBCTRL_DPRAM,

@@ -1,11 +1,14 @@
 //! What the Pico's link builds share (`cell_pico_link.rs` over UART0, `cell_pico_usb.rs` over USB): the
-//! second-stage bootloader, the crystal, the HOLD/GO gate, the published status, the runtime's type,
+//! second-stage bootloader, the clocks, the HOLD/GO gate, the published status, the runtime's type,
 //! the notes the event loop logs and the halt on a configuration error. Each declares it as
 //! `mod link_app;` beside its own `mod tables` and keeps only its transport's wiring.
 
 use firmware::event_loop::Note;
 use firmware::link::Hold;
 use firmware::status::Published;
+use rp2040_hal::clocks::{init_clocks_and_plls, ClocksManager};
+use rp2040_hal::pac;
+use rp2040_hal::Watchdog;
 
 use crate::tables;
 
@@ -15,7 +18,7 @@ use crate::tables;
 pub static BOOT2: [u8; 256] = rp2040_boot2::BOOT_LOADER_W25Q080;
 
 /// The Pico's crystal.
-pub const XOSC_HZ: u32 = 12_000_000;
+const XOSC_HZ: u32 = 12_000_000;
 
 /// The decision gate; HOLD and GO set it where the link's bytes are received. On hold from boot: the
 /// host releases the firmware after its RESET (`firmware::link`).
@@ -46,6 +49,24 @@ pub fn runtime(transport: &str) -> Rt {
         tables::Policy::default(),
         firmware::rng::SeedEntropy::new(tables::SEED),
     )
+}
+
+/// The Pico's clocks from its crystal (the system's PLL at 125 MHz, USB's at 48 MHz); halts when a
+/// PLL does not lock.
+pub fn clocks(
+    xosc: pac::XOSC,
+    clocks: pac::CLOCKS,
+    pll_sys: pac::PLL_SYS,
+    pll_usb: pac::PLL_USB,
+    resets: &mut pac::RESETS,
+    watchdog: pac::WATCHDOG,
+) -> ClocksManager {
+    let mut watchdog = Watchdog::new(watchdog);
+    let Ok(clocks) = init_clocks_and_plls(XOSC_HZ, xosc, clocks, pll_sys, pll_usb, resets, &mut watchdog)
+    else {
+        halt("clocks")
+    };
+    clocks
 }
 
 /// Logs what the event loop notes: defmt warnings, the safe state an error.
