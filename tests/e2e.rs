@@ -15,7 +15,6 @@ mod loopback;
 mod mutants;
 mod net;
 mod pico;
-mod pico_link;
 mod plc;
 mod plc_state;
 mod race;

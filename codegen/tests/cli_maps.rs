@@ -495,3 +495,33 @@ fn a_command_without_a_pin_is_refused_unless_internal() {
     let out = codegen(&["emit", s(&m), "-o", s(&m.with_file_name("t.rs"))]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
 }
+
+/// `codegen bench`: the LED/button bench's `[board]`, written from the press station's events, takes the
+/// place of the hand-written one and `emit` builds the pin tables from it (the maps pass finds nothing);
+/// every event is on a pin of its own, buttons (falling edge, pull-up) then LEDs, debounced by 20 ms
+/// timer sampling.
+#[test]
+fn the_bench_board_written_from_the_events_replaces_the_hand_written_one() {
+    let m = press("bench");
+    let bench = m.with_file_name("bench.toml");
+    let out = codegen(&["bench", s(&m), "-o", s(&bench)]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let section = std::fs::read_to_string(&bench).unwrap();
+    let text = std::fs::read_to_string(&m).unwrap();
+    let (head, rest) = text.split_once("[board]\n").unwrap();
+    let plc = &rest[rest.find("[plc]").unwrap()..];
+    std::fs::write(&m, format!("{head}{section}\n{plc}")).unwrap();
+    let tables = m.with_file_name("t.rs");
+    let out = codegen(&["emit", s(&m), "-o", s(&tables)]);
+    assert_eq!(out.status.code(), Some(0), "{}\n{section}", stderr(&out));
+    let spec: toml::Value = toml::from_str(&section).unwrap();
+    let (inputs, outputs) =
+        (spec["board"]["inputs"].as_array().unwrap(), spec["board"]["outputs"].as_array().unwrap());
+    assert_eq!((inputs.len(), outputs.len()), (3, 3), "{section}");
+    let pins: Vec<i64> = inputs.iter().chain(outputs).map(|e| e["pin"].as_integer().unwrap()).collect();
+    assert_eq!(pins, [0, 1, 2, 3, 4, 5]);
+    assert!(section.contains("sampling = \"timer\"\nsample_period_us = 20000\n"), "{section}");
+    // Twice the same bytes.
+    let again = codegen(&["bench", s(&m)]);
+    assert_eq!(stdout(&again), section);
+}

@@ -1,6 +1,7 @@
 //! Command-line interface: the argument structure (clap derive) and the dispatch to one module per
 //! subcommand.
 
+mod bench;
 mod check;
 mod convert;
 mod dot;
@@ -48,6 +49,7 @@ enum Command {
     Pack(pack::Args),
     Check(check::Args),
     Emit(emit::Args),
+    Bench(bench::Args),
     New(new::Args),
     Synth(synth::Args),
     Plant(plant::Args),
@@ -90,6 +92,7 @@ fn subcommand(cli: Cli) -> Result<ExitCode, Error> {
         Command::Pack(args) => pack::run(args),
         Command::Check(args) => check::run(args),
         Command::Emit(args) => emit::run(args),
+        Command::Bench(args) => bench::run(args),
         Command::New(args) => new::run(args),
         Command::Synth(args) => synth::run(args),
         Command::Plant(args) => plant::run(args),

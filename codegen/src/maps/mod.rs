@@ -26,6 +26,7 @@
 //! before the alphabets are.
 
 mod address;
+pub mod bench;
 mod board;
 mod net;
 pub mod pins;

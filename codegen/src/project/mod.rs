@@ -54,7 +54,9 @@ use crate::provenance::{Input, Provenance};
 use crate::symbolic::Guards;
 use crate::synth::deploy::{self, Summary};
 use crate::synth::{local_modular, Config, Supervisor, SynthError};
-use crate::target::image::{build_pico_image, build_pico_link_image, build_qemu_image, ImageError};
+use crate::target::image::{
+    build_pico_image, build_pico_link_image, build_pico_usb_image, build_qemu_image, ImageError,
+};
 
 /// A supervisor set with everything the tables, the firmware build and the closed loop need.
 #[derive(Clone, Debug)]
@@ -731,9 +733,27 @@ impl Project {
     /// by `codegen plant --connect serial:…`); returns the ELF. As [`Project::pico_image`], but no
     /// `[board]` pin map is needed.
     pub fn pico_link_image(&self, dir: &Path) -> Result<PathBuf, ProjectError> {
+        self.pico_link_build(dir, build_pico_link_image, "firmware-link.elf")
+    }
+
+    /// Builds the Pico's USB link build on this project's tables in `dir` (the supervisors driven over
+    /// the Pico's USB port, a CDC-ACM serial device, by `codegen plant --connect serial:…`); returns the
+    /// ELF. As [`Project::pico_link_image`].
+    pub fn pico_usb_image(&self, dir: &Path) -> Result<PathBuf, ProjectError> {
+        self.pico_link_build(dir, build_pico_usb_image, "firmware-usb.elf")
+    }
+
+    /// A link build of the Pico (`build`: the UART's or the USB's) on this project's tables, as
+    /// `dir/elf`; the tables fitted to the Cortex-M0+ first.
+    fn pico_link_build(
+        &self,
+        dir: &Path,
+        build: fn(&Path, &Path) -> Result<PathBuf, ImageError>,
+        elf: &str,
+    ) -> Result<PathBuf, ProjectError> {
         self.for_board()?;
         self.fit(Core::CortexM0Plus, &Core::CortexM0Plus.flash())?;
-        Ok(build_pico_link_image(&self.tables_file(dir)?, &dir.join("firmware-link.elf"))?)
+        Ok(build(&self.tables_file(dir)?, &dir.join(elf))?)
     }
 
     /// Refuses `mode = "state"` for a board's application (the Pico image, a `codegen new` project's

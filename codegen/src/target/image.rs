@@ -1,6 +1,6 @@
 //! Builds the firmware images QEMU boots and the RP2040 harness loads, for a given tables file.
 //!
-//! The applications (package `cell` in `apps/cell`, binaries `cell-qemu`, `cell-pico` and `cell-pico-link`) include the tables named by the
+//! The applications (package `cell` in `apps/cell`, binaries `cell-qemu`, `cell-pico`, `cell-pico-link` and `cell-pico-usb`) include the tables named by the
 //! `SCT_TABLES` environment variable. Building it is one `cargo build` in the root of the sources this
 //! binary carries ([`super::sources`]: unpacked into a cache directory, with the `.cargo/config.toml`
 //! that holds the Cortex-M link flags), whatever the current directory. Cargo writes the ELF to one
@@ -23,6 +23,9 @@ pub const PICO_TARGET: &str = "thumbv6m-none-eabi";
 pub const PICO_BINARY: &str = "cell-pico";
 /// The Pico's link build: the same supervisors driven over UART0 (what `cargo pico-link-build` makes).
 pub const PICO_LINK_BINARY: &str = "cell-pico-link";
+/// The Pico's USB link build: the same supervisors driven over its USB port, a CDC-ACM serial device
+/// (what `cargo pico-usb-build` makes).
+pub const PICO_USB_BINARY: &str = "cell-pico-usb";
 
 /// Building the firmware failed.
 #[derive(Debug, thiserror::Error)]
@@ -75,6 +78,12 @@ pub fn build_pico_image(tables: &Path, out: &Path) -> Result<PathBuf, ImageError
 /// only) and copies the ELF to `out`.
 pub fn build_pico_link_image(tables: &Path, out: &Path) -> Result<PathBuf, ImageError> {
     build_image(tables, out, "pico", PICO_TARGET, PICO_LINK_BINARY)
+}
+
+/// Builds the Pico's USB link build with the tables in `tables` (no pin map needed: it takes the USB
+/// port only) and copies the ELF to `out`.
+pub fn build_pico_usb_image(tables: &Path, out: &Path) -> Result<PathBuf, ImageError> {
+    build_image(tables, out, "pico", PICO_TARGET, PICO_USB_BINARY)
 }
 
 /// `cargo build -p cell --release --features FEATURE --target TARGET --bin BINARY` on `tables`.

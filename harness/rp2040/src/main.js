@@ -5,6 +5,7 @@
 //   node src/main.js --elf FILE --pins FILE.json --socket PATH [--seed N] [--input-pulse-us N]
 //                    [--short-pulse-us N] [--together] [--overlap] [--rtt FILE] [--stats FILE] [--trace FILE]
 //   node src/main.js --uart --elf FILE --socket PATH [--seed N] [--rtt FILE] [--stats FILE]
+//   node src/main.js --usb --elf FILE --socket PATH [--seed N] [--rtt FILE] [--stats FILE]
 
 import fs from 'node:fs';
 import net from 'node:net';
@@ -15,13 +16,15 @@ import { firmwareImage } from './image.js';
 import { defaultInputPulseNs, PinMap } from './pins.js';
 import { BitSource } from './rosc.js';
 import { UartHarness } from './uart.js';
+import { UsbHarness } from './usb.js';
 
 /** Wall time one burst of stepping may take before the host's bytes are read again. */
 const SLICE_MS = 2;
 
 const USAGE = `usage: main.js --elf FILE --pins FILE.json --socket PATH [--seed N] [--input-pulse-us N]
                 [--short-pulse-us N] [--together] [--overlap] [--rtt FILE] [--stats FILE] [--trace FILE]
-       main.js --uart --elf FILE --socket PATH [--seed N] [--rtt FILE] [--stats FILE]`;
+       main.js --uart --elf FILE --socket PATH [--seed N] [--rtt FILE] [--stats FILE]
+       main.js --usb --elf FILE --socket PATH [--seed N] [--rtt FILE] [--stats FILE]`;
 
 function fail(message, code = 2) {
   process.stderr.write(`rp2040 harness: ${message}\n`);
@@ -45,13 +48,15 @@ function options() {
         together: { type: 'boolean', default: false },
         overlap: { type: 'boolean', default: false },
         uart: { type: 'boolean', default: false },
+        usb: { type: 'boolean', default: false },
       },
       strict: true,
     }));
   } catch (e) {
     fail(`${e.message}\n${USAGE}`);
   }
-  for (const required of values.uart ? ['elf', 'socket'] : ['elf', 'pins', 'socket']) if (!values[required]) fail(`--${required} is required\n${USAGE}`);
+  if (values.uart && values.usb) fail(`--uart and --usb: one link at a time\n${USAGE}`);
+  for (const required of values.uart || values.usb ? ['elf', 'socket'] : ['elf', 'pins', 'socket']) if (!values[required]) fail(`--${required} is required\n${USAGE}`);
   const number = (name) => {
     const v = values[name];
     if (v === undefined) return undefined;
@@ -76,7 +81,11 @@ function main() {
     fail(e.message);
   }
   if (opts.uart) {
-    serveUart(opts, img);
+    serveLink(opts, img, UartHarness, 'UART0');
+    return;
+  }
+  if (opts.usb) {
+    serveLink(opts, img, UsbHarness, 'USB (CDC-ACM)');
     return;
   }
   let map;
@@ -154,9 +163,10 @@ function main() {
   server.listen(opts.socket);
 }
 
-/** Listens on `opts.socket` and wires the one host that connects to UART0 of the link build `img`,
- * until the host hangs up (status 0) or the firmware faults (3). */
-function serveUart(opts, img) {
+/** Listens on `opts.socket` and wires the one host that connects to the link build `img` through
+ * `Link` (`UartHarness`: UART0; `UsbHarness`: the USB port), until the host hangs up (status 0) or the
+ * firmware faults (3). */
+function serveLink(opts, img, Link, what) {
   const log = opts.rtt ? fs.openSync(opts.rtt, 'w') : null;
   fs.rmSync(opts.socket, { force: true });
   const server = net.createServer({ allowHalfOpen: false });
@@ -167,11 +177,11 @@ function serveUart(opts, img) {
     let harness;
     try {
       const bits = new BitSource(opts.seed);
-      harness = new UartHarness(img, bits, (bytes) => socket.write(bytes), log === null ? null : (bytes) => fs.writeSync(log, bytes));
+      harness = new Link(img, bits, (bytes) => socket.write(bytes), log === null ? null : (bytes) => fs.writeSync(log, bytes));
     } catch (e) {
       fail(e.message);
     }
-    process.stderr.write(`rp2040 harness: ${opts.elf} on an emulated RP2040 (rp2040js), UART0 to the host; seed ${opts.seed}\n`);
+    process.stderr.write(`rp2040 harness: ${opts.elf} on an emulated RP2040 (rp2040js), ${what} to the host; seed ${opts.seed}\n`);
     let ended = false;
     const end = (code) => {
       if (ended) return;

@@ -10,7 +10,7 @@
 import { Board } from './board.js';
 
 /** Instructions per call of `step`, so the host's bytes are read often. */
-const STEP_BUDGET = 20_000;
+export const STEP_BUDGET = 20_000;
 /** Depth of the RP2040 UART's receive FIFO. */
 const RX_FIFO = 32;
 
@@ -62,6 +62,11 @@ export class UartHarness {
     if (fed > 0) this.inbox.splice(0, fed);
     this.received += fed;
     if (!this.board.sleeping) this.board.run(Infinity, STEP_BUDGET);
+    this.drainLog();
+  }
+
+  /** Passes the firmware's RTT bytes to the log, if there is one. */
+  drainLog() {
     if (this.log) {
       const bytes = this.board.drainRtt();
       if (bytes.length > 0) this.log(bytes);

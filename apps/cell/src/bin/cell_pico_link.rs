@@ -21,36 +21,16 @@ mod tables {
     include!(env!("SCT_TABLES_FILE"));
 }
 
+mod link_app;
+
 use firmware::event_loop::{Note, Port};
-use firmware::link::Hold;
-use firmware::status::Published;
 use rp2040_hal::gpio::bank0::{Gpio0, Gpio1};
 use rp2040_hal::gpio::{FunctionUart, Pin, PullDown};
 use rp2040_hal::pac::UART0;
 use rp2040_hal::uart::Writer;
 
-/// Second-stage bootloader for the Pico's W25Q080 flash.
-#[link_section = ".boot2"]
-#[used]
-static BOOT2: [u8; 256] = rp2040_boot2::BOOT_LOADER_W25Q080;
-
-/// The Pico's crystal.
-const XOSC_HZ: u32 = 12_000_000;
-
 /// The link's baud rate (`codegen::link::DEFAULT_BAUD`: `serial:DEVICE` without `@BAUD`).
 const BAUD: u32 = 115_200;
-
-/// The decision gate; HOLD and GO set it from the receive interrupt. On hold from boot: the host
-/// releases the firmware after its RESET (`firmware::link`).
-static HOLD: Hold = Hold::on_hold();
-
-/// The runtime's counters after every turn of the loop, for a debugger or the emulator harness (which
-/// times the runtime's entry points by them); the host reads them over the link with STATUS.
-#[no_mangle]
-static SCT_STATUS: Published = Published::new();
-
-/// The runtime on the tables made for the Cortex-M0+, its choices seeded from the manifest.
-type Rt = tables::m0plus::Runtime<tables::Policy, firmware::rng::SeedEntropy>;
 
 type UartPins = (Pin<Gpio0, FunctionUart, PullDown>, Pin<Gpio1, FunctionUart, PullDown>);
 
@@ -63,37 +43,22 @@ impl Port for UartPort {
     }
 
     fn note(&mut self, note: Note) {
-        match note {
-            Note::Unexpected { event, automaton } => {
-                defmt::warn!("unexpected event {=u8} in automaton {=u8}", event, automaton)
-            }
-            Note::Unknown(byte) => defmt::warn!("unknown byte {=u8:#x}", byte),
-            Note::Safe => defmt::error!("fault: safe state, deciding stopped"),
-            Note::Redecided => defmt::debug!("guard: input arrived while choosing"),
-        }
-    }
-}
-
-/// Stops for good after a configuration error (logged).
-fn halt(why: &str) -> ! {
-    defmt::error!("halt: {=str}", why);
-    loop {
-        cortex_m::asm::wfi();
+        link_app::log_note(note);
     }
 }
 
 #[rtic::app(device = rp2040_hal::pac)]
 mod app {
-    use super::{halt, tables, Rt, UartPins, UartPort, BAUD, HOLD, SCT_STATUS, XOSC_HZ};
+    use super::link_app::{halt, Rt, HOLD, SCT_STATUS};
+    use super::{tables, UartPins, UartPort, BAUD};
     use firmware::event_loop::{EventLoop, Poll};
     use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
     use firmware::link::READY;
-    use firmware::rng::SeedEntropy;
-    use rp2040_hal::clocks::{init_clocks_and_plls, Clock};
+    use rp2040_hal::clocks::Clock;
     use rp2040_hal::fugit::RateExtU32;
     use rp2040_hal::pac::UART0;
     use rp2040_hal::uart::{DataBits, Reader, StopBits, UartConfig, UartPeripheral};
-    use rp2040_hal::{Sio, Watchdog};
+    use rp2040_hal::Sio;
 
     #[shared]
     struct Shared {
@@ -111,18 +76,14 @@ mod app {
     #[init(local = [queue: InputQueue<{ tables::INPUT_SLOTS }> = InputQueue::new()])]
     fn init(cx: init::Context) -> (Shared, Local) {
         let mut pac = cx.device;
-        let mut watchdog = Watchdog::new(pac.WATCHDOG);
-        let Ok(clocks) = init_clocks_and_plls(
-            XOSC_HZ,
+        let clocks = super::link_app::clocks(
             pac.XOSC,
             pac.CLOCKS,
             pac.PLL_SYS,
             pac.PLL_USB,
             &mut pac.RESETS,
-            &mut watchdog,
-        ) else {
-            halt("clocks")
-        };
+            pac.WATCHDOG,
+        );
         let sio = Sio::new(pac.SIO);
         let pins = rp2040_hal::gpio::Pins::new(pac.IO_BANK0, pac.PADS_BANK0, sio.gpio_bank0, &mut pac.RESETS);
         let uart_pins: UartPins = (pins.gpio0.into_function(), pins.gpio1.into_function());
@@ -136,20 +97,7 @@ mod app {
         reader.enable_rx_interrupt();
 
         let (producer, consumer) = cx.local.queue.split();
-        // The tables were checked when they were compiled (`tables::m0plus::CHECKED`).
-        let runtime = Rt::new(
-            tables::m0plus::CHECKED,
-            tables::CONFIG,
-            tables::Policy::default(),
-            SeedEntropy::new(tables::SEED),
-        );
-        defmt::info!(
-            "{=str} over UART0: {=usize} automata, {=usize} events, input buffer {=usize}",
-            tables::NAME,
-            tables::m0plus::SET.automata.len(),
-            tables::EVENT_NAMES.len(),
-            tables::INPUT_SLOTS - 1
-        );
+        let runtime = super::link_app::runtime("UART0");
         let mut port = UartPort(writer);
         firmware::event_loop::Port::send(&mut port, READY);
         (Shared { reader }, Local { producer, consumer, runtime, port })

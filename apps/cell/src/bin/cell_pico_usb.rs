@@ -1,0 +1,197 @@
+//! The Pico's USB link build (RP2040, rp2040-hal): the supervisors of `cell-pico` driven by the virtual
+//! plant over the Pico's own USB port — a CDC-ACM serial device (`usb-device` + `usbd-serial`), which
+//! the host sees as `/dev/ttyACM0` — so `codegen plant --connect serial:/dev/ttyACM0` needs no adapter.
+//! The byte protocol is the QEMU firmware's (`firmware::link`), the runtime and event loop the same as
+//! the UART link build's (`cell_pico_link.rs`; what they share is `link_app.rs`).
+//!
+//! USB interrupt → device poll → received bytes through the HOLD/GO filter into the input buffer, as
+//! much as it has room for: the rest stays in the USB stack, which refuses (NAKs) the host's next packets
+//! until the loop has drained the buffer — flow control a UART lacks. The decision loop runs in `idle`
+//! and writes its commands back over USB. It boots on hold and seeds its choices from the manifest, as
+//! under QEMU; EXIT, which a board cannot obey, leaves it idle. It answers TABLES with the digest of the
+//! Cortex-M0+'s tables (`tables::m0plus::DIGEST`). On the emulated RP2040: the harness's `--usb` mode
+//! (rp2040js's USB controller and its CDC host).
+#![no_std]
+#![no_main]
+
+use defmt_rtt as _;
+use panic_probe as _;
+
+/// The emitted tables.
+#[allow(dead_code)]
+mod tables {
+    include!(env!("SCT_TABLES_FILE"));
+}
+
+mod link_app;
+
+use core::sync::atomic::AtomicBool;
+
+use firmware::event_loop::{Note, Port};
+use rp2040_hal::usb::UsbBus;
+use usb_device::device::UsbDevice;
+use usb_device::prelude::{UsbDeviceState, UsbError};
+use usbd_serial::SerialPort;
+
+/// The USB device and its CDC-ACM serial class, which the interrupt and the decision loop share.
+pub struct Usb {
+    device: UsbDevice<'static, UsbBus>,
+    serial: SerialPort<'static, UsbBus>,
+}
+
+impl Usb {
+    /// Services the bus (enumeration, transfers done); true when the serial class may have data.
+    fn poll(&mut self) -> bool {
+        self.device.poll(&mut [&mut self.serial])
+    }
+}
+
+/// Set when the interrupt left bytes in the USB stack for want of room in the input buffer: the loop
+/// raises the interrupt again once it has drained the buffer.
+static STARVED: AtomicBool = AtomicBool::new(false);
+
+/// The USB serial port as the event loop's port, for one turn (the loop holds the USB resource).
+struct UsbPort<'a>(&'a mut Usb);
+
+impl Port for UsbPort<'_> {
+    /// Writes `byte`, servicing the bus until the serial class's buffer takes it; dropped while no host
+    /// has configured the device (a READY at boot, before enumeration: the host's RESET asks again).
+    fn send(&mut self, byte: u8) {
+        let usb = &mut *self.0;
+        while usb.device.state() == UsbDeviceState::Configured {
+            match usb.serial.write(&[byte]) {
+                Ok(_) => return,
+                Err(UsbError::WouldBlock) => {
+                    usb.poll();
+                }
+                Err(_) => return,
+            }
+        }
+    }
+
+    fn note(&mut self, note: Note) {
+        link_app::log_note(note);
+    }
+}
+
+/// USB's identity: pid.codes' shared VID/PID for CDC-ACM test devices (`16c0:27dd`).
+const VID_PID: (u16, u16) = (0x16c0, 0x27dd);
+
+#[rtic::app(device = rp2040_hal::pac)]
+mod app {
+    use super::link_app::{halt, Rt, HOLD, SCT_STATUS};
+    use super::{tables, Usb, UsbPort, STARVED, VID_PID};
+    use core::sync::atomic::Ordering;
+    use firmware::event_loop::{EventLoop, Poll, Port};
+    use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
+    use firmware::link::READY;
+    use rp2040_hal::pac::Interrupt;
+    use rp2040_hal::usb::UsbBus;
+    use usb_device::bus::UsbBusAllocator;
+    use usb_device::prelude::{StringDescriptors, UsbDeviceBuilder, UsbVidPid};
+    use usbd_serial::SerialPort;
+
+    #[shared]
+    struct Shared {
+        usb: Usb,
+    }
+
+    #[local]
+    struct Local {
+        producer: InputProducer<'static>,
+        consumer: InputConsumer<'static>,
+        runtime: Rt,
+    }
+
+    #[init(local = [
+        queue: InputQueue<{ tables::INPUT_SLOTS }> = InputQueue::new(),
+        bus: Option<UsbBusAllocator<UsbBus>> = None,
+    ])]
+    fn init(cx: init::Context) -> (Shared, Local) {
+        let mut pac = cx.device;
+        let clocks = super::link_app::clocks(
+            pac.XOSC,
+            pac.CLOCKS,
+            pac.PLL_SYS,
+            pac.PLL_USB,
+            &mut pac.RESETS,
+            pac.WATCHDOG,
+        );
+        let bus: &'static UsbBusAllocator<UsbBus> = cx.local.bus.insert(UsbBusAllocator::new(UsbBus::new(
+            pac.USBCTRL_REGS,
+            pac.USBCTRL_DPRAM,
+            clocks.usb_clock,
+            true,
+            &mut pac.RESETS,
+        )));
+        let serial = SerialPort::new(bus);
+        let strings = StringDescriptors::default()
+            .manufacturer("sct-codegen")
+            .product(tables::NAME)
+            .serial_number("link");
+        // Control packets of 64 bytes, the most full speed allows: a configuration descriptor's first
+        // 9 bytes in one packet (rp2040js's CDC host reads them so).
+        let Ok(builder) = UsbDeviceBuilder::new(bus, UsbVidPid(VID_PID.0, VID_PID.1))
+            .strings(&[strings])
+            .and_then(|b| b.max_packet_size_0(64))
+        else {
+            halt("usb descriptors")
+        };
+        let device = builder.device_class(usbd_serial::USB_CLASS_CDC).build();
+        let mut usb = Usb { device, serial };
+
+        let (producer, consumer) = cx.local.queue.split();
+        let runtime = super::link_app::runtime("USB");
+        UsbPort(&mut usb).send(READY);
+        (Shared { usb }, Local { producer, consumer, runtime })
+    }
+
+    /// Services the bus and moves received bytes into the input buffer (HOLD and GO act here), as many
+    /// as it has room for; what is left waits in the USB stack (STARVED) until the loop drained it.
+    #[task(binds = USBCTRL_IRQ, shared = [usb], local = [producer])]
+    fn usb(mut cx: usb::Context) {
+        let q = cx.local.producer;
+        cx.shared.usb.lock(|usb| {
+            usb.poll();
+            loop {
+                if !q.has_room() {
+                    STARVED.store(true, Ordering::Relaxed);
+                    return;
+                }
+                let mut byte = [0u8];
+                if !matches!(usb.serial.read(&mut byte), Ok(1)) {
+                    return; // nothing more (WouldBlock), or not configured
+                }
+                if let Some(byte) = HOLD.filter(byte[0]) {
+                    if q.push(byte).is_err() {
+                        q.count_overflow();
+                    }
+                }
+            }
+        });
+    }
+
+    /// The decision loop, holding the USB resource for each turn (a turn sends a few bytes); sleeps in
+    /// `wfi` while there is nothing to do.
+    #[idle(shared = [usb], local = [consumer, runtime])]
+    fn idle(mut cx: idle::Context) -> ! {
+        let (rx, rt) = (cx.local.consumer, cx.local.runtime);
+        let mut event_loop = EventLoop::with_tables(tables::m0plus::DIGEST);
+        loop {
+            let poll = cx.shared.usb.lock(|usb| event_loop.turn(rt, rx, &HOLD, &mut UsbPort(usb)));
+            SCT_STATUS.store(&rt.counters().to_array(), rt.is_safe());
+            if rx.is_empty() && STARVED.load(Ordering::Relaxed) {
+                STARVED.store(false, Ordering::Relaxed);
+                rtic::pend(Interrupt::USBCTRL_IRQ);
+            }
+            if poll != Poll::Busy {
+                // EXIT (Poll::Exit) ends an emulation; a board stays up for the next host: idle.
+                cortex_m::interrupt::free(|_| {
+                    if poll.may_sleep(rx, &HOLD) {
+                        cortex_m::asm::wfi();
+                    }
+                });
+            }
+        }
+    }
+}
