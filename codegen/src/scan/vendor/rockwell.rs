@@ -467,25 +467,25 @@ fn logix_program(pou: &Pou, graphic: &Graphic, blocks: &[&Pou]) -> Result<String
     let rungs = whole_ladder(pou, graphic);
     let language = if rungs.is_some() { Language::Rll } else { Language::St };
     let mut out = format!(
-        "    <Program Name=\"{name}\" TestEdits=\"false\" MainRoutineName=\"MainRoutine\" Disabled=\"false\" UseAsFolder=\"false\">\n      <Tags>\n"
+        "      <Program Name=\"{name}\" TestEdits=\"false\" MainRoutineName=\"MainRoutine\" Disabled=\"false\" UseAsFolder=\"false\">\n        <Tags>\n"
     );
     for v in pou.vars.iter().flat_map(|(_, vs)| vs) {
         checked(name, &v.name)?;
-        out.push_str(&tag(v, language, "        "));
+        out.push_str(&tag(v, language, "          "));
     }
-    out.push_str("      </Tags>\n      <Routines>\n");
-    let pad = "          ";
+    out.push_str("        </Tags>\n        <Routines>\n");
+    let pad = "            ";
     let routine = match rungs {
         Some(rungs) => format!(
-            "        <Routine Name=\"MainRoutine\" Type=\"RLL\">\n{}",
+            "          <Routine Name=\"MainRoutine\" Type=\"RLL\">\n{}",
             rll_content(&logix, rungs, pad)
         ),
         None => format!(
-            "        <Routine Name=\"MainRoutine\" Type=\"ST\">\n{}",
+            "          <Routine Name=\"MainRoutine\" Type=\"ST\">\n{}",
             st_content(&logix.body(pou)?, pad)
         ),
     };
-    let _ = write!(out, "{routine}        </Routine>\n      </Routines>\n    </Program>\n");
+    let _ = write!(out, "{routine}          </Routine>\n        </Routines>\n      </Program>\n");
     Ok(out)
 }
 
