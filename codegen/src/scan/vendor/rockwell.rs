@@ -368,7 +368,7 @@ fn data_type_element(name: &str, members: &[Var]) -> Result<String, Violation> {
         let desc = description(&m.comment, "          ");
         if m.ty == Type::Bool {
             let host = format!("ZZZZZZZZZZ{name}{}", bits / 8);
-            if bits % 8 == 0 {
+            if bits.is_multiple_of(8) {
                 let _ = writeln!(
                     out,
                     "        <Member Name=\"{host}\" DataType=\"SINT\" Dimension=\"0\" Radix=\"Decimal\" Hidden=\"true\" ExternalAccess=\"Read/Write\"/>"
