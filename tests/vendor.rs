@@ -1,8 +1,9 @@
 //! Vendor projects (`codegen plc --vendor`): every example with a `[plc]` section, in each form it
 //! takes (event-based int, bits and AEEM; state-based; the sequence beside the interlocks; the hybrid
 //! controller), written for every vendor; each file checked by a tool of its own (blark parses every
-//! TwinCAT file, the PLCopen TC6 2.01 schema validates every CODESYS file; no independent parser reads
-//! TIA's SCL), and each shown to hold the generic program — the one `codegen run --target plc` scans.
+//! TwinCAT file, the PLCopen TC6 2.01 schema validates every CODESYS file, `tests/l5x_structure.py`
+//! checks every Studio 5000 file's structure; no independent parser reads TIA's SCL), and each shown to
+//! hold the generic program — the one `codegen run --target plc` scans.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -11,7 +12,9 @@ use codegen::config::ScanPolicy;
 use codegen::plc::state_based::{Engine, StateOptions};
 use codegen::plc::{Avalanche, Encoding, Form, Written};
 use codegen::project::Project;
+use codegen::scan::files::Source;
 use codegen::scan::vendor::Vendor;
+use codegen::scan::{Pou, Type};
 use end_to_end::{example, root, Scratch};
 
 /// Every example with a `[plc]` section (and the hybrid one) with the forms it is written in.
@@ -140,10 +143,283 @@ fn tia_holds(what: &str, scl: &str, source: &codegen::scan::files::Source) {
     }
 }
 
+/// The CDATA texts of the elements `tag` in the first `<within>…</within>` after `from` in `xml`.
+fn cdata_lines(xml: &str, from: &str, within: &str, tag: &str) -> Vec<String> {
+    let start = xml.find(from).unwrap_or_else(|| panic!("no {from}"));
+    let rest = &xml[start..];
+    let open = rest.find(&format!("<{within}>")).unwrap_or_else(|| panic!("no {within} after {from}"));
+    let close = rest.find(&format!("</{within}>")).unwrap();
+    let mut out = Vec::new();
+    let mut part = &rest[open..close];
+    while let Some(i) = part.find(&format!("<{tag}")) {
+        part = &part[i..];
+        let s = part.find("<![CDATA[").unwrap() + "<![CDATA[".len();
+        let e = part[s..].find("]]>").unwrap() + s;
+        out.push(part[s..e].to_owned());
+        part = &part[e..];
+    }
+    out
+}
+
+/// `text` with each identifier replaced by `f(previous identifier before a '.', identifier)`.
+fn map_identifiers(text: &str, f: &dyn Fn(Option<&str>, &str) -> String) -> String {
+    let mut out = String::new();
+    let chars: Vec<char> = text.chars().collect();
+    let (mut i, mut last): (usize, Option<String>) = (0, None);
+    while i < chars.len() {
+        let c = chars[i];
+        if c.is_ascii_alphabetic() || c == '_' {
+            let start = i;
+            while i < chars.len() && (chars[i].is_ascii_alphanumeric() || chars[i] == '_') {
+                i += 1;
+            }
+            let word: String = chars[start..i].iter().collect();
+            let owner = if start > 0 && chars[start - 1] == '.' { last.as_deref() } else { None };
+            out.push_str(&f(owner, &word));
+            last = Some(word);
+        } else {
+            out.push(c);
+            i += 1;
+        }
+    }
+    out
+}
+
+/// `text` without conversion calls: `INT_TO_DINT(e)` is `e`.
+fn without_conversions(text: &str) -> String {
+    let mut s = text.to_owned();
+    while let Some(at) = s.find("_TO_") {
+        let start = s[..at].rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).map_or(0, |i| i + 1);
+        let open = at + s[at..].find('(').unwrap();
+        let mut depth = 0;
+        let close = open
+            + s[open..]
+                .char_indices()
+                .find(|&(_, c)| {
+                    depth += match c {
+                        '(' => 1,
+                        ')' => -1,
+                        _ => 0,
+                    };
+                    depth == 0
+                })
+                .unwrap()
+                .0;
+        s = format!("{}{}{}", &s[..start], &s[open + 1..close], &s[close + 1..]);
+    }
+    s
+}
+
+/// A generic ST line as Logix ST writes it, by the rewrites docs/plc.md lists (`TRUE`/`FALSE` as
+/// 1/0, conversions dropped, a timer's `Q` read as `DN`, a timer or block call expanded): written here
+/// from the text, independently of the writer.
+fn logix_lines(line: &str, pou: &Pou, blocks: &[&Pou]) -> Vec<String> {
+    if line.starts_with("(*") {
+        return vec![line.to_owned()];
+    }
+    let ty = |name: &str| pou.var(name).map(|(_, v)| v.ty.clone());
+    let timer = |name: &str| ty(name) == Some(Type::Named("TON".into()));
+    let rewrite = |text: &str| {
+        map_identifiers(&without_conversions(text), &|owner, w| match (owner, w) {
+            (None, "TRUE") => "1".into(),
+            (None, "FALSE") => "0".into(),
+            (Some(o), "Q") if timer(o) => "DN".into(),
+            _ => w.to_owned(),
+        })
+    };
+    let call = line.split_once('(').filter(|(head, _)| {
+        line.ends_with(");") && head.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+    });
+    let Some((inst, args)) = call.filter(|(inst, _)| ty(inst).is_some_and(|t| matches!(t, Type::Named(_))))
+    else {
+        return vec![rewrite(line)];
+    };
+    let mut parts: Vec<String> = Vec::new();
+    for piece in args.trim_end_matches(");").split(", ") {
+        match parts.last_mut() {
+            Some(last) if !piece.contains(" := ") => *last = format!("{last}, {piece}"),
+            _ => parts.push(piece.to_owned()),
+        }
+    }
+    let mut out = Vec::new();
+    if timer(inst) {
+        for p in &parts {
+            let (name, e) = p.split_once(" := ").unwrap();
+            let (member, value) = match name {
+                "IN" => ("TimerEnable", rewrite(e)),
+                _ => ("PRE", e.trim_start_matches("T#").trim_end_matches("ms").to_owned()),
+            };
+            out.push(format!("{inst}.{member} := {value};"));
+        }
+        out.push(format!("TONR({inst});"));
+        return out;
+    }
+    let Some(Type::Named(block)) = ty(inst) else { unreachable!() };
+    let block = blocks.iter().find(|b| b.name == block).unwrap();
+    let mut positional = vec![inst.to_owned()];
+    for p in &parts {
+        let (name, e) = p.split_once(" := ").unwrap();
+        match block.var(name).map(|(_, v)| &v.ty) {
+            Some(Type::Named(_) | Type::Array(..)) => positional.push(rewrite(e)),
+            _ => out.push(format!("{inst}.{name} := {};", rewrite(e))),
+        }
+    }
+    out.push(format!("{}({});", block.name, positional.join(", ")));
+    out
+}
+
+/// A rung condition read back: a contact's ST, or elements in series (AND) or in parallel (OR).
+enum Condition {
+    Contact(String),
+    Series(Vec<Condition>),
+    Parallel(Vec<Condition>),
+}
+
+impl Condition {
+    /// The ST text as the generic printer writes it: an OR inside an AND parenthesised.
+    fn st(&self) -> String {
+        match self {
+            Condition::Contact(c) => c.clone(),
+            Condition::Series(es) if es.len() == 1 => es[0].st(),
+            Condition::Parallel(es) if es.len() == 1 => es[0].st(),
+            Condition::Series(es) => es
+                .iter()
+                .map(|e| match e {
+                    Condition::Parallel(b) if b.len() > 1 => format!("({})", e.st()),
+                    _ => e.st(),
+                })
+                .collect::<Vec<_>>()
+                .join(" AND "),
+            Condition::Parallel(es) => es.iter().map(Condition::st).collect::<Vec<_>>().join(" OR "),
+        }
+    }
+}
+
+/// Reads rung text from `at`: instructions and `[… ,… ]` branches in series up to a `,`, a `]` or the
+/// end; contacts into the condition, the other instructions (the coils) into `coils`.
+fn read_series(
+    t: &str,
+    at: &mut usize,
+    coils: &mut Vec<(String, String)>,
+    read: &dyn Fn(&str) -> String,
+) -> Condition {
+    let mut series = Vec::new();
+    while *at < t.len() {
+        let rest = &t[*at..];
+        if rest.starts_with(',') || rest.starts_with(']') || rest.starts_with(';') {
+            break;
+        }
+        if rest.starts_with('[') {
+            *at += 1;
+            let mut branches = vec![read_series(t, at, coils, read)];
+            while t[*at..].starts_with(',') {
+                *at += 1;
+                branches.push(read_series(t, at, coils, read));
+            }
+            assert!(t[*at..].starts_with(']'), "{t}");
+            *at += 1;
+            series.push(Condition::Parallel(branches));
+            continue;
+        }
+        let close = rest.find(')').unwrap();
+        let (op, arg) = rest[..close].split_once('(').unwrap();
+        *at += close + 1;
+        while t[*at..].starts_with(' ') {
+            *at += 1;
+        }
+        match op {
+            "XIC" => series.push(Condition::Contact(read(arg))),
+            "XIO" => series.push(Condition::Contact(format!("NOT {}", read(arg)))),
+            _ => coils.push((op.to_owned(), arg.to_owned())),
+        }
+    }
+    Condition::Series(series)
+}
+
+/// A ladder rung's text as the ST statements its rung stands for (a coil after the condition: `OTE`
+/// an assignment, `TON` the timer's call, `OTL`/`OTU` a set/reset under `IF`).
+fn rung_statements(text: &str, pou: &Pou) -> Vec<String> {
+    let timer = |name: &str| pou.var(name).is_some_and(|(_, v)| v.ty == Type::Named("TON".into()));
+    let operand = |a: &str| match a.split_once('.') {
+        Some((t, "DN")) if timer(t) => format!("{t}.Q"),
+        _ => a.to_owned(),
+    };
+    let mut coils = Vec::new();
+    let mut at = 0;
+    let cond = read_series(text, &mut at, &mut coils, &operand);
+    assert_eq!(&text[at..], ";", "{text}");
+    let empty = matches!(&cond, Condition::Series(es) if es.is_empty());
+    let cond = cond.st();
+    let mut out = Vec::new();
+    let mut latched = Vec::new();
+    for (op, arg) in coils {
+        match op.as_str() {
+            "OTL" => latched.push(format!("{arg} := TRUE;")),
+            "OTU" => latched.push(format!("{arg} := FALSE;")),
+            "OTE" => out.push(format!("{arg} := {cond};")),
+            "TON" => {
+                let args: Vec<&str> = arg.split(',').collect();
+                out.push(format!("{}(IN := {cond}, PT := T#{}ms);", args[0], args[1]));
+            }
+            other => panic!("rung instruction {other}"),
+        }
+    }
+    if empty {
+        out.extend(latched);
+    } else if !latched.is_empty() {
+        out.push(format!("IF {cond} THEN"));
+        out.extend(latched.iter().map(|l| format!("    {l}")));
+        out.push("END_IF;".into());
+    }
+    out
+}
+
+/// The Studio 5000 file of one program holds the generic program: each Add-On Instruction's `Logic`
+/// routine and each ST program routine is the generic POU's body line for line after the dialect's
+/// rewrites; a ladder routine's rungs, read back as ST, are the generic body's statements.
+fn rockwell_holds(what: &str, l5x: &str, source: &Source) {
+    let blocks: Vec<&Pou> = source.program.pous.iter().map(|(p, _)| p).filter(|p| !p.program).collect();
+    for (pou, _) in &source.program.pous {
+        let generic = pou.body();
+        if pou.program {
+            let from = format!("<Program Name=\"{}\"", pou.name);
+            let program = &l5x[l5x.find(&from).unwrap()..];
+            if program[..program.find("</Program>").unwrap()].contains("<RLLContent>") {
+                let rungs = cdata_lines(l5x, &from, "RLLContent", "Text");
+                let st: Vec<String> = rungs.iter().flat_map(|r| rung_statements(r, pou)).collect();
+                let generic: Vec<&str> = generic.lines().filter(|l| !l.starts_with("(*")).collect();
+                assert_eq!(st, generic, "{what} {}: the rungs are not the generic body", pou.name);
+                continue;
+            }
+            let lines = cdata_lines(l5x, &from, "STContent", "Line");
+            let expected: Vec<String> = generic.lines().flat_map(|l| logix_lines(l, pou, &blocks)).collect();
+            assert_eq!(lines, expected, "{what} {}", pou.name);
+        } else {
+            let from = format!("<AddOnInstructionDefinition Name=\"{}\"", pou.name);
+            let lines = cdata_lines(l5x, &from, "STContent", "Line");
+            let expected: Vec<String> = generic.lines().flat_map(|l| logix_lines(l, pou, &blocks)).collect();
+            assert_eq!(lines, expected, "{what} {}", pou.name);
+        }
+    }
+}
+
+/// Runs the L5X structure check (`tests/l5x_structure.py`) on `files`; whether it passed, and its output.
+fn l5x_structure(files: &[PathBuf]) -> (bool, String) {
+    let out = Command::new(root().join(".venv/bin/python"))
+        .arg(root().join("tests/l5x_structure.py"))
+        .args(files)
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr)),
+    )
+}
+
 #[test]
 fn every_plc_example_is_written_for_every_vendor_checked_and_the_generic_program() {
     let scratch = Scratch::new("vendor");
-    let (mut twincat, mut codesys) = (Vec::new(), Vec::new());
+    let (mut twincat, mut codesys, mut rockwell) = (Vec::new(), Vec::new(), Vec::new());
     for (i, (what, written)) in programs().iter().enumerate() {
         let generic = written.files();
         // The generic files are the sources' files: what a vendor prints is what `codegen plc` wrote.
@@ -167,6 +443,13 @@ fn every_plc_example_is_written_for_every_vendor_checked_and_the_generic_program
             let files = Vendor::Tia.files(one).unwrap();
             let scl = &files.iter().find(|(n, _)| n.ends_with(".scl")).unwrap_or_else(|| panic!("{what}")).1;
             tia_holds(what, scl, source);
+
+            let files = Vendor::Rockwell.files(one).unwrap();
+            assert_eq!(files.len(), 1, "{what}");
+            assert!(files[0].0.ends_with(".L5X"), "{what}");
+            assert!(files[0].1.contains("\n<RSLogix5000Content "), "{what}");
+            rockwell_holds(what, &files[0].1, source);
+            rockwell.extend(write(&scratch.path().join(format!("{i}-{j}-rockwell")), &files));
         }
     }
     // blark on every declaration file, and on each POU file small enough for its parser (minutes on
@@ -187,4 +470,24 @@ fn every_plc_example_is_written_for_every_vendor_checked_and_the_generic_program
     std::fs::write(&bad, good.replacen(":=", ":= :=", 1)).unwrap();
     let out = Command::new(root().join(".venv/bin/python")).arg("-c").arg(BLARK).arg(&bad).output().unwrap();
     assert!(!out.status.success(), "blark accepts a broken POU");
+    // Every Studio 5000 file passes the structure check, which refuses a file with an undeclared tag
+    // read, a Logix-invalid name or an ST line outside CDATA.
+    let (ok, out) = l5x_structure(&rockwell);
+    assert!(ok, "{out}");
+    let good = std::fs::read_to_string(&rockwell[0]).unwrap();
+    let breaks = [
+        ("<Tag Name=\"sct\"", "<Tag Name=\"sct_gone\""),
+        ("<Tag Name=\"sct\"", "<Tag Name=\"sct_\""),
+        (
+            "<Line Number=\"0\"><![CDATA[(* section: run - the function block, then its outputs *)]]>",
+            "<Line Number=\"0\">(* section: run - the function block, then its outputs *)",
+        ),
+    ];
+    for (from, to) in breaks {
+        assert!(good.contains(from), "{from}");
+        let bad = scratch.path().join("bad.L5X");
+        std::fs::write(&bad, good.replacen(from, to, 1)).unwrap();
+        let (ok, out) = l5x_structure(&[bad]);
+        assert!(!ok && !out.is_empty(), "the L5X check accepts {to}");
+    }
 }

@@ -79,8 +79,8 @@ pub struct Args {
     deploy: Option<SupervisorChoice>,
     /// Write the program as a vendor's project files instead of the generic ST and PLCopen XML
     /// (docs/plc.md: what each vendor gets and how to import it): `twincat` (`.TcPOU`, `.TcDUT`,
-    /// `.TcGVL`, `.TcTTO`), `codesys` (PLCopen XML with CODESYS' project structure) or `tia` (SCL
-    /// sources and a PLC tag table).
+    /// `.TcGVL`, `.TcTTO`), `codesys` (PLCopen XML with CODESYS' project structure), `tia` (SCL
+    /// sources and a PLC tag table) or `rockwell` (a Studio 5000 `.L5X` project).
     #[arg(long, value_enum)]
     vendor: Option<Vendor>,
     /// Print the report as JSON (schema 1).

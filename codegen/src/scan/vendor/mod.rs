@@ -6,6 +6,7 @@
 //! | Beckhoff TwinCAT 3 | [`twincat`] | `.TcPOU` per POU, `.TcDUT` per structure, `.TcGVL` for the I/O, `.TcTTO` task |
 //! | CODESYS V3 | [`codesys`] | one PLCopen XML project with CODESYS' project structure and object ids |
 //! | Siemens TIA Portal | [`tia`] | SCL sources (`.scl`, `.udt`, `.db`) and a PLC tag table (`_tags.csv`) |
+//! | Rockwell Studio 5000 | [`rockwell`] | one `.L5X` project: data types, Add-On Instructions, controller tags, the program, the task |
 //!
 //! No vendor module builds logic: each prints the IR the generic files print, renaming only what the
 //! dialect asks (located I/O moved to a global list, the task in the vendor's task object), so the
@@ -13,6 +14,7 @@
 //! the same program give the same bytes: object ids are name-derived ([`guid`]), never random.
 
 pub mod codesys;
+pub mod rockwell;
 pub mod tia;
 pub mod twincat;
 
@@ -31,6 +33,8 @@ pub enum Vendor {
     Codesys,
     /// Siemens TIA Portal, S7-1200/1500 (SCL external sources and a tag table).
     Tia,
+    /// Rockwell Studio 5000 Logix Designer (one `.L5X` project file).
+    Rockwell,
 }
 
 impl Vendor {
@@ -46,6 +50,7 @@ impl Vendor {
                 Vendor::Twincat => twincat::files(s),
                 Vendor::Codesys => codesys::files(s),
                 Vendor::Tia => tia::files(s),
+                Vendor::Rockwell => rockwell::files(s)?,
             });
         }
         Ok(out)
