@@ -92,10 +92,13 @@ impl Group {
     }
 }
 
+/// A group's place in a report, [`rank`]'s: concern, kind, shape.
+type Rank = (Concern, u8, u8);
+
 /// Where a group stands in a report: by concern, then the kind's own order of urgency (an avalanche
 /// before a simultaneity; an inexact synchronisation, which desynchronises controller and plant, before
 /// a choice), then the shape that changes most first (`diverging`, `one-order`, `exclusive`).
-fn rank(problem: Problem, shape: Shape) -> (Concern, u8, u8) {
+fn rank(problem: Problem, shape: Shape) -> Rank {
     let kind = match problem {
         Problem::Avalanche => 0,
         Problem::Simultaneity => 1,
@@ -112,12 +115,14 @@ fn rank(problem: Problem, shape: Shape) -> (Concern, u8, u8) {
 
 /// Groups `found` by kind and shape, most urgent group first; every finding is in exactly one group.
 pub fn group(found: &[Finding]) -> Vec<Group> {
-    let mut by: BTreeMap<(Concern, u8, u8), (Problem, Shape, Vec<usize>)> = BTreeMap::new();
+    let mut by: BTreeMap<Rank, Vec<usize>> = BTreeMap::new();
     for (i, f) in found.iter().enumerate() {
-        by.entry(rank(f.problem, f.shape)).or_insert_with(|| (f.problem, f.shape, Vec::new())).2.push(i);
+        by.entry(rank(f.problem, f.shape)).or_default().push(i);
     }
     by.into_iter()
-        .map(|((concern, _, _), (problem, shape, findings))| {
+        .map(|((concern, _, _), findings)| {
+            // Every group has a first finding; its kind and shape are the group's.
+            let (problem, shape) = (found[findings[0]].problem, found[findings[0]].shape);
             let states: BTreeSet<&str> = findings.iter().map(|&i| found[i].state.as_str()).collect();
             let mut count: BTreeMap<&[String], usize> = BTreeMap::new();
             for &i in &findings {
