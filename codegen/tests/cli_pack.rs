@@ -84,10 +84,21 @@ fn check_finds_the_seed_avalanche_and_exits_1() {
 
 #[test]
 fn check_livelock_reports_choice_at_1_and_3_with_traces() {
-    let out =
-        codegen(&["check".into(), repo("examples/livelock/livelock.xmd"), "--check".into(), "choice".into()]);
+    let livelock =
+        || vec!["check".into(), repo("examples/livelock/livelock.xmd"), "--check".into(), "choice".into()];
+    let out = codegen(&livelock());
     assert_eq!(out.status.code(), Some(1));
+    // By default: the group (both findings are one-order choices, at two states) and its nearest witness.
     let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.contains(
+            "  answered at run time:\n    choice one-order: 2 at 2 state(s), 1 event set(s): a/b 2\n"
+        ),
+        "{text}"
+    );
+    assert!(text.contains("      e.g. at 1 (trace: ε): a·b reaches 1, b·a is undefined\n"), "{text}");
+    // --all lists every finding, as the report did before it grouped them.
+    let text = String::from_utf8(codegen(&[livelock(), vec!["--all".into()]].concat()).stdout).unwrap();
     assert!(text.contains("choice at state 1 on a, b: a·b reaches 1, b·a is undefined (trace: ε)"), "{text}");
     assert!(text.contains("choice at state 3 on a, b: a·b is undefined, b·a reaches 3 (trace: a)"), "{text}");
     // A check that finds nothing exits 0.
@@ -179,6 +190,38 @@ fn check_manifest_livelock_and_cell_summary() {
         (count("choice", None), count("inexact-synchronisation", None), count("simultaneity", None)),
         (217, 2624, 2280)
     );
+    // Schema 3 adds the groups and keeps every finding: the groups' counts add up to them, the one-order
+    // races first, the exclusive part-type sensors last, as harmless.
+    assert_eq!(json["schema"], 3);
+    let groups = json["scopes"][0]["groups"].as_array().unwrap();
+    let summary: Vec<_> = groups
+        .iter()
+        .map(|g| {
+            (
+                g["problem"].as_str().unwrap(),
+                g["shape"].as_str().unwrap(),
+                g["concern"].as_str().unwrap(),
+                g["findings"].as_u64().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        summary,
+        [
+            ("inexact-synchronisation", "one-order", "runtime", 2624),
+            ("choice", "one-order", "runtime", 48),
+            ("choice", "exclusive", "runtime", 169),
+            ("simultaneity", "exclusive", "harmless", 2280)
+        ]
+    );
+    assert_eq!(groups[3]["events"][0], serde_json::json!({"events": ["s_c1", "s_c2"], "findings": 760}));
+    // The text says the same on one screen: every group with its count, each supervisor on a line.
+    let out = codegen(&["check".into(), repo("examples/cell/cell.toml")]);
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.lines().count() <= 40, "{text}");
+    assert!(text.contains("  5121 finding(s) in 4 group(s); none to act on first\n"), "{text}");
+    assert!(text.contains("    simultaneity exclusive: 2280 at 760 state(s), 3 event set(s): s_c1/s_c2 760, s_c1/s_c3 760, s_c2/s_c3 760\n"), "{text}");
+    assert!(text.contains("  S5 with local plant G2, G3 (30 states, 74 transitions): inexact-synchronisation one-order 7, choice exclusive 5, simultaneity exclusive 18\n"), "{text}");
 }
 
 /// The cell's model files without a manifest (issue 22: one project loader for every command): plants

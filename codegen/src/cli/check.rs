@@ -9,7 +9,7 @@ use serde_json::{json, Value};
 use codegen::manifest::CheckSpec;
 use codegen::model::suggest::did_you_mean;
 use codegen::model::Automaton;
-use codegen::problems::{run as check, scopes, Finding, Problem, Shape};
+use codegen::problems::{group, run as check, scopes, Concern, Finding, Group, Problem};
 use codegen::project::synthesise;
 use codegen::synth::{product, Config};
 
@@ -22,7 +22,9 @@ use super::{limits, Error};
 /// --plant/--spec/--sup); where it has specifications their local modular supervisors are synthesised,
 /// so the loop checked is plants ‖ supervisors. The closed loop is checked first, then each supervisor
 /// with its local plant; the report names the automata of each and which position of a state tuple is
-/// which. Every finding names the state, the events and a shortest trace from the initial state.
+/// which. Findings are grouped by kind and shape, the groups that can change where the loop goes first,
+/// each with its count, its event pairs and a witness (a state and a shortest trace from the initial
+/// state); --all lists every finding.
 /// Exit status 1 when a failing kind of finding is found: those given with --check, else the
 /// manifest's `[check] fail_on`, else avalanche only; 2 on bad input.
 #[derive(Debug, clap::Args)]
@@ -34,12 +36,13 @@ pub struct Args {
     /// avalanche, choice, inexact-synchronisation, simultaneity.
     #[arg(long = "check", value_parser = parse_problem)]
     checks: Vec<Problem>,
-    /// Findings printed per check and scope (all of them go to --json).
-    #[arg(long, default_value_t = 5)]
-    max: usize,
-    /// Print JSON (schema 2): closed_loop (plants, supervisors, states, transitions, legend), scopes
-    /// (name, members, states, transitions, findings: problem, state, events, trace, shape, detail),
-    /// fail_on, failed.
+    /// List every finding, under its group, of the closed loop and of each supervisor with its local
+    /// plant (without it: each group of the closed loop with one witness, each supervisor on one line).
+    #[arg(long, visible_alias = "verbose")]
+    all: bool,
+    /// Print JSON (schema 3): closed_loop (plants, supervisors, states, transitions, legend), scopes
+    /// (name, members, states, transitions, findings: problem, state, events, trace, shape, detail;
+    /// groups: problem, shape, concern, findings, states, events, witnesses), fail_on, failed.
     #[arg(long)]
     json: bool,
     /// Stop when a closed loop grows the process past this resident size: bytes with K, M or G (512M,
@@ -135,8 +138,19 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
         writeln!(out, "{}", serde_json::to_string_pretty(&to_json(&closed, &checked, &failing, failed))?)?;
     } else {
         write_loop(&mut out, &closed)?;
-        for c in &checked {
-            write_text(&mut out, c, &problems, args.max)?;
+        // The closed loop is the first scope; the supervisors' follow.
+        if let Some((closed_loop, local)) = checked.split_first() {
+            write_scope(&mut out, closed_loop, &problems, args.all)?;
+            if args.all {
+                for c in local {
+                    write_scope(&mut out, c, &problems, true)?;
+                }
+            } else if !local.is_empty() {
+                writeln!(out, "each supervisor with its local plant (--all for their findings):")?;
+                for c in local {
+                    write_summary(&mut out, c)?;
+                }
+            }
         }
         let names: Vec<&str> = failing.iter().map(|p| p.name()).collect();
         let verdict = if failed { "failed" } else { "passed" };
@@ -163,7 +177,9 @@ fn write_loop(out: &mut impl Write, l: &Loop) -> std::io::Result<()> {
     Ok(())
 }
 
-fn write_text(out: &mut impl Write, c: &Checked, problems: &[Problem], max: usize) -> std::io::Result<()> {
+/// One scope in full: its findings in groups, most urgent first, each with its count, its states, its
+/// event sets and a witness; with `all`, every finding under its group.
+fn write_scope(out: &mut impl Write, c: &Checked, problems: &[Problem], all: bool) -> std::io::Result<()> {
     writeln!(
         out,
         "{}: {} states, {} transitions; a state is ({})",
@@ -172,40 +188,80 @@ fn write_text(out: &mut impl Write, c: &Checked, problems: &[Problem], max: usiz
         c.automaton.transitions.len(),
         c.members.join(", ")
     )?;
-    for &p in problems {
-        let of: Vec<&Finding> = c.findings.iter().filter(|f| f.problem == p).collect();
+    let groups = group(&c.findings);
+    let acts = groups.iter().filter(|g| g.concern == Concern::Act).count();
+    writeln!(
+        out,
+        "  {} finding(s) in {} group(s); {} to act on first",
+        c.findings.len(),
+        groups.len(),
+        if acts == 0 { "none".to_owned() } else { format!("{acts} group(s)") }
+    )?;
+    for concern in Concern::ALL {
+        let of: Vec<&Group> = groups.iter().filter(|g| g.concern == concern).collect();
         if of.is_empty() {
-            writeln!(out, "  {}: none", p.name())?;
             continue;
         }
-        let mut shapes: Vec<(Shape, usize)> = Vec::new();
-        let mut pairs: Vec<&[String]> = of.iter().map(|f| f.events.as_slice()).collect();
-        pairs.sort_unstable();
-        pairs.dedup();
-        for f in &of {
-            match shapes.iter_mut().find(|(s, _)| *s == f.shape) {
-                Some((_, n)) => *n += 1,
-                None => shapes.push((f.shape, 1)),
-            }
-        }
-        shapes.sort_unstable();
-        let shapes: Vec<String> = shapes.iter().map(|(s, n)| format!("{} {n}", s.name())).collect();
-        writeln!(
-            out,
-            "  {}: {} finding(s) over {} event set(s) ({})",
-            p.name(),
-            of.len(),
-            pairs.len(),
-            shapes.join(", ")
-        )?;
-        for f in of.iter().take(max) {
-            writeln!(out, "    {f}")?;
-        }
-        if of.len() > max {
-            writeln!(out, "    … {} more (--max, --json)", of.len() - max)?;
+        writeln!(out, "  {}:", concern.heading())?;
+        for g in of {
+            write_group(out, c, g, all)?;
         }
     }
+    let quiet: Vec<&str> =
+        problems.iter().filter(|&&p| c.findings.iter().all(|f| f.problem != p)).map(|p| p.name()).collect();
+    if !quiet.is_empty() {
+        writeln!(out, "  none: {}", quiet.join(", "))?;
+    }
     Ok(())
+}
+
+/// Event sets a group line names before it says how many more there are.
+const EVENT_SETS_SHOWN: usize = 3;
+
+/// A group: its count, states and event sets on one line, then its nearest witness (or, with `all`,
+/// every finding).
+fn write_group(out: &mut impl Write, c: &Checked, g: &Group, all: bool) -> std::io::Result<()> {
+    let sets: Vec<String> =
+        g.events.iter().take(EVENT_SETS_SHOWN).map(|(e, n)| format!("{} {n}", e.join("/"))).collect();
+    let more = g.events.len().saturating_sub(EVENT_SETS_SHOWN);
+    let more = if more > 0 { format!(", … {more} more") } else { String::new() };
+    writeln!(
+        out,
+        "    {} {}: {} at {} state(s), {} event set(s): {}{more}",
+        g.problem.name(),
+        g.shape.name(),
+        g.findings.len(),
+        g.states,
+        g.events.len(),
+        sets.join(", ")
+    )?;
+    if all {
+        for &i in &g.findings {
+            writeln!(out, "      {}", c.findings[i])?;
+        }
+    } else if let Some(&w) = g.witnesses(&c.findings).first() {
+        let f = &c.findings[w];
+        let trace = if f.trace.is_empty() { "ε".to_owned() } else { f.trace.join(" ") };
+        writeln!(out, "      e.g. at {} (trace: {trace}): {}", f.state, f.detail)?;
+    }
+    Ok(())
+}
+
+/// A supervisor's scope on one line: its size and its groups' counts, most urgent first.
+fn write_summary(out: &mut impl Write, c: &Checked) -> std::io::Result<()> {
+    let groups = group(&c.findings);
+    let counts: Vec<String> = groups
+        .iter()
+        .map(|g| format!("{} {} {}", g.problem.name(), g.shape.name(), g.findings.len()))
+        .collect();
+    writeln!(
+        out,
+        "  {} ({} states, {} transitions): {}",
+        c.name,
+        c.automaton.states.len(),
+        c.automaton.transitions.len(),
+        if counts.is_empty() { "nothing found".to_owned() } else { counts.join(", ") }
+    )
 }
 
 fn to_json(l: &Loop, checked: &[Checked], failing: &[Problem], failed: bool) -> Value {
@@ -226,12 +282,29 @@ fn to_json(l: &Loop, checked: &[Checked], failing: &[Problem], failed: bool) -> 
                     })
                 })
                 .collect();
+            let groups: Vec<Value> = group(&c.findings)
+                .iter()
+                .map(|g| {
+                    let events: Vec<Value> =
+                        g.events.iter().map(|(e, n)| json!({"events": e, "findings": n})).collect();
+                    json!({
+                        "problem": g.problem.name(),
+                        "shape": g.shape.name(),
+                        "concern": g.concern.name(),
+                        "findings": g.findings.len(),
+                        "states": g.states,
+                        "events": events,
+                        "witnesses": g.witnesses(&c.findings),
+                    })
+                })
+                .collect();
             json!({
                 "name": c.name,
                 "members": c.members,
                 "states": c.automaton.states.len(),
                 "transitions": c.automaton.transitions.len(),
                 "findings": findings,
+                "groups": groups,
             })
         })
         .collect();
@@ -239,7 +312,7 @@ fn to_json(l: &Loop, checked: &[Checked], failing: &[Problem], failed: bool) -> 
     let legend: Vec<Value> =
         l.legend.iter().map(|(name, of)| json!({"supervisor": name, "state": of})).collect();
     json!({
-        "schema": 2,
+        "schema": 3,
         "closed_loop": {
             "plants": l.plants,
             "supervisors": l.supervisors,

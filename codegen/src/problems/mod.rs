@@ -16,10 +16,14 @@
 mod avalanche;
 mod diamond;
 mod finding;
+mod group;
 mod paths;
 mod scope;
+#[cfg(test)]
+mod strings;
 
 pub use finding::{Finding, Problem, Shape};
+pub use group::{group, Concern, Group};
 pub use scope::{scopes, Scope};
 
 use crate::model::Automaton;
