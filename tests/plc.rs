@@ -253,6 +253,44 @@ fn every_system_runs_closed_loop_safe_live_and_covering_in_both_encodings() {
     }
 }
 
+// See: issue 36 (the same seed gives the same JSON, the scan count included). The program starts
+/// unheld, as a PLC from power-up, and scans on its own until the session's first HOLD: whether it
+/// fires a command before that is the machine's timing. Forced both ways — the host sends nothing
+/// until the program has fired a command, or the program starts held — the two reports are the same
+/// in every field.
+#[test]
+fn the_report_does_not_depend_on_what_the_program_did_before_the_session() {
+    use codegen::link::{memory, ByteLink};
+    use codegen::plc::closed_loop::{run_spawned, spawn_plc};
+    let (set, opts) = system("factory/factory.toml");
+    let out = program(&set, &opts);
+    let options = Options { events: 300, ..Options::default() };
+    let report = |boot_fires: bool| {
+        let mut d = Driver::new(st(&out), IoMap::new(&out.report, set.events()).unwrap()).unwrap();
+        d.plc.set_cycle_ms(out.report.cycle_ms);
+        d.plc.set_bool("hold", !boot_fires).unwrap();
+        let (mut host, target) = memory::pair();
+        let plc = spawn_plc(d, target);
+        if boot_fires {
+            // READY, then a command: the factory's machine 1 may start at once.
+            let mut got = Vec::new();
+            while got.len() < 2 {
+                let mut byte = [0u8];
+                // The wait only bounds a broken program; the order of the bytes decides the test.
+                let n = host.recv(&mut byte, std::time::Duration::from_secs(60)).unwrap();
+                assert_eq!(n, 1, "no command from the unheld program");
+                got.push(byte[0]);
+            }
+            assert!(got[1] <= firmware::link::MAX_EVENT, "a command after READY: {got:?}");
+        }
+        run_spawned(host, plc, &(&out.report).into(), &set, &opts.name, &options, &mut |_| {}).unwrap()
+    };
+    let (held, fired) = (report(false), report(true));
+    assert!(held.scan.is_some_and(|s| s.scans > 0), "{held:?}");
+    // Every field, the trace's hash, the scan figures and the PLC clock included.
+    assert_eq!(held, fired);
+}
+
 // See: issue 36 (a run that sees a violation: exit 1 through the same report).
 /// A broken program — the factory's with the buffer supervisor's condition dropped from `start1`'s
 /// enabling, so machine 1 may start with the buffer full — run as `codegen run --target plc` runs it:

@@ -61,6 +61,42 @@ fn every_plc_example_runs_with_no_violation() {
     }
 }
 
+// See: issue 36 (`run --target plc` for the state-based form: every example with a `[state]` section,
+// its signals driven through the same state vectors the program is written from, 0 violations).
+#[test]
+fn every_state_based_example_runs_with_no_violation() {
+    let examples: Vec<String> = plc_examples()
+        .into_iter()
+        .filter(|m| {
+            std::fs::read_to_string(m)
+                .unwrap()
+                .lines()
+                .any(|l| l.trim() == "[state]" || l.starts_with("[state."))
+        })
+        .collect();
+    assert!(examples.len() >= 2, "{examples:?}");
+    for manifest in &examples {
+        let (code, json, _) = run(manifest, 2_000, &["--encoding", "state"]);
+        assert_eq!(code, Some(0), "{manifest}: {json}");
+        assert_eq!(json["violations"].as_u64(), Some(0), "{manifest}: {json}");
+        // Known gap (issue 36): a program keeping supervisors' memory (`[state] memory`, the cell)
+        // reads each component's sensor changes scan by scan, but a held round's events all reach the
+        // image before one scan, so it can miss a change and stall; it still commits no violation.
+        if !std::fs::read_to_string(manifest).unwrap().contains("memory = true") {
+            assert_eq!(json["stalls"].as_u64(), Some(0), "{manifest}: {json}");
+        }
+        let scan = &json["scan"];
+        let (scans, max, bound) = (
+            scan["scans"].as_u64().unwrap(),
+            scan["max_statements"].as_u64().unwrap(),
+            scan["bound_per_scan"].as_u64().unwrap(),
+        );
+        assert!(scans > 0 && max > 0 && max <= bound, "{manifest}: {scan}");
+        assert!(json["commands"].as_u64().unwrap() > 0, "{manifest}: {json}");
+        eprintln!("{manifest} (state): {} events, {scan}, coverage {}", json["events"], json["coverage"]);
+    }
+}
+
 // See: issue 36 (done when: the factory and the cell closed loop through `--target plc`, 0 violations
 // and full coverage).
 #[test]
@@ -99,27 +135,15 @@ fn the_factory_and_the_cell_run_clean_with_full_coverage_and_their_scans() {
     }
 }
 
-// See: issue 36 (the run is a function of its seed). Known gap: the count of scans (and `seconds`, the
-// PLC clock derived from it) can differ by one between two runs on a loaded machine, at the run's end;
-// everything else is compared byte for byte.
+// See: issue 36 (the run is a function of its seed: the same seed, the same bytes — the scan count
+// and the PLC clock included).
 #[test]
-fn the_same_seed_gives_the_same_json_but_for_the_last_scan() {
+fn the_same_seed_gives_the_same_json() {
     let manifest = repo("examples/factory/factory.toml");
-    let timed = |mut json: serde_json::Value| {
-        let scans = json["scan"]["scans"].as_u64().unwrap();
-        for key in ["seconds", "events_per_second"] {
-            json[key] = serde_json::Value::Null;
-        }
-        json["scan"]["scans"] = serde_json::Value::Null;
-        (json.to_string(), scans)
-    };
-    let (_, first, _) = run(&manifest, 1_000, &["--seed", "7"]);
-    let (_, again, _) = run(&manifest, 1_000, &["--seed", "7"]);
-    let ((first, a), (again, b)) = (timed(first), timed(again));
-    assert_eq!(first, again);
-    assert!(a.abs_diff(b) <= 1, "scans {a} and {b}");
+    let (_, first, bytes) = run(&manifest, 1_000, &["--seed", "7"]);
+    let (_, _, again) = run(&manifest, 1_000, &["--seed", "7"]);
+    assert_eq!(String::from_utf8_lossy(&bytes), String::from_utf8_lossy(&again));
     let (_, other, _) = run(&manifest, 1_000, &["--seed", "8"]);
-    let first: serde_json::Value = serde_json::from_str(&first).unwrap();
     assert_ne!(first["trace_sha256"], other["trace_sha256"], "another seed, another trace");
 }
 

@@ -40,9 +40,11 @@ pub struct Args {
     /// [default: link; pins with `--project`].
     #[arg(long, value_enum)]
     io: Option<Io>,
-    /// `--target plc`: the program's state encoding (`codegen plc --encoding`).
-    #[arg(long, value_enum, default_value_t = Encoding::Int)]
-    encoding: Encoding,
+    /// `--target plc`: the program's form and state encoding (`codegen plc --encoding`): the
+    /// event-based program in `int` or `bits`, or the state-based program (`state`, from the
+    /// manifest's `[state]` section).
+    #[arg(long, value_enum, default_value_t = RunEncoding::Int)]
+    encoding: RunEncoding,
     /// How the Pico firmware reads its inputs (default: the manifest's `[board] sampling`).
     #[arg(long, value_enum)]
     sampling: Option<Sampling>,
@@ -97,6 +99,17 @@ enum Io {
     Link,
     /// The pin application (`cell-pico`): the plant on the manifest's `[board]` pins.
     Pins,
+}
+
+/// `--encoding` of `run --target plc`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum RunEncoding {
+    /// The event-based program, an `INT` per automaton.
+    Int,
+    /// The event-based program, a `BOOL` per state.
+    Bits,
+    /// The state-based program: one rung per controllable event over the plant's signals.
+    State,
 }
 
 /// `--sampling`.
@@ -161,7 +174,7 @@ pub fn run(mut args: Args) -> Result<ExitCode, Error> {
     if args.target == Target::Plc {
         return run_plc(&args, &project);
     }
-    if args.encoding != Encoding::Int {
+    if args.encoding != RunEncoding::Int {
         return Err("--encoding goes with --target plc".into());
     }
     if args.sampling.is_some() || args.sample_period_us.is_some() || args.rtt.is_some() {
@@ -276,7 +289,11 @@ fn run_plc(args: &Args, project: &Project) -> Result<ExitCode, Error> {
         project.name, args.encoding, options.events, options.plant.seed
     );
     let mut progress = Progress::new(options.events);
-    let report = project.run_plc(args.encoding, &options, &mut |r| progress.show(r));
+    let report = match args.encoding {
+        RunEncoding::Int => project.run_plc(Encoding::Int, &options, &mut |r| progress.show(r)),
+        RunEncoding::Bits => project.run_plc(Encoding::Bits, &options, &mut |r| progress.show(r)),
+        RunEncoding::State => project.run_plc_state(&options, &mut |r| progress.show(r)),
+    };
     progress.clear();
     finish(&report?, args.run.json)
 }

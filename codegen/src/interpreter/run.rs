@@ -46,6 +46,9 @@ pub struct Plc {
     now_ms: i64,
     /// The time between two scans (the task's interval), in milliseconds.
     cycle_ms: i64,
+    /// Per top-level statement of the `PROGRAM`'s body, whether the last scan took one of its `IF`
+    /// arms.
+    taken: Vec<bool>,
 }
 
 enum Flow {
@@ -64,6 +67,7 @@ impl Plc {
             executed: 0,
             now_ms: 0,
             cycle_ms: 10,
+            taken: Vec::new(),
         };
         plc.blocks.insert(TON.into(), (ton(), Block { body: std::sync::Arc::new(Vec::new()) }));
         let units = parse(text)?;
@@ -148,9 +152,39 @@ impl Plc {
         self.now_ms += self.cycle_ms;
         let program = self.program.clone();
         let mut vars = std::mem::take(&mut self.vars);
-        let r = self.run_block(&program, &mut vars);
+        let r = self.run_program(&program, &mut vars);
         self.vars = vars;
         r.map(|()| self.executed)
+    }
+
+    /// Per top-level statement of the `PROGRAM`'s body (section markers included), whether the last
+    /// scan took one of its `IF` arms (`false` for any other statement): which rungs of a state-based
+    /// program conducted, read off the program as it ran.
+    pub fn arms_taken(&self) -> &[bool] {
+        &self.taken
+    }
+
+    /// The program's body, statement by statement, noting which top-level `IF` took an arm.
+    fn run_program(&mut self, name: &str, vars: &mut BTreeMap<String, Value>) -> Result<(), String> {
+        let body =
+            std::sync::Arc::clone(&self.blocks.get(name).ok_or_else(|| format!("no block {name}"))?.1.body);
+        self.taken.clear();
+        for s in body.iter() {
+            let mut took = false;
+            if let Stmt::If(arms, _) = s {
+                for (c, _) in arms {
+                    if as_bool(&eval(c, vars)?)? {
+                        took = true;
+                        break;
+                    }
+                }
+            }
+            self.taken.push(took);
+            if let Flow::Exit = self.exec(name, std::slice::from_ref(s), vars)? {
+                break;
+            }
+        }
+        Ok(())
     }
 
     fn run_block(&mut self, name: &str, vars: &mut BTreeMap<String, Value>) -> Result<(), String> {

@@ -9,9 +9,10 @@ use serde::Serialize;
 /// The scan figures of a PLC program's run under the interpreter.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct ScanFigures {
-    /// Scans that made an input's edge or fired a command (the scans a PLC repeats while it waits for
-    /// its plant or the host or works off what is pending, the boot scan and a RESET's scan not
-    /// counted — so the figure is a function of the seed).
+    /// Scans from the session's first RESET on that made an input's edge (the state-based program:
+    /// read a changed input) or fired a command (the scans a PLC repeats while it waits for its plant
+    /// or the host or works off what is pending, the boot scan, the scans before the session holds
+    /// the program and a RESET's scan not counted — so the figure is a function of the seed).
     pub scans: u64,
     /// Most statements one of those scans executed.
     pub max_statements: u64,

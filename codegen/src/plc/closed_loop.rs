@@ -11,7 +11,8 @@
 //! to the level the edge starts from when it is not there. Changes of the output variables after a scan become
 //! command bytes (a rising edge: the variable's `set` or `pulse` event, a falling edge: its `clear`
 //! event; where a variable has several, the block's `fired` output names it); `fired` alone gives the
-//! controllable events that drive no output. HOLD sets the `hold` input at once; GO clears it in order,
+//! controllable events that drive no output. HOLD sets the `hold` input at once (and again in order
+//! when a GO or STEP before it is still queued); GO clears it in order,
 //! once the events before it have been applied, so that the events a host sends between HOLD and GO
 //! are all made before the program decides on any of them — as the firmware takes a whole write before
 //! it decides, though here one input changes once per scan. STEP, once the events before it have been
@@ -23,7 +24,8 @@
 //! scan that runs with `hold` low, makes no edge, fires no command and leaves nothing pending: the
 //! program has decided all it can on every event before it — the lock-step rounds of a session. As in
 //! the firmware's event loop, the bytes after it do not wait for the answer. A rise of `safe` sends
-//! SAFE.
+//! SAFE. The scan figures ([`ScanStats`]) count from the host's first RESET: before it the program
+//! runs unheld, as a PLC from power-up, for as long as the host takes to send its first HOLD.
 
 use std::collections::{BTreeMap, VecDeque};
 use std::thread::JoinHandle;
@@ -83,8 +85,8 @@ impl IoMap {
     }
 }
 
-/// What the wrapper measured, returned when the host sends EXIT: over the scans that made an input's
-/// edge or fired a command. The scans a PLC repeats while it waits for its plant or the host, or works
+/// What the wrapper measured, returned when the host sends EXIT: over the scans from the host's first
+/// RESET on (the session's start) that made an input's edge or fired a command. The scans a PLC repeats while it waits for its plant or the host, or works
 /// off what is pending, are not counted: their number is the machine's timing, so the figures are a
 /// function of what the host sent, not of how fast the interpreter ran.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -102,8 +104,42 @@ pub struct Driver {
     io: IoMap,
     levels: BTreeMap<String, bool>,
     outputs: BTreeMap<String, bool>,
-    /// Statements the last scan executed.
-    statements: u64,
+    /// An input's edge was made (or prepared) since the last scan.
+    edged: bool,
+}
+
+/// What one scan did.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Scan {
+    /// The commands it fired, in order.
+    pub commands: Vec<u8>,
+    /// The statements it executed, when it did work the figures count (read an input's change or
+    /// fired a command).
+    pub statements: Option<u64>,
+}
+
+/// A program as the wrapper ([`spawn_plc`]) drives it: the event-based program ([`Driver`]) or the
+/// state-based one ([`super::state_based::closed_loop::StateDriver`]).
+pub trait Scanner {
+    /// Whether `e` is an uncontrollable event the program has an input for.
+    fn has_input(&self, e: u8) -> bool;
+    /// Makes the input change of uncontrollable event `e`, unless `used` says an input already
+    /// changed this scan (what changed is then added to `used`).
+    fn edge(&mut self, e: u8, used: &mut Vec<String>) -> Result<Edge, String>;
+    /// Stops (`true`) or lets the program decide.
+    fn hold(&mut self, on: bool) -> Result<(), String>;
+    /// Whether the program is held.
+    fn held(&self) -> Result<bool, String>;
+    /// Whether events read are still waiting to be applied.
+    fn pending(&self) -> Result<bool, String>;
+    /// Whether the program is in its safe state.
+    fn safe(&self) -> Result<bool, String>;
+    /// Runs one scan (a program that cannot be held runs none while held).
+    fn scan(&mut self) -> Result<Scan, String>;
+    /// Brings the program back to its initial state, deciding nothing.
+    fn reset(&mut self) -> Result<(), String>;
+    /// The six STATUS counters, with the wrapper's `unknown` bytes last.
+    fn status(&self, unknown: u32) -> Result<[u32; 6], String>;
 }
 
 /// What one attempt to make an event's edge did.
@@ -121,7 +157,7 @@ impl Driver {
     /// A driver for `text` (the `.st` file) with the map of its report, after its first scan.
     pub fn new(text: &str, io: IoMap) -> Result<Driver, String> {
         let plc = Plc::load(text)?;
-        let mut d = Driver { plc, io, levels: BTreeMap::new(), outputs: BTreeMap::new(), statements: 0 };
+        let mut d = Driver { plc, io, levels: BTreeMap::new(), outputs: BTreeMap::new(), edged: false };
         // The boot scan: initial states, the inputs' first sample.
         d.reset()?;
         Ok(d)
@@ -150,6 +186,7 @@ impl Driver {
         };
         self.levels.insert(line.path.clone(), next);
         self.plc.set_bool(&line.path, next)?;
+        self.edged = true;
         Ok(made)
     }
 
@@ -160,8 +197,12 @@ impl Driver {
 
     /// Runs one scan; returns the commands it fired, as output changes and `fired` show them.
     pub fn scan(&mut self) -> Result<Vec<u8>, String> {
-        let n = self.plc.scan()?;
-        self.statements = n;
+        Ok(self.scan_counted()?.commands)
+    }
+
+    fn scan_counted(&mut self) -> Result<Scan, String> {
+        let statements = self.plc.scan()?;
+        let edged = std::mem::take(&mut self.edged);
         let fired = self.plc.get_int(&format!("{FB}.fired"))?;
         let mut commands = Vec::new();
         let mut seen_fired = false;
@@ -192,7 +233,8 @@ impl Driver {
         if commands.len() > 1 {
             return Err(format!("more than one command in a scan: {commands:?}"));
         }
-        Ok(commands)
+        let worked = edged || !commands.is_empty();
+        Ok(Scan { commands, statements: worked.then_some(statements) })
     }
 
     /// A scan with `reset` and `hold` set: the program back to its initial states, no command.
@@ -203,11 +245,45 @@ impl Driver {
         self.plc.scan()?;
         self.plc.set_bool("reset", false)?;
         self.plc.set_bool("hold", hold)?;
+        self.edged = false;
         self.snapshot()
     }
+}
 
-    /// The six STATUS counters (the block's, with the wrapper's `unknown` bytes last).
-    pub fn status(&self, unknown: u32) -> Result<[u32; 6], String> {
+impl Scanner for Driver {
+    fn has_input(&self, e: u8) -> bool {
+        Driver::has_input(self, e)
+    }
+
+    fn edge(&mut self, e: u8, used: &mut Vec<String>) -> Result<Edge, String> {
+        Driver::edge(self, e, used)
+    }
+
+    fn hold(&mut self, on: bool) -> Result<(), String> {
+        self.plc.set_bool("hold", on)
+    }
+
+    fn held(&self) -> Result<bool, String> {
+        self.plc.get_bool("hold")
+    }
+
+    fn pending(&self) -> Result<bool, String> {
+        self.plc.get_bool(&format!("{FB}.pending"))
+    }
+
+    fn safe(&self) -> Result<bool, String> {
+        self.plc.get_bool(&format!("{FB}.safe"))
+    }
+
+    fn scan(&mut self) -> Result<Scan, String> {
+        self.scan_counted()
+    }
+
+    fn reset(&mut self) -> Result<(), String> {
+        Driver::reset(self)
+    }
+
+    fn status(&self, unknown: u32) -> Result<[u32; 6], String> {
         let mut out = [0; 6];
         for (slot, name) in
             out.iter_mut().zip(["events_in", "commands_out", "unexpected", "overflows", "guard_redecisions"])
@@ -221,7 +297,10 @@ impl Driver {
 
 /// Runs `driver` behind `link` in a thread, as the firmware would run; see the module documentation.
 /// The thread returns the scan statistics on EXIT, or the first error of the program or the link.
-pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<ScanStats, String>> {
+pub fn spawn_plc<D: Scanner + Send + 'static>(
+    mut driver: D,
+    mut link: MemoryLink,
+) -> JoinHandle<Result<ScanStats, String>> {
     std::thread::spawn(move || {
         let io = |e: std::io::Error| e.to_string();
         link.send(&[READY]).map_err(io)?;
@@ -234,15 +313,24 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
         let mut sync_asked = false;
         // A STEP was taken: the scans decide until one fires a command or has nothing to decide.
         let mut stepping = false;
-        let mut stats = ScanStats::default();
+        // The figures count from the host's first RESET: before it the program runs on its own, as a
+        // PLC does from power-up, for as long as the host takes to send its first HOLD — a matter of
+        // the machine's timing, and unmonitored (the session starts with HOLD, STATUS, RESET).
+        let mut stats: Option<ScanStats> = None;
         loop {
             let wait = if idle { Duration::from_millis(2) } else { Duration::ZERO };
             let n = link.recv(&mut buf, wait).map_err(io)?;
             for &b in &buf[..n] {
-                match b {
-                    HOLD => driver.plc.set_bool("hold", true)?,
-                    other => fifo.push_back(other),
+                if b == HOLD {
+                    driver.hold(true)?;
+                    // A GO or STEP still queued came before this HOLD: taken in order it would clear
+                    // it, and the program would decide, or not, as the bytes happened to arrive. The
+                    // HOLD is taken again after it.
+                    if !fifo.iter().any(|&q| q == GO || q == STEP) {
+                        continue;
+                    }
                 }
+                fifo.push_back(b);
             }
             let mut used = Vec::new();
             let mut out = Vec::new();
@@ -263,26 +351,27 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
                     }
                     STEP => {
                         // Its one decision sees every event before it, and none after it.
-                        if !used.is_empty() || driver.plc.get_bool(&format!("{FB}.pending"))? {
+                        if !used.is_empty() || driver.pending()? {
                             break;
                         }
                         fifo.pop_front();
-                        driver.plc.set_bool("hold", false)?;
+                        driver.hold(false)?;
                         stepping = true;
                         break;
                     }
-                    GO => {
+                    GO | HOLD => {
                         fifo.pop_front();
-                        driver.plc.set_bool("hold", false)?;
+                        driver.hold(b == HOLD)?;
                     }
                     RESET | STATUS | EXIT => {
-                        if !used.is_empty() || driver.plc.get_bool(&format!("{FB}.pending"))? {
+                        if !used.is_empty() || driver.pending()? {
                             break;
                         }
                         fifo.pop_front();
                         answered = true;
                         match b {
                             RESET => {
+                                stats.get_or_insert_with(ScanStats::default);
                                 driver.reset()?;
                                 unknown = 0;
                                 was_safe = false;
@@ -296,7 +385,7 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
                             }
                             _ => {
                                 link.send(&out).map_err(io)?;
-                                return Ok(stats);
+                                return Ok(stats.unwrap_or_default());
                             }
                         }
                     }
@@ -306,22 +395,22 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
                     }
                 }
             }
-            let held = driver.plc.get_bool("hold")?;
-            let commands = driver.scan()?;
+            let held = driver.held()?;
+            let Scan { commands, statements } = driver.scan()?;
             out.extend(&commands);
-            let pending = driver.plc.get_bool(&format!("{FB}.pending"))?;
+            let pending = driver.pending()?;
             let quiet = commands.is_empty() && used.is_empty() && !pending;
             // Only a scan that made an edge or fired a command is counted: how many scans a program
             // waits or works off what is pending before the host's next byte arrives is the machine's
             // timing, not the program's work.
-            if !used.is_empty() || !commands.is_empty() {
+            if let (Some(stats), Some(statements)) = (stats.as_mut(), statements) {
                 stats.scans += 1;
-                stats.max_statements = stats.max_statements.max(driver.statements);
+                stats.max_statements = stats.max_statements.max(statements);
             }
             if stepping && !held && (!commands.is_empty() || quiet) {
                 // The step's decision is taken (a command, or none to take): hold again, answer SYNC.
                 stepping = false;
-                driver.plc.set_bool("hold", true)?;
+                driver.hold(true)?;
                 answered = true;
                 out.push(SYNC);
             } else if sync_asked && quiet && !held && !stepping {
@@ -329,7 +418,7 @@ pub fn spawn_plc(mut driver: Driver, mut link: MemoryLink) -> JoinHandle<Result<
                 answered = true;
                 out.push(SYNC);
             }
-            let safe = driver.plc.get_bool(&format!("{FB}.safe"))?;
+            let safe = driver.safe()?;
             if safe && !was_safe {
                 out.push(SAFE);
             }
@@ -373,15 +462,50 @@ pub fn run(
     let mut driver = Driver::new(text, IoMap::new(program, set.events()).map_err(RunError::Program)?)
         .map_err(RunError::Program)?;
     driver.plc.set_cycle_ms(program.cycle_ms);
-    let (mut host, target) = memory::pair();
+    let (host, target) = memory::pair();
     let plc = spawn_plc(driver, target);
-    // The monitor models the program's choice policy: `first` as the firmware's; the queues and the
-    // program's generator as a uniform choice.
-    let choices =
-        if program.policy == ScanPolicy::First.name() { ChoiceModel::First } else { ChoiceModel::Uniform };
+    run_spawned(host, plc, &program.into(), set, name, options, progress)
+}
+
+/// What the host's side of a run needs to know of the program it runs.
+#[derive(Clone, Copy, Debug)]
+pub struct Facts {
+    /// The static bound on statements per scan, from the program's report.
+    pub bound_per_scan: u64,
+    /// The task's interval, in milliseconds.
+    pub cycle_ms: u32,
+    /// How the monitor models the program's choice among the commands it may fire.
+    pub choices: ChoiceModel,
+}
+
+impl From<&ProgramReport> for Facts {
+    /// The event-based program's: the monitor models `first` as the firmware's, the queues and the
+    /// program's generator as a uniform choice.
+    fn from(program: &ProgramReport) -> Facts {
+        let first = program.policy == ScanPolicy::First.name();
+        Facts {
+            bound_per_scan: program.bound_per_scan,
+            cycle_ms: program.cycle_ms,
+            choices: if first { ChoiceModel::First } else { ChoiceModel::Uniform },
+        }
+    }
+}
+
+/// The host's side of [`run`], for a program already running behind `host` ([`spawn_plc`]): the
+/// session, EXIT, and the report with the scan figures. A test uses it to choose what the program does
+/// before the session starts.
+pub fn run_spawned(
+    mut host: MemoryLink,
+    plc: JoinHandle<Result<ScanStats, String>>,
+    program: &Facts,
+    set: &PackSet,
+    name: &str,
+    options: &Options,
+    progress: &mut dyn FnMut(&Report),
+) -> Result<Report, RunError> {
     let options = Options {
         session: SessionConfig { lockstep: true, ..options.session.clone() },
-        choices,
+        choices: program.choices,
         // The program has no tables' digest to report.
         tables: Vec::new(),
         ..options.clone()

@@ -579,6 +579,20 @@ impl Project {
         Ok(plc::closed_loop::run(text, &out.report, &self.set, &self.name, options, progress)?)
     }
 
+    /// The state-based program run closed loop (`codegen run --target plc --encoding state`): the
+    /// program `codegen plc --encoding state` writes from the manifest's `[state]` section (its
+    /// memory and choice policy), under the interpreter against the virtual plant, its signals driven
+    /// through the same state vectors ([`state_based::closed_loop::run`]).
+    pub fn run_plc_state(
+        &self,
+        options: &Options,
+        progress: &mut dyn FnMut(&Report),
+    ) -> Result<Report, ProjectError> {
+        let form = Form::State { options: state_based::StateOptions::default(), engine: Engine::Explicit };
+        let out = self.plc(&form)?.into_state().ok_or(RunError::Program("no state-based program".into()))?;
+        Ok(state_based::closed_loop::run(&out, &self.set, &self.name, options, progress)?)
+    }
+
     /// The PLC stage, the one entry of every form ([`Form`]): the program's files under a header naming
     /// every input with its hash and the command that reproduces them, and its report. The event-based
     /// form runs the manifest's sequence net beside the interlocks when it has one (`[net]`); its policy

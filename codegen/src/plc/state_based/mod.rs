@@ -16,6 +16,7 @@
 //! [`validate`] is the translation validation: for every reachable state x and every valuation of the
 //! signals that reads as x, each rung conducts exactly when f_σ(x) = 1.
 
+pub mod closed_loop;
 pub mod memory;
 pub mod program;
 pub mod report;
