@@ -105,6 +105,17 @@ pub enum ClosedLoopError {
     },
 }
 
+impl ClosedLoopError {
+    /// `self` with what the emulator printed on stderr, if it is a session's failure: what the firmware
+    /// did before the link failed is often only there.
+    fn with_stderr(self, stderr: impl FnOnce() -> String) -> Self {
+        match self {
+            ClosedLoopError::Session { source, .. } => ClosedLoopError::Session { source, stderr: stderr() },
+            other => other,
+        }
+    }
+}
+
 impl From<SessionError> for ClosedLoopError {
     fn from(source: SessionError) -> Self {
         ClosedLoopError::Session { source, stderr: String::new() }
@@ -156,10 +167,8 @@ pub fn run_under_qemu(
     progress: &mut dyn FnMut(&Report),
 ) -> Result<Report, ClosedLoopError> {
     let (mut qemu, mut link) = Qemu::start(elf, &options.qemu)?;
-    let mut report = attach(&mut link, set, name, options, progress).map_err(|e| match e {
-        ClosedLoopError::Session { source, .. } => ClosedLoopError::Session { source, stderr: qemu.stderr() },
-        other => other,
-    })?;
+    let mut report =
+        attach(&mut link, set, name, options, progress).map_err(|e| e.with_stderr(|| qemu.stderr()))?;
     report.target = "qemu".into();
     // The firmware must leave when told, with status 0 — or 1 where it ended in the safe state, which
     // the monitor has counted as a violation. Anything else (a panic, a hang, a crash of the emulator)
@@ -199,12 +208,8 @@ pub fn run_on_rp2040(
         tables: Vec::new(),
         ..options.clone()
     };
-    let mut report = attach(&mut link, set, name, options, progress).map_err(|e| match e {
-        ClosedLoopError::Session { source, .. } => {
-            ClosedLoopError::Session { source, stderr: harness.stderr() }
-        }
-        other => other,
-    })?;
+    let mut report =
+        attach(&mut link, set, name, options, progress).map_err(|e| e.with_stderr(|| harness.stderr()))?;
     report.target = "rp2040".into();
     let _ = link.send(&[EXIT]);
     drop(link);
@@ -225,12 +230,8 @@ pub fn run_on_rp2040_link(
     progress: &mut dyn FnMut(&Report),
 ) -> Result<Report, ClosedLoopError> {
     let (mut harness, mut link) = Harness::start_uart(elf, &options.rp2040)?;
-    let mut report = attach(&mut link, set, name, options, progress).map_err(|e| match e {
-        ClosedLoopError::Session { source, .. } => {
-            ClosedLoopError::Session { source, stderr: harness.stderr() }
-        }
-        other => other,
-    })?;
+    let mut report =
+        attach(&mut link, set, name, options, progress).map_err(|e| e.with_stderr(|| harness.stderr()))?;
     report.target = "rp2040".into();
     drop(link);
     match harness.wait(EXIT_WITHIN).and_then(|s| s.code()) {
