@@ -48,7 +48,7 @@ fn receive(q: &mut InputProducer<'static>, byte: u8) {
 }
 
 /// Moves the bytes `read` yields (`None`: no more for now) into the input buffer `q` through
-/// [`receive`], as many as it has room for. True when it stopped for want of room: the caller masks its
+/// `receive`, as many as it has room for. True when it stopped for want of room: the caller masks its
 /// receive until the loop has drained the buffer, so the rest waits in the transport.
 pub fn receive_all(q: &mut InputProducer<'static>, mut read: impl FnMut() -> Option<u8>) -> bool {
     while q.has_room() {
