@@ -22,6 +22,7 @@ mod tables {
 }
 
 mod link_app;
+mod link_loop;
 
 use firmware::event_loop::{Note, Port};
 use rp2040_hal::gpio::bank0::{Gpio0, Gpio1};
@@ -43,15 +44,15 @@ impl Port for UartPort {
     }
 
     fn note(&mut self, note: Note) {
-        link_app::log_note(note);
+        link_loop::log_note(note);
     }
 }
 
 #[rtic::app(device = rp2040_hal::pac)]
 mod app {
-    use super::link_app::{halt, Rt, HOLD, SCT_STATUS};
+    use super::link_app::Rt;
+    use super::link_loop::{self, halt};
     use super::{tables, UartPins, UartPort, BAUD};
-    use firmware::event_loop::{EventLoop, Poll};
     use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
     use firmware::link::READY;
     use rp2040_hal::clocks::Clock;
@@ -110,21 +111,15 @@ mod app {
     #[task(binds = UART0_IRQ, shared = [reader], local = [producer])]
     fn uart0(mut cx: uart0::Context) {
         let q = cx.local.producer;
-        cx.shared.reader.lock(|reader| loop {
-            if !q.has_room() {
-                reader.disable_rx_interrupt();
-                return;
-            }
-            let mut byte = [0u8];
+        cx.shared.reader.lock(|reader| {
             // Nothing more (WouldBlock), or a framing/parity/break error on the line: the byte in error
             // is dropped (popped with its error flags); the interrupt comes again for what follows.
-            if !matches!(reader.read_raw(&mut byte), Ok(1)) {
-                return;
-            }
-            if let Some(byte) = HOLD.filter(byte[0]) {
-                if q.push(byte).is_err() {
-                    q.count_overflow();
-                }
+            let full = link_loop::receive_all(q, || {
+                let mut byte = [0u8];
+                matches!(reader.read_raw(&mut byte), Ok(1)).then_some(byte[0])
+            });
+            if full {
+                reader.disable_rx_interrupt();
             }
         });
     }
@@ -133,19 +128,8 @@ mod app {
     #[idle(shared = [reader], local = [consumer, runtime, port])]
     fn idle(mut cx: idle::Context) -> ! {
         let (rx, rt, port) = (cx.local.consumer, cx.local.runtime, cx.local.port);
-        let mut event_loop = EventLoop::with_tables(tables::m0plus::DIGEST);
-        loop {
-            let poll = event_loop.turn(rt, rx, &HOLD, port);
-            SCT_STATUS.store(&rt.counters().to_array(), rt.is_safe());
-            cx.shared.reader.lock(|reader| reader.enable_rx_interrupt());
-            if poll != Poll::Busy {
-                // EXIT (Poll::Exit) ends an emulation; a board stays up for the next host: idle.
-                cortex_m::interrupt::free(|_| {
-                    if poll.may_sleep(rx, &HOLD) {
-                        cortex_m::asm::wfi();
-                    }
-                });
-            }
-        }
+        link_loop::serve(rt, rx, port, tables::m0plus::DIGEST, |_| {
+            cx.shared.reader.lock(|reader| reader.enable_rx_interrupt())
+        })
     }
 }

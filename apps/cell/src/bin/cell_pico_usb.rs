@@ -24,6 +24,7 @@ mod tables {
 }
 
 mod link_app;
+mod link_loop;
 
 use core::sync::atomic::AtomicBool;
 
@@ -44,33 +45,37 @@ impl Usb {
     fn poll(&mut self) -> bool {
         self.device.poll(&mut [&mut self.serial])
     }
+
+    /// Writes `byte`, servicing the bus until the serial class's buffer takes it; dropped while no host
+    /// has configured the device (a READY at boot, before enumeration: the host's RESET asks again).
+    fn send(&mut self, byte: u8) {
+        while self.device.state() == UsbDeviceState::Configured {
+            match self.serial.write(&[byte]) {
+                Ok(_) => return,
+                Err(UsbError::WouldBlock) => {
+                    self.poll();
+                }
+                Err(_) => return,
+            }
+        }
+    }
 }
 
 /// Set when the interrupt left bytes in the USB stack for want of room in the input buffer: the loop
 /// raises the interrupt again once it has drained the buffer.
 static STARVED: AtomicBool = AtomicBool::new(false);
 
-/// The USB serial port as the event loop's port, for one turn (the loop holds the USB resource).
-struct UsbPort<'a>(&'a mut Usb);
+/// The USB serial port, behind the RTIC lock `L` the loop shares with the interrupt, as the event
+/// loop's port: each byte sent holds the lock while it is written.
+struct UsbPort<'a, L>(&'a mut L);
 
-impl Port for UsbPort<'_> {
-    /// Writes `byte`, servicing the bus until the serial class's buffer takes it; dropped while no host
-    /// has configured the device (a READY at boot, before enumeration: the host's RESET asks again).
+impl<L: rtic::Mutex<T = Usb>> Port for UsbPort<'_, L> {
     fn send(&mut self, byte: u8) {
-        let usb = &mut *self.0;
-        while usb.device.state() == UsbDeviceState::Configured {
-            match usb.serial.write(&[byte]) {
-                Ok(_) => return,
-                Err(UsbError::WouldBlock) => {
-                    usb.poll();
-                }
-                Err(_) => return,
-            }
-        }
+        self.0.lock(|usb| usb.send(byte));
     }
 
     fn note(&mut self, note: Note) {
-        link_app::log_note(note);
+        link_loop::log_note(note);
     }
 }
 
@@ -79,10 +84,10 @@ const VID_PID: (u16, u16) = (0x16c0, 0x27dd);
 
 #[rtic::app(device = rp2040_hal::pac)]
 mod app {
-    use super::link_app::{halt, Rt, HOLD, SCT_STATUS};
+    use super::link_app::Rt;
+    use super::link_loop::{self, halt};
     use super::{tables, Usb, UsbPort, STARVED, VID_PID};
     use core::sync::atomic::Ordering;
-    use firmware::event_loop::{EventLoop, Poll, Port};
     use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
     use firmware::link::READY;
     use rp2040_hal::pac::Interrupt;
@@ -142,7 +147,7 @@ mod app {
 
         let (producer, consumer) = cx.local.queue.split();
         let runtime = super::link_app::runtime("USB");
-        UsbPort(&mut usb).send(READY);
+        usb.send(READY);
         (Shared { usb }, Local { producer, consumer, runtime })
     }
 
@@ -153,45 +158,27 @@ mod app {
         let q = cx.local.producer;
         cx.shared.usb.lock(|usb| {
             usb.poll();
-            loop {
-                if !q.has_room() {
-                    STARVED.store(true, Ordering::Relaxed);
-                    return;
-                }
+            // `None`: nothing more (WouldBlock), or not configured.
+            let full = link_loop::receive_all(q, || {
                 let mut byte = [0u8];
-                if !matches!(usb.serial.read(&mut byte), Ok(1)) {
-                    return; // nothing more (WouldBlock), or not configured
-                }
-                if let Some(byte) = HOLD.filter(byte[0]) {
-                    if q.push(byte).is_err() {
-                        q.count_overflow();
-                    }
-                }
+                matches!(usb.serial.read(&mut byte), Ok(1)).then_some(byte[0])
+            });
+            if full {
+                STARVED.store(true, Ordering::Relaxed);
             }
         });
     }
 
-    /// The decision loop, holding the USB resource for each turn (a turn sends a few bytes); sleeps in
-    /// `wfi` while there is nothing to do.
+    /// The decision loop; raises the interrupt again once it has drained what the interrupt left in
+    /// the USB stack (STARVED); sleeps in `wfi` while there is nothing to do.
     #[idle(shared = [usb], local = [consumer, runtime])]
     fn idle(mut cx: idle::Context) -> ! {
         let (rx, rt) = (cx.local.consumer, cx.local.runtime);
-        let mut event_loop = EventLoop::with_tables(tables::m0plus::DIGEST);
-        loop {
-            let poll = cx.shared.usb.lock(|usb| event_loop.turn(rt, rx, &HOLD, &mut UsbPort(usb)));
-            SCT_STATUS.store(&rt.counters().to_array(), rt.is_safe());
+        link_loop::serve(rt, rx, &mut UsbPort(&mut cx.shared.usb), tables::m0plus::DIGEST, |rx| {
             if rx.is_empty() && STARVED.load(Ordering::Relaxed) {
                 STARVED.store(false, Ordering::Relaxed);
                 rtic::pend(Interrupt::USBCTRL_IRQ);
             }
-            if poll != Poll::Busy {
-                // EXIT (Poll::Exit) ends an emulation; a board stays up for the next host: idle.
-                cortex_m::interrupt::free(|_| {
-                    if poll.may_sleep(rx, &HOLD) {
-                        cortex_m::asm::wfi();
-                    }
-                });
-            }
-        }
+        })
     }
 }
