@@ -9,12 +9,10 @@
 
 use embedded_hal::digital::{InputPin, OutputPin};
 use firmware::board::{Outputs, Sampler};
-use firmware::choice::Choose;
 use firmware::event_loop::{EventLoop, Note, Poll, Port};
 use firmware::input_queue::{InputConsumer, InputProducer};
 use firmware::link::{Hold, SAFE};
-use firmware::rng::Entropy;
-use firmware::runtime::Runtime;
+use firmware::shell::Decide;
 use firmware::status::Published;
 
 use crate::tables;
@@ -126,16 +124,8 @@ pub fn tick_outputs<P: OutputPin, const K: usize>(outputs: &mut impl rtic::Mutex
 /// The decision loop of `idle`: drains the inputs into the runtime, decides, drives the outputs behind
 /// `outputs`, publishes the counters ([`SCT_STATUS`]); when there is nothing to do, calls `on_idle` and
 /// sleeps in `wfi` unless an input came in meanwhile.
-pub fn decide<
-    P: Choose<W>,
-    E: Entropy,
-    const W: usize,
-    const N: usize,
-    const WIDE: bool,
-    const MASK: usize,
-    const LAYOUT: u8,
->(
-    rt: &mut Runtime<'_, P, E, W, N, WIDE, MASK, LAYOUT>,
+pub fn decide(
+    rt: &mut impl Decide,
     rx: &mut InputConsumer<'static>,
     outputs: &mut impl Port,
     mut on_idle: impl FnMut(),

@@ -5,12 +5,10 @@
 //! `mod link_loop;` beside its own `mod tables` and keeps only its board's and transport's wiring
 //! (`link_app.rs` the RP2040's, `uart_link.rs` the Cortex-M4 boards').
 
-use firmware::choice::Choose;
 use firmware::event_loop::{EventLoop, Note, Poll, Port};
 use firmware::input_queue::{InputConsumer, InputProducer};
 use firmware::link::Hold;
-use firmware::rng::Entropy;
-use firmware::runtime::Runtime;
+use firmware::shell::Decide;
 use firmware::status::Published;
 
 use crate::tables;
@@ -75,16 +73,8 @@ pub fn log_note(note: Note) {
 /// the tables `rt` runs on), publishes the counters ([`SCT_STATUS`]), calls `after_turn` with the
 /// input buffer (to re-enable a receive that stopped while the buffer was full) and sleeps in `wfi` while there is
 /// nothing to do. EXIT (`Poll::Exit`) ends an emulation; a board stays up for the next host: idle.
-pub fn serve<
-    P: Choose<W>,
-    E: Entropy,
-    const W: usize,
-    const N: usize,
-    const WIDE: bool,
-    const MASK: usize,
-    const LAYOUT: u8,
->(
-    rt: &mut Runtime<'_, P, E, W, N, WIDE, MASK, LAYOUT>,
+pub fn serve(
+    rt: &mut impl Decide,
     rx: &mut InputConsumer<'static>,
     port: &mut impl Port,
     digest: &'static str,
