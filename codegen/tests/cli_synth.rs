@@ -144,3 +144,23 @@ fn synth_says_which_specifications_are_controllable_as_written_the_rtpn_papers_a
     );
     assert!(text.contains("  not arm_left_piston_in: after af1 sb0 sf1 ar1 sl0 al1 ar0,"), "{text}");
 }
+
+/// The contract: each supervisor of `synth --json` says `spec_controllable`, true or false. On
+/// the cell, E2, E3 and E4 are not controllable as written; `S2_6` (E2 merged with E6) answers for both.
+#[test]
+fn each_supervisor_says_whether_its_specifications_are_controllable_as_written() {
+    let out = codegen(&["synth", &repo("examples/cell/cell.toml"), "--json"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let verdicts: Vec<(&str, bool)> = json["supervisors"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| (s["name"].as_str().unwrap(), s["spec_controllable"].as_bool().unwrap()))
+        .collect();
+    assert_eq!(
+        verdicts,
+        [("S1", true), ("S2_6", false), ("S3", false), ("S4", false), ("S5", true), ("S7", true)],
+        "{json}"
+    );
+}

@@ -61,7 +61,8 @@ pub struct Args {
     /// The symbolic engine's variable order.
     #[arg(long, value_enum, default_value_t = BddOrder::EventGraph)]
     bdd_order: BddOrder,
-    /// Print JSON: schema, supervisors (name, specs, plants, states, transitions), nonconflicting, merged,
+    /// Print JSON: schema, supervisors (name, specs, plants, states, transitions, spec_controllable:
+    /// its specifications controllable as written, null if undecided), nonconflicting, merged,
     /// total_states, total_transitions, specifications (name, local_plant, controllable as written,
     /// refusal, undecided) (with --reduce, each supervisor's unreduced_states,
     /// unreduced_transitions and lower_bound; with --condat, condat: supervisor → state → disabled events).
@@ -192,6 +193,24 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
                 })
             })
             .collect();
+        // Per supervisor: its specifications all controllable as written (true), one not (false), else
+        // undecided (null).
+        if let Some(supervisors) = value["supervisors"].as_array_mut() {
+            for (o, r) in supervisors.iter_mut().zip(&rows) {
+                let verdicts =
+                    r.supervisor.specs.iter().map(|spec| {
+                        as_written.iter().find(|v| &v.spec == spec).and_then(|v| v.controllable())
+                    });
+                let verdicts: Vec<Option<bool>> = verdicts.collect();
+                o["spec_controllable"] = if verdicts.contains(&Some(false)) {
+                    json!(false)
+                } else if verdicts.iter().all(|v| *v == Some(true)) {
+                    json!(true)
+                } else {
+                    serde_json::Value::Null
+                };
+            }
+        }
         if let Some(c) = &conflict {
             value["conflict"] = json!({ "supervisors": c.supervisors, "trace": c.trace, "state": c.state });
         }
