@@ -67,13 +67,12 @@ pub fn unfold(file: &Path, efa: &Efa) -> Result<Vec<Automaton>, ParseError> {
         let own: Vec<usize> = (c..n).filter(|&m| find(&mut parent, m) == root).collect();
         let mut members = own.clone();
         if comps[c].kind != Kind::Plant {
-            let written = |m: usize| comps[m].edges.iter().flat_map(|e| e.actions.iter().map(|a| a.var));
-            for &m in &own {
-                for v in written(m) {
+            for (&m, edge) in own.iter().flat_map(|m| comps[*m].edges.iter().map(move |e| (m, e))) {
+                for v in edge.actions.iter().map(|a| a.var) {
                     if let Some(&p) = owners[v].iter().find(|&&o| comps[o].kind == Kind::Plant) {
                         return Err(ParseError::unsupported(
                             file,
-                            comps[m].line,
+                            edge.line,
                             format!(
                                 "{} '{}' assigns '{}', a variable of plant '{}': a specification may \
                                  read the plant's variables in its guards, not assign them",
@@ -546,6 +545,16 @@ mod tests {
     fn efa_strategy() -> impl Strategy<Value = Efa> {
         let comps = (component_strategy(0), component_strategy(1), component_strategy(2), 1..4usize)
             .prop_map(|(a, b, c, n)| [a, b, c].into_iter().take(n).collect::<Vec<_>>());
+        // A component may be a specification, which reads the variables and assigns none.
+        let comps = (comps, any::<[bool; 3]>()).prop_map(|(mut comps, spec)| {
+            for (c, spec) in comps.iter_mut().zip(spec) {
+                if spec {
+                    c.kind = Kind::Spec;
+                    c.edges.iter_mut().for_each(|e| e.actions.clear());
+                }
+            }
+            comps
+        });
         (comps, any::<(bool, bool)>()).prop_map(|(components, (m0, m1))| {
             let var = |name: &str, max, marked: bool| Variable {
                 name: name.into(),
@@ -578,9 +587,13 @@ mod tests {
                 // it cannot reach is refused too, as the plain reader does.
                 // Nondeterminism is judged in each unfolded automaton, whose components are linked by
                 // variables: a choice that another automaton's components block is still refused.
+                // A specification is unfolded with the plants whose variables it reads, and
+                // nondeterminism is judged there too.
                 Err(e) => prop_assert!(
                     groups(&efa).iter().any(nondeterministic)
-                        || efa.components.iter().any(plain_nondeterministic),
+                        || efa.components.iter().any(plain_nondeterministic)
+                        || (efa.components.iter().any(|c| c.kind == Kind::Spec)
+                            && e.to_string().contains("is nondeterministic in")),
                     "{e}"
                 ),
                 Ok(automata) => {
@@ -599,6 +612,37 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn a_specification_reads_the_plants_variable_and_is_unfolded_with_the_plant() {
+        // Plant M counts `go` in x (0..2); specification S allows `go` while x < 1.
+        let edge = |guards, actions| Edge { source: 0, target: 0, events: vec![0], guards, actions, line: 1 };
+        let comp = |name: &str, kind, edge| Component {
+            name: name.into(),
+            kind,
+            alphabet: vec![0],
+            states: vec![("q".into(), true)],
+            initial: Some(0),
+            edges: vec![edge],
+            line: 1,
+        };
+        let count = Action { var: 0, op: AssignOp::Add, value: Expr::Int(1) };
+        let below = Expr::Binary(BinaryOp::Lt, Box::new(Expr::Var(0)), Box::new(Expr::Int(1)));
+        let x = Variable { name: "x".into(), min: 0, max: 2, initial: 0, marked: None, line: 1 };
+        let efa = Efa {
+            events: vec![("go".into(), true)],
+            variables: vec![x],
+            components: vec![
+                comp("M", Kind::Plant, edge(vec![], vec![count])),
+                comp("S", Kind::Spec, edge(vec![below], vec![])),
+            ],
+        };
+        let a = unfold(Path::new("m"), &efa).unwrap();
+        let figures: Vec<_> =
+            a.iter().map(|a| (a.name.as_str(), a.kind, a.states.len(), a.transitions.len())).collect();
+        assert_eq!(figures, [("M", Kind::Plant, 3, 2), ("S", Kind::Spec, 2, 1)]);
+        assert_eq!(a[1].states[1].name, "q.q.x=1");
     }
 
     #[test]
