@@ -191,3 +191,28 @@ fn the_collaboration_cells_two_scenarios_synthesise_the_supervisors_supremica_pu
         assert_eq!(figures(&b), (90, 182, 45), "{engine}");
     }
 }
+
+/// `codegen run MODULE --target TARGET --events N --json`: its exit status and JSON report.
+fn run(module: &Path, target: &str, events: u64) -> (Option<i32>, serde_json::Value) {
+    let events = events.to_string();
+    let out = codegen(&["run", module.to_str().unwrap(), "--target", target, "--events", &events, "--json"]);
+    let json = serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("{target}: {e}: {}", String::from_utf8_lossy(&out.stderr)));
+    (out.status.code(), json)
+}
+
+/// The EFA buffer example runs closed loop as users run any module: its firmware under QEMU and its PLC
+/// program scanned against the virtual plant, 0 violations and every transition of the supervisor
+/// taken. The program is written from the unfolded supervisor (no guards over the variable yet).
+#[test]
+fn the_efa_example_runs_closed_loop_under_qemu_and_as_a_plc_program() {
+    let module = repo("examples/efa/buffer.wmod");
+    for target in ["qemu", "plc"] {
+        let (code, json) = run(&module, target, 300);
+        assert_eq!(code, Some(0), "{target}: {json}");
+        assert_eq!(json["target"].as_str(), Some(target), "{json}");
+        assert_eq!(json["violations"].as_u64(), Some(0), "{target}: {json}");
+        assert!(json["events"].as_u64().unwrap() >= 300, "{target}: {json}");
+        assert!(json["full_coverage_at"].as_u64().is_some(), "{target}: {json}");
+    }
+}
