@@ -87,14 +87,17 @@ fn synth(module: &Path, engine: &str, dir: &Path) -> Automaton {
         .filter(|a| a.kind == Kind::Supervisor)
         .collect();
     assert_eq!(sups.len(), 1);
-    // The contract: the module converts to a libFAUDES generator.
+    // The contract: the module's supervisor converts to a libFAUDES generator.
     let gen = dir.join("supervisor.gen");
-    let module = dir.join("supervisor_only.wmod");
-    std::fs::write(&module, wmod::write("s", &sups).unwrap()).unwrap();
-    let out = codegen(&["convert", module.to_str().unwrap(), gen.to_str().unwrap()]);
+    let name = &sups[0].name;
+    let out = codegen(&["convert", written.to_str().unwrap(), gen.to_str().unwrap(), "--component", name]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let back = read_path(&gen).unwrap_or_else(|e| panic!("{e}")).remove(0);
     assert_eq!(equal(&back, &sups[0]).unwrap(), None);
+    // Without --component, the refusal names the way.
+    let out = codegen(&["convert", written.to_str().unwrap(), gen.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("pick one with --component NAME"));
     sups.remove(0)
 }
 
