@@ -47,8 +47,8 @@ const CASES: &[(&str, &str)] = &[
     ),
     (
         "wmod/mixed_kinds.wmod",
-        "line 14: unsupported: 'S' (spec) and 'M' (plant) share variables; variables shared by \
-         components of different kinds are not supported",
+        "line 13: unsupported: spec 'S' assigns 'x', a variable of plant 'M': a specification may \
+         read the plant's variables in its guards, not assign them",
     ),
     (
         "wmod/nondeterministic.wmod",

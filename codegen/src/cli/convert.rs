@@ -16,7 +16,8 @@ use super::Error;
 /// .wmod or .dot. Formats that hold one automaton refuse an input with several. What IN leaves unsaid and
 /// OUT must say is refused unless given: controllability (a libFAUDES generator without +C+ takes it from
 /// the plant; every format but .gen and .dot says it for every event) from --plant or --assume, and the
-/// role (a .wmod component is a PLANT, SPEC or SUPERVISOR) from --kind.
+/// role (a .wmod component is a PLANT, SPEC or SUPERVISOR) from --kind. --component picks one automaton
+/// of IN: the supervisor of the module `synth --format wmod` writes beside its plants.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The model to read.
@@ -34,6 +35,10 @@ pub struct Args {
     /// component must say.
     #[arg(long, value_enum)]
     kind: Option<Role>,
+    /// Convert only the automaton of IN with this name (a module's component, such as the supervisor
+    /// `synth --format wmod` writes beside its plants).
+    #[arg(long, value_name = "NAME")]
+    component: Option<String>,
 }
 
 /// `--assume`.
@@ -59,6 +64,18 @@ enum Role {
 /// Runs `convert`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
     let mut automata = read_path(&args.input)?;
+    if let Some(name) = &args.component {
+        let names: Vec<&str> = automata.iter().map(|a| a.name.as_str()).collect();
+        let Some(i) = names.iter().position(|n| n == name) else {
+            return Err(format!(
+                "{}: no automaton '{name}' (it holds {})",
+                args.input.display(),
+                names.join(", ")
+            )
+            .into());
+        };
+        automata = vec![automata.swap_remove(i)];
+    }
     if let Some(role) = args.kind {
         let kind = match role {
             Role::Plant => Kind::Plant,
@@ -90,6 +107,10 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
                 );
             }
             Err(format!("{e}: give {}", say.join(", and ")).into())
+        }
+        Err(e @ WriteError::TooMany { .. }) => {
+            let names: Vec<&str> = automata.iter().map(|a| a.name.as_str()).collect();
+            Err(format!("{e}: pick one with --component NAME ({})", names.join(", ")).into())
         }
         other => Ok(other.map(|()| ExitCode::SUCCESS)?),
     }

@@ -15,29 +15,45 @@ type Key = (Vec<usize>, Vec<i64>);
 /// The most states one unfolded automaton may have: a larger product is refused, not built.
 pub const MAX_STATES: usize = 1 << 20;
 
-/// The plain automata of `efa` (read from `file`, for messages): one per set of components linked by
-/// shared variables, in the order of each set's first component, named after its components joined by
-/// `||`, with states named `state.state.var=value…`; a component that touches no variable is kept as
-/// it is (all its states), and a variable no component touches becomes a one-state automaton (its
-/// initial value may be unmarked).
+/// The plain automata of `efa` (read from `file`, for messages): one per set of components of one
+/// kind linked by shared variables, in the order of each set's first component, named after its
+/// components joined by `||`, with states named `state.state.var=value…`; a component that touches no
+/// variable is kept as it is (all its states), and a variable no component touches becomes a one-state
+/// automaton (its initial value may be unmarked).
 ///
-/// Fails when components of different kinds share a variable, when an event is nondeterministic in
-/// the product (two edges whose guards both hold lead to different states), or when a product passes
-/// [`MAX_STATES`].
+/// Variables are the plant's (as in Waters, which compiles a variable into a plant automaton): a
+/// specification may read in its guards a variable that plants read or write, and is then unfolded
+/// together with those plants, so that it knows the values; its language is then the plants' language
+/// cut by its guards, and the synchronous product with the plants is the module's. A specification
+/// that assigns a variable a plant also reads or writes is refused (its action would change the
+/// plant's behaviour, not restrict it).
+///
+/// Fails as just said, when components of two kinds other than plant share a variable, when an event
+/// is nondeterministic in the product (two edges whose guards both hold lead to different states), or
+/// when a product passes [`MAX_STATES`].
 pub fn unfold(file: &Path, efa: &Efa) -> Result<Vec<Automaton>, ParseError> {
     let n = efa.components.len();
-    let vars: Vec<Vec<usize>> = efa.components.iter().map(Component::variables).collect();
+    let comps = &efa.components;
+    let vars: Vec<Vec<usize>> = comps.iter().map(Component::variables).collect();
     let mut parent: Vec<usize> = (0..n).collect();
-    let mut owner: Vec<Option<usize>> = vec![None; efa.variables.len()];
+    // Per variable: the first component of each kind touching it.
+    let mut owners: Vec<Vec<usize>> = vec![Vec::new(); efa.variables.len()];
     for (c, vs) in vars.iter().enumerate() {
         for &v in vs {
-            match owner.get(v).copied().flatten() {
+            match owners[v].iter().copied().find(|&o| comps[o].kind == comps[c].kind) {
                 Some(o) => {
                     let (a, b) = (find(&mut parent, o), find(&mut parent, c));
                     parent[a.max(b)] = a.min(b);
                 }
-                None => owner[v] = Some(c),
+                None => owners[v].push(c),
             }
+        }
+    }
+    for os in &owners {
+        if let [a, .., b] =
+            os.iter().copied().filter(|&o| comps[o].kind != Kind::Plant).collect::<Vec<_>>()[..]
+        {
+            return Err(mixed(file, &comps[a], &comps[b]));
         }
     }
     let mut out = Vec::new();
@@ -48,19 +64,72 @@ pub fn unfold(file: &Path, efa: &Efa) -> Result<Vec<Automaton>, ParseError> {
             continue;
         }
         done[root] = true;
-        let members: Vec<usize> = (c..n).filter(|&m| find(&mut parent, m) == root).collect();
+        let own: Vec<usize> = (c..n).filter(|&m| find(&mut parent, m) == root).collect();
+        let mut members = own.clone();
+        if comps[c].kind != Kind::Plant {
+            for (&m, edge) in own.iter().flat_map(|m| comps[*m].edges.iter().map(move |e| (m, e))) {
+                for v in edge.actions.iter().map(|a| a.var) {
+                    if let Some(&p) = owners[v].iter().find(|&&o| comps[o].kind == Kind::Plant) {
+                        return Err(ParseError::unsupported(
+                            file,
+                            edge.line,
+                            format!(
+                                "{} '{}' assigns '{}', a variable of plant '{}': a specification may \
+                                 read the plant's variables in its guards, not assign them",
+                                comps[m].kind.as_str(),
+                                comps[m].name,
+                                efa.variables[v].name,
+                                comps[p].name
+                            ),
+                        ));
+                    }
+                }
+            }
+            // The plant groups whose variables it reads.
+            let read: Vec<usize> = own.iter().flat_map(|&m| vars[m].iter().copied()).collect();
+            let roots: Vec<usize> = read
+                .iter()
+                .flat_map(|&v| owners[v].iter().copied().filter(|&o| comps[o].kind == Kind::Plant))
+                .map(|o| find(&mut parent, o))
+                .collect();
+            members.extend(
+                (0..n).filter(|&m| comps[m].kind == Kind::Plant && roots.contains(&find(&mut parent, m))),
+            );
+            members.sort_unstable();
+            members.dedup();
+        }
         let mut group_vars: Vec<usize> = members.iter().flat_map(|&m| vars[m].iter().copied()).collect();
         group_vars.sort_unstable();
         group_vars.dedup();
-        let comp = &efa.components[c];
+        let comp = &comps[c];
         let plain =
             members.len() == 1 && comp.edges.iter().all(|e| e.guards.is_empty() && e.actions.is_empty());
-        out.push(if plain { copy(file, efa, comp)? } else { product(file, efa, &members, &group_vars)? });
+        out.push(if plain {
+            copy(file, efa, comp)?
+        } else {
+            product(file, efa, &members, &own, &group_vars)?
+        });
     }
-    for (v, _) in owner.iter().enumerate().filter(|(_, o)| o.is_none()) {
-        out.push(product(file, efa, &[], &[v])?);
+    for (v, _) in owners.iter().enumerate().filter(|(_, o)| o.is_empty()) {
+        out.push(product(file, efa, &[], &[], &[v])?);
     }
     Ok(out)
+}
+
+/// The refusal of two components of different kinds, neither a plant, sharing a variable.
+fn mixed(file: &Path, first: &Component, other: &Component) -> ParseError {
+    ParseError::unsupported(
+        file,
+        other.line,
+        format!(
+            "'{}' ({}) and '{}' ({}) share variables; only a plant's variables may be read by \
+             components of another kind",
+            first.name,
+            first.kind.as_str(),
+            other.name,
+            other.kind.as_str()
+        ),
+    )
 }
 
 fn find(parent: &mut [usize], mut x: usize) -> usize {
@@ -96,15 +165,22 @@ fn copy(file: &Path, efa: &Efa, c: &Component) -> Result<Automaton, ParseError> 
 }
 
 /// The reachable product of `members` (indices into the components) and `vars` (indices into the
-/// variables).
-fn product(file: &Path, efa: &Efa, members: &[usize], vars: &[usize]) -> Result<Automaton, ParseError> {
+/// variables), of the kind of `own` (the members it is named after; the others are the plants whose
+/// variables they read), or a plant named after its lone variable when there are no members.
+fn product(
+    file: &Path,
+    efa: &Efa,
+    members: &[usize],
+    own: &[usize],
+    vars: &[usize],
+) -> Result<Automaton, ParseError> {
     let comps: Vec<&Component> = members.iter().map(|&m| &efa.components[m]).collect();
-    let line = comps.first().map_or_else(|| efa.variables[vars[0]].line, |c| c.line);
-    let kind = kind(file, &comps)?;
-    let name = if comps.is_empty() {
+    let line = own.first().map_or_else(|| efa.variables[vars[0]].line, |&c| efa.components[c].line);
+    let kind = own.first().map_or(Kind::Plant, |&c| efa.components[c].kind);
+    let name = if own.is_empty() {
         efa.variables[vars[0]].name.clone()
     } else {
-        comps.iter().map(|c| c.name.as_str()).collect::<Vec<_>>().join("||")
+        own.iter().map(|&c| efa.components[c].name.as_str()).collect::<Vec<_>>().join("||")
     };
     let mut b = Builder::new(file, name.clone(), kind);
     let mut alphabet: Vec<usize> = comps.iter().flat_map(|c| c.alphabet.iter().copied()).collect();
@@ -200,26 +276,6 @@ fn product(file: &Path, efa: &Efa, members: &[usize], vars: &[usize]) -> Result<
         }
     }
     b.finish()
-}
-
-/// The one role of `comps` (a plant when there is none: a lone variable).
-fn kind(file: &Path, comps: &[&Component]) -> Result<Kind, ParseError> {
-    let Some(first) = comps.first() else { return Ok(Kind::Plant) };
-    match comps.iter().find(|c| c.kind != first.kind) {
-        None => Ok(first.kind),
-        Some(other) => Err(ParseError::unsupported(
-            file,
-            other.line,
-            format!(
-                "'{}' ({}) and '{}' ({}) share variables; variables shared by components of \
-                 different kinds are not supported",
-                first.name,
-                first.kind.as_str(),
-                other.name,
-                other.kind.as_str()
-            ),
-        )),
-    }
 }
 
 /// The state (`states`, the values of `vars` after `chosen` edges are taken by `holders` from
@@ -489,6 +545,16 @@ mod tests {
     fn efa_strategy() -> impl Strategy<Value = Efa> {
         let comps = (component_strategy(0), component_strategy(1), component_strategy(2), 1..4usize)
             .prop_map(|(a, b, c, n)| [a, b, c].into_iter().take(n).collect::<Vec<_>>());
+        // A component may be a specification, which reads the variables and assigns none.
+        let comps = (comps, any::<[bool; 3]>()).prop_map(|(mut comps, spec)| {
+            for (c, spec) in comps.iter_mut().zip(spec) {
+                if spec {
+                    c.kind = Kind::Spec;
+                    c.edges.iter_mut().for_each(|e| e.actions.clear());
+                }
+            }
+            comps
+        });
         (comps, any::<(bool, bool)>()).prop_map(|(components, (m0, m1))| {
             let var = |name: &str, max, marked: bool| Variable {
                 name: name.into(),
@@ -521,9 +587,13 @@ mod tests {
                 // it cannot reach is refused too, as the plain reader does.
                 // Nondeterminism is judged in each unfolded automaton, whose components are linked by
                 // variables: a choice that another automaton's components block is still refused.
+                // A specification is unfolded with the plants whose variables it reads, and
+                // nondeterminism is judged there too.
                 Err(e) => prop_assert!(
                     groups(&efa).iter().any(nondeterministic)
-                        || efa.components.iter().any(plain_nondeterministic),
+                        || efa.components.iter().any(plain_nondeterministic)
+                        || (efa.components.iter().any(|c| c.kind == Kind::Spec)
+                            && e.to_string().contains("is nondeterministic in")),
                     "{e}"
                 ),
                 Ok(automata) => {
@@ -542,6 +612,37 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn a_specification_reads_the_plants_variable_and_is_unfolded_with_the_plant() {
+        // Plant M counts `go` in x (0..2); specification S allows `go` while x < 1.
+        let edge = |guards, actions| Edge { source: 0, target: 0, events: vec![0], guards, actions, line: 1 };
+        let comp = |name: &str, kind, edge| Component {
+            name: name.into(),
+            kind,
+            alphabet: vec![0],
+            states: vec![("q".into(), true)],
+            initial: Some(0),
+            edges: vec![edge],
+            line: 1,
+        };
+        let count = Action { var: 0, op: AssignOp::Add, value: Expr::Int(1) };
+        let below = Expr::Binary(BinaryOp::Lt, Box::new(Expr::Var(0)), Box::new(Expr::Int(1)));
+        let x = Variable { name: "x".into(), min: 0, max: 2, initial: 0, marked: None, line: 1 };
+        let efa = Efa {
+            events: vec![("go".into(), true)],
+            variables: vec![x],
+            components: vec![
+                comp("M", Kind::Plant, edge(vec![], vec![count])),
+                comp("S", Kind::Spec, edge(vec![below], vec![])),
+            ],
+        };
+        let a = unfold(Path::new("m"), &efa).unwrap();
+        let figures: Vec<_> =
+            a.iter().map(|a| (a.name.as_str(), a.kind, a.states.len(), a.transitions.len())).collect();
+        assert_eq!(figures, [("M", Kind::Plant, 3, 2), ("S", Kind::Spec, 2, 1)]);
+        assert_eq!(a[1].states[1].name, "q.q.x=1");
     }
 
     #[test]
