@@ -87,17 +87,30 @@ fn synth(module: &Path, engine: &str, dir: &Path) -> Automaton {
         .filter(|a| a.kind == Kind::Supervisor)
         .collect();
     assert_eq!(sups.len(), 1);
-    // The contract: the module's supervisor converts to a libFAUDES generator.
+    // The contract as written: `convert` turns the module into a libFAUDES generator, its supervisor.
     let gen = dir.join("supervisor.gen");
-    let name = &sups[0].name;
-    let out = codegen(&["convert", written.to_str().unwrap(), gen.to_str().unwrap(), "--component", name]);
+    let out = codegen(&["convert", written.to_str().unwrap(), gen.to_str().unwrap()]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains(&format!("wrote the supervisor '{}'", sups[0].name))
+    );
     let back = read_path(&gen).unwrap_or_else(|e| panic!("{e}")).remove(0);
     assert_eq!(equal(&back, &sups[0]).unwrap(), None);
-    // Without --component, the refusal names the way.
-    let out = codegen(&["convert", written.to_str().unwrap(), gen.to_str().unwrap()]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("pick one with --component NAME"));
+    // --component picks another automaton of the module: a plant.
+    let plant = read_path(&written).unwrap().into_iter().find(|a| a.kind == Kind::Plant).unwrap();
+    let out =
+        codegen(&["convert", written.to_str().unwrap(), gen.to_str().unwrap(), "--component", &plant.name]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(equal(&read_path(&gen).unwrap().remove(0), &plant).unwrap(), None);
+    // A module without a supervisor gives no answer of its own: the refusal names the way.
+    if module.extension().is_some_and(|e| e == "wmod") {
+        let unfolded = dir.join("unfolded.wmod");
+        let out = codegen(&["convert", module.to_str().unwrap(), unfolded.to_str().unwrap()]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let out = codegen(&["convert", unfolded.to_str().unwrap(), gen.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(2));
+        assert!(String::from_utf8_lossy(&out.stderr).contains("pick one with --component NAME"));
+    }
     sups.remove(0)
 }
 

@@ -17,7 +17,8 @@ use super::Error;
 /// OUT must say is refused unless given: controllability (a libFAUDES generator without +C+ takes it from
 /// the plant; every format but .gen and .dot says it for every event) from --plant or --assume, and the
 /// role (a .wmod component is a PLANT, SPEC or SUPERVISOR) from --kind. --component picks one automaton
-/// of IN: the supervisor of the module `synth --format wmod` writes beside its plants.
+/// of IN; without it, a format that holds one automaton takes IN's supervisor when IN holds exactly one
+/// (the module `synth --format wmod` writes holds its plants beside it) and says so.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The model to read.
@@ -109,6 +110,19 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
             Err(format!("{e}: give {}", say.join(", and ")).into())
         }
         Err(e @ WriteError::TooMany { .. }) => {
+            let supervisors: Vec<usize> =
+                (0..automata.len()).filter(|&i| automata[i].kind == Kind::Supervisor).collect();
+            if let [only] = supervisors[..] {
+                let supervisor = automata.swap_remove(only);
+                eprintln!(
+                    "{}: {} holds one automaton: wrote the supervisor '{}' (another with --component NAME)",
+                    args.input.display(),
+                    args.output.display(),
+                    supervisor.name
+                );
+                return Ok(write_path(&args.output, std::slice::from_ref(&supervisor))
+                    .map(|()| ExitCode::SUCCESS)?);
+            }
             let names: Vec<&str> = automata.iter().map(|a| a.name.as_str()).collect();
             Err(format!("{e}: pick one with --component NAME ({})", names.join(", ")).into())
         }
