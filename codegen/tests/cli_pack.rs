@@ -190,9 +190,27 @@ fn check_manifest_livelock_and_cell_summary() {
         (count("choice", None), count("inexact-synchronisation", None), count("simultaneity", None)),
         (217, 2624, 2280)
     );
-    // Schema 3 adds the groups and keeps every finding: the groups' counts add up to them, the one-order
-    // races first, the exclusive part-type sensors last, as harmless.
-    assert_eq!(json["schema"], 3);
+    // Schema 3 added the groups and keeps every finding: the groups' counts add up to them, the
+    // one-order races first, the exclusive part-type sensors last, as harmless.
+    assert_eq!(json["schema"], 4);
+    // Schema 4: each finding names the supervisors it involves. Every race of a command with a sensor
+    // is a supervisor's (S1 keeps the conveyor off once a part is at the sensor; S5 holds the robot's
+    // jobs to the part seen); the exclusive part-type sensors are the plant's alone.
+    let involving =
+        |s: &str| closed.iter().filter(|f| f["supervisors"].as_array().unwrap().contains(&s.into())).count();
+    assert_eq!((involving("S1"), involving("S5")), (2280, 344));
+    assert!(closed
+        .iter()
+        .filter(|f| f["problem"] == "simultaneity")
+        .all(|f| f["supervisors"].as_array().unwrap().is_empty()));
+    let e1 = closed
+        .iter()
+        .find(|f| f["problem"] == "inexact-synchronisation" && f["trace"].as_array().unwrap().is_empty())
+        .unwrap();
+    assert_eq!(
+        (&e1["events"], &e1["supervisors"]),
+        (&serde_json::json!(["e1_lig", "s_c1"]), &serde_json::json!(["S1"]))
+    );
     let groups = json["scopes"][0]["groups"].as_array().unwrap();
     let summary: Vec<_> = groups
         .iter()
@@ -222,6 +240,15 @@ fn check_manifest_livelock_and_cell_summary() {
     assert!(text.contains("  5121 finding(s) in 4 group(s); none to act on first\n"), "{text}");
     assert!(text.contains("    simultaneity exclusive: 2280 at 760 state(s), 3 event set(s): s_c1/s_c2 760, s_c1/s_c3 760, s_c2/s_c3 760\n"), "{text}");
     assert!(text.contains("  S5 with local plant G2, G3 (30 states, 74 transitions): inexact-synchronisation one-order 7, choice exclusive 5, simultaneity exclusive 18\n"), "{text}");
+    // The closed loop's findings by the supervisors they involve, and the plants' own.
+    assert!(text.contains("closed-loop findings by the supervisors whose disablement or state they involve:\n  S1: inexact-synchronisation one-order 2280\n"), "{text}");
+    assert!(text.contains("  S2_6: choice one-order 20, choice exclusive 2\n"), "{text}");
+    assert!(
+        text.contains(
+            "  no supervisor (the plants alone): choice exclusive 167, simultaneity exclusive 2280\n"
+        ),
+        "{text}"
+    );
 }
 
 /// The cell's model files without a manifest (issue 22: one project loader for every command): plants

@@ -79,12 +79,11 @@ fn every_state_based_example_runs_with_no_violation() {
         let (code, json, _) = run(manifest, 2_000, &["--encoding", "state"]);
         assert_eq!(code, Some(0), "{manifest}: {json}");
         assert_eq!(json["violations"].as_u64(), Some(0), "{manifest}: {json}");
-        // Known gap (issue 36): a program keeping supervisors' memory (`[state] memory`, the cell)
-        // reads each component's sensor changes scan by scan, but a held round's events all reach the
-        // image before one scan, so it can miss a change and stall; it still commits no violation.
-        if !std::fs::read_to_string(manifest).unwrap().contains("memory = true") {
-            assert_eq!(json["stalls"].as_u64(), Some(0), "{manifest}: {json}");
-        }
+        // A program keeping supervisors' memory (`[state] memory`, the cell) is shown a held round's
+        // sensor changes one per scan under its `hold` input, so its memory misses none: no stall, and
+        // the marked state reached.
+        assert_eq!(json["stalls"].as_u64(), Some(0), "{manifest}: {json}");
+        assert!(json["marked_visits"].as_u64() > Some(0), "{manifest}: {json}");
         let scan = &json["scan"];
         let (scans, max, bound) = (
             scan["scans"].as_u64().unwrap(),

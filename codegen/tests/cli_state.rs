@@ -242,6 +242,11 @@ fn where_memory_decides_the_plant_states_are_reported_with_two_traces_or_memory_
     assert_eq!((memory["kept"][0].as_str(), memory["bits"].as_u64()), (Some("S"), Some(2)));
     let st = std::fs::read_to_string(Path::new(&out_dir).join("alternating.st")).unwrap();
     assert!(st.contains("s_S : INT := 0;") && st.contains("m_S_b1 : BOOL := FALSE;"), "{st}");
+    // Held, the memory goes on reading the sensors and no rung fires.
+    assert!(
+        st.contains("hold : BOOL := FALSE;") && st.contains("IF NOT hold AND NOT busy AND NOT m_S_b0 THEN"),
+        "{st}"
+    );
     // The program with memory passes translation validation over signals and memory bits.
     let project = Project::load(Path::new(&m)).unwrap();
     let program = state(&project, StateOptions { memory: true, ..StateOptions::default() });

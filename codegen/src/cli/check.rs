@@ -9,7 +9,7 @@ use serde_json::{json, Value};
 use codegen::manifest::CheckSpec;
 use codegen::model::suggest::did_you_mean;
 use codegen::model::Automaton;
-use codegen::problems::{group, run as check, scopes, Concern, Finding, Group, Problem};
+use codegen::problems::{group, run as check, scopes, Attributor, Concern, Finding, Group, Problem};
 use codegen::project::synthesise;
 use codegen::synth::{product, Config};
 
@@ -40,8 +40,9 @@ pub struct Args {
     /// plant (without it: each group of the closed loop with one witness, each supervisor on one line).
     #[arg(long, visible_alias = "verbose")]
     all: bool,
-    /// Print JSON (schema 3): closed_loop (plants, supervisors, states, transitions, legend), scopes
-    /// (name, members, states, transitions, findings: problem, state, events, trace, shape, detail;
+    /// Print JSON (schema 4): closed_loop (plants, supervisors, states, transitions, legend), scopes
+    /// (name, members, states, transitions, findings: problem, state, events, trace, shape, detail,
+    /// supervisors;
     /// groups: problem, shape, concern, findings, states, events, witnesses), fail_on, failed.
     #[arg(long)]
     json: bool,
@@ -83,6 +84,8 @@ struct Checked {
     members: Vec<String>,
     automaton: Automaton,
     findings: Vec<Finding>,
+    /// Per finding, the supervisors it involves ([`Attributor`]).
+    involves: Vec<Vec<String>>,
 }
 
 /// What the closed loop is made of: its plants and supervisors, and for each synthesised supervisor the
@@ -126,8 +129,10 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
             many => product(&many.iter().map(|a| (*a).clone()).collect::<Vec<_>>(), &cfg)?,
         };
         let findings = check(&automaton, &problems);
+        let who = Attributor::new(&scope.members, &closed.supervisors);
+        let involves = findings.iter().map(|f| who.supervisors(f)).collect();
         let members = scope.members.iter().map(|a| a.name.clone()).collect();
-        checked.push(Checked { name: scope.name, members, automaton, findings });
+        checked.push(Checked { name: scope.name, members, automaton, findings, involves });
     }
     if let Some(b) = bar {
         b.finish_and_clear();
@@ -141,6 +146,7 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
         // The closed loop is the first scope; the supervisors' follow.
         if let Some((closed_loop, local)) = checked.split_first() {
             write_scope(&mut out, closed_loop, &problems, args.all)?;
+            write_involved(&mut out, closed_loop, &closed.supervisors)?;
             if args.all {
                 for c in local {
                     write_scope(&mut out, c, &problems, true)?;
@@ -247,6 +253,33 @@ fn write_group(out: &mut impl Write, c: &Checked, g: &Group, all: bool) -> std::
     Ok(())
 }
 
+/// The closed loop's findings by the supervisors they involve, one line per supervisor (a finding
+/// involving several counts for each), then those involving none: the plants' alone.
+fn write_involved(out: &mut impl Write, c: &Checked, supervisors: &[String]) -> std::io::Result<()> {
+    if supervisors.is_empty() || c.findings.is_empty() {
+        return Ok(());
+    }
+    writeln!(out, "closed-loop findings by the supervisors whose disablement or state they involve:")?;
+    let line = |picked: Vec<Finding>| -> String {
+        let counts: Vec<String> = group(&picked)
+            .iter()
+            .map(|g| format!("{} {} {}", g.problem.name(), g.shape.name(), g.findings.len()))
+            .collect();
+        if counts.is_empty() {
+            "none".to_owned()
+        } else {
+            counts.join(", ")
+        }
+    };
+    let pick = |keep: &dyn Fn(&[String]) -> bool| -> Vec<Finding> {
+        c.findings.iter().zip(&c.involves).filter(|(_, i)| keep(i)).map(|(f, _)| f.clone()).collect()
+    };
+    for s in supervisors {
+        writeln!(out, "  {s}: {}", line(pick(&|i| i.contains(s))))?;
+    }
+    writeln!(out, "  no supervisor (the plants alone): {}", line(pick(&|i| i.is_empty())))
+}
+
 /// A supervisor's scope on one line: its size and its groups' counts, most urgent first.
 fn write_summary(out: &mut impl Write, c: &Checked) -> std::io::Result<()> {
     let groups = group(&c.findings);
@@ -271,7 +304,8 @@ fn to_json(l: &Loop, checked: &[Checked], failing: &[Problem], failed: bool) -> 
             let findings: Vec<Value> = c
                 .findings
                 .iter()
-                .map(|f| {
+                .zip(&c.involves)
+                .map(|(f, supervisors)| {
                     json!({
                         "problem": f.problem.name(),
                         "state": f.state,
@@ -279,6 +313,7 @@ fn to_json(l: &Loop, checked: &[Checked], failing: &[Problem], failed: bool) -> 
                         "trace": f.trace,
                         "shape": f.shape.name(),
                         "detail": f.detail,
+                        "supervisors": supervisors,
                     })
                 })
                 .collect();
@@ -312,7 +347,7 @@ fn to_json(l: &Loop, checked: &[Checked], failing: &[Problem], failed: bool) -> 
     let legend: Vec<Value> =
         l.legend.iter().map(|(name, of)| json!({"supervisor": name, "state": of})).collect();
     json!({
-        "schema": 3,
+        "schema": 4,
         "closed_loop": {
             "plants": l.plants,
             "supervisors": l.supervisors,

@@ -13,6 +13,7 @@
 //! Only reachable states are examined. Cost: O(s + t) for avalanche, O(Σ k²) for the diamonds, k the
 //! transitions out of a state.
 
+mod attribute;
 mod avalanche;
 mod diamond;
 mod finding;
@@ -22,6 +23,7 @@ mod scope;
 #[cfg(test)]
 mod strings;
 
+pub use attribute::Attributor;
 pub use finding::{Finding, Problem, Shape};
 pub use group::{group, Concern, Group};
 pub use scope::{scopes, Scope};

@@ -11,15 +11,21 @@
 //! program chose, its `c`) are the commands fired, in rung order, each moving its plant. The outputs must then be what those commands wrote, else the run stops (the
 //! program's error). The event trace the monitor judges is recovered from these signal changes.
 //!
-//! The program has no `hold` input: held, it is not scanned (a PLC in STOP), and the events sent
-//! meanwhile all change the image before the next scan reads it — as the firmware takes a whole write
-//! before it decides. Unheld, one event changes the image per scan. The scan figures count the scans
-//! that read a changed input or fired a command.
+//! A program keeping supervisors' memory reads each tracked component's sensor changes scan by scan,
+//! so it must see every change in a scan of its own, as a PLC does when its sensors change between
+//! scans; it has a `hold` input ([`super::program::HOLD`]) for that: held, the driver sets it and makes
+//! one event's change per scan, the memory following each while no rung fires, as the event-based
+//! driver does. A program without memory has no `hold`: held, it is not scanned (a PLC in STOP), and
+//! the events sent meanwhile all change the image before the next scan reads it — as the firmware
+//! takes a whole write before it decides; its decisions depend on the image alone. Unheld, one event
+//! changes the image per scan. The scan figures count the scans that read a changed input or fired a
+//! command.
 
 use std::collections::BTreeSet;
 
 use firmware::link::MAX_EVENT;
 
+use super::program::HOLD;
 use super::Output;
 use crate::closed_loop::Options;
 use crate::config::ScanPolicy;
@@ -50,6 +56,8 @@ pub struct StateDriver {
     first_rung: usize,
     /// The program fires the one rung its policy chooses (`c`), not every rung that conducts.
     chooses: bool,
+    /// The program has a `hold` input (it keeps memory): held, it is scanned once per event.
+    holds: bool,
     /// The plants' states.
     states: Vec<u32>,
     /// The signal image.
@@ -100,6 +108,7 @@ impl StateDriver {
             names: out.vector.signals.signals.iter().map(|s| s.name.clone()).collect(),
             rungs,
             chooses: out.one.is_some(),
+            holds: !out.memory.vars.is_empty(),
             states: Vec::new(),
             image: 0,
             held: false,
@@ -137,7 +146,9 @@ impl Scanner for StateDriver {
     }
 
     fn edge(&mut self, e: u8, used: &mut Vec<String>) -> Result<Edge, String> {
-        if !self.held && !used.is_empty() {
+        // One change per scan, unless the program is held and cannot be (it is not scanned then).
+        let scanned = !self.held || self.holds;
+        if scanned && !used.is_empty() {
             return Ok(Edge::Busy);
         }
         let e = EventId::from_u32(u32::from(e));
@@ -150,7 +161,7 @@ impl Scanner for StateDriver {
         self.write(inputs)?;
         self.changed = true;
         self.events_in += 1;
-        if !self.held {
+        if scanned {
             used.push("image".into());
         }
         Ok(Edge::Made)
@@ -158,6 +169,9 @@ impl Scanner for StateDriver {
 
     fn hold(&mut self, on: bool) -> Result<(), String> {
         self.held = on;
+        if self.holds {
+            self.plc.set_bool(HOLD, on)?;
+        }
         Ok(())
     }
 
@@ -174,7 +188,7 @@ impl Scanner for StateDriver {
     }
 
     fn scan(&mut self) -> Result<Scan, String> {
-        if self.held {
+        if self.held && !self.holds {
             return Ok(Scan::default());
         }
         let statements = self.plc.scan()?;
@@ -218,6 +232,10 @@ impl Scanner for StateDriver {
 
     fn reset(&mut self) -> Result<(), String> {
         self.plc = self.initial.clone();
+        if self.holds {
+            // RESET does not release the program: it stays held as it was.
+            self.plc.set_bool(HOLD, self.held)?;
+        }
         self.states = self.plants.iter().map(|m| m.initial().as_u32()).collect();
         self.image = self.vector.initial;
         self.write(u64::MAX)?;

@@ -9,7 +9,7 @@ use crate::config::{Direction, ScanPolicy, Signals};
 use crate::feedback::{FeedbackError, Vector};
 use crate::model::EventId;
 use crate::plc::choice::{self, PlantChoice};
-use crate::scan::ir::{Expr, Pou, Section, Stmt, Type, Var, VarClass};
+use crate::scan::ir::{Expr, Op, Pou, Section, Stmt, Type, Var, VarClass};
 use crate::scan::ld::CoilKind;
 use crate::scan::names::is_identifier;
 
@@ -63,9 +63,16 @@ impl OnePerScan {
     }
 }
 
+/// The input that, with memory kept, stops the rungs while the memory goes on reading the sensors.
+pub const HOLD: &str = "hold";
+
 /// The `PROGRAM <base>_main`: every signal a `BOOL` (located where it has an address), the memory's
 /// variables, its event detection, then one `IF` per rung — or, with `one`, the rungs' conditions
-/// into the choice section and the chosen rung's command.
+/// into the choice section and the chosen rung's command. With memory kept, every rung's condition
+/// is preceded by `NOT hold` ([`HOLD`]): held, the program still tracks every sensor change scan by
+/// scan but fires no command, as the event-based program's `hold` does, so that a closed loop in
+/// lock-step rounds can show it a round's sensor changes one per scan and let it decide on all of
+/// them (the rungs' formulas and figures are those of f; `hold` is FALSE unless something sets it).
 pub fn pou(
     signals: &Signals,
     base: &str,
@@ -91,6 +98,27 @@ pub fn pou(
         vars.push(v);
     }
     vars.extend(memory.vars.iter().cloned());
+    let holds = !memory.vars.is_empty();
+    if holds {
+        if let Some(v) = vars.iter().find(|v| v.name.eq_ignore_ascii_case(HOLD)) {
+            return Err(FeedbackError::Vector {
+                key: "state.components".into(),
+                message: format!("signal '{}' has the name of the program's hold input", v.name),
+            });
+        }
+        vars.push(
+            Var::new(HOLD, Type::Bool, "held: the memory reads the sensors, no rung fires")
+                .init(Expr::Bool(false)),
+        );
+    }
+    let condition = |r: &EventRung| -> Expr {
+        let c = r.rung.condition.st();
+        if holds {
+            (!Expr::var(HOLD)).op(Op::And, c)
+        } else {
+            c
+        }
+    };
     if let Some(one) = one {
         let taken = vars.iter().find(|v| choice::VARIABLES.iter().any(|c| c.eq_ignore_ascii_case(&v.name)));
         if let Some(v) = taken {
@@ -110,11 +138,8 @@ pub fn pou(
             .collect()
     };
     let stmts = match one {
-        None => rungs.iter().map(|r| Stmt::when(r.rung.condition.st(), body(r))).collect(),
-        Some(one) => one.statements(
-            rungs.iter().map(|r| r.rung.condition.st()).collect(),
-            rungs.iter().map(body).collect(),
-        ),
+        None => rungs.iter().map(|r| Stmt::when(condition(r), body(r))).collect(),
+        Some(one) => one.statements(rungs.iter().map(condition).collect(), rungs.iter().map(body).collect()),
     };
     let events: Vec<&str> = rungs.iter().map(|r| r.event.as_str()).collect();
     Ok(Pou {
