@@ -8,7 +8,10 @@ built-in, a user data type or an Add-On Instruction of the file), every BIT memb
 every ST line in CDATA, every tag an ST line or a rung reads declared in its scope (an Add-On
 Instruction's parameters and local tags; a program's tags and the controller's), every member read
 of a structure, timer or instruction instance, every rung made of known instructions, every
-scheduled program present. Exits 1 listing what is wrong.
+routine ST or ladder (RLL), every `JSR` calling a routine of its own program (not itself; none in an
+Add-On Instruction, which cannot call routines) and every routine of a program but its main one
+called by a `JSR` (else it never runs), every scheduled program present. Exits 1 listing what is
+wrong.
 
 usage: python l5x_structure.py FILE...
 """
@@ -114,7 +117,7 @@ def check(path):
                 continue
             resolve(where, head, tail, scope)
 
-    def rll(where, routine, scope):
+    def rll(where, routine, scope, callable_routines, calls):
         for rung in routine.findall("RLLContent/Rung"):
             text_el = rung.find("Text")
             raw = etree.tostring(text_el, encoding="unicode") if text_el is not None else ""
@@ -137,23 +140,32 @@ def check(path):
                 elif ins == "TON" and len(args) == 3:
                     if scope.get(args[0].lower()) != "timer" or not args[1].isdigit():
                         bad(f"{where}: TON({','.join(args)}) needs a TIMER tag and a preset")
+                elif ins == "JSR" and len(args) == 2 and args[1] == "0":
+                    if callable_routines is None:
+                        bad(f"{where}: JSR in an Add-On Instruction (it cannot call routines)")
+                    elif args[0] not in callable_routines or args[0] == routine.get("Name"):
+                        bad(f"{where}: JSR({args[0]},0) calls no other routine of its program")
+                    calls.add(args[0])
                 else:
                     bad(f"{where}: unknown instruction {ins}({','.join(args)})")
 
-    def routines(where, owner, scope):
+    def routines(where, owner, scope, callable_routines):
+        """Checks the routines of `owner`; returns the routines their JSRs call."""
+        calls = set()
         for r in owner.findall("Routines/Routine"):
             kind = r.get("Type")
             w = f"{where}/{r.get('Name')}"
             if kind == "ST":
                 st(w, r, scope)
             elif kind == "RLL":
-                rll(w, r, scope)
+                rll(w, r, scope, callable_routines, calls)
             else:
                 bad(f"{w}: routine type {kind}")
+        return calls
 
     for aoi in ctrl.findall("AddOnInstructionDefinitions/AddOnInstructionDefinition"):
         scope = scope_of(aoi.findall("Parameters/Parameter") + aoi.findall("LocalTags/LocalTag"))
-        routines(aoi.get("Name"), aoi, scope)
+        routines(aoi.get("Name"), aoi, scope, None)
     controller = scope_of(ctrl.findall("Tags/Tag"))
     programs = set()
     for prog in ctrl.findall("Programs/Program"):
@@ -161,7 +173,10 @@ def check(path):
         names = {r.get("Name") for r in prog.findall("Routines/Routine")}
         if prog.get("MainRoutineName") not in names:
             bad(f"{prog.get('Name')}: no main routine {prog.get('MainRoutineName')}")
-        routines(prog.get("Name"), prog, {**controller, **scope_of(prog.findall("Tags/Tag"))})
+        scope = {**controller, **scope_of(prog.findall("Tags/Tag"))}
+        calls = routines(prog.get("Name"), prog, scope, names)
+        for name in sorted(names - calls - {prog.get("MainRoutineName")}):
+            bad(f"{prog.get('Name')}/{name}: no JSR calls it")
     for sp in ctrl.findall("Tasks/Task/ScheduledPrograms/ScheduledProgram"):
         if sp.get("Name") not in programs:
             bad(f"task schedules unknown program {sp.get('Name')}")

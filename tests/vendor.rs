@@ -27,9 +27,15 @@ fn programs() -> Vec<(String, Written)> {
     let int = || event(Encoding::Int, Avalanche::Auto);
     let bits = || event(Encoding::Bits, Avalanche::Auto);
     let aeem = || event(Encoding::Bits, Avalanche::Aeem);
+    let memory = Form::State {
+        options: StateOptions { memory: true, exact: false, choice: None::<ScanPolicy> },
+        engine: Engine::Explicit,
+    };
     let cases: Vec<(&str, Vec<(&str, Form)>)> = vec![
         ("cell/cell.toml", vec![("int", int()), ("bits", bits()), ("aeem", aeem())]),
         ("cell/cell-state.toml", vec![("state", state)]),
+        // A state-based program with memory, small (the cell's takes minutes to build).
+        ("../codegen/tests/data/sfbc_memory/memory.toml", vec![("state-memory", memory)]),
         ("factory/factory.toml", vec![("int", int()), ("bits", bits())]),
         ("station-rtpn/net1.toml", vec![("sequence", int())]),
         ("hybrid/hybrid.toml", vec![("hybrid", Form::Hybrid)]),
@@ -374,9 +380,54 @@ fn rung_statements(text: &str, pou: &Pou) -> Vec<String> {
     out
 }
 
+/// The routine `name` in `program` (a `<Program>` element's text): its type and its ST lines or its
+/// rungs' texts.
+fn routine(program: &str, name: &str) -> (String, Vec<String>) {
+    let from = format!("<Routine Name=\"{name}\" Type=\"");
+    let at = program.find(&from).unwrap_or_else(|| panic!("no routine {name}"));
+    let kind = program[at + from.len()..].split('"').next().unwrap().to_owned();
+    let lines = match kind.as_str() {
+        "RLL" => cdata_lines(program, &from, "RLLContent", "Text"),
+        _ => cdata_lines(program, &from, "STContent", "Line"),
+    };
+    (kind, lines)
+}
+
+/// The Logix ST lines (section markers left out) that the routine `name` of `program` runs: an ST
+/// routine's lines; a ladder routine's rungs read back as ST (then rewritten as Logix ST), a rung
+/// ending in `JSR(r,0)` with the lines `r` runs inside its `IF` after its coils, a rung that is a
+/// `JSR` alone the lines `r` runs.
+fn routine_st(program: &str, name: &str, pou: &Pou) -> Vec<String> {
+    let (kind, lines) = routine(program, name);
+    if kind == "ST" {
+        return lines.into_iter().filter(|l| !l.starts_with("(*")).collect();
+    }
+    let logix =
+        |st: Vec<String>| -> Vec<String> { st.iter().flat_map(|l| logix_lines(l, pou, &[])).collect() };
+    let mut out = Vec::new();
+    for text in lines {
+        let Some((head, callee)) = text.strip_suffix(",0);").and_then(|t| t.rsplit_once("JSR(")) else {
+            out.extend(logix(rung_statements(&text, pou)));
+            continue;
+        };
+        let called = routine_st(program, callee, pou);
+        if head.is_empty() {
+            out.extend(called);
+            continue;
+        }
+        let mut st = logix(rung_statements(&format!("{head};"), pou));
+        assert_eq!(st.pop().as_deref(), Some("END_IF;"), "{text}");
+        st.extend(called.iter().map(|l| format!("    {l}")));
+        st.push("END_IF;".into());
+        out.extend(st);
+    }
+    out
+}
+
 /// The Studio 5000 file of one program holds the generic program: each Add-On Instruction's `Logic`
 /// routine and each ST program routine is the generic POU's body line for line after the dialect's
-/// rewrites; a ladder routine's rungs, read back as ST, are the generic body's statements.
+/// rewrites; a ladder routine's rungs, read back as ST, are the generic body's statements, with the
+/// ST routines they call by `JSR` in their place.
 fn rockwell_holds(what: &str, l5x: &str, source: &Source) {
     let blocks: Vec<&Pou> = source.program.pous.iter().map(|(p, _)| p).filter(|p| !p.program).collect();
     for (pou, _) in &source.program.pous {
@@ -384,11 +435,15 @@ fn rockwell_holds(what: &str, l5x: &str, source: &Source) {
         if pou.program {
             let from = format!("<Program Name=\"{}\"", pou.name);
             let program = &l5x[l5x.find(&from).unwrap()..];
-            if program[..program.find("</Program>").unwrap()].contains("<RLLContent>") {
-                let rungs = cdata_lines(l5x, &from, "RLLContent", "Text");
-                let st: Vec<String> = rungs.iter().flat_map(|r| rung_statements(r, pou)).collect();
-                let generic: Vec<&str> = generic.lines().filter(|l| !l.starts_with("(*")).collect();
-                assert_eq!(st, generic, "{what} {}: the rungs are not the generic body", pou.name);
+            let program = &program[..program.find("</Program>").unwrap()];
+            if routine(program, "MainRoutine").0 == "RLL" {
+                let st = routine_st(program, "MainRoutine", pou);
+                let generic: Vec<String> = generic
+                    .lines()
+                    .filter(|l| !l.starts_with("(*"))
+                    .flat_map(|l| logix_lines(l, pou, &blocks))
+                    .collect();
+                assert_eq!(st, generic, "{what} {}: the routines are not the generic body", pou.name);
                 continue;
             }
             let lines = cdata_lines(l5x, &from, "STContent", "Line");
@@ -449,6 +504,10 @@ fn every_plc_example_is_written_for_every_vendor_checked_and_the_generic_program
             assert!(files[0].0.ends_with(".L5X"), "{what}");
             assert!(files[0].1.contains("\n<RSLogix5000Content "), "{what}");
             rockwell_holds(what, &files[0].1, source);
+            if what.contains(" state") {
+                // The state-based programs are ladder: the whole body, or its rungs beside the ST.
+                assert!(files[0].1.contains("Type=\"RLL\""), "{what}");
+            }
             rockwell.extend(write(&scratch.path().join(format!("{i}-{j}-rockwell")), &files));
         }
     }
@@ -483,10 +542,20 @@ fn every_plc_example_is_written_for_every_vendor_checked_and_the_generic_program
             "<Line Number=\"0\">(* section: run - the function block, then its outputs *)",
         ),
     ];
-    for (from, to) in breaks {
-        assert!(good.contains(from), "{from}");
+    let calling =
+        rockwell.iter().map(|p| std::fs::read_to_string(p).unwrap()).find(|t| t.contains("JSR(")).unwrap();
+    let jsr_breaks = [
+        ("JSR(events,0);", "JSR(events_gone,0);"),
+        ("JSR(events,0);", "JSR(MainRoutine,0);"),
+        ("<Routine Name=\"events\" Type=\"ST\">", "<Routine Name=\"events\" Type=\"FBD\">"),
+        ("JSR(events,0);", "XIC(conveyor)OTE(conveyor);"),
+    ];
+    for (text, (from, to)) in
+        breaks.iter().map(|b| (&good, b)).chain(jsr_breaks.iter().map(|b| (&calling, b)))
+    {
+        assert!(text.contains(from), "{from}");
         let bad = scratch.path().join("bad.L5X");
-        std::fs::write(&bad, good.replacen(from, to, 1)).unwrap();
+        std::fs::write(&bad, text.replacen(from, to, 1)).unwrap();
         let (ok, out) = l5x_structure(&[bad]);
         assert!(!ok && !out.is_empty(), "the L5X check accepts {to}");
     }

@@ -14,6 +14,11 @@ pub enum Graphic {
     /// programs), or the rungs that part of the ST body runs (the event-based block's supervisors, whose
     /// interface — inputs, event latching, choice, outputs — is ST only).
     Ladder(Vec<Rung>),
+    /// Ladder Diagram rungs that the ST body runs one after another, each followed, when it conducts,
+    /// by ST statements of its own (the state-based program's memory updates): the body's statement
+    /// per rung is `IF condition THEN` the coils, then that ST `END_IF`. A vendor whose rungs can call
+    /// ST (Studio 5000's `JSR`) writes them as ladder; the PLCopen XML carries the ST body only.
+    LadderCallingSt(Vec<Rung>),
     /// A Sequential Function Chart instead of the ST body: the XML gives the POU's interface without
     /// its locals (the chart's steps and their times stand for them) and the chart.
     Chart(Chart),

@@ -59,7 +59,7 @@ pub struct Additions<'a> {
 /// vendor's additions.
 fn pou(out: &mut String, p: &Pou, graphic: &Graphic, add: Option<&Additions>) {
     let extra = match graphic {
-        Graphic::Text => None,
+        Graphic::Text | Graphic::LadderCallingSt(_) => None,
         Graphic::Ladder(rungs) => Some(ld::body(rungs)),
         Graphic::Chart(chart) => Some(format!("<SFC>\n{}        </SFC>", chart.body())),
     };

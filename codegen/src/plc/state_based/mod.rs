@@ -294,12 +294,14 @@ fn program_source(
         ],
         notes: Vec::new(),
     };
-    // The Ladder Diagram body holds the rungs alone: a program with memory tracks it, and one with a
-    // choice policy chooses among its rungs, in ST only.
-    let graphic = if memory.layout.kept.is_empty() && one.is_none() {
-        Graphic::Ladder(rungs.iter().map(|r| r.rung.clone()).collect())
-    } else {
-        Graphic::Text
+    // The Ladder Diagram body holds the rungs alone: a program with memory tracks it in ST after each
+    // rung (ladder for a vendor whose rungs call ST), and one with a choice policy chooses among its
+    // rungs, in ST only.
+    let ladder = || rungs.iter().map(|r| r.rung.clone()).collect();
+    let graphic = match (memory.layout.kept.is_empty(), one) {
+        (true, None) => Graphic::Ladder(ladder()),
+        (false, None) => Graphic::LadderCallingSt(ladder()),
+        (_, Some(_)) => Graphic::Text,
     };
     let program =
         ScanProgram { base, types: Vec::new(), pous: vec![(pou, graphic)], cycle_ms: opts.cycle_ms };

@@ -22,7 +22,13 @@
 //! is milliseconds), a `BOOL` array's size is rounded up to a multiple of 32, `TON` is `FBD_TIMER` in ST
 //! and `TIMER` in ladder. A `PROGRAM` whose body is exactly its ladder rungs' statements (the
 //! state-based and hybrid programs) is written as a ladder (`RLL`) routine: `XIC`/`XIO` contacts,
-//! `[a ,b ]` branches, `OTE`/`OTL`/`OTU` coils and `TON(t,n,0)` timers read by `t.DN`.
+//! `[a ,b ]` branches, `OTE`/`OTL`/`OTU` coils and `TON(t,n,0)` timers read by `t.DN`. A `PROGRAM`
+//! whose body holds rungs that each run ST after their coils ([`Graphic::LadderCallingSt`], the
+//! state-based program with memory) is written as routines its ladder `MainRoutine` calls by
+//! `JSR` in the body's order: the ST before the rungs, the rungs as ladder — each rung's ST an ST
+//! routine its last instruction `JSR` calls, so it runs when the rung conducts, after its coils — and
+//! the ST after them. An Add-On Instruction cannot call routines (`JSR`), so a block stays one ST
+//! `Logic` routine.
 
 use std::collections::HashSet;
 use std::fmt::Write as _;
@@ -30,7 +36,7 @@ use std::fmt::Write as _;
 use super::{cdata, split_io};
 use crate::formats::xml_escape;
 use crate::scan::files::{File, Source};
-use crate::scan::ir::{Expr, Pou, Stmt, Type, Var, VarClass};
+use crate::scan::ir::{Expr, Pou, Section, Stmt, Type, Var, VarClass};
 use crate::scan::ld::{CoilKind, Element, Rung};
 use crate::scan::program::Graphic;
 use crate::scan::st::statements;
@@ -266,15 +272,27 @@ impl<'a> Logix<'a> {
 
     /// The body of `pou` in Logix ST: each section under its marker, the statements rewritten.
     pub fn body(&self, pou: &Pou) -> Result<String, Violation> {
+        self.sections(&pou.sections)
+    }
+
+    /// `sections` in Logix ST, each under its marker (an empty one left out).
+    fn sections(&self, sections: &[Section]) -> Result<String, Violation> {
         let mut out = String::new();
-        for s in pou.sections.iter().filter(|s| !s.stmts.is_empty()) {
+        for s in sections.iter().filter(|s| !s.stmts.is_empty()) {
             let title = if s.title.is_empty() { String::new() } else { format!(" - {}", s.title) };
             let _ = writeln!(out, "(* section: {}{title} *)", s.label);
-            for st in &s.stmts {
-                match st {
-                    Stmt::Call(inst, args) => self.call(inst, args, &mut out)?,
-                    st => out.push_str(&statements(&[self.stmt(st)?], 0)),
-                }
+            out.push_str(&self.statements(&s.stmts)?);
+        }
+        Ok(out)
+    }
+
+    /// Top-level statements in Logix ST.
+    fn statements(&self, stmts: &[Stmt]) -> Result<String, Violation> {
+        let mut out = String::new();
+        for st in stmts {
+            match st {
+                Stmt::Call(inst, args) => self.call(inst, args, &mut out)?,
+                st => out.push_str(&statements(&[self.stmt(st)?], 0)),
             }
         }
         Ok(out)
@@ -301,6 +319,12 @@ impl<'a> Logix<'a> {
 
     /// A rung as Logix rung text: the condition, then its coils in series.
     pub fn rung(&self, r: &Rung) -> String {
+        self.rung_calling(r, None)
+    }
+
+    /// A rung as Logix rung text, its coils followed by `JSR(routine,0)` (the routine runs when the
+    /// rung conducts, after the coils) when `routine` is given.
+    fn rung_calling(&self, r: &Rung, routine: Option<&str>) -> String {
         let mut out = self.condition(&r.condition);
         for c in &r.coils {
             let v = self.operand(&c.variable);
@@ -310,6 +334,9 @@ impl<'a> Logix<'a> {
                 CoilKind::Reset => write!(out, "OTU({v})"),
                 CoilKind::OnDelay(ms) => write!(out, "TON({v},{ms},0)"),
             };
+        }
+        if let Some(routine) = routine {
+            let _ = write!(out, "JSR({routine},0)");
         }
         out.push(';');
         out
@@ -332,19 +359,100 @@ fn st_content(text: &str, pad: &str) -> String {
     out
 }
 
-/// The rungs as `RLLContent`.
-fn rll_content(logix: &Logix, rungs: &[Rung], pad: &str) -> String {
+/// Rungs as `RLLContent`: each its comment and its text.
+fn rll_content<'t>(rungs: impl IntoIterator<Item = (&'t str, String)>, pad: &str) -> String {
     let mut out = format!("{pad}<RLLContent>\n");
-    for (i, r) in rungs.iter().enumerate() {
-        let comment = description(&r.comment, &format!("{pad}    ")).replace("Description>", "Comment>");
+    for (i, (comment, text)) in rungs.into_iter().enumerate() {
+        let comment = description(comment, &format!("{pad}    ")).replace("Description>", "Comment>");
         let _ = write!(
             out,
             "{pad}  <Rung Number=\"{i}\" Type=\"N\">\n{comment}{pad}    <Text>{}</Text>\n{pad}  </Rung>\n",
-            cdata(&logix.rung(r))
+            cdata(&text)
         );
     }
     let _ = writeln!(out, "{pad}</RLLContent>");
     out
+}
+
+/// The ST each rung calls, when the body is the rungs with ST after their coils
+/// ([`Graphic::LadderCallingSt`]): the body statement of a rung is `IF` its condition `THEN` its
+/// coils' statements and then that ST. `None` when the statement is not the rung's.
+fn st_after(stmt: &Stmt, rung: &Rung) -> Option<Vec<Stmt>> {
+    let statements = rung.statements();
+    let [Stmt::If(want, want_else)] = statements.as_slice() else { return None };
+    let Stmt::If(arms, els) = stmt else { return None };
+    match (want.as_slice(), arms.as_slice()) {
+        ([(c, coils)], [(cond, body)]) if want_else.is_empty() && els.is_empty() && c == cond => {
+            body.strip_prefix(coils.as_slice()).map(<[Stmt]>::to_vec)
+        }
+        _ => None,
+    }
+}
+
+/// A part of a program written as routines the `MainRoutine` calls in turn.
+enum Part<'a> {
+    /// An ST routine: its name and sections.
+    St(String, Vec<Section>),
+    /// A ladder routine: its name and rungs, each with the ST it calls (none when empty).
+    Rll(String, Vec<(&'a Rung, Vec<Stmt>)>),
+}
+
+/// How a `PROGRAM` is written: one ST `MainRoutine`, one ladder `MainRoutine` (its body is its rungs)
+/// or a ladder `MainRoutine` calling its parts by `JSR` in the body's order.
+enum Layout<'a> {
+    /// Structured text.
+    St,
+    /// Ladder, the whole body.
+    Rll(&'a [Rung]),
+    /// ST and ladder routines called in turn.
+    Parts(Vec<Part<'a>>),
+}
+
+/// A routine name from a section label (`aeem-set` → `aeem_set`).
+fn routine_name(label: &str) -> String {
+    label.replace('-', "_")
+}
+
+/// The parts of `pou` when a run of one section's statements is `rungs` with ST after their coils
+/// (none of them a timer: a timer is a `TIMER` in ladder, an `FBD_TIMER` in ST, one tag cannot be
+/// both): the sections before as one ST routine, the rungs as a ladder routine, the sections after
+/// as one ST routine.
+fn parts<'a>(pou: &Pou, rungs: &'a [Rung]) -> Option<Vec<Part<'a>>> {
+    let timers = rungs.iter().flat_map(|r| &r.coils).any(|c| matches!(c.kind, CoilKind::OnDelay(_)));
+    if rungs.is_empty() || timers {
+        return None;
+    }
+    for (i, section) in pou.sections.iter().enumerate() {
+        for k in 0..section.stmts.len().saturating_sub(rungs.len() - 1) {
+            let window = &section.stmts[k..k + rungs.len()];
+            let Some(after) =
+                window.iter().zip(rungs).map(|(s, r)| st_after(s, r)).collect::<Option<Vec<_>>>()
+            else {
+                continue;
+            };
+            let piece = |stmts: &[Stmt]| Section::new(section.label, section.title.clone(), stmts.to_vec());
+            let before: Vec<Section> =
+                pou.sections[..i].iter().cloned().chain([piece(&section.stmts[..k])]).collect();
+            let rest: Vec<Section> = [piece(&section.stmts[k + rungs.len()..])]
+                .into_iter()
+                .chain(pou.sections[i + 1..].iter().cloned())
+                .collect();
+            let ladder = routine_name(section.label);
+            // An ST routine is named after its first section, `<ladder>_before`/`_after` when that
+            // is the ladder's own.
+            let st = |sections: Vec<Section>, side: &str| {
+                let sections: Vec<Section> = sections.into_iter().filter(|s| !s.stmts.is_empty()).collect();
+                let name = sections.first().map(|s| routine_name(s.label))?;
+                let name = if name == ladder { format!("{ladder}_{side}") } else { name };
+                Some(Part::St(name, sections))
+            };
+            let mut out: Vec<Part> = st(before, "before").into_iter().collect();
+            out.push(Part::Rll(ladder.clone(), rungs.iter().zip(after).collect()));
+            out.extend(st(rest, "after"));
+            return Some(out);
+        }
+    }
+    None
 }
 
 /// The rungs of `pou` when they are its whole body (its statements are the rungs' statements, in
@@ -354,6 +462,17 @@ fn whole_ladder<'a>(pou: &Pou, graphic: &'a Graphic) -> Option<&'a [Rung]> {
     let body: Vec<&Stmt> = pou.sections.iter().flat_map(|s| &s.stmts).collect();
     let ladder: Vec<Stmt> = rungs.iter().flat_map(Rung::statements).collect();
     (body.len() == ladder.len() && body.iter().zip(&ladder).all(|(a, b)| *a == b)).then_some(rungs.as_slice())
+}
+
+/// How `pou` with `graphic` is written.
+fn layout<'a>(pou: &Pou, graphic: &'a Graphic) -> Layout<'a> {
+    if let Some(rungs) = whole_ladder(pou, graphic) {
+        return Layout::Rll(rungs);
+    }
+    match graphic {
+        Graphic::LadderCallingSt(rungs) => parts(pou, rungs).map_or(Layout::St, Layout::Parts),
+        _ => Layout::St,
+    }
 }
 
 /// A structure as a user data type: `BOOL` members as bits of hidden `SINT` hosts, as Logix stores them.
@@ -459,13 +578,54 @@ fn add_on(pou: &Pou, blocks: &[&Pou]) -> Result<String, Violation> {
     Ok(out)
 }
 
+/// A routine element of type `kind` holding `content`.
+fn routine(name: &str, kind: &str, content: &str) -> String {
+    format!("          <Routine Name=\"{name}\" Type=\"{kind}\">\n{content}          </Routine>\n")
+}
+
+/// The routines of a program laid out in `parts`: a ladder `MainRoutine` calling each part by `JSR`
+/// in turn, then each part's routine (a ladder part followed by the ST routines its rungs call,
+/// `<part>_<rung>`).
+fn part_routines(pou: &Pou, logix: &Logix, parts: &[Part], pad: &str) -> Result<String, Violation> {
+    let mut calls = Vec::new();
+    let mut out = String::new();
+    for part in parts {
+        match part {
+            Part::St(name, sections) => {
+                let name = checked(&pou.name, name)?;
+                calls.push((format!("the {name} section (ST)"), format!("JSR({name},0);")));
+                out.push_str(&routine(name, "ST", &st_content(&logix.sections(sections)?, pad)));
+            }
+            Part::Rll(name, rungs) => {
+                let name = checked(&pou.name, name)?;
+                calls.push((format!("the {name} section (ladder)"), format!("JSR({name},0);")));
+                let mut called = String::new();
+                let mut texts = Vec::new();
+                for (i, (rung, after)) in rungs.iter().enumerate() {
+                    let callee = format!("{name}_{i}");
+                    let callee = if after.is_empty() { None } else { Some(checked(&pou.name, &callee)?) };
+                    texts.push((rung.comment.as_str(), logix.rung_calling(rung, callee)));
+                    if let Some(callee) = callee {
+                        called.push_str(&routine(callee, "ST", &st_content(&logix.statements(after)?, pad)));
+                    }
+                }
+                out.push_str(&routine(name, "RLL", &rll_content(texts, pad)));
+                out.push_str(&called);
+            }
+        }
+    }
+    let main = rll_content(calls.iter().map(|(c, t)| (c.as_str(), t.clone())), pad);
+    Ok(format!("{}{out}", routine("MainRoutine", "RLL", &main)))
+}
+
 /// A `PROGRAM` (its located variables taken out) as a Logix program: its variables as program tags,
-/// its body as the `MainRoutine` — ladder when the body is its rungs, else ST.
+/// its body as the `MainRoutine` — ladder when the body is its rungs, ST and ladder routines called
+/// in turn when part of it is rungs calling ST, else ST.
 fn logix_program(pou: &Pou, graphic: &Graphic, blocks: &[&Pou]) -> Result<String, Violation> {
     let name = checked(&pou.name, &pou.name)?;
     let logix = Logix::new(pou, blocks);
-    let rungs = whole_ladder(pou, graphic);
-    let language = if rungs.is_some() { Language::Rll } else { Language::St };
+    let layout = layout(pou, graphic);
+    let language = if matches!(layout, Layout::Rll(_)) { Language::Rll } else { Language::St };
     let mut out = format!(
         "      <Program Name=\"{name}\" TestEdits=\"false\" MainRoutineName=\"MainRoutine\" Disabled=\"false\" UseAsFolder=\"false\">\n        <Tags>\n"
     );
@@ -475,17 +635,16 @@ fn logix_program(pou: &Pou, graphic: &Graphic, blocks: &[&Pou]) -> Result<String
     }
     out.push_str("        </Tags>\n        <Routines>\n");
     let pad = "            ";
-    let routine = match rungs {
-        Some(rungs) => format!(
-            "          <Routine Name=\"MainRoutine\" Type=\"RLL\">\n{}",
-            rll_content(&logix, rungs, pad)
+    let routines = match &layout {
+        Layout::Rll(rungs) => routine(
+            "MainRoutine",
+            "RLL",
+            &rll_content(rungs.iter().map(|r| (r.comment.as_str(), logix.rung(r))), pad),
         ),
-        None => format!(
-            "          <Routine Name=\"MainRoutine\" Type=\"ST\">\n{}",
-            st_content(&logix.body(pou)?, pad)
-        ),
+        Layout::St => routine("MainRoutine", "ST", &st_content(&logix.body(pou)?, pad)),
+        Layout::Parts(parts) => part_routines(pou, &logix, parts, pad)?,
     };
-    let _ = write!(out, "{routine}          </Routine>\n        </Routines>\n      </Program>\n");
+    let _ = write!(out, "{routines}        </Routines>\n      </Program>\n");
     Ok(out)
 }
 
@@ -540,7 +699,6 @@ pub fn files(source: &Source) -> Result<Vec<File>, Violation> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scan::ir::Section;
 
     #[test]
     fn names_follow_logix_rules() {
@@ -612,5 +770,64 @@ mod tests {
             ],
         };
         assert_eq!(Logix::new(&main, &[]).rung(&r), "XIO(a)[XIC(b) ,XIC(T.DN) ]OTL(a)OTU(c);");
+    }
+
+    #[test]
+    fn rungs_running_st_are_a_ladder_routine_calling_st_routines_between_st_routines() {
+        let rung = |c: &str, x: &str| Rung {
+            comment: format!("set {x}"),
+            condition: Element::contact(c, false),
+            coils: vec![crate::scan::ld::Coil { variable: x.into(), kind: CoilKind::Set }],
+        };
+        let rungs = vec![rung("a", "x"), rung("b", "y")];
+        let bool_vars = ["a", "b", "x", "y"].map(|n| Var::new(n, Type::Bool, ""));
+        let main = Pou {
+            program: true,
+            name: "m".into(),
+            vars: vec![(VarClass::Local, [bool_vars.to_vec(), vec![Var::new("n", Type::Int, "")]].concat())],
+            sections: vec![
+                Section::new("events", "", vec![Stmt::set("n", Expr::Int(0))]),
+                Section::new(
+                    "rungs",
+                    "",
+                    vec![
+                        // The first rung runs ST after its coil; the second none.
+                        Stmt::when(
+                            Expr::var("a"),
+                            vec![Stmt::set("x", Expr::Bool(true)), Stmt::set("n", Expr::Int(1))],
+                        ),
+                        Stmt::when(Expr::var("b"), vec![Stmt::set("y", Expr::Bool(true))]),
+                        Stmt::set("n", Expr::Int(2)),
+                    ],
+                ),
+            ],
+        };
+        let out = logix_program(&main, &Graphic::LadderCallingSt(rungs.clone()), &[]).unwrap();
+        let routines: Vec<&str> = out.lines().filter(|l| l.contains("<Routine ")).map(str::trim).collect();
+        assert_eq!(
+            routines,
+            [
+                "<Routine Name=\"MainRoutine\" Type=\"RLL\">",
+                "<Routine Name=\"events\" Type=\"ST\">",
+                "<Routine Name=\"rungs\" Type=\"RLL\">",
+                "<Routine Name=\"rungs_0\" Type=\"ST\">",
+                "<Routine Name=\"rungs_after\" Type=\"ST\">",
+            ]
+        );
+        for text in [
+            "JSR(events,0);",
+            "JSR(rungs,0);",
+            "JSR(rungs_after,0);",
+            "XIC(a)OTL(x)JSR(rungs_0,0);",
+            "XIC(b)OTL(y);",
+            "n := 1;",
+            "(* section: rungs *)]]></Line>\n              <Line Number=\"1\"><![CDATA[n := 2;",
+        ] {
+            assert!(out.contains(text), "{text}\n{out}");
+        }
+        // Statements that are not the rungs' keep the program ST.
+        let other = vec![rung("a", "y"), rung("b", "y")];
+        let st = logix_program(&main, &Graphic::LadderCallingSt(other), &[]).unwrap();
+        assert!(st.contains("<Routine Name=\"MainRoutine\" Type=\"ST\">") && !st.contains("JSR"));
     }
 }

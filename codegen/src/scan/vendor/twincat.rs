@@ -6,8 +6,9 @@
 //! Dialect: TwinCAT reads IEC 61131-3 ST as the generic file writes it; a located variable in a
 //! `PROGRAM` is left to the global list so that the mapping is made in the I/O tree, not by fixed
 //! addresses. The list is not `qualified_only`, so the bodies read the I/O by the same names. Graphical
-//! bodies (LD, SFC) are not written: TwinCAT's LD/SFC storage is its own, and the ST body is the
-//! program the generic files run.
+//! bodies (LD, SFC) are not written: TwinCAT stores them as an undocumented archive of its editor's
+//! objects (`<NWL><XmlArchive>`) that no tool outside TwinCAT checks, and the ST body is the program
+//! the generic files run; TwinCAT's PLCopen XML import reads the `<LD>` bodies of the CODESYS file.
 
 use std::fmt::Write as _;
 
