@@ -5,6 +5,7 @@ use std::net::{IpAddr, Ipv4Addr, SocketAddr};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use codegen::config::SupervisorChoice;
 use codegen::project::Project;
 use codegen::sim::server::Server;
 use codegen::sim::Sim;
@@ -25,11 +26,18 @@ pub struct Args {
     /// The address to bind: loopback by default, so only this machine sees the page.
     #[arg(long, default_value_t = IpAddr::V4(Ipv4Addr::LOCALHOST))]
     bind: IpAddr,
+    /// Which supervisors to show and run: the full set, each reduced, or one monolithic supervisor, full
+    /// or reduced (as `codegen run --supervisors`) [default: the manifest's `[runtime] supervisors`, else
+    /// full].
+    #[arg(long = "supervisors", id = "deploy", value_enum, value_name = "CHOICE")]
+    deploy: Option<SupervisorChoice>,
 }
 
 /// Runs `sim`.
 pub fn run(args: Args) -> Result<ExitCode, Error> {
-    let project = Project::load(&args.manifest)?;
+    let mut project = Project::load(&args.manifest)?;
+    // Which supervisors run is said on stderr: stdout's first line is the address.
+    super::deploy(&mut project, args.deploy, true)?;
     let mut sim = Sim::new(&project.name, project.set, project.runtime)?;
     let server = Server::bind(SocketAddr::new(args.bind, args.port))
         .map_err(|e| format!("{}:{}: {e}", args.bind, args.port))?;

@@ -161,3 +161,50 @@ impl Controller {
 fn bit(words: &[u32; W], e: usize) -> bool {
     words.get(e / 32).is_some_and(|w| w >> (e % 32) & 1 == 1)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn first_fires_the_lowest_enabled_command_and_none_when_none_is_enabled() {
+        let sim = crate::sim::tests::small();
+        let runtime = RuntimeConfig { policy: ChoicePolicy::First, ..RuntimeConfig::default() };
+        let mut c = Controller::new(&runtime, &sim.closed, sim.plants, sim.set.events()).unwrap();
+        let table = sim.set.events();
+        let mut state = sim.closed.initial();
+        for _ in 0..20 {
+            let lowest = sim.closed.enabled(&state).into_iter().find(|&e| table.is_controllable(e));
+            let chosen = c.decide(&sim.closed, &state);
+            assert_eq!(chosen, lowest);
+            // Move on by the choice, or by the plant's one uncontrollable event.
+            let next = chosen.or_else(|| sim.closed.enabled(&state).into_iter().next()).unwrap();
+            assert!(sim.closed.step(&mut state, next));
+        }
+    }
+
+    #[test]
+    fn every_policy_fires_only_enabled_commands() {
+        let sim = crate::sim::tests::small();
+        let table = sim.set.events();
+        for policy in ChoicePolicy::ALL {
+            let runtime = RuntimeConfig { policy, ..RuntimeConfig::default() };
+            let mut c = Controller::new(&runtime, &sim.closed, sim.plants, table).unwrap();
+            let mut state = sim.closed.initial();
+            for _ in 0..50 {
+                let enabled = sim.closed.enabled(&state);
+                let next = match c.decide(&sim.closed, &state) {
+                    Some(e) => {
+                        assert!(enabled.contains(&e) && table.is_controllable(e), "{policy:?}: {e:?}");
+                        e
+                    }
+                    None => {
+                        assert!(enabled.iter().all(|&e| !table.is_controllable(e)), "{policy:?}");
+                        enabled[0]
+                    }
+                };
+                assert!(sim.closed.step(&mut state, next));
+            }
+        }
+    }
+}
