@@ -1,6 +1,6 @@
 //! `codegen sim`: the supervised plant in a browser. A [`Sim`] holds a set's closed loop plants ‖
 //! supervisors at one point of a trace — stepped by hand, reverted, reset, or run for N events by the
-//! firmware's choice policy against the virtual plant's steering ([`run`]) — with the coverage of the
+//! firmware's choice policy against the virtual plant's steering (module `run`) — with the coverage of the
 //! supervisors' transitions so far and `check`'s findings located on the automata ([`findings`]).
 //! [`api`] answers the page's JSON requests on it, [`draw`] lays each automaton out as SVG (the
 //! neighbourhood of its current state when large), and [`server`] serves the page and the API on a local
@@ -215,7 +215,7 @@ impl Sim {
     }
 
     /// Runs `events` events from the current state: the controller's policy against the virtual plant's
-    /// steering ([`run`]); the steps join the trace. Returns how many were taken (fewer when the loop
+    /// steering (module `run`); the steps join the trace. Returns how many were taken (fewer when the loop
     /// blocks).
     pub fn run(&mut self, events: u64) -> Result<usize, ModelError> {
         run::run(self, events)
