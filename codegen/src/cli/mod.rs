@@ -15,6 +15,7 @@ mod pack;
 mod plant;
 mod plc;
 mod run;
+mod sim;
 mod synth;
 mod verify;
 
@@ -55,6 +56,7 @@ enum Command {
     Plant(plant::Args),
     Plc(plc::Args),
     Run(run::Args),
+    Sim(sim::Args),
     Verify(verify::Args),
 }
 
@@ -98,6 +100,7 @@ fn subcommand(cli: Cli) -> Result<ExitCode, Error> {
         Command::Plant(args) => plant::run(args),
         Command::Plc(args) => plc::run(args),
         Command::Run(args) => run::run(args),
+        Command::Sim(args) => sim::run(args),
         Command::Verify(args) => verify::run(args),
     }
 }

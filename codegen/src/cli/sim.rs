@@ -1,0 +1,48 @@
+//! `codegen sim`: the supervised plant in a browser — a local web server with one page and its JSON API
+//! (docs/sim.md).
+
+use std::net::{IpAddr, Ipv4Addr, SocketAddr};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use codegen::config::SupervisorChoice;
+use codegen::project::Project;
+use codegen::sim::server::Server;
+use codegen::sim::Sim;
+
+use super::Error;
+
+/// Serve a page that draws the project's plants and supervisors, lists the events (enabled, disabled and
+/// by whom), steps, reverts, resets and runs N events with the firmware's choice policy against the
+/// steered virtual plant, and shows coverage and `check`'s findings on the graphs; until stopped
+/// (Ctrl-C). The page calls a JSON API that scripts can use too (docs/sim.md).
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// The project manifest or model files' module (as `codegen run` takes it).
+    manifest: PathBuf,
+    /// The port to serve on (0: any free port, printed).
+    #[arg(long, default_value_t = 8080)]
+    port: u16,
+    /// The address to bind: loopback by default, so only this machine sees the page.
+    #[arg(long, default_value_t = IpAddr::V4(Ipv4Addr::LOCALHOST))]
+    bind: IpAddr,
+    /// Which supervisors to show and run: the full set, each reduced, or one monolithic supervisor, full
+    /// or reduced (as `codegen run --supervisors`) [default: the manifest's `[runtime] supervisors`, else
+    /// full].
+    #[arg(long = "supervisors", id = "deploy", value_enum, value_name = "CHOICE")]
+    deploy: Option<SupervisorChoice>,
+}
+
+/// Runs `sim`.
+pub fn run(args: Args) -> Result<ExitCode, Error> {
+    let mut project = Project::load(&args.manifest)?;
+    // Which supervisors run is said on stderr: stdout's first line is the address.
+    super::deploy(&mut project, args.deploy, true)?;
+    let mut sim = Sim::new(&project.name, project.set, project.runtime)?;
+    let server = Server::bind(SocketAddr::new(args.bind, args.port))
+        .map_err(|e| format!("{}:{}: {e}", args.bind, args.port))?;
+    let addr = server.addr().map_or_else(|| format!("{}:{}", args.bind, args.port), |a| a.to_string());
+    println!("codegen sim: {} on http://{addr}/ (Ctrl-C stops)", sim.name);
+    server.serve(&mut sim);
+    Ok(ExitCode::SUCCESS)
+}
