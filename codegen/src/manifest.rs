@@ -602,7 +602,8 @@ impl Manifest {
         let specs = as_kind(Kind::Spec, read("specs", &self.specs)?);
         let supervisors = as_kind(Kind::Supervisor, read("supervisors", &self.supervisors)?);
         let modules = read("modules", &self.modules)?;
-        let timers = self.timer_automata(read_plants.iter().chain(&specs).chain(&supervisors).chain(&modules))?;
+        let timers =
+            self.timer_automata(read_plants.iter().chain(&specs).chain(&supervisors).chain(&modules))?;
         origins.extend((0..timers.len()).map(|i| format!("timers[{i}]")));
         let members: Vec<(&Automaton, &str)> = read_plants
             .iter()
@@ -678,10 +679,9 @@ impl Manifest {
         }
         let mut automata = Vec::new();
         for t in &self.timers {
-            let a = t.automaton(controllable).map_err(|source| ManifestError::Inconsistent {
-                file: self.file.clone(),
-                source,
-            })?;
+            let a = t
+                .automaton(controllable)
+                .map_err(|source| ManifestError::Inconsistent { file: self.file.clone(), source })?;
             automata.push(a);
         }
         Ok(automata)

@@ -54,7 +54,8 @@ impl TimerSpec {
             problems.push(format!("{key}.ms: a timeout of 0 ms is no timeout (give the delay in ms, > 0)"));
         }
         if self.start.is_empty() {
-            problems.push(format!("{key}.start: a timer no event starts never runs (name one event at least)"));
+            problems
+                .push(format!("{key}.start: a timer no event starts never runs (name one event at least)"));
         }
         for (field, events) in [("start", &self.start), ("stop", &self.stop)] {
             for e in events {
@@ -68,7 +69,9 @@ impl TimerSpec {
         }
         let timeout = self.timeout_event();
         if self.start.contains(&timeout) || self.stop.contains(&timeout) {
-            problems.push(format!("{key}.timeout: '{timeout}' is the timer's own event; it cannot start or stop it"));
+            problems.push(format!(
+                "{key}.timeout: '{timeout}' is the timer's own event; it cannot start or stop it"
+            ));
         }
         if controllable(&timeout) == Some(true) {
             problems.push(format!(

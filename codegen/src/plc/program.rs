@@ -727,7 +727,8 @@ impl Builder<'_> {
         if !self.timers.is_empty() {
             sections.insert(1, Section::new("timers", "a TON per [[timers]] entry", self.timer_calls()));
             let at = sections.len() - 1;
-            sections.insert(at, Section::new("timer starts", "after this scan's events", self.timer_updates()));
+            sections
+                .insert(at, Section::new("timer starts", "after this scan's events", self.timer_updates()));
         }
         let rungs = self.ladder();
         let sites = self.site_count().max(0) as usize;
@@ -855,7 +856,11 @@ impl Builder<'_> {
         for t in &self.timers {
             let timeout = events.name(t.timeout);
             locals.push(Var::new(&t.run, Type::Bool, format!("timer of '{timeout}' running")));
-            locals.push(Var::new(&t.ton, Type::Named("TON".into()), format!("raises '{timeout}' after {} ms", t.ms)));
+            locals.push(Var::new(
+                &t.ton,
+                Type::Named("TON".into()),
+                format!("raises '{timeout}' after {} ms", t.ms),
+            ));
         }
         let has_u = !self.uncontrollable().is_empty();
         let has_c = !self.controllable().is_empty();
