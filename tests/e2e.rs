@@ -22,5 +22,6 @@ mod safe_state;
 mod stalls;
 mod state_firmware;
 mod station;
+mod timers;
 mod vendor;
 mod wide;

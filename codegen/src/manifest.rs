@@ -24,6 +24,13 @@
 //!
 //! [check]                                       # optional: which findings fail `codegen check`
 //! fail_on = ["avalanche"]                       # the default
+//!
+//! [[timers]]                                    # optional: timeouts, `TimerSpec`
+//! name = "T_ext"                                # one more plant automaton, untimed
+//! start = ["extend"]
+//! stop = ["at_end"]
+//! timeout = "ext_timeout"                       # default "<name>_timeout"
+//! ms = 2000
 //! ```
 //!
 //! Paths are relative to the manifest file. Unknown keys are refused, so a typo is an error rather than a
@@ -39,6 +46,7 @@
 //! the pipeline's ([`crate::project`]).
 
 mod lines;
+mod timers;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -53,6 +61,7 @@ use crate::model::{
 };
 
 pub use lines::{Key, Lines};
+pub use timers::TimerSpec;
 
 /// Why a manifest could not be loaded or its automata read.
 #[derive(Debug, thiserror::Error)]
@@ -122,6 +131,15 @@ pub enum ManifestError {
     NotAProject {
         /// The file given.
         file: PathBuf,
+    },
+    /// `[[timers]]` entries that do not fit the set (an event no automaton has, a zero delay, a
+    /// controllable timeout, a timeout a plant file generates). Every one of the manifest is listed.
+    #[error("{}: [[timers]] does not fit the automata:\n  {}", file.display(), problems.join("\n  "))]
+    Timers {
+        /// The manifest file.
+        file: PathBuf,
+        /// One line per problem: `LINE: timers[N].KEY: what is wrong`.
+        problems: Vec<String>,
     },
     /// The automata disagree on an event's controllability (and no override settles it).
     #[error("{}: {source}", file.display())]
@@ -208,6 +226,9 @@ pub struct Manifest {
     /// What fails `codegen check` (`[check]`).
     #[serde(default)]
     pub check: CheckSpec,
+    /// Timeouts (`[[timers]]`): each an untimed plant automaton for synthesis, its delay for the runtimes.
+    #[serde(default)]
+    pub timers: Vec<TimerSpec>,
     /// The manifest file itself (set by [`Manifest::load`]).
     #[serde(skip)]
     pub file: PathBuf,
@@ -524,6 +545,7 @@ impl Manifest {
             hybrid: None,
             state: None,
             check: CheckSpec::default(),
+            timers: Vec::new(),
             file: path.to_owned(),
             lines: Lines::default(),
             module: true,
@@ -580,16 +602,20 @@ impl Manifest {
         let specs = as_kind(Kind::Spec, read("specs", &self.specs)?);
         let supervisors = as_kind(Kind::Supervisor, read("supervisors", &self.supervisors)?);
         let modules = read("modules", &self.modules)?;
+        let timers =
+            self.timer_automata(read_plants.iter().chain(&specs).chain(&supervisors).chain(&modules))?;
+        origins.extend((0..timers.len()).map(|i| format!("timers[{i}]")));
         let members: Vec<(&Automaton, &str)> = read_plants
             .iter()
             .chain(&specs)
             .chain(&supervisors)
             .chain(&modules)
+            .chain(&timers)
             .zip(origins.iter().map(String::as_str))
             .collect();
         let file = (!self.module).then(|| self.file.clone());
         check_members(&members).map_err(|problems| ManifestError::Automata { file, problems })?;
-        let plants = plants.into_iter().chain(read_plants).collect();
+        let plants = plants.into_iter().chain(read_plants).chain(timers).collect();
         let mut set = ModelSet { plants, specs, supervisors, sources: Vec::new() };
         for a in modules {
             set.place(a);
@@ -612,6 +638,53 @@ impl Manifest {
         EventTable::build(set.plants.iter().chain(&set.specs).chain(&set.supervisors))
             .map_err(|source| ManifestError::Inconsistent { file: self.file.clone(), source })?;
         Ok(set)
+    }
+
+    /// The plant automata of `[[timers]]` over the events of `read` (the automata of the manifest's
+    /// files), their start and stop events as controllable as those files say; refuses, every one at
+    /// once, an entry that does not fit ([`TimerSpec::problems`]) and a timeout a plant file generates
+    /// (the timer is its only source).
+    fn timer_automata<'a>(
+        &self,
+        read: impl Iterator<Item = &'a Automaton> + Clone,
+    ) -> Result<Vec<Automaton>, ManifestError> {
+        if self.timers.is_empty() {
+            return Ok(Vec::new());
+        }
+        // A file that says controllability beats one that left it unsaid (placeholders).
+        let controllable = |name: &str| {
+            let mut said = read.clone().filter_map(|a| a.event_id(name).map(|id| (a, id)));
+            let first = said.clone().next();
+            said.find(|(a, _)| !a.controllability_unsaid)
+                .or(first)
+                .map(|(a, id)| a.events[id.index()].controllable)
+        };
+        let mut problems = Vec::new();
+        for (i, t) in self.timers.iter().enumerate() {
+            let at = self.at(&Key::new("timers").item(i));
+            problems.extend(t.problems(i, controllable).into_iter().map(|p| format!("{at}{p}")));
+            let timeout = t.timeout_event();
+            let generates = |a: &&Automaton| {
+                matches!(a.kind, Kind::Plant | Kind::Unknown) && a.event_id(&timeout).is_some()
+            };
+            if let Some(plant) = read.clone().find(generates) {
+                problems.push(format!(
+                    "{at}timers[{i}].timeout: plant '{}' has '{timeout}' too; the timer is the only source of its timeout",
+                    plant.name
+                ));
+            }
+        }
+        if !problems.is_empty() {
+            return Err(ManifestError::Timers { file: self.file.clone(), problems });
+        }
+        let mut automata = Vec::new();
+        for t in &self.timers {
+            let a = t
+                .automaton(controllable)
+                .map_err(|source| ManifestError::Inconsistent { file: self.file.clone(), source })?;
+            automata.push(a);
+        }
+        Ok(automata)
     }
 
     /// Refuses `[events.NAME]` entries that do not fit `set`: a name no automaton has (with the names
@@ -695,6 +768,26 @@ mod tests {
         .unwrap();
         let err = m.read_automata().unwrap_err().to_string();
         assert!(err.ends_with("events.zz: no automaton of the set has this event"), "{err}");
+    }
+
+    #[test]
+    fn a_timer_is_a_plant_of_the_set_and_one_that_does_not_fit_is_refused_with_its_line() {
+        let cylinder: PathBuf =
+            [env!("CARGO_MANIFEST_DIR"), "..", "examples", "cylinder", "cylinder.toml"].iter().collect();
+        let m = Manifest::load(&cylinder).unwrap();
+        assert_eq!(m.timers.len(), 1);
+        assert_eq!((m.timers[0].ms, m.timers[0].timeout_event()), (2000, "ext_timeout".to_owned()));
+        let set = m.read_automata().unwrap();
+        let t = set.plants.iter().find(|a| a.name == "T_ext").expect("the timer is a plant");
+        let controllable = |n: &str| t.events[t.event_id(n).unwrap().index()].controllable;
+        assert!(controllable("extend") && controllable("retract"));
+        assert!(!controllable("at_end") && !controllable("ext_timeout"));
+        let text = "name = \"x\"\nplants = [\"plants/cylinder.gen\"]\n\n[[timers]]\nname = \"T\"\n\
+                    start = [\"extnd\"]\ntimeout = \"at_home\"\nms = 0\n";
+        let err = Manifest::parse(&cylinder, text).unwrap().read_automata().unwrap_err().to_string();
+        assert!(err.contains("4: timers[0].ms: a timeout of 0 ms"), "{err}");
+        assert!(err.contains("timers[0].start: no automaton of the set has the event 'extnd'"), "{err}");
+        assert!(err.contains("plant 'cylinder' has 'at_home' too"), "{err}");
     }
 
     #[test]

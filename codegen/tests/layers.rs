@@ -19,7 +19,7 @@ const CODEGEN: &[&[&str]] = &[
 
 /// firmware's library modules, lowest layer first (the applications in `src/bin/` sit on top).
 const FIRMWARE: &[&[&str]] = &[
-    &["board", "event_set", "fault", "input_queue", "rng", "status"],
+    &["board", "event_set", "fault", "input_queue", "rng", "status", "timer"],
     &["table"],
     &["build", "choice"],
     &["shell"],

@@ -28,3 +28,4 @@ pub mod shell;
 pub mod state;
 pub mod status;
 pub mod table;
+pub mod timer;

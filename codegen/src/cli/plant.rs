@@ -151,6 +151,7 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
         None => args.manifest,
     };
     let project = Project::load(&manifest)?;
+    super::run::refuse_timers(&project, &manifest)?;
     // A firmware that runs other tables is refused before the run (`Options::tables`).
     let options = Options { tables: project.table_digests()?, ..args.run.options(&project.runtime) };
     let mut link = args.connect.connect().map_err(|e| format!("connecting to {:?}: {e}", args.connect))?;

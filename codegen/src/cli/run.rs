@@ -121,6 +121,20 @@ enum Sampling {
     Timer,
 }
 
+/// Refuses a project with `[[timers]]` before a closed loop (`run`, `plant`): neither the firmware nor
+/// the virtual plant and the monitor run their delays yet, so the plant would draw the timeouts untimed.
+pub(super) fn refuse_timers(project: &Project, manifest: &std::path::Path) -> Result<(), Error> {
+    if project.timers.is_empty() {
+        return Ok(());
+    }
+    Err(format!(
+        "{}: [[timers]] do not run closed loop yet (neither the firmware nor the virtual plant and the \
+         monitor run their delays); synth, check and plc take them",
+        manifest.display()
+    )
+    .into())
+}
+
 /// Runs `run`.
 pub fn run(mut args: Args) -> Result<ExitCode, Error> {
     if let Some(dir) = args.project.take() {
@@ -160,6 +174,7 @@ pub fn run(mut args: Args) -> Result<ExitCode, Error> {
         Target::Rp2040 => Project::load_for(&args.manifest, Board::Pico)?,
         Target::Qemu | Target::Plc => Project::load(&args.manifest)?,
     };
+    refuse_timers(&project, &args.manifest)?;
     project.runtime.layout = args.layout.or(project.runtime.layout);
     super::deploy(&mut project, args.deploy, args.run.json)?;
     if args.target == Target::Rp2040 {

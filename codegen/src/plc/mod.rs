@@ -249,6 +249,8 @@ pub struct PlcOptions {
     /// controllable event): a sequence beside the interlocks asks for a command, the supervisors allow
     /// it ([`sequence`]). Off, the block chooses among every allowed event.
     pub requests: bool,
+    /// Timeouts (`[[timers]]`): one `TON` each, whose output raises the timeout event.
+    pub timers: Vec<crate::manifest::TimerSpec>,
 }
 
 impl Default for PlcOptions {
@@ -265,6 +267,7 @@ impl Default for PlcOptions {
             spec: PlcSpec::default(),
             require_outputs: false,
             requests: false,
+            timers: Vec::new(),
         }
     }
 }

@@ -103,6 +103,32 @@ struct Builder<'a> {
     pulse: Vec<Option<String>>,
     /// Per controllable event, its request input when the options ask for requests.
     req: Vec<(EventId, String)>,
+    /// The `[[timers]]` of the options whose events the set has.
+    timers: Vec<Timer>,
+}
+
+/// A `[[timers]]` entry in the program: a running flag its start events set and its stop events and
+/// timeout clear, a `TON` on that flag whose output's rising edge is the timeout event.
+struct Timer {
+    /// The running flag.
+    run: String,
+    /// The `TON` instance.
+    ton: String,
+    /// Its delay.
+    ms: u32,
+    /// Events that (re)start it.
+    start: Vec<EventId>,
+    /// Events that stop it.
+    stop: Vec<EventId>,
+    /// The event it raises.
+    timeout: EventId,
+}
+
+impl Timer {
+    /// `ton(IN := input, PT := T#<ms>ms);`
+    fn call(&self, input: Expr) -> Stmt {
+        Stmt::Call(self.ton.clone(), vec![("IN".into(), input), ("PT".into(), Expr::Time(self.ms))])
+    }
 }
 
 /// Builds the program for `set` with `opts`.
@@ -117,7 +143,23 @@ pub fn build(set: &PackSet, opts: &PlcOptions) -> Result<Program, PlcError> {
     {
         names.reserve(fixed);
     }
-    let io = IoMap::new(&opts.spec, events, &mut names, opts.require_outputs)?;
+    let mut io = IoMap::new(&opts.spec, events, &mut names, opts.require_outputs)?;
+    let mut timers = Vec::new();
+    for t in &opts.timers {
+        // The manifest made every one of the timer's events an event of its plant automaton.
+        let ids = |names: &[String]| names.iter().filter_map(|n| events.id(n)).collect::<Vec<_>>();
+        let Some(timeout) = events.id(&t.timeout_event()) else { continue };
+        // The timer, not an input, is the timeout's source.
+        io.sources.remove(&timeout);
+        timers.push(Timer {
+            run: names.fresh("run", &t.name),
+            ton: names.fresh("tmr", &t.name),
+            ms: t.ms,
+            start: ids(&t.start),
+            stop: ids(&t.stop),
+            timeout,
+        });
+    }
     let n = events.len();
     if n == 0 {
         return Err(PlcError::Empty);
@@ -177,7 +219,7 @@ pub fn build(set: &PackSet, opts: &PlcOptions) -> Result<Program, PlcError> {
     } else {
         Vec::new()
     };
-    let b = Builder { set, opts, io, ev, pend, prev, auts, bits, pulse, req };
+    let b = Builder { set, opts, io, ev, pend, prev, auts, bits, pulse, req, timers };
     b.check_owned()?;
     Ok(b.finish())
 }
@@ -243,6 +285,9 @@ impl Builder<'_> {
     }
 
     fn source(&self, e: EventId) -> (Expr, Edge) {
+        if let Some(t) = self.timers.iter().find(|t| t.timeout == e) {
+            return (Expr::var(format!("{}.Q", t.ton)), Edge::Rising);
+        }
         match &self.io.sources[&e] {
             Source::Input { variable, edge, .. } => (Expr::var(variable), *edge),
             Source::Member(m) => (Expr::var(format!("EVENTS.{m}")), Edge::Rising),
@@ -274,6 +319,10 @@ impl Builder<'_> {
             if let Some(pt) = pt {
                 body.push(Stmt::set(pt, Expr::Int(0)));
             }
+        }
+        for t in &self.timers {
+            body.push(Stmt::set(&t.run, Expr::Bool(false)));
+            body.push(t.call(Expr::Bool(false)));
         }
         for c in COUNTERS {
             body.push(Stmt::set(c, Expr::Int(0)));
@@ -329,6 +378,31 @@ impl Builder<'_> {
                 ],
             ));
             out.push(Stmt::set(&self.prev[u.index()], x));
+        }
+        out
+    }
+
+    /// Each timer's `TON` called on its running flag, before the inputs are sampled: its output's edge
+    /// is an input like the sensors'.
+    fn timer_calls(&self) -> Vec<Stmt> {
+        self.timers.iter().map(|t| t.call(Expr::var(&t.run))).collect()
+    }
+
+    /// After this scan's events: a stop or the timeout clears a timer's flag; a start resets its `TON`
+    /// and sets the flag, so it counts its full delay from the next scan (a start while it runs
+    /// restarts it).
+    fn timer_updates(&self) -> Vec<Stmt> {
+        let any = |events: &[EventId]| {
+            Expr::fold(events.iter().map(|e| Expr::var(&self.ev[e.index()])), Op::Or, Expr::Bool(false))
+        };
+        let mut out = Vec::new();
+        for t in &self.timers {
+            let stops: Vec<EventId> = t.stop.iter().copied().chain([t.timeout]).collect();
+            out.push(Stmt::when(any(&stops), vec![Stmt::set(&t.run, Expr::Bool(false))]));
+            out.push(Stmt::when(
+                any(&t.start),
+                vec![t.call(Expr::Bool(false)), Stmt::set(&t.run, Expr::Bool(true))],
+            ));
         }
         out
     }
@@ -635,7 +709,7 @@ impl Builder<'_> {
 
     fn finish(mut self) -> Program {
         let events = self.set.events().clone();
-        let sections = vec![
+        let mut sections = vec![
             Section::new(INIT, "first scan and reset", self.init()),
             Section::new("inputs", "sampled once, edges against the previous scan", self.inputs()),
             Section::new("events", "one latched input per scan, in event order", self.events_section()),
@@ -649,6 +723,13 @@ impl Builder<'_> {
             Section::new(AEEM_RESET, "", statements(&self.aeem_reset())),
             Section::new("outputs", "", self.outputs()),
         ];
+        // Only a set with timers has their sections: every other program stays as it was.
+        if !self.timers.is_empty() {
+            sections.insert(1, Section::new("timers", "a TON per [[timers]] entry", self.timer_calls()));
+            let at = sections.len() - 1;
+            sections
+                .insert(at, Section::new("timer starts", "after this scan's events", self.timer_updates()));
+        }
         let rungs = self.ladder();
         let sites = self.site_count().max(0) as usize;
         let base = stem(&self.opts.name);
@@ -771,6 +852,15 @@ impl Builder<'_> {
         }
         for pt in self.pulse.iter().flatten() {
             locals.push(Var::new(pt, Type::Int, "pulse scans left"));
+        }
+        for t in &self.timers {
+            let timeout = events.name(t.timeout);
+            locals.push(Var::new(&t.run, Type::Bool, format!("timer of '{timeout}' running")));
+            locals.push(Var::new(
+                &t.ton,
+                Type::Named("TON".into()),
+                format!("raises '{timeout}' after {} ms", t.ms),
+            ));
         }
         let has_u = !self.uncontrollable().is_empty();
         let has_c = !self.controllable().is_empty();

@@ -71,6 +71,8 @@ pub struct Project {
     pub board: Option<BoardSpec>,
     /// I/O map, policy and cycle of the PLC program (`[plc]`), if any.
     pub plc: Option<PlcSpec>,
+    /// Timeouts (`[[timers]]`): their automata are among the plants; the runtimes take their delays.
+    pub timers: Vec<crate::manifest::TimerSpec>,
     /// The plant's state vectors for a state-based program (`[state]`), if any.
     pub state: Option<StateSpec>,
     /// The sequence net that runs beside the interlocks in a PLC program (`[net]`), if any.
@@ -285,6 +287,7 @@ impl Project {
             runtime: m.runtime,
             board: m.board,
             plc: m.plc,
+            timers: m.timers,
             state: m.state,
             net: m.net,
             models: loaded.models,
@@ -316,6 +319,7 @@ impl Project {
             runtime: m.runtime,
             board: m.board,
             plc: m.plc,
+            timers: m.timers,
             state: m.state,
             net: None,
             models,
@@ -371,6 +375,7 @@ impl Project {
             runtime,
             board: board_spec,
             plc: None,
+            timers: Vec::new(),
             state: None,
             net: None,
             models: loaded.models,
@@ -402,6 +407,7 @@ impl Project {
             runtime,
             board: None,
             plc: None,
+            timers: Vec::new(),
             state: None,
             net: None,
             models,
@@ -675,7 +681,8 @@ impl Project {
     /// The event-based program's options: the policy `policy` when given, else the manifest's, else
     /// local-queue.
     fn plc_options(&self, policy: Option<ScanPolicy>) -> Result<PlcOptions, PlcError> {
-        PlcOptions::new(&self.name, &self.runtime, self.plc.as_ref(), policy)
+        let opts = PlcOptions::new(&self.name, &self.runtime, self.plc.as_ref(), policy)?;
+        Ok(PlcOptions { timers: self.timers.clone(), ..opts })
     }
 
     /// The manifest, or the set's name without one: what errors of the project name.
