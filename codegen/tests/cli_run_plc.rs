@@ -205,7 +205,7 @@ fn hybrid_mutant(from: &str, to: &str, events: u64) -> codegen::monitor::Report 
     let text = &out.files.iter().find(|(n, _)| n == "line_hybrid.st").unwrap().1;
     assert_eq!(text.matches(from).count(), 1, "{from}");
     let text = text.replacen(from, to, 1);
-    let program = Program { text: &text, side: &out.reduced, bound_per_scan: 1_000, cycle_ms: 10 };
+    let program = Program { text: &text, bound_per_scan: 1_000, cycle_ms: 10 };
     let options = codegen::closed_loop::Options::for_events(events);
     let hybrid = project.hybrid.as_ref().unwrap();
     run(program, &hybrid.plant, &project.set, "line", &options, &mut |_| {}).unwrap()

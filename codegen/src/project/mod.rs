@@ -606,13 +606,12 @@ impl Project {
         let h = self.hybrid.as_ref().ok_or_else(|| PlcError::Sections { file: self.file() })?;
         let out =
             self.plc(&Form::Hybrid)?.into_hybrid().ok_or(RunError::Program("no hybrid controller".into()))?;
-        let (k, side) = if full { (1, &out.full) } else { (0, &out.reduced) };
-        let source = out.sources.get(k).ok_or(RunError::Program("no hybrid controller".into()))?;
+        let source =
+            out.sources.get(usize::from(full)).ok_or(RunError::Program("no hybrid controller".into()))?;
         let file = format!("{}.st", source.program.base);
         let text = out.files.iter().find(|(n, _)| *n == file).map_or("", |(_, text)| text.as_str());
         let program = plc::hybrid::closed_loop::Program {
             text,
-            side,
             bound_per_scan: source.program.pous.iter().map(|(pou, _)| pou.bound()).sum(),
             cycle_ms: source.program.cycle_ms,
         };

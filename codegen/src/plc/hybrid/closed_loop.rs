@@ -21,7 +21,7 @@
 //! scan count (`cycle_ms` each, every scan counted), so the same seed gives the same report.
 
 use super::plant::{Finding, NetPlant};
-use super::{Plant, Side};
+use super::Plant;
 use crate::closed_loop::Options;
 use crate::interpreter::Plc;
 use crate::model::Automaton;
@@ -29,6 +29,7 @@ use crate::monitor::{FirmwareCounters, Monitor, Report, ScanFigures, Verdict};
 use crate::net::interpretation::Direction;
 use crate::pack::PackSet;
 use crate::plc::closed_loop::RunError;
+use crate::plc::token_passing::Idents;
 
 /// Most findings a report keeps (as the monitor's).
 const MAX_FINDINGS: usize = 10;
@@ -38,33 +39,33 @@ const MAX_FINDINGS: usize = 10;
 pub struct Program<'a> {
     /// The `.st` file's text.
     pub text: &'a str,
-    /// The controller the text was written from (its place and signal variables).
-    pub side: &'a Side,
     /// The static bound on statements per scan.
     pub bound_per_scan: u64,
     /// The task's interval, in milliseconds.
     pub cycle_ms: u32,
 }
 
-/// The program as loaded and booted, and its variables.
-struct Scanned<'a> {
+/// The program as loaded and booted, and the variables of the net's places and signals (named as
+/// the controller names them, [`Idents`]), each signal with its direction.
+struct Scanned {
     booted: Plc,
     plc: Plc,
-    program: Program<'a>,
+    places: Vec<String>,
+    signals: Vec<(String, Direction)>,
 }
 
-impl Scanned<'_> {
+impl Scanned {
     fn marking(&self) -> Result<Vec<u32>, String> {
-        self.program.side.controller.places.iter().map(|p| self.plc.get_bool(p).map(u32::from)).collect()
+        self.places.iter().map(|p| self.plc.get_bool(p).map(u32::from)).collect()
     }
 
     /// Per signal, the program's value (sensors as last written).
     fn signals(&self) -> Result<Vec<bool>, String> {
-        self.program.side.controller.signals.iter().map(|(v, _)| self.plc.get_bool(v)).collect()
+        self.signals.iter().map(|(v, _)| self.plc.get_bool(v)).collect()
     }
 
     fn write_sensors(&mut self, levels: &[bool]) -> Result<(), String> {
-        for ((v, d), &level) in self.program.side.controller.signals.iter().zip(levels) {
+        for ((v, d), &level) in self.signals.iter().zip(levels) {
             if *d == Direction::Input {
                 self.plc.set_bool(v, level)?;
             }
@@ -88,7 +89,9 @@ pub fn run(
     plc.set_cycle_ms(program.cycle_ms);
     // The boot scan: network 0 sets the initial marking and the supervisor's initial state.
     plc.scan().map_err(RunError::Program)?;
-    let mut prog = Scanned { booted: plc.clone(), plc, program };
+    let id = Idents::new(&plant.net);
+    let signals = id.signal.into_iter().zip(plant.net.signals.iter().map(|s| s.direction)).collect();
+    let mut prog = Scanned { booted: plc.clone(), plc, places: id.place, signals };
     let of = |role| -> Vec<&Automaton> {
         set.members().iter().filter(|m| m.role == role).map(|m| &m.automaton).collect()
     };

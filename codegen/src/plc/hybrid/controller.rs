@@ -39,11 +39,8 @@ pub struct Controller {
     pub bools: Vec<(String, String)>,
     /// The timers: (instance, transition id, milliseconds).
     pub timers: Vec<(String, String, u32)>,
-    /// Input signals (sensors) and output signals (actuators) as variables: (name, direction), in the
-    /// order of the net's signals.
+    /// Input signals (sensors) and output signals (actuators) as variables: (name, direction).
     pub signals: Vec<(String, Direction)>,
-    /// The plant net's places as variables, in place order: the marking a run reads back.
-    pub places: Vec<String>,
     /// The supervisor's states, for the report.
     pub states: usize,
 }
@@ -176,7 +173,6 @@ impl Controller {
             bools,
             timers,
             signals,
-            places: id.place.clone(),
             states: sup.states.len(),
         })
     }

@@ -132,7 +132,7 @@ impl<'a> NetPlant<'a> {
     /// (`outputs`, per signal): per signal, its level (outputs as given).
     pub fn sense(&mut self, scan: u64, outputs: &[bool]) -> Vec<bool> {
         let mut levels = outputs.to_vec();
-        for s in 0..self.sensors.len() {
+        for (s, level) in levels.iter_mut().enumerate() {
             if self.net.signals[s].direction != Direction::Input {
                 continue;
             }
@@ -146,7 +146,7 @@ impl<'a> NetPlant<'a> {
             }
             let sensor = &mut self.sensors[s];
             sensor.level = sensor.on_from.is_some_and(|from| scan >= from);
-            levels[s] = sensor.level;
+            *level = sensor.level;
         }
         levels
     }
