@@ -222,7 +222,11 @@ fn a_hybrid_program_with_a_mutated_rung_is_caught() {
     let report = hybrid_mutant("P_p2 AND T_t2.Q", "P_p2", 40);
     assert!(report.violations > 0, "{report:?}");
     assert!(report.findings.iter().any(|f| f.contains("of its 1500 ms delay")), "{:?}", report.findings);
-    // M2's motor never on: the plant never reports M2 done, and the line stalls.
+    // M2's motor never on: the plant sees it off while M2 works (and never reports M2 done).
     let report = hybrid_mutant("mot2 := P_p4;", "mot2 := FALSE;", 400);
-    assert!(report.violations > 0 || report.stalls > 0, "{report:?}");
+    assert!(report.findings.iter().any(|f| f.contains("actuator mot2 is off")), "{:?}", report.findings);
+    // M1's motor always on: wrong from the first scan, so the run ends at its first violation rather
+    // than restarting into the same one for ever.
+    let report = hybrid_mutant("mot1 := P_p2;", "mot1 := TRUE;", 400);
+    assert_eq!((report.violations, report.events), (1, 0), "{report:?}");
 }

@@ -13,7 +13,9 @@
 //! The program reads every event the scan it happens, so the monitor's window is zero: no command is
 //! decided on stale information. A violation, the monitor's or the plant's (a firing the net cannot
 //! make, a condition false, a delay cut short, an actuator the marking does not set), is counted
-//! and the run goes on from the initial state (program, plant and monitor reset: a resync). A run
+//! and the run goes on from the initial state (program, plant and monitor reset: a resync) — unless
+//! no event passed the monitor since the last reset: then the program fails again at once, and the
+//! run ends there. A run
 //! with no firing for longer than a correct program can take ([`NetPlant::patience`]) stops with
 //! one stall.
 //!
@@ -108,6 +110,8 @@ pub fn run(
     }
     let (mut scans, mut max_statements, mut last_firing) = (0u64, 0u64, 0u64);
     let mut counters = FirmwareCounters::default();
+    // Events the monitor accepted since the (re)start.
+    let mut accepted = 0u64;
     // The scan number since the last reset (the plant's clock; the boot scan is 0).
     let mut clock = 0u64;
     while monitor.report().events < options.events {
@@ -139,7 +143,9 @@ pub fn run(
                         counters.events_in += 1;
                         monitor.uncontrollable(id, t_us)
                     };
-                    if !matches!(verdict, Verdict::Ok | Verdict::Desync { resolved: true }) {
+                    if matches!(verdict, Verdict::Ok | Verdict::Desync { resolved: true }) {
+                        accepted += 1;
+                    } else {
                         failed = Some(String::new());
                     }
                     progress(monitor.report());
@@ -155,6 +161,9 @@ pub fn run(
             // The monitor has counted its own; the plant's are counted here.
             if !why.is_empty() {
                 plant_violation(&mut monitor, &format!("scan {scans}: {why}"));
+            }
+            if std::mem::take(&mut accepted) == 0 {
+                break;
             }
             prog.plc = prog.booted.clone();
             net.reset();
