@@ -158,3 +158,74 @@ fn a_firmware_option_is_refused_with_exit_2() {
         assert!(String::from_utf8_lossy(&out.stderr).contains("go with"), "{extra:?}");
     }
 }
+
+// See: issue 36 (`run --target plc` for the hybrid form: both controllers scanned against the plant
+// net's own token game, 0 violations, coverage reported, the same seed giving the same bytes).
+#[test]
+fn both_hybrid_controllers_run_clean_against_their_net_and_the_same_seed_gives_the_same_json() {
+    let manifest = repo("examples/hybrid/hybrid.toml");
+    for supervisors in ["reduced", "full"] {
+        let what = format!("hybrid {supervisors}");
+        let (code, json, bytes) = run(&manifest, 400, &["--supervisors", supervisors, "--seed", "3"]);
+        assert_eq!(code, Some(0), "{what}: {json}");
+        assert_eq!(json["violations"].as_u64(), Some(0), "{what}: {json}");
+        assert_eq!(json["target"].as_str(), Some("plc"), "{what}");
+        assert!(json["events"].as_u64().unwrap() >= 400, "{what}: {json}");
+        for key in ["stalls", "resyncs", "desyncs", "lost"] {
+            assert_eq!(json[key].as_u64(), Some(0), "{what}: {key}: {json}");
+        }
+        // The line comes home again and again; M1's on-delay makes the run seconds of PLC time.
+        assert!(json["marked_visits"].as_u64().unwrap() >= 20, "{what}: {json}");
+        let coverage = json["coverage"].as_array().unwrap();
+        assert_eq!(coverage.len(), 1, "{what}: judged against SUPER: {json}");
+        let (taken, reachable) = (coverage[0]["taken"].as_u64().unwrap(), coverage[0]["reachable"].as_u64());
+        assert!(taken > 0 && Some(taken) <= reachable, "{what}: {json}");
+        let scan = &json["scan"];
+        let (scans, max, bound) = (
+            scan["scans"].as_u64().unwrap(),
+            scan["max_statements"].as_u64().unwrap(),
+            scan["bound_per_scan"].as_u64().unwrap(),
+        );
+        assert!(0 < max && max <= bound, "{what}: {scan}");
+        assert!((json["seconds"].as_f64().unwrap() - scans as f64 * 0.01).abs() < 1e-6, "{what}");
+        eprintln!("{what}: {} events, {scan}, coverage {}", json["events"], json["coverage"]);
+        if supervisors == "reduced" {
+            let (_, _, again) = run(&manifest, 400, &["--supervisors", supervisors, "--seed", "3"]);
+            assert_eq!(String::from_utf8_lossy(&bytes), String::from_utf8_lossy(&again), "{what}");
+        }
+    }
+}
+
+/// The reduced hybrid controller's text with `from` replaced by `to` (once), run for `events` events.
+fn hybrid_mutant(from: &str, to: &str, events: u64) -> codegen::monitor::Report {
+    use codegen::plc::hybrid::closed_loop::{run, Program};
+    let project = codegen::project::Project::load(Path::new(&repo("examples/hybrid/hybrid.toml"))).unwrap();
+    let out = project.plc(&codegen::plc::Form::Hybrid).unwrap().into_hybrid().unwrap();
+    let text = &out.files.iter().find(|(n, _)| n == "line_hybrid.st").unwrap().1;
+    assert_eq!(text.matches(from).count(), 1, "{from}");
+    let text = text.replacen(from, to, 1);
+    let program = Program { text: &text, bound_per_scan: 1_000, cycle_ms: 10 };
+    let options = codegen::closed_loop::Options::for_events(events);
+    let hybrid = project.hybrid.as_ref().unwrap();
+    run(program, &hybrid.plant, &project.set, "line", &options, &mut |_| {}).unwrap()
+}
+
+// See: issue 36 (a broken hybrid program is caught: the monitor and the plant net judge what it does).
+#[test]
+fn a_hybrid_program_with_a_mutated_rung_is_caught() {
+    // M1's rung without its inhibitor contact: M1 starts into a full buffer, which SUPER disables.
+    let report = hybrid_mutant("P_p1 AND NOT A_2 AND part1", "P_p1 AND part1", 400);
+    assert!(report.violations > 0, "{report:?}");
+    assert!(report.findings.iter().any(|f| f.contains("disabled by")), "{:?}", report.findings);
+    // M1's finishing rung without its timer: f1 before its 1.5 s, which the plant net refuses.
+    let report = hybrid_mutant("P_p2 AND T_t2.Q", "P_p2", 40);
+    assert!(report.violations > 0, "{report:?}");
+    assert!(report.findings.iter().any(|f| f.contains("of its 1500 ms delay")), "{:?}", report.findings);
+    // M2's motor never on: the plant sees it off while M2 works (and never reports M2 done).
+    let report = hybrid_mutant("mot2 := P_p4;", "mot2 := FALSE;", 400);
+    assert!(report.findings.iter().any(|f| f.contains("actuator mot2 is off")), "{:?}", report.findings);
+    // M1's motor always on: wrong from the first scan, so the run ends at its first violation rather
+    // than restarting into the same one for ever.
+    let report = hybrid_mutant("mot1 := P_p2;", "mot1 := TRUE;", 400);
+    assert_eq!((report.violations, report.events), (1, 0), "{report:?}");
+}

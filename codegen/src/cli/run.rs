@@ -176,6 +176,9 @@ pub fn run(mut args: Args) -> Result<ExitCode, Error> {
     };
     refuse_timers(&project, &args.manifest)?;
     project.runtime.layout = args.layout.or(project.runtime.layout);
+    if args.target == Target::Plc && project.hybrid.is_some() {
+        return run_plc_hybrid(&args, &project);
+    }
     super::deploy(&mut project, args.deploy, args.run.json)?;
     if args.target == Target::Rp2040 {
         return match args.io.unwrap_or(Io::Link) {
@@ -289,15 +292,21 @@ fn run_rp2040(args: Args, mut project: Project) -> Result<ExitCode, Error> {
     finish(&report?, args.run.json)
 }
 
-/// `run --target plc`: the event-based PLC program's text scanned by the interpreter, the plant and
-/// the monitor on the other side of the link as for a firmware.
-fn run_plc(args: &Args, project: &Project) -> Result<ExitCode, Error> {
+/// Refuses the firmware's options with `--target plc`.
+fn check_plc_options(args: &Args) -> Result<(), Error> {
     if args.elf.is_some() || args.layout.is_some() {
         return Err("--elf and --layout go with a firmware's target (qemu, rp2040), not plc".into());
     }
     if args.sampling.is_some() || args.sample_period_us.is_some() || args.rtt.is_some() {
         return Err("--sampling, --sample-period-us and --rtt go with --target rp2040".into());
     }
+    Ok(())
+}
+
+/// `run --target plc`: the event-based PLC program's text scanned by the interpreter, the plant and
+/// the monitor on the other side of the link as for a firmware.
+fn run_plc(args: &Args, project: &Project) -> Result<ExitCode, Error> {
+    check_plc_options(args)?;
     let options = args.run.options(&project.runtime);
     eprintln!(
         "codegen run: the {} PLC program ({:?} encoding) scanned closed loop for {} events, plant seed {}",
@@ -309,6 +318,35 @@ fn run_plc(args: &Args, project: &Project) -> Result<ExitCode, Error> {
         RunEncoding::Bits => project.run_plc(Encoding::Bits, &options, &mut |r| progress.show(r)),
         RunEncoding::State => project.run_plc_state(&options, &mut |r| progress.show(r)),
     };
+    progress.clear();
+    finish(&report?, args.run.json)
+}
+
+/// `run --target plc` on a `[hybrid]` manifest: the hybrid controller with the reduced supervisor
+/// (`--supervisors full`: the full one) scanned by the interpreter against the plant net's own token
+/// game, judged by its reachability graph ‖ `SUPER` (docs/hybrid.md).
+fn run_plc_hybrid(args: &Args, project: &Project) -> Result<ExitCode, Error> {
+    if args.encoding != RunEncoding::Int {
+        return Err("--encoding: a [hybrid] manifest's program is the hybrid controller, in one form".into());
+    }
+    let full = match args.deploy {
+        None | Some(SupervisorChoice::Reduced) => false,
+        Some(SupervisorChoice::Full) => true,
+        Some(other) => {
+            return Err(
+                format!("--supervisors {other}: a hybrid controller's supervisor is full or reduced").into()
+            )
+        }
+    };
+    check_plc_options(args)?;
+    let options = args.run.options(&project.runtime);
+    let which = if full { "full" } else { "reduced" };
+    eprintln!(
+        "codegen run: the {} hybrid controller ({which} supervisor) scanned closed loop against its net for {} events, plant seed {}",
+        project.name, options.events, options.plant.seed
+    );
+    let mut progress = Progress::new(options.events);
+    let report = project.run_plc_hybrid(full, &options, &mut |r| progress.show(r));
     progress.clear();
     finish(&report?, args.run.json)
 }

@@ -12,7 +12,9 @@ pub struct ScanFigures {
     /// Scans from the session's first RESET on that made an input's edge (the state-based program:
     /// read a changed input) or fired a command (the scans a PLC repeats while it waits for its plant
     /// or the host or works off what is pending, the boot scan, the scans before the session holds
-    /// the program and a RESET's scan not counted — so the figure is a function of the seed).
+    /// the program and a RESET's scan not counted — so the figure is a function of the seed). A
+    /// hybrid controller's run counts every scan after the boot scan: its plant's clock
+    /// ([`crate::plc::hybrid::closed_loop`]).
     pub scans: u64,
     /// Most statements one of those scans executed.
     pub max_statements: u64,

@@ -599,6 +599,31 @@ impl Project {
         Ok(state_based::closed_loop::run(&out, &self.set, &self.name, options, progress)?)
     }
 
+    /// A hybrid controller run closed loop (`codegen run --target plc` on a `[hybrid]` manifest): the
+    /// program `codegen plc` writes with the reduced supervisor (or the full one, `full`), under the
+    /// interpreter against the plant net's own token game, judged by the net's reachability graph ‖
+    /// `SUPER` ([`plc::hybrid::closed_loop::run`]).
+    pub fn run_plc_hybrid(
+        &self,
+        full: bool,
+        options: &Options,
+        progress: &mut dyn FnMut(&Report),
+    ) -> Result<Report, ProjectError> {
+        let h = self.hybrid.as_ref().ok_or_else(|| PlcError::Sections { file: self.file() })?;
+        let out =
+            self.plc(&Form::Hybrid)?.into_hybrid().ok_or(RunError::Program("no hybrid controller".into()))?;
+        let source =
+            out.sources.get(usize::from(full)).ok_or(RunError::Program("no hybrid controller".into()))?;
+        let file = format!("{}.st", source.program.base);
+        let text = out.files.iter().find(|(n, _)| *n == file).map_or("", |(_, text)| text.as_str());
+        let program = plc::hybrid::closed_loop::Program {
+            text,
+            bound_per_scan: source.program.pous.iter().map(|(pou, _)| pou.bound()).sum(),
+            cycle_ms: source.program.cycle_ms,
+        };
+        Ok(plc::hybrid::closed_loop::run(program, &h.plant, &self.set, &self.name, options, progress)?)
+    }
+
     /// The PLC stage, the one entry of every form ([`Form`]): the program's files under a header naming
     /// every input with its hash and the command that reproduces them, and its report. The event-based
     /// form runs the manifest's sequence net beside the interlocks when it has one (`[net]`); its policy

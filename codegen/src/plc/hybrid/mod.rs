@@ -11,11 +11,15 @@
 //! | the coupled net as rungs: auto-net, inhibitor arcs, AEEM bits, timers | [`controller`] |
 //! | the coupled net as a place/transition net, checked against plant ‖ supervisor | [`coupled`] |
 //! | the figures of one controller and the report of both | [`report`] |
+//! | the plant net as a virtual plant: its token game, delays and sensors on the scan clock | [`plant`] |
+//! | a controller run closed loop against that plant, judged by the monitor | [`closed_loop`] |
 //!
 //! [`generate`] writes both controllers of a plant net and its supervisor.
 
+pub mod closed_loop;
 pub mod controller;
 pub mod coupled;
+pub mod plant;
 pub mod report;
 
 pub use controller::Controller;
