@@ -39,6 +39,8 @@ fn programs() -> Vec<(String, Written)> {
         ("factory/factory.toml", vec![("int", int()), ("bits", bits())]),
         ("station-rtpn/net1.toml", vec![("sequence", int())]),
         ("hybrid/hybrid.toml", vec![("hybrid", Form::Hybrid)]),
+        // A timer (TON) started inside an IF: Logix's TONR where it stands.
+        ("cylinder/cylinder.toml", vec![("int", int())]),
     ];
     let mut out = Vec::new();
     for (manifest, forms) in cases {

@@ -164,7 +164,8 @@ pub enum Stmt {
     For(String, i64, i64, Vec<Stmt>),
     /// `EXIT;`
     Exit,
-    /// A function block call with named inputs: `inst(a := x);`
+    /// A function block call with named inputs: `inst(a := x);` — an empty name passes its argument by
+    /// position (a dialect's instruction, such as Logix's `TONR(timer);`).
     Call(String, Vec<(String, Expr)>),
 }
 

@@ -136,8 +136,13 @@ impl Stmt {
                 let _ = writeln!(out, "{pad}EXIT;");
             }
             Stmt::Call(inst, args) => {
-                let args: Vec<String> =
-                    args.iter().map(|(n, e)| format!("{n} := {}", e.text_with(names))).collect();
+                let args: Vec<String> = args
+                    .iter()
+                    .map(|(n, e)| match n.as_str() {
+                        "" => e.text_with(names),
+                        n => format!("{n} := {}", e.text_with(names)),
+                    })
+                    .collect();
                 let _ = writeln!(out, "{pad}{}({});", reference(inst, names), args.join(", "));
             }
         }

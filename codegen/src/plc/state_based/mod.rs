@@ -300,7 +300,7 @@ fn program_source(
     let ladder = || rungs.iter().map(|r| r.rung.clone()).collect();
     let graphic = match (memory.layout.kept.is_empty(), one) {
         (true, None) => Graphic::Ladder(ladder()),
-        (false, None) => Graphic::LadderCallingSt(ladder()),
+        (false, None) => Graphic::LadderCallingSt(rungs.iter().map(|r| program::held(&r.rung)).collect()),
         (_, Some(_)) => Graphic::Text,
     };
     let program =

@@ -9,8 +9,8 @@ use crate::config::{Direction, ScanPolicy, Signals};
 use crate::feedback::{FeedbackError, Vector};
 use crate::model::EventId;
 use crate::plc::choice::{self, PlantChoice};
-use crate::scan::ir::{Expr, Op, Pou, Section, Stmt, Type, Var, VarClass};
-use crate::scan::ld::CoilKind;
+use crate::scan::ir::{Expr, Pou, Section, Stmt, Type, Var, VarClass};
+use crate::scan::ld::{CoilKind, Element, Rung};
 use crate::scan::names::is_identifier;
 
 use super::memory::Tracking;
@@ -66,6 +66,13 @@ impl OnePerScan {
 /// The input that, with memory kept, stops the rungs while the memory goes on reading the sensors.
 pub const HOLD: &str = "hold";
 
+/// `rung` behind a normally closed `hold` contact ([`HOLD`]): the rung of a program keeping memory, in
+/// its ST condition and its ladder alike.
+pub fn held(rung: &Rung) -> Rung {
+    let hold = Element::Contact { variable: HOLD.into(), negated: true };
+    Rung { condition: Element::Series(vec![hold, rung.condition.clone()]), ..rung.clone() }
+}
+
 /// The `PROGRAM <base>_main`: every signal a `BOOL` (located where it has an address), the memory's
 /// variables, its event detection, then one `IF` per rung — or, with `one`, the rungs' conditions
 /// into the choice section and the chosen rung's command. With memory kept, every rung's condition
@@ -112,11 +119,10 @@ pub fn pou(
         );
     }
     let condition = |r: &EventRung| -> Expr {
-        let c = r.rung.condition.st();
         if holds {
-            (!Expr::var(HOLD)).op(Op::And, c)
+            held(&r.rung).condition.st()
         } else {
-            c
+            r.rung.condition.st()
         }
     };
     if let Some(one) = one {

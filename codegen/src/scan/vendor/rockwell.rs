@@ -212,10 +212,13 @@ impl<'a> Logix<'a> {
         }
     }
 
-    /// A nested statement in Logix ST (a call is written at the top level only: [`Logix::body`]).
-    fn stmt(&self, s: &Stmt) -> Result<Stmt, Violation> {
-        let block = |b: &[Stmt]| b.iter().map(|s| self.stmt(s)).collect::<Result<Vec<_>, _>>();
-        Ok(match s {
+    /// A nested statement in Logix ST: a timer's call becomes its inputs and `TONR` where it stands; a
+    /// block's call is written at the top level only ([`Logix::body`]).
+    fn stmt(&self, s: &Stmt) -> Result<Vec<Stmt>, Violation> {
+        let block = |b: &[Stmt]| -> Result<Vec<Stmt>, Violation> {
+            Ok(b.iter().map(|s| self.stmt(s)).collect::<Result<Vec<_>, _>>()?.concat())
+        };
+        Ok(vec![match s {
             Stmt::Assign(t, v) => Stmt::Assign(self.expr(t), self.expr(v)),
             Stmt::If(arms, els) => Stmt::If(
                 arms.iter().map(|(c, b)| Ok((self.expr(c), block(b)?))).collect::<Result<_, Violation>>()?,
@@ -228,6 +231,9 @@ impl<'a> Logix<'a> {
             ),
             Stmt::For(v, from, to, body) => Stmt::For(v.clone(), *from, *to, block(body)?),
             Stmt::Exit => Stmt::Exit,
+            Stmt::Call(inst, args) if self.timers.contains(&inst.to_ascii_lowercase()) => {
+                return Ok(self.timer_call(inst, args))
+            }
             Stmt::Call(inst, _) => {
                 return Err(Violation {
                     pou: self.pou.to_owned(),
@@ -235,23 +241,29 @@ impl<'a> Logix<'a> {
                     clause: "Logix ST",
                 })
             }
-        })
+        }])
+    }
+
+    /// A timer's call: its inputs set (`IN` as `TimerEnable`, `PT` as `PRE`), then `TONR(timer)`.
+    fn timer_call(&self, inst: &str, args: &[(String, Expr)]) -> Vec<Stmt> {
+        let inputs = args.iter().map(|(name, e)| {
+            let member = if name.eq_ignore_ascii_case("IN") { "TimerEnable" } else { "PRE" };
+            Stmt::set(format!("{inst}.{member}"), self.expr(e))
+        });
+        inputs.chain([Stmt::Call("TONR".into(), vec![(String::new(), Expr::Var(inst.to_owned()))])]).collect()
     }
 
     /// A top-level call: a timer's inputs and `TONR`, or a block's input parameters and its Add-On
     /// Instruction call (in-out parameters passed in order after the instance).
     fn call(&self, inst: &str, args: &[(String, Expr)], out: &mut String) -> Result<(), Violation> {
         let key = inst.to_ascii_lowercase();
+        if self.timers.contains(&key) {
+            out.push_str(&statements(&self.timer_call(inst, args), 0));
+            return Ok(());
+        }
         let mut set = |member: &str, e: &Expr| {
             out.push_str(&statements(&[Stmt::set(format!("{inst}.{member}"), self.expr(e))], 0));
         };
-        if self.timers.contains(&key) {
-            for (name, e) in args {
-                set(if name.eq_ignore_ascii_case("IN") { "TimerEnable" } else { "PRE" }, e);
-            }
-            let _ = writeln!(out, "TONR({inst});");
-            return Ok(());
-        }
         let Some((_, block)) = self.instances.iter().find(|(n, _)| *n == key) else {
             return Err(Violation {
                 pou: self.pou.to_owned(),
@@ -292,7 +304,7 @@ impl<'a> Logix<'a> {
         for st in stmts {
             match st {
                 Stmt::Call(inst, args) => self.call(inst, args, &mut out)?,
-                st => out.push_str(&statements(&[self.stmt(st)?], 0)),
+                st => out.push_str(&statements(&self.stmt(st)?, 0)),
             }
         }
         Ok(out)
