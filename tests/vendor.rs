@@ -235,8 +235,11 @@ fn logix_lines(line: &str, pou: &Pou, blocks: &[&Pou]) -> Vec<String> {
             _ => w.to_owned(),
         })
     };
-    let call = line.split_once('(').filter(|(head, _)| {
-        line.ends_with(");") && head.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+    // A call may stand inside an IF (a timer started there): its lines keep the call's indentation.
+    let code = line.trim_start();
+    let pad = &line[..line.len() - code.len()];
+    let call = code.split_once('(').filter(|(head, _)| {
+        code.ends_with(");") && head.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
     });
     let Some((inst, args)) = call.filter(|(inst, _)| ty(inst).is_some_and(|t| matches!(t, Type::Named(_))))
     else {
@@ -257,9 +260,9 @@ fn logix_lines(line: &str, pou: &Pou, blocks: &[&Pou]) -> Vec<String> {
                 "IN" => ("TimerEnable", rewrite(e)),
                 _ => ("PRE", e.trim_start_matches("T#").trim_end_matches("ms").to_owned()),
             };
-            out.push(format!("{inst}.{member} := {value};"));
+            out.push(format!("{pad}{inst}.{member} := {value};"));
         }
-        out.push(format!("TONR({inst});"));
+        out.push(format!("{pad}TONR({inst});"));
         return out;
     }
     let Some(Type::Named(block)) = ty(inst) else { unreachable!() };
@@ -269,10 +272,10 @@ fn logix_lines(line: &str, pou: &Pou, blocks: &[&Pou]) -> Vec<String> {
         let (name, e) = p.split_once(" := ").unwrap();
         match block.var(name).map(|(_, v)| &v.ty) {
             Some(Type::Named(_) | Type::Array(..)) => positional.push(rewrite(e)),
-            _ => out.push(format!("{inst}.{name} := {};", rewrite(e))),
+            _ => out.push(format!("{pad}{inst}.{name} := {};", rewrite(e))),
         }
     }
-    out.push(format!("{}({});", block.name, positional.join(", ")));
+    out.push(format!("{pad}{}({});", block.name, positional.join(", ")));
     out
 }
 
