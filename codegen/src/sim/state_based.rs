@@ -145,15 +145,21 @@ mod tests {
     use serde_json::Value;
 
     use super::*;
-    use crate::project::Project;
+    use crate::manifest::Manifest;
     use crate::sim::api::handle;
+    use crate::synth::{local_modular, Config};
 
-    /// The distribution station (examples/distribution): four plants, no memory kept.
+    /// The distribution station (examples/distribution): its four plants and their local modular
+    /// supervisors (as the project's default deployment), and its `[state]` section; no memory kept.
     fn distribution() -> (Sim, Signals) {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/distribution/distribution.toml");
-        let project = Project::load(&path).unwrap();
-        let signals = project.state.as_ref().unwrap().check().unwrap();
-        let sim = Sim::new(&project.name, project.set, project.runtime).unwrap();
+        let manifest = Manifest::load(&path).unwrap();
+        let models = manifest.read_automata().unwrap();
+        let synthesised = local_modular(&models.plants, &models.specs, &Config::default()).unwrap();
+        let supervisors = synthesised.supervisors.into_iter().map(|s| s.automaton).collect();
+        let set = PackSet::new(models.plants, supervisors).unwrap();
+        let signals = manifest.state.as_ref().unwrap().check().unwrap();
+        let sim = Sim::new(&manifest.name, set, manifest.runtime.clone()).unwrap();
         (sim.with_signals(Ok(signals.clone())), signals)
     }
 
