@@ -38,7 +38,11 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     let mut project = Project::load(&args.manifest)?;
     // Which supervisors run is said on stderr: stdout's first line is the address.
     super::deploy(&mut project, args.deploy, true)?;
+    let signals = project.state.as_ref().map(|s| s.check().map_err(|e| e.to_string()));
     let mut sim = Sim::new(&project.name, project.set, project.runtime)?;
+    if let Some(signals) = signals {
+        sim = sim.with_signals(signals);
+    }
     let server = Server::bind(SocketAddr::new(args.bind, args.port))
         .map_err(|e| format!("{}:{}: {e}", args.bind, args.port))?;
     let addr = server.addr().map_or_else(|| format!("{}:{}", args.bind, args.port), |a| a.to_string());

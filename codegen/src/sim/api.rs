@@ -14,6 +14,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::findings::Located;
+use super::state_based::Word;
 use super::{draw, Actor, Events, Sim};
 
 /// The page.
@@ -131,6 +132,9 @@ pub struct State {
     pub findings: Result<Vec<Located>, String>,
     /// Steps the last run took, when the last request was a run.
     pub ran: Option<usize>,
+    /// A state-based project's signal word and rung values now, or why there are none; `None` (JSON
+    /// `null`) for a project without a `[state]` section.
+    pub program: Option<Result<Word, String>>,
 }
 
 /// Builds [`State`] for `sim` drawn to `depth`.
@@ -168,6 +172,7 @@ pub fn state(sim: &Sim, depth: usize, ran: Option<usize>) -> State {
             .collect(),
         findings: sim.findings.clone(),
         ran,
+        program: sim.program.as_ref().map(|p| p.as_ref().map(|p| p.shown(sim)).map_err(Clone::clone)),
     }
 }
 

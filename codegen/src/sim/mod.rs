@@ -4,7 +4,8 @@
 //! supervisors' transitions so far and `check`'s findings located on the automata ([`findings`]).
 //! [`api`] answers the page's JSON requests on it, [`draw`] lays each automaton out as SVG (the
 //! neighbourhood of its current state when large), and [`server`] serves the page and the API on a local
-//! port (docs/sim.md).
+//! port (docs/sim.md). For a state-based project, [`state_based`] adds the program's signal word and
+//! rungs.
 
 pub mod api;
 mod controller;
@@ -12,6 +13,7 @@ pub mod draw;
 pub mod findings;
 mod run;
 pub mod server;
+pub mod state_based;
 
 use std::collections::BTreeSet;
 
@@ -91,6 +93,9 @@ pub struct Sim {
     /// Runs so far: each run's plant and controller are seeded from the runtime seed plus this count, so
     /// two runs from one point differ and the whole session is reproducible.
     pub runs: u64,
+    /// A state-based project's program (`[state]`): its signal word and rungs, or why there is none;
+    /// `None` for a project without the section.
+    pub program: Option<Result<state_based::Program, String>>,
 }
 
 impl Sim {
@@ -116,7 +121,15 @@ impl Sim {
             covered: vec![BTreeSet::new(); supervisors],
             findings,
             runs: 0,
+            program: None,
         })
+    }
+
+    /// Shows the state-based program of `signals` (the project's `[state]` section, checked) beside the
+    /// closed loop; an error is kept to show.
+    pub fn with_signals(mut self, signals: Result<crate::config::Signals, String>) -> Self {
+        self.program = Some(signals.and_then(|s| state_based::Program::new(&self.set, s)));
+        self
     }
 
     /// The current state: one local state per automaton.

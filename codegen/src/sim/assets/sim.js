@@ -49,6 +49,40 @@ function eventButtons(list, names) {
   );
 }
 
+function showProgram(program) {
+  $("program").hidden = program === null;
+  if (program === null) {
+    return;
+  }
+  if (program.Err !== undefined) {
+    $("signals").replaceChildren();
+    $("rungs").replaceChildren(item("not available: " + program.Err, "error"));
+    return;
+  }
+  const word = program.Ok;
+  const memory = word.memory.map((value, k) => ({ name: "memory bit " + k, component: "", direction: "memory", value }));
+  $("signals").replaceChildren(
+    ...word.signals.concat(memory).map((s) => {
+      const tr = document.createElement("tr");
+      tr.dataset.signal = s.name;
+      for (const text of [s.name, s.component, s.direction, s.value ? "1" : "0"]) {
+        const td = document.createElement("td");
+        td.textContent = text;
+        tr.appendChild(td);
+      }
+      tr.className = s.value ? "on" : "off";
+      return tr;
+    })
+  );
+  $("rungs").replaceChildren(
+    ...word.rungs.map((r) => {
+      const li = item(r.event + ": " + (r.conducts ? "conducts" : "open"), r.conducts ? "on" : "off");
+      li.dataset.rung = r.event;
+      return li;
+    })
+  );
+}
+
 function show(state) {
   view = state;
   $("title").textContent = "codegen sim: " + state.name + " (policy " + state.policy + ")";
@@ -79,6 +113,7 @@ function show(state) {
       return tr;
     })
   );
+  showProgram(state.program);
   if (state.findings.Err !== undefined) {
     $("findings").replaceChildren(item("not available: " + state.findings.Err, "error"));
   } else if (state.findings.Ok.length === 0) {
