@@ -1,7 +1,7 @@
 """The page of `codegen sim` in a real browser: headless Chromium (Debian's, with its ChromeDriver) driven by
 Selenium. Run by codegen/tests/sim.rs against servers it started, one browser for them all:
 
-    python sim_browser.py SCREENSHOT cell=URL [factory=URL] [agv=URL] [net=URL]
+    python sim_browser.py SCREENSHOT cell=URL [factory=URL] [net=URL] [agv=URL]
 
 - cell: steps a controllable event and sees a supervisor's state change and a disabled event's reason,
   reverts, runs 1 000 events and sees coverage on the table and the graphs, then saves the screenshot;
@@ -9,6 +9,8 @@ Selenium. Run by codegen/tests/sim.rs against servers it started, one browser fo
   findings outlined red on them; for the AGV also a large supervisor drawn around its current state and
   expanded one level by its button;
 - net (a Petri-net sequence): steps an event the sequence requests and sees the marking change.
+
+The AGV comes last: its server may still be synthesising, and the script waits for it to listen.
 
 Every wait is bounded; a failed check exits 1 with why. Each project's seconds are printed.
 """
@@ -159,20 +161,22 @@ def factory(driver, wait, url):
 
 
 def listening(url):
-    """Waits (bounded) until a server that is still starting accepts connections on `url`'s port."""
+    """Waits (bounded) until a server that is still starting accepts connections on `url`'s port; returns
+    the seconds waited."""
     address = urlsplit(url)
-    deadline = time.monotonic() + STARTING_S
+    start = time.monotonic()
+    deadline = start + STARTING_S
     while True:
         try:
             socket.create_connection((address.hostname, address.port), timeout=1).close()
-            return
+            return time.monotonic() - start
         except OSError:
             assert time.monotonic() < deadline, f"nothing listens on {url} after {STARTING_S} s"
             time.sleep(0.2)
 
 
 def agv(driver, wait, url):
-    listening(url)
+    print(f"agv: waited {listening(url):.1f} s for its server")
     load(driver, wait, url)
     # The merged supervisor of thousands of states: drawn around its current state, expanded by its button.
     partial = [b for b in driver.find_elements(By.CSS_SELECTOR, ".graph.supervisor button")
@@ -210,7 +214,7 @@ def main():
     driver = browser()
     try:
         wait = WebDriverWait(driver, WAIT_S)
-        for name, check in [("cell", cell), ("factory", factory), ("agv", agv), ("net", net)]:
+        for name, check in [("cell", cell), ("factory", factory), ("net", net), ("agv", agv)]:
             if name not in urls:
                 continue
             start = time.monotonic()

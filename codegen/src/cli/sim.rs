@@ -41,7 +41,9 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     let signals = project.state.as_ref().map(|s| s.check().map_err(|e| e.to_string()));
     let net = match (&project.hybrid, &project.net) {
         (Some(h), _) => Some(Ok(sequence::Net::plant(h.plant.net.clone(), h.plant.labels.clone()))),
-        (None, Some(_)) => project.sequence().map_err(|e| e.to_string()).map(|n| n.map(sequence::Net::sequence)).transpose(),
+        (None, Some(_)) => {
+            project.sequence().map_err(|e| e.to_string()).map(|n| n.map(sequence::Net::sequence)).transpose()
+        }
         (None, None) => None,
     };
     let mut sim = Sim::new(&project.name, project.set, project.runtime)?;

@@ -74,7 +74,8 @@ impl Labels {
     /// that carries `event` — the firing [`reachability`] makes the graph's transition on `event` from
     /// `m` (a net where two such lead to different markings is refused there); `None` when there is none.
     pub fn firing(&self, net: &Net, m: &[u32], event: &str) -> Option<usize> {
-        (0..net.transitions.len()).find(|&t| self.events.get(t).is_some_and(|e| e == event) && net.state_enabled(t, m))
+        (0..net.transitions.len())
+            .find(|&t| self.events.get(t).is_some_and(|e| e == event) && net.state_enabled(t, m))
     }
 }
 

@@ -120,7 +120,9 @@ pub fn draw(sim: &Sim, i: usize, depth: usize) -> Result<Drawing, String> {
         .collect();
     let edges = arrows
         .into_iter()
-        .filter_map(|((s, d, taken), names)| Some((*index.get(&s)?, *index.get(&d)?, names.join(", "), taken)))
+        .filter_map(|((s, d, taken), names)| {
+            Some((*index.get(&s)?, *index.get(&d)?, names.join(", "), taken))
+        })
         .collect();
     let layout = render(nodes, edges);
     let svg = layout.ok_or_else(|| format!("{}: the layout failed", a.name))?;
@@ -156,8 +158,15 @@ pub fn render(nodes: Vec<Node>, edges: Vec<(usize, usize, String, bool)>) -> Opt
         for (from, to, text, taken) in edges {
             let (colour, width) = if taken { ("green", 3) } else { ("black", 1) };
             let look = StyleAttr::new(Color::fast(colour), width, None, 0, 12);
-            let arrow =
-                Arrow::new(LineEndKind::None, LineEndKind::Arrow, LineStyleKind::Normal, &text, &look, &None, &None);
+            let arrow = Arrow::new(
+                LineEndKind::None,
+                LineEndKind::Arrow,
+                LineStyleKind::Normal,
+                &text,
+                &look,
+                &None,
+                &None,
+            );
             if let (Some(&from), Some(&to)) = (handles.get(from), handles.get(to)) {
                 graph.add_edge(arrow, from, to);
             }

@@ -16,13 +16,14 @@
 
 use std::collections::BTreeSet;
 
+use layout::std_shapes::shapes::ShapeKind;
+
 use crate::model::{EventId, EventTable};
 use crate::net::condition::Value;
 use crate::net::interpretation::Interpretation;
 use crate::net::io_graph::{self, Node as NetNode};
 use crate::net::model::Marking;
 use crate::net::reachability::Labels;
-use layout::std_shapes::shapes::ShapeKind;
 
 use super::draw::{self, Node};
 use super::Sim;
@@ -380,13 +381,15 @@ mod tests {
         let labels = Labels::bind(spec, manifest.hybrid.as_ref().unwrap(), &manifest.file, &net.net).unwrap();
         let graph = crate::net::reachability::reachability(&net.net, &labels, "G_line", 1000).unwrap();
         let set = PackSet::new(vec![graph], Vec::new()).unwrap();
-        let mut sim = Sim::new("line", set, Default::default())
-            .unwrap()
-            .with_net(Ok(Net::plant(net, labels)));
+        let mut sim =
+            Sim::new("line", set, Default::default()).unwrap().with_net(Ok(Net::plant(net, labels)));
         for _ in 0..30 {
             let net = net_of(&mut sim);
             assert_eq!(net["kind"], "plant");
-            assert_eq!(strings(&net["marked"]).join("."), sim.automata[0].states[sim.state()[0] as usize].name);
+            assert_eq!(
+                strings(&net["marked"]).join("."),
+                sim.automata[0].states[sim.state()[0] as usize].name
+            );
             handle(&mut sim, "POST", "/api/run", r#"{"events": 1, "depth": 1}"#);
         }
         assert_eq!(sim.trace.len(), 30);
