@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use codegen::config::SupervisorChoice;
 use codegen::project::Project;
 use codegen::sim::server::Server;
-use codegen::sim::Sim;
+use codegen::sim::{sequence, Sim};
 
 use super::Error;
 
@@ -39,9 +39,19 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
     // Which supervisors run is said on stderr: stdout's first line is the address.
     super::deploy(&mut project, args.deploy, true)?;
     let signals = project.state.as_ref().map(|s| s.check().map_err(|e| e.to_string()));
+    let net = match (&project.hybrid, &project.net) {
+        (Some(h), _) => Some(Ok(sequence::Net::plant(h.plant.net.clone(), h.plant.labels.clone()))),
+        (None, Some(_)) => {
+            project.sequence().map_err(|e| e.to_string()).map(|n| n.map(sequence::Net::sequence)).transpose()
+        }
+        (None, None) => None,
+    };
     let mut sim = Sim::new(&project.name, project.set, project.runtime)?;
     if let Some(signals) = signals {
         sim = sim.with_signals(signals);
+    }
+    if let Some(net) = net {
+        sim = sim.with_net(net);
     }
     let server = Server::bind(SocketAddr::new(args.bind, args.port))
         .map_err(|e| format!("{}:{}: {e}", args.bind, args.port))?;

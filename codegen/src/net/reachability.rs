@@ -69,6 +69,14 @@ impl Labels {
             events.iter().map(|e| hybrid.controllable.iter().any(|c| c.get_ref() == e)).collect();
         Ok(Labels { events, controllable })
     }
+
+    /// The transition `event` fires in the marking `m`: the first in net order that `m` state-enables and
+    /// that carries `event` — the firing [`reachability`] makes the graph's transition on `event` from
+    /// `m` (a net where two such lead to different markings is refused there); `None` when there is none.
+    pub fn firing(&self, net: &Net, m: &[u32], event: &str) -> Option<usize> {
+        (0..net.transitions.len())
+            .find(|&t| self.events.get(t).is_some_and(|e| e == event) && net.state_enabled(t, m))
+    }
 }
 
 /// The reachability graph of `net` under `labels` as a plant automaton named `name`, at most `limit`

@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use super::findings::Located;
 use super::state_based::Word;
-use super::{draw, Actor, Events, Sim};
+use super::{draw, sequence, Actor, Events, Sim};
 
 /// The page.
 const INDEX: &str = include_str!("assets/index.html");
@@ -135,6 +135,9 @@ pub struct State {
     /// A state-based project's signal word and rung values now, or why there are none; `None` (JSON
     /// `null`) for a project without a `[state]` section.
     pub program: Option<Result<Word, String>>,
+    /// A project's Petri net at this point (its marking, transitions enabled and fired, its drawing), or
+    /// why there is none; `None` (JSON `null`) for a project without a net.
+    pub net: Option<Result<sequence::Shown, String>>,
 }
 
 /// Builds [`State`] for `sim` drawn to `depth`.
@@ -173,6 +176,7 @@ pub fn state(sim: &Sim, depth: usize, ran: Option<usize>) -> State {
         findings: sim.findings.clone(),
         ran,
         program: sim.program.as_ref().map(|p| p.as_ref().map(|p| p.shown(sim)).map_err(Clone::clone)),
+        net: sim.net.as_ref().map(|n| n.as_ref().map(|n| n.shown(sim)).map_err(Clone::clone)),
     }
 }
 

@@ -32,7 +32,7 @@ pub struct Drawing {
 }
 
 /// A label as the SVG may hold it: characters XML gives a meaning replaced, long names cut.
-fn label(text: &str) -> String {
+pub(super) fn label(text: &str) -> String {
     let mut out: String = text
         .chars()
         .map(|c| match c {
@@ -105,7 +105,8 @@ pub fn draw(sim: &Sim, i: usize, depth: usize) -> Result<Drawing, String> {
         let taken = covered.is_some_and(|c| global.is_some_and(|e| c.contains(&(s, e))));
         arrows.entry((s, d, taken)).or_default().push(label(name));
     }
-    let elements: Vec<(u32, Element)> = shown
+    let index: BTreeMap<u32, usize> = shown.iter().enumerate().map(|(k, &s)| (s, k)).collect();
+    let nodes: Vec<Node> = shown
         .iter()
         .map(|&s| {
             let state = &a.states[s as usize];
@@ -114,36 +115,67 @@ pub fn draw(sim: &Sim, i: usize, depth: usize) -> Result<Drawing, String> {
                 if state.marked { ShapeKind::new_double_circle(&text) } else { ShapeKind::new_circle(&text) };
             let fill = if s == current { "gold" } else { "white" };
             let (line, width) = if flagged.contains(state.name.as_str()) { ("red", 3) } else { ("black", 1) };
-            let look = StyleAttr::new(Color::fast(line), width, Some(Color::fast(fill)), 0, 14);
-            let size = get_shape_size(Orientation::TopToBottom, &shape, 14, true);
-            (s, Element::create(shape, look, Orientation::TopToBottom, size))
+            Node { shape, line, width, fill }
         })
         .collect();
-    let layout = std::panic::catch_unwind(move || {
+    let edges = arrows
+        .into_iter()
+        .filter_map(|((s, d, taken), names)| {
+            Some((*index.get(&s)?, *index.get(&d)?, names.join(", "), taken))
+        })
+        .collect();
+    let layout = render(nodes, edges);
+    let svg = layout.ok_or_else(|| format!("{}: the layout failed", a.name))?;
+    Ok(Drawing { svg, shown: shown.len(), partial })
+}
+
+/// One node of a drawing: its shape and label, outline colour and width, and fill.
+pub struct Node {
+    /// The shape with its label.
+    pub shape: ShapeKind,
+    /// The outline's colour (a name `layout-rs` knows).
+    pub line: &'static str,
+    /// The outline's width.
+    pub width: usize,
+    /// The fill's colour.
+    pub fill: &'static str,
+}
+
+/// Lays `nodes` and `edges` (from, to — indices into `nodes` — label, and whether drawn green: taken)
+/// out top to bottom as SVG; `None` when the layout library fails (it panics on some inputs).
+pub fn render(nodes: Vec<Node>, edges: Vec<(usize, usize, String, bool)>) -> Option<String> {
+    let elements: Vec<Element> = nodes
+        .into_iter()
+        .map(|n| {
+            let look = StyleAttr::new(Color::fast(n.line), n.width, Some(Color::fast(n.fill)), 0, 14);
+            let size = get_shape_size(Orientation::TopToBottom, &n.shape, 14, true);
+            Element::create(n.shape, look, Orientation::TopToBottom, size)
+        })
+        .collect();
+    std::panic::catch_unwind(move || {
         let mut graph = VisualGraph::new(Orientation::TopToBottom);
-        let handles: BTreeMap<u32, _> = elements.into_iter().map(|(s, e)| (s, graph.add_node(e))).collect();
-        for ((s, d, taken), names) in arrows {
+        let handles: Vec<_> = elements.into_iter().map(|e| graph.add_node(e)).collect();
+        for (from, to, text, taken) in edges {
             let (colour, width) = if taken { ("green", 3) } else { ("black", 1) };
             let look = StyleAttr::new(Color::fast(colour), width, None, 0, 12);
             let arrow = Arrow::new(
                 LineEndKind::None,
                 LineEndKind::Arrow,
                 LineStyleKind::Normal,
-                &names.join(", "),
+                &text,
                 &look,
                 &None,
                 &None,
             );
-            if let (Some(&from), Some(&to)) = (handles.get(&s), handles.get(&d)) {
+            if let (Some(&from), Some(&to)) = (handles.get(from), handles.get(to)) {
                 graph.add_edge(arrow, from, to);
             }
         }
         let mut svg = SVGWriter::new();
         graph.do_it(false, false, false, &mut svg);
         svg.finalize()
-    });
-    let svg = layout.map_err(|_| format!("{}: the layout failed", a.name))?;
-    Ok(Drawing { svg, shown: shown.len(), partial })
+    })
+    .ok()
 }
 
 #[cfg(test)]

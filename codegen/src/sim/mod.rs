@@ -5,13 +5,15 @@
 //! [`api`] answers the page's JSON requests on it, [`draw`] lays each automaton out as SVG (the
 //! neighbourhood of its current state when large), and [`server`] serves the page and the API on a local
 //! port (docs/sim.md). For a state-based project, [`state_based`] adds the program's signal word and
-//! rungs.
+//! rungs; for a project with a Petri net (a sequence, or a hybrid controller's plant net), [`sequence`]
+//! its marking.
 
 pub mod api;
 mod controller;
 pub mod draw;
 pub mod findings;
 mod run;
+pub mod sequence;
 pub mod server;
 pub mod state_based;
 
@@ -96,6 +98,9 @@ pub struct Sim {
     /// A state-based project's program (`[state]`): its signal word and rungs, or why there is none;
     /// `None` for a project without the section.
     pub program: Option<Result<state_based::Program, String>>,
+    /// A project's Petri net (a `[net]` sequence, or a hybrid controller's plant net), or why it could
+    /// not be read; `None` for a project without one.
+    pub net: Option<Result<sequence::Net, String>>,
 }
 
 impl Sim {
@@ -122,6 +127,7 @@ impl Sim {
             findings,
             runs: 0,
             program: None,
+            net: None,
         })
     }
 
@@ -129,6 +135,13 @@ impl Sim {
     /// closed loop; an error is kept to show.
     pub fn with_signals(mut self, signals: Result<crate::config::Signals, String>) -> Self {
         self.program = Some(signals.and_then(|s| state_based::Program::new(&self.set, s)));
+        self
+    }
+
+    /// Shows the project's Petri net beside the closed loop, its marking following the trace; an error
+    /// is kept to show.
+    pub fn with_net(mut self, net: Result<sequence::Net, String>) -> Self {
+        self.net = Some(net);
         self
     }
 

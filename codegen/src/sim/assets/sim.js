@@ -83,6 +83,48 @@ function showProgram(program) {
   );
 }
 
+function showNet(net) {
+  $("net").hidden = net === null;
+  if (net === null) {
+    return null;
+  }
+  const div = document.createElement("div");
+  div.className = "graph net";
+  div.dataset.automaton = "net";
+  const h = document.createElement("h3");
+  if (net.Err !== undefined) {
+    $("net-kind").textContent = "not available";
+    $("marking").textContent = net.Err;
+    $("fired").textContent = "";
+    $("requested").textContent = "";
+    h.textContent = "Petri net: " + net.Err;
+    div.appendChild(h);
+    return div;
+  }
+  const n = net.Ok;
+  const marked = n.places.filter((p) => p.tokens > 0).map((p) => (p.tokens > 1 ? p.id + "×" + p.tokens : p.id));
+  const fired = n.transitions.filter((t) => t.fired).map((t) => t.id + (t.event === null ? "" : " (" + t.event + ")"));
+  $("net-kind").textContent = n.kind === "plant" ? "the plant net" : "the sequence";
+  $("marking").textContent = marked.join(", ") || "none";
+  $("fired").textContent = "Fired by the last step: " + (fired.join(", ") || "none") + (n.cut ? " (cut: a cycle)" : "");
+  $("requested").textContent = n.kind === "plant" ? "" : "Requested: " + (n.requested.join(", ") || "none");
+  h.textContent = "Petri net (" + n.kind + ") — marked ";
+  const current = document.createElement("span");
+  current.className = "current marking";
+  current.textContent = marked.join(", ") || "none";
+  h.appendChild(current);
+  div.appendChild(h);
+  if (n.svg.Ok !== undefined) {
+    const img = document.createElement("img");
+    img.alt = "Petri net";
+    img.src = "data:image/svg+xml;charset=utf-8," + encodeURIComponent(n.svg.Ok);
+    div.appendChild(img);
+  } else {
+    div.appendChild(item(n.svg.Err, "error"));
+  }
+  return div;
+}
+
 function show(state) {
   view = state;
   $("title").textContent = "codegen sim: " + state.name + " (policy " + state.policy + ")";
@@ -134,7 +176,9 @@ function show(state) {
     li.dataset.step = k;
     li.addEventListener("click", () => call("POST", "/api/revert", { to: k, depth: depth() }));
   });
+  const net = showNet(state.net);
   $("graphs").replaceChildren(
+    ...(net === null ? [] : [net]),
     ...state.automata.map((a) => {
       const div = document.createElement("div");
       div.className = "graph " + a.role;
