@@ -71,6 +71,19 @@ fn every_plc_example_runs_with_no_violation() {
     }
 }
 
+// See: issue 36 (the EFA buffer, a module with no manifest, reported 0 marked visits in 501 events through
+// `--target plc`, 64 under QEMU: with no scan-cycle form of the runtime's default policy the program
+// took `local-queue`, whose fixed plant cycle runs the buffer between levels 1 and 2 for ever; `random`,
+// as the firmware's random queues, rules no interleaving out).
+#[test]
+fn the_efa_buffer_empties_with_both_machines_idle_under_the_default_policy() {
+    let (code, json, _) = run(&repo("examples/efa/buffer.wmod"), 500, &[]);
+    assert_eq!(code, Some(0), "{json}");
+    assert_eq!(json["violations"].as_u64(), Some(0), "{json}");
+    assert!(json["marked_visits"].as_u64() >= Some(20), "{json}");
+    assert!(json["longest_marked_gap"].as_u64() < Some(100), "{json}");
+}
+
 // See: issue 36 (`run --target plc` for the state-based form: every example with a `[state]` section,
 // its signals driven through the same state vectors the program is written from, 0 violations).
 #[test]
