@@ -1,7 +1,7 @@
 //! `codegen run --target plc` as a binary: the PLC program of every example with a `[plc]` section
-//! scanned closed loop by the interpreter, exit 0 with `"violations": 0` in the JSON; the factory and the
-//! cell with full coverage and their scan figures; the same seed giving the same bytes; exit 2 for the
-//! firmware's options. (Exit 1 on a violation: `tests/plc.rs` runs a broken program through the same
+//! scanned closed loop by the interpreter, exit 0 with `"violations": 0` and a marked visit in the JSON;
+//! the factory and the cell with full coverage and their scan figures; the same seed giving the same
+//! bytes; exit 2 for the firmware's options. (Exit 1 on a violation: `tests/plc.rs` runs a broken program through the same
 //! `plc::closed_loop::run` the command calls, and the exit status is the QEMU run's `finish`.)
 
 use std::path::Path;
@@ -68,6 +68,9 @@ fn every_plc_example_runs_with_no_violation() {
         assert_eq!(json["violations"].as_u64(), Some(0), "{manifest}: {json}");
         assert_eq!(json["target"].as_str(), Some("plc"), "{manifest}");
         assert!(json["events"].as_u64().unwrap() >= 300, "{manifest}: {json}");
+        // Liveness as under QEMU: a marked state of plants ‖ supervisors visited (a fixed choice rule
+        // can keep a nonblocking closed loop out of them, as `local-queue` did the EFA buffer's).
+        assert!(json["marked_visits"].as_u64() > Some(0), "{manifest}: {json}");
     }
 }
 
