@@ -69,7 +69,7 @@ pub struct Args {
     /// Diagram body in the XML).
     #[arg(long, value_enum, default_value_t = Avalanche::Auto)]
     avalanche: Avalanche,
-    /// Choice policy (default: the manifest's `[plc]` or `[runtime]` policy, else local-queue).
+    /// Choice policy (default: the manifest's `[plc]` or `[runtime]` policy, else random).
     #[arg(long, value_enum)]
     policy: Option<ScanPolicy>,
     /// Which supervisors to deploy: the full set, each supervisor reduced, or one monolithic supervisor,

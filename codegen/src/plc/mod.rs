@@ -275,8 +275,14 @@ impl Default for PlcOptions {
 impl PlcOptions {
     /// The options of a set named `name` with the run-time configuration `runtime` (guard, seed, fault
     /// reaction) and the `[plc]` section `spec`; the policy is `policy` when given, else `[plc] policy`,
-    /// else `runtime`'s when it has a scan-cycle form, else local-queue (the program header names it).
+    /// else `runtime`'s when it has a scan-cycle form, else `random` (the program header names it).
     /// The encoding and avalanche option stay at their defaults.
+    ///
+    /// The runtime policies without a scan-cycle form are the random queues (the default among them):
+    /// they draw, so that no interleaving of the plants is ruled out, and `random` is the scan-cycle
+    /// policy that keeps that. A fixed rule in their place can keep a nonblocking closed loop out of its
+    /// marked states for ever: the EFA buffer (`examples/efa/buffer.wmod`) under `local-queue` cycles
+    /// through buffer levels 1 and 2 and never empties it with both machines idle (issue 36).
     pub fn new(
         name: &str,
         runtime: &RuntimeConfig,
@@ -288,7 +294,7 @@ impl PlcOptions {
         let spec = spec.cloned().unwrap_or_default();
         let policy = match (policy.or(spec.policy), ScanPolicy::of_runtime(runtime.policy)) {
             (Some(p), _) | (None, Some(p)) => p,
-            (None, None) => ScanPolicy::LocalQueue,
+            (None, None) => ScanPolicy::Random,
         };
         Ok(PlcOptions {
             name: name.to_owned(),

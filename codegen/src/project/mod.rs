@@ -628,7 +628,7 @@ impl Project {
     /// every input with its hash and the command that reproduces them, and its report. The event-based
     /// form runs the manifest's sequence net beside the interlocks when it has one (`[net]`); its policy
     /// is the form's when given, else the manifest's (`[plc]`, else `[runtime]` when it has a scan-cycle
-    /// form), else local-queue for model files. The state-based form reads the `[state]` section (its
+    /// form), else random (the scan-cycle form of the random queues). The state-based form reads the `[state]` section (its
     /// report compares the event-based program's size); the hybrid form needs a `[hybrid]` manifest.
     pub fn plc(&self, form: &Form) -> Result<Written, ProjectError> {
         let file = self.file();
@@ -704,7 +704,7 @@ impl Project {
     }
 
     /// The event-based program's options: the policy `policy` when given, else the manifest's, else
-    /// local-queue.
+    /// random.
     fn plc_options(&self, policy: Option<ScanPolicy>) -> Result<PlcOptions, PlcError> {
         let opts = PlcOptions::new(&self.name, &self.runtime, self.plc.as_ref(), policy)?;
         Ok(PlcOptions { timers: self.timers.clone(), ..opts })
