@@ -53,16 +53,6 @@ fn every_plc_example_runs_with_no_violation() {
     let examples = plc_examples();
     assert!(examples.len() >= 3, "{examples:?}");
     for manifest in &examples {
-        // The known gap (issue 37): a project with `[[timers]]` (the cylinder) is refused before the run,
-        // exit 2, saying why — its timeouts are the program's own events and the driver does not let
-        // the scan clock run for them yet. When it does, this branch goes and the contract covers it.
-        if std::fs::read_to_string(manifest).unwrap().lines().any(|l| l.trim() == "[[timers]]") {
-            let out = codegen(&["run", manifest, "--target", "plc", "--events", "300", "--json"]);
-            assert_eq!(out.status.code(), Some(2), "{manifest}");
-            let err = String::from_utf8_lossy(&out.stderr);
-            assert!(err.contains("[[timers]] do not run closed loop yet"), "{manifest}: {err}");
-            continue;
-        }
         let (code, json, _) = run(manifest, 300, &[]);
         assert_eq!(code, Some(0), "{manifest}: {json}");
         assert_eq!(json["violations"].as_u64(), Some(0), "{manifest}: {json}");
