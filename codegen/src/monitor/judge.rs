@@ -4,8 +4,8 @@ use std::collections::{BTreeSet, VecDeque};
 
 use super::choice_model::{ChoiceModel, Choices};
 use super::coverage::{Edge, Graph, Taken};
-use super::report::{CoverageLine, FirmwareCounters, Report};
 use super::report::TimeoutFigures;
+use super::report::{CoverageLine, FirmwareCounters, Report};
 use super::steering::{Command, Move, Steering};
 use super::timers::{Timers, Timing};
 use crate::model::{Automaton, Composition, EventId, EventTable, ModelError};
@@ -170,8 +170,8 @@ impl Monitor {
     /// The run's timers: their timeouts are the target's events, judged by [`Monitor::timeout`] against
     /// deadlines in the virtual time the session keeps ([`Monitor::clock`]).
     pub fn set_timers(&mut self, timers: Timers) {
-        self.report.timeouts =
-            (!timers.is_empty()).then(|| TimeoutFigures { slack_ms: timers.slack_ms(), ..Default::default() });
+        self.report.timeouts = (!timers.is_empty())
+            .then(|| TimeoutFigures { slack_ms: timers.slack_ms(), ..Default::default() });
         self.timers = timers;
     }
 

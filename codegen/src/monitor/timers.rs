@@ -134,8 +134,13 @@ mod tests {
 
     /// Timer T (2000 ms, start `go`, stop `end`) over a table of its own events, slack 10 ms.
     fn timers() -> (Timers, EventTable) {
-        let spec =
-            TimerSpec { name: "T".into(), start: vec!["go".into()], stop: vec!["end".into()], timeout: None, ms: 2000 };
+        let spec = TimerSpec {
+            name: "T".into(),
+            start: vec!["go".into()],
+            stop: vec!["end".into()],
+            timeout: None,
+            ms: 2000,
+        };
         let a: Automaton = spec.automaton(|e| Some(e == "go")).unwrap();
         assert_eq!(a.kind, Kind::Plant);
         let table = EventTable::build([&a]).unwrap();
@@ -147,12 +152,9 @@ mod tests {
         let (mut t, table) = timers();
         let (go, out) = (table.id("go").unwrap(), table.id("T_timeout").unwrap());
         assert!(t.is_timeout(out) && !t.is_timeout(go));
-        for (at, timing) in [
-            (1999, Timing::Early),
-            (2000, Timing::OnTime),
-            (2010, Timing::OnTime),
-            (2011, Timing::Late),
-        ] {
+        for (at, timing) in
+            [(1999, Timing::Early), (2000, Timing::OnTime), (2010, Timing::OnTime), (2011, Timing::Late)]
+        {
             t.take(go, 0);
             assert_eq!(t.next_deadline(), Some(2000));
             assert_eq!(t.timeout(out, at), timing, "at {at} ms");
@@ -163,7 +165,8 @@ mod tests {
     #[test]
     fn a_restart_moves_the_deadline_and_a_stop_disarms() {
         let (mut t, table) = timers();
-        let (go, end, out) = (table.id("go").unwrap(), table.id("end").unwrap(), table.id("T_timeout").unwrap());
+        let (go, end, out) =
+            (table.id("go").unwrap(), table.id("end").unwrap(), table.id("T_timeout").unwrap());
         t.take(go, 0);
         t.take(go, 1500);
         assert_eq!(t.next_deadline(), Some(3500));

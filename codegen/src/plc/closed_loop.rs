@@ -177,8 +177,15 @@ impl Driver {
     pub fn new(text: &str, io: IoMap) -> Result<Driver, String> {
         let plc = Plc::load(text)?;
         let timer_q = vec![false; io.timers.len()];
-        let mut d =
-            Driver { plc, io, levels: BTreeMap::new(), outputs: BTreeMap::new(), timer_q, cycle_ms: 10, edged: false };
+        let mut d = Driver {
+            plc,
+            io,
+            levels: BTreeMap::new(),
+            outputs: BTreeMap::new(),
+            timer_q,
+            cycle_ms: 10,
+            edged: false,
+        };
         // The boot scan: initial states, the inputs' first sample.
         d.reset()?;
         Ok(d)
