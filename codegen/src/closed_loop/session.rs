@@ -873,3 +873,140 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::collections::VecDeque;
+    use std::thread::JoinHandle;
+
+    use super::*;
+    use crate::link::memory::{self, MemoryLink};
+    use crate::link::protocol::{EXIT, READY, STATUS_BYTES, TIME};
+    use crate::manifest::TimerSpec;
+    use crate::model::testing::machine;
+    use crate::model::EventTable;
+    use crate::monitor::{TimeoutFigures, Timers};
+    use crate::plant::PlantConfig;
+
+    /// Event ids of the scripted loop: M `go` (command) / `done`, and T's timeout.
+    struct Ids {
+        go: u8,
+        done: u8,
+        timeout: u8,
+    }
+
+    /// A scripted target on the other end of `link`: it fires `go` whenever M is idle (at each SYNC or
+    /// STEP), runs timer T (2000 ms from `go`, stopped by `done`) on the TIME it is sent, and raises the
+    /// timeout `skew_ms` after its deadline (negative: before); it answers RESET, STATUS, SYNC and STEP
+    /// as a firmware does, and returns its virtual clock on EXIT.
+    fn scripted(mut link: MemoryLink, ids: Ids, skew_ms: i64) -> JoinHandle<u64> {
+        std::thread::spawn(move || {
+            let (mut clock, mut deadline, mut busy) = (0i64, None::<i64>, false);
+            let mut queue: VecDeque<u8> = VecDeque::new();
+            let mut buf = [0u8; 256];
+            link.send(&[READY]).unwrap();
+            loop {
+                let n = link.recv(&mut buf, Duration::from_millis(20)).unwrap();
+                queue.extend(&buf[..n]);
+                while let Some(b) = queue.pop_front() {
+                    let mut out = Vec::new();
+                    match b {
+                        RESET => {
+                            (busy, deadline) = (false, None);
+                            out.push(READY);
+                        }
+                        STATUS => {
+                            out.push(STATUS);
+                            out.extend([0; STATUS_BYTES]);
+                        }
+                        TIME if queue.len() < 2 => {
+                            queue.push_front(TIME);
+                            break;
+                        }
+                        TIME => {
+                            clock += i64::from(u16::from_le_bytes([queue[0], queue[1]]));
+                            queue.drain(..2);
+                            if deadline.is_some_and(|d| clock >= d + skew_ms) {
+                                deadline = None;
+                                out.push(ids.timeout);
+                            }
+                        }
+                        SYNC | STEP => {
+                            if !busy {
+                                (busy, deadline) = (true, Some(clock + 2000));
+                                out.push(ids.go);
+                            }
+                            out.push(SYNC);
+                        }
+                        EXIT => return clock as u64,
+                        e if e == ids.done => (busy, deadline) = (false, None),
+                        _ => {}
+                    }
+                    link.send(&out).unwrap();
+                }
+            }
+        })
+    }
+
+    /// M with timer T over the scripted target skewed by `skew_ms`, for 120 events with the plant's
+    /// answer to `go` 1–3 s later: the report, and the virtual clocks of host and target at the end.
+    fn run(skew_ms: i64, slack_ms: u64) -> (Report, u64, u64) {
+        let m = machine("M", "go", "done");
+        let spec = TimerSpec {
+            name: "T".into(),
+            start: vec!["go".into()],
+            stop: vec!["done".into()],
+            timeout: None,
+            ms: 2000,
+        };
+        let t = spec.automaton(|e| Some(e == "go")).unwrap();
+        let table = EventTable::build([&m, &t]).unwrap();
+        let id = |n: &str| table.id(n).unwrap().as_u32() as u8;
+        let ids = Ids { go: id("go"), done: id("done"), timeout: id("T_timeout") };
+        let config = PlantConfig {
+            answer_delay_us: vec![("go".into(), (1_000_000, 3_000_000))],
+            ..PlantConfig::default()
+        };
+        let mut plant = VirtualPlant::new(&[&m, &t], &table, config).unwrap();
+        let mut monitor = Monitor::new(&[&m, &t], &[], &table, 500_000).unwrap();
+        let timers = Timers::new(&[spec], &table, slack_ms);
+        plant.withhold(timers.timeouts());
+        monitor.set_timers(timers);
+        let (mut host, target) = memory::pair();
+        let target = scripted(target, ids, skew_ms);
+        let config = SessionConfig { step: false, ..SessionConfig::default() };
+        let mut session = Session::new(&mut host, &mut plant, &mut monitor, config);
+        session.sync(false).unwrap();
+        session.run(120, &mut |_| {}).unwrap();
+        let host_ms = session.virtual_ms();
+        let report = session.finish().unwrap();
+        host.send(&[EXIT]).unwrap();
+        (report, host_ms, target.join().unwrap())
+    }
+
+    #[test]
+    fn the_virtual_clock_runs_both_paths_and_judges_a_target_on_time() {
+        let (report, host_ms, target_ms) = run(0, 0);
+        let t = report.timeouts.unwrap();
+        assert_eq!((report.violations, t.early, t.late, t.missing), (0, 0, 0, 0), "{report:?}");
+        assert!(t.on_time > 0, "the plant's 1–3 s answer lets the 2 s timeout come: {t:?}");
+        assert!(report.uncontrollable > 0, "and the answer come first: {report:?}");
+        assert_eq!(host_ms, target_ms, "every ms the host moved on was sent as TIME");
+        assert!(host_ms >= 2000 * t.on_time, "{host_ms}");
+        let (again, ..) = run(0, 0);
+        assert_eq!(report.trace_sha256, again.trace_sha256, "a function of the seed");
+    }
+
+    #[test]
+    fn an_early_late_or_missing_timeout_is_a_violation() {
+        let early = run(-100, 0).0.timeouts.unwrap();
+        assert!(early.early > 0 && early.missing == 0, "{early:?}");
+        let missing = run(5, 0).0;
+        let t: TimeoutFigures = missing.timeouts.unwrap();
+        assert!(t.missing > 0 && t.on_time == 0, "{t:?}");
+        assert!(missing.violations >= t.missing, "{missing:?}");
+        // Within the slack the host gives, a target 5 ms late is on time.
+        let slack = run(5, 5).0;
+        assert_eq!((slack.violations, slack.timeouts.unwrap().missing), (0, 0), "{slack:?}");
+    }
+}
