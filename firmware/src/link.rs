@@ -16,6 +16,7 @@
 //! | `0xF7` SYNC | both | request: answer SYNC once nothing is enabled (or in the safe state) and deciding is not on hold; so a host can run the loop in lock-step, every round's decisions taken on every input it sent |
 //! | `0xF8` STEP | host → fw | decide once on every input sent before it (fire at most one command), then hold again and answer SYNC; so a host can take its turn between any two decisions of a controller that never runs out of commands |
 //! | `0xF9` TABLES | both | request: which tables does the firmware run? answered by `0xF9` then the [`TABLES_BYTES`] ASCII hex digits of their digest (`firmware::table::image::digest`, the `DIGEST` of the emitted tables), so that a host refuses a firmware built from another manifest; a loop given no digest ([`EventLoop::new`](crate::event_loop::EventLoop::new)) treats it as any unknown byte, as a firmware from before TABLES does |
+//! | `0xFA` TIME | host → fw | then Δ ms as 2 bytes little-endian (1..=65535): virtual time moved on by Δ; each timer timeout that falls due is taken as an uncontrollable event and its id sent to the host; sent only while held, before the round's plant events; ignored (with its 2 bytes) by a target without timers |
 //!
 //! A firmware a host drives (QEMU's, the host-compiled one of the tests) boots on hold ([`Hold::on_hold`]):
 //! it sends READY and decides nothing until the host's first GO or STEP.
@@ -49,6 +50,13 @@ pub const STEP: u8 = 0xF8;
 /// Host → firmware: which tables do you run; firmware → host: the answer's first byte, then the
 /// digest's [`TABLES_BYTES`] hex digits.
 pub const TABLES: u8 = 0xF9;
+/// Host → firmware: virtual time moved on; followed by 2 bytes, little-endian, Δ in milliseconds
+/// (1..=65535). The target advances its timers by Δ; each timeout that falls due (in the order they fall
+/// due) is taken as an uncontrollable event, as if the plant had sent it, and its event id is sent to
+/// the host (a byte `0x00..=0xEF`, as a command is; the host knows a timeout by its id). A host sends it
+/// only while the target is held (HOLD … GO, or between steps), before that round's plant events. RESET
+/// makes every timer idle; a target without timers ignores TIME and its 2 bytes.
+pub const TIME: u8 = 0xFA;
 /// Bytes of a TABLES answer after its leading [`TABLES`]: the 16 lowercase hex digits of the tables'
 /// digest, as the emitted tables' `DIGEST` spells it.
 pub const TABLES_BYTES: usize = 16;
