@@ -200,8 +200,11 @@ fn uniform_updates(set: &PackSet, efa: &Efa) -> Vec<Option<Vec<(EventId, Action)
     let mut out = Vec::new();
     for (v, var) in efa.variables.iter().enumerate() {
         let fits = i16::try_from(var.min).is_ok() && i16::try_from(var.max).is_ok();
-        let writers: Vec<_> =
-            efa.components.iter().filter(|c| c.edges.iter().any(|e| e.actions.iter().any(|a| a.var == v))).collect();
+        let writers: Vec<_> = efa
+            .components
+            .iter()
+            .filter(|c| c.edges.iter().any(|e| e.actions.iter().any(|a| a.var == v)))
+            .collect();
         let mut updates = Vec::new();
         let mut uniform = fits;
         for (e, (name, _)) in efa.events.iter().enumerate() {
@@ -245,9 +248,8 @@ fn kept_variables(set: &PackSet, modules: &[Efa]) -> Vec<Variable> {
             let mut changed = false;
             // An action reading a variable the same event assigns would see the new value in a PLC,
             // which assigns one after the other: such a variable is not kept.
-            let assigned = |e: EventId, x: usize| {
-                updates[x].as_ref().is_some_and(|u| u.iter().any(|(y, _)| *y == e))
-            };
+            let assigned =
+                |e: EventId, x: usize| updates[x].as_ref().is_some_and(|u| u.iter().any(|(y, _)| *y == e));
             let drop: Vec<bool> = (0..updates.len())
                 .map(|v| {
                     updates[v].as_ref().is_some_and(|u| {
@@ -333,9 +335,11 @@ fn care_sets(
     let mut seen = HashMap::from([(first.clone(), ())]);
     let mut queue = VecDeque::from([first]);
     while let Some((states, values)) = queue.pop_front() {
-        let next_state = |a: usize, e: EventId| members[a].out(states[a]).find(|(x, _)| *x == e).map(|(_, t)| t);
+        let next_state =
+            |a: usize, e: EventId| members[a].out(states[a]).find(|(x, _)| *x == e).map(|(_, t)| t);
         for (e, (enabled, disabled)) in &mut care {
-            let plants = holders(*e).filter(|&a| members[a].role == Role::Plant).all(|a| next_state(a, *e).is_some());
+            let plants =
+                holders(*e).filter(|&a| members[a].role == Role::Plant).all(|a| next_state(a, *e).is_some());
             if plants {
                 let sups = holders(*e).all(|a| next_state(a, *e).is_some());
                 if sups { enabled } else { disabled }.insert(values.clone());
@@ -367,7 +371,11 @@ fn care_sets(
 
 /// The guard that holds on `enabled` and fails on `disabled`, simplified as the module's documentation
 /// says; `None` when the two meet.
-fn separate(variables: &[Variable], enabled: &BTreeSet<Vec<i64>>, disabled: &BTreeSet<Vec<i64>>) -> Option<Guard> {
+fn separate(
+    variables: &[Variable],
+    enabled: &BTreeSet<Vec<i64>>,
+    disabled: &BTreeSet<Vec<i64>>,
+) -> Option<Guard> {
     if disabled.is_empty() {
         return Some(Guard { terms: vec![Vec::new()] });
     }
@@ -406,4 +414,234 @@ fn separate(variables: &[Variable], enabled: &BTreeSet<Vec<i64>>, disabled: &BTr
         .map(|v| v.iter().enumerate().map(|(k, &x)| Bound { var: k, lo: Some(x), hi: Some(x) }).collect())
         .collect();
     Some(Guard { terms })
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use proptest::prelude::*;
+
+    use super::*;
+    use crate::formats::efa::expr::AssignOp;
+    use crate::formats::efa::{unfold, Component, Edge, Variable as EfaVariable};
+    use crate::model::{Automaton, Kind};
+    use crate::synth::{monolithic, Config};
+
+    /// The value of `var` in a state of an unfolded automaton, read off its name (`…var=value…`, the
+    /// unfolding's documented naming); `None` if the automaton does not hold the variable.
+    fn value_in(a: &Automaton, s: usize, var: &str) -> Option<i64> {
+        a.states[s].name.split('.').find_map(|part| part.strip_prefix(&format!("{var}="))?.parse().ok())
+    }
+
+    /// The brute-force check: walks the closed loop of `set` in step with the unfolded automata
+    /// `unfolded` (which accept every string the supervisors allow), takes each kept variable's value
+    /// from the unfolded state that holds it, and asserts at every reachable configuration that the
+    /// program's variables (updated by [`step`]) have those values and that each guard is the explicit
+    /// enablement by the supervisors wherever the plants allow the event. Returns the configurations seen.
+    fn check(set: &PackSet, modules: &[Efa], unfolded: &[Automaton], g: &Guards) -> usize {
+        let members = set.members();
+        let events = set.events();
+        let holds = |alphabet: &[EventId], e| alphabet.binary_search(&e).is_ok();
+        let alphabets: Vec<Vec<EventId>> = members.iter().map(|m| m.alphabet()).collect();
+        type Config = (Vec<usize>, Vec<usize>, Vec<i64>);
+        let first: Config = (
+            members.iter().map(|m| m.initial().index()).collect(),
+            unfolded.iter().map(|a| a.initial.map_or(0, |s| s.index())).collect(),
+            g.variables.iter().map(|v| v.initial).collect(),
+        );
+        let mut seen = std::collections::HashSet::from([first.clone()]);
+        let mut queue = vec![first];
+        while let Some((states, ustates, values)) = queue.pop() {
+            for (k, v) in g.variables.iter().enumerate() {
+                let reference = unfolded.iter().zip(&ustates).find_map(|(a, &s)| value_in(a, s, &v.name));
+                assert_eq!(reference, Some(values[k]), "variable {} at {states:?}", v.name);
+            }
+            let next = |a: usize, e: EventId| {
+                members[a].out(states[a]).find(|(x, _)| *x == e).map(|(_, t)| t.index())
+            };
+            for (e, guard) in &g.guards {
+                let holders = || (0..members.len()).filter(|&a| holds(&alphabets[a], *e));
+                let plants =
+                    holders().filter(|&a| members[a].role == Role::Plant).all(|a| next(a, *e).is_some());
+                if plants {
+                    let sups = holders().all(|a| next(a, *e).is_some());
+                    assert_eq!(guard.holds(&values), sups, "{} at {states:?} {values:?}", events.name(*e));
+                }
+            }
+            for e in events.ids() {
+                let Some(moves) = (0..members.len())
+                    .filter(|&a| holds(&alphabets[a], e))
+                    .map(|a| next(a, e).map(|t| (a, t)))
+                    .collect::<Option<Vec<_>>>()
+                else {
+                    continue;
+                };
+                let mut s = states.clone();
+                moves.into_iter().for_each(|(a, t)| s[a] = t);
+                let mut u = ustates.clone();
+                for (i, a) in unfolded.iter().enumerate() {
+                    let Some(id) = a.event_id(events.name(e)) else { continue };
+                    let t = a.transitions.iter().find(|t| t.source.index() == u[i] && t.event == id);
+                    u[i] = t.expect("the unfolded automata accept the closed loop").target.index();
+                }
+                let key = (s, u, step(g, modules, &values, e).expect("values stay in range"));
+                if seen.insert(key.clone()) {
+                    queue.push(key);
+                }
+            }
+        }
+        seen.len()
+    }
+
+    /// Synthesises the monolithic supervisor of `efa`'s unfolding; `None` when the unfolding is refused
+    /// or the supervisor is empty.
+    fn closed_loop(efa: &Efa) -> Option<(PackSet, Vec<Automaton>)> {
+        let unfolded = unfold(Path::new("m.wmod"), efa).ok()?;
+        let plants: Vec<Automaton> = unfolded.iter().filter(|a| a.kind == Kind::Plant).cloned().collect();
+        let specs: Vec<Automaton> = unfolded.iter().filter(|a| a.kind == Kind::Spec).cloned().collect();
+        let sup = monolithic(&plants, &specs, &Config::default()).ok()?;
+        if sup.automaton.states.is_empty() {
+            return None;
+        }
+        Some((PackSet::new(plants, vec![sup.automaton]).ok()?, unfolded))
+    }
+
+    #[test]
+    fn the_buffer_comes_back_as_bounds_on_its_count() {
+        let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/efa/buffer.wmod");
+        let efa = crate::formats::read_efa_path(&file).unwrap().unwrap();
+        let (set, unfolded) = closed_loop(&efa).unwrap();
+        let g = extract(&set, std::slice::from_ref(&efa));
+        let texts: Vec<(&str, String)> =
+            g.guards.iter().map(|(e, x)| (set.events().name(*e), x.text(&g.variables))).collect();
+        assert_eq!(texts, [("start1", "n <= 1".to_owned()), ("start2", "n >= 1".to_owned())]);
+        assert!(g.kept.is_empty());
+        assert_eq!(check(&set, std::slice::from_ref(&efa), &unfolded, &g), 10);
+    }
+
+    #[test]
+    fn a_variable_two_edges_update_differently_is_not_kept() {
+        // `a` adds one from q0 and sets zero from q1: its update depends on the state.
+        let x = EfaVariable { name: "x".into(), min: 0, max: 2, initial: 0, marked: None, line: 1 };
+        let edge = |source, target, op, k| Edge {
+            source,
+            target,
+            events: vec![0],
+            guards: vec![],
+            actions: vec![Action { var: 0, op, value: Expr::Int(k) }],
+            line: 1,
+        };
+        let efa = Efa {
+            events: vec![("a".into(), true)],
+            variables: vec![x],
+            components: vec![Component {
+                name: "P".into(),
+                kind: Kind::Plant,
+                alphabet: vec![0],
+                states: vec![("q0".into(), true), ("q1".into(), true)],
+                initial: Some(0),
+                edges: vec![edge(0, 1, AssignOp::Add, 1), edge(1, 0, AssignOp::Set, 0)],
+                line: 1,
+            }],
+        };
+        let (set, _) = closed_loop(&efa).unwrap();
+        assert_eq!(extract(&set, &[efa]), Guards::default());
+    }
+
+    fn guard_strategy() -> impl Strategy<Value = Expr> {
+        let op = prop_oneof![Just(BinaryOp::Eq), Just(BinaryOp::Ne), Just(BinaryOp::Lt), Just(BinaryOp::Gt)];
+        (0..2usize, op, 0..3i64)
+            .prop_map(|(v, op, k)| Expr::Binary(op, Box::new(Expr::Var(v)), Box::new(Expr::Int(k))))
+    }
+
+    /// A plant over `a` (controllable), `b` (uncontrollable), `c` (controllable) whose edges update
+    /// `x` (0..3) and `y` (0..1) by one uniform action per event, and a specification guarding its
+    /// edges with conditions on them, in states of its own.
+    fn efa_strategy() -> impl Strategy<Value = Efa> {
+        let op = prop_oneof![Just(AssignOp::Set), Just(AssignOp::Add), Just(AssignOp::Sub)];
+        let action = prop::option::of((0..2usize, op, 0..3i64))
+            .prop_map(|a| a.map(|(var, op, k)| Action { var, op, value: Expr::Int(k) }));
+        let plant_edges = prop::collection::vec((0..2usize, 0..2usize, 0..3usize), 1..6);
+        let spec_edges = prop::collection::vec((0..2usize, 0..2usize, 0..3usize, guard_strategy()), 1..6);
+        (prop::collection::vec(action, 3), plant_edges, spec_edges, any::<[bool; 2]>()).prop_map(
+            |(per_event, plant, spec, marks)| {
+                let plant_edges = plant
+                    .into_iter()
+                    .map(|(source, target, e)| Edge {
+                        source,
+                        target,
+                        events: vec![e],
+                        guards: vec![],
+                        actions: per_event[e].clone().into_iter().collect(),
+                        line: 1,
+                    })
+                    .collect();
+                let spec_edges = spec
+                    .into_iter()
+                    .map(|(source, target, e, g)| Edge {
+                        source,
+                        target,
+                        events: vec![e],
+                        guards: vec![g],
+                        actions: vec![],
+                        line: 1,
+                    })
+                    .collect();
+                let comp = |name: &str, kind, edges| Component {
+                    name: name.into(),
+                    kind,
+                    alphabet: vec![0, 1, 2],
+                    states: vec![("p".into(), marks[0]), ("q".into(), true)],
+                    initial: Some(0),
+                    edges,
+                    line: 1,
+                };
+                let var = |name: &str, max| EfaVariable {
+                    name: name.into(),
+                    min: 0,
+                    max,
+                    initial: 0,
+                    marked: None,
+                    line: 1,
+                };
+                Efa {
+                    events: vec![("a".into(), true), ("b".into(), false), ("c".into(), true)],
+                    variables: vec![var("x", 3), var("y", 1)],
+                    components: vec![
+                        comp("P", Kind::Plant, plant_edges),
+                        Component {
+                            states: vec![("s".into(), true), ("t".into(), marks[1])],
+                            ..comp("S", Kind::Spec, spec_edges)
+                        },
+                    ],
+                }
+            },
+        )
+    }
+
+    #[test]
+    fn guards_are_the_supervisors_enablement_on_every_reachable_configuration() {
+        let mut runner = proptest::test_runner::TestRunner::new(ProptestConfig::with_cases(128));
+        // How many cases had a supervisor, and how many a guard: the property is not vacuous.
+        let (mut supervised, mut guarded) = (0, 0);
+        runner
+            .run(&efa_strategy(), |efa| {
+                let Some((set, unfolded)) = closed_loop(&efa) else { return Ok(()) };
+                let g = extract(&set, std::slice::from_ref(&efa));
+                // Every variable the plant updates by one action per event is kept, and every
+                // controllable event the supervisor holds is either guarded or kept on its states.
+                prop_assert_eq!(g.variables.len(), 2);
+                let mut decided: Vec<EventId> =
+                    g.guards.iter().map(|(e, _)| *e).chain(g.kept.iter().copied()).collect();
+                decided.sort_unstable();
+                prop_assert_eq!(decided, care_events(&set));
+                check(&set, std::slice::from_ref(&efa), &unfolded, &g);
+                supervised += 1;
+                guarded += usize::from(!g.guards.is_empty());
+                Ok(())
+            })
+            .unwrap();
+        assert!(supervised >= 32 && guarded >= 16, "{supervised} supervised, {guarded} guarded of 128");
+    }
 }

@@ -813,7 +813,12 @@ impl Builder<'_> {
         // Only a set with variables has their sections: every other program stays as it was.
         if !self.vars.is_empty() {
             let after = |sections: &[Section], n: usize| {
-                sections.iter().enumerate().filter(|(_, x)| x.label == TRANSITIONS).nth(n).map_or(0, |(i, _)| i + 1)
+                sections
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, x)| x.label == TRANSITIONS)
+                    .nth(n)
+                    .map_or(0, |(i, _)| i + 1)
             };
             let at = after(&sections, 0);
             sections.insert(at, Section::new("variables", "uncontrollable", self.variable_updates(false)));
@@ -954,7 +959,10 @@ impl Builder<'_> {
             locals.push(Var::new(
                 name,
                 Type::Int,
-                format!("variable '{}' ({}..{}, initial {}): its events' actions", v.name, v.min, v.max, v.initial),
+                format!(
+                    "variable '{}' ({}..{}, initial {}): its events' actions",
+                    v.name, v.min, v.max, v.initial
+                ),
             ));
         }
         for t in &self.timers {

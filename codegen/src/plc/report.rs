@@ -247,12 +247,20 @@ impl Report {
             out += &format!("avalanche: {} in {}: {}\n", a.event, a.automaton, a.method);
         }
         if !self.efa_variables.is_empty() {
-            out += &format!("variables of the modules: {} (INT, updated by their events' actions)\n", self.efa_variables.join(", "));
+            out += &format!(
+                "variables of the modules: {} (INT, updated by their events' actions)\n",
+                self.efa_variables.join(", ")
+            );
         }
         for g in &self.guards {
             match &g.guard {
                 Some(guard) => out += &format!("guard: {} when {guard}\n", g.event),
-                None => out += &format!("guard: {} over the supervisors' states (not a function of the variables)\n", g.event),
+                None => {
+                    out += &format!(
+                        "guard: {} over the supervisors' states (not a function of the variables)\n",
+                        g.event
+                    )
+                }
             }
         }
         out += &format!("simultaneity: {}", self.simultaneity.applied);
