@@ -622,9 +622,12 @@ mod tests {
 
     #[test]
     fn guards_are_the_supervisors_enablement_on_every_reachable_configuration() {
-        let mut runner = proptest::test_runner::TestRunner::new(ProptestConfig::with_cases(128));
+        let mut runner = proptest::test_runner::TestRunner::new(ProptestConfig {
+            failure_persistence: None,
+            ..ProptestConfig::with_cases(128)
+        });
         // How many cases had a supervisor, and how many a guard: the property is not vacuous.
-        let (mut supervised, mut guarded) = (0, 0);
+        let (supervised, guarded) = (std::cell::Cell::new(0), std::cell::Cell::new(0));
         runner
             .run(&efa_strategy(), |efa| {
                 let Some((set, unfolded)) = closed_loop(&efa) else { return Ok(()) };
@@ -637,11 +640,12 @@ mod tests {
                 decided.sort_unstable();
                 prop_assert_eq!(decided, care_events(&set));
                 check(&set, std::slice::from_ref(&efa), &unfolded, &g);
-                supervised += 1;
-                guarded += usize::from(!g.guards.is_empty());
+                supervised.set(supervised.get() + 1);
+                guarded.set(guarded.get() + usize::from(!g.guards.is_empty()));
                 Ok(())
             })
             .unwrap();
+        let (supervised, guarded) = (supervised.get(), guarded.get());
         assert!(supervised >= 32 && guarded >= 16, "{supervised} supervised, {guarded} guarded of 128");
     }
 }
