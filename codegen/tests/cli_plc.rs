@@ -177,7 +177,7 @@ fn a_module_with_a_variable_gives_an_int_and_guards_over_it_in_the_rungs() {
     let st = std::fs::read_to_string(dir.join("efa_buffer.st")).unwrap();
     // The variable's actions, and the supervisor's enablement as the guard beside the plant's state.
     for line in [
-        "n_2 : INT; (* variable 'n' (0..2, initial 0): its events' actions *)",
+        "    n_2 : INT; (* variable 'n' (0..2, initial 0): its events' actions *)",
         "    n_2 := n_2 + 1;",
         "    n_2 := n_2 - 1;",
         "enabled[0] := st_M1 = 0 AND n_2 <= 1 AND NOT m1_start;",
