@@ -51,7 +51,7 @@ pub struct Variable {
     /// Its initial value.
     pub initial: i64,
     /// Per event of the set that assigns it, the action (its expression's variables are indices into
-    /// the module's variables: [`Variable::module_index`] maps them to kept variables).
+    /// the module's variables: [`Guards::module_index`] maps them to kept variables).
     pub updates: Vec<(EventId, Action)>,
     /// Which module it comes from (index into the options' modules).
     pub module: usize,
@@ -309,15 +309,13 @@ pub fn step(guards: &Guards, modules: &[Efa], values: &[i64], e: EventId) -> Opt
     Some(next)
 }
 
+/// The valuations of the kept variables where an event is allowed, and where it is forbidden.
+type CareSet = (BTreeSet<Vec<i64>>, BTreeSet<Vec<i64>>);
+
 /// Per controllable event a supervisor holds, the valuations of the kept variables where the plants
 /// allow it and the supervisors allow it (first) or one forbids it (second), over the reachable closed
 /// loop; `None` when the walk leaves a range or passes [`MAX_CONFIGURATIONS`].
-#[allow(clippy::type_complexity)]
-fn care_sets(
-    set: &PackSet,
-    modules: &[Efa],
-    guards: &Guards,
-) -> Option<Vec<(EventId, (BTreeSet<Vec<i64>>, BTreeSet<Vec<i64>>))>> {
+fn care_sets(set: &PackSet, modules: &[Efa], guards: &Guards) -> Option<Vec<(EventId, CareSet)>> {
     let members = set.members();
     let events = set.events();
     let alphabets: Vec<Vec<EventId>> = members.iter().map(|m| m.alphabet()).collect();
@@ -326,7 +324,7 @@ fn care_sets(
         .map(|e| (0..members.len()).filter(|&a| alphabets[a].binary_search(&e).is_ok()).collect())
         .collect();
     let holders = |e: EventId| holders[e.index()].iter().copied();
-    let mut care: Vec<(EventId, (BTreeSet<Vec<i64>>, BTreeSet<Vec<i64>>))> =
+    let mut care: Vec<(EventId, CareSet)> =
         care_events(set).into_iter().map(|e| (e, Default::default())).collect();
     let first: (Vec<usize>, Vec<i64>) = (
         members.iter().map(|m| m.initial().index()).collect(),
