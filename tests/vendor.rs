@@ -41,6 +41,8 @@ fn programs() -> Vec<(String, Written)> {
         ("hybrid/hybrid.toml", vec![("hybrid", Form::Hybrid)]),
         // A timer (TON) started inside an IF: Logix's TONR where it stands.
         ("cylinder/cylinder.toml", vec![("int", int())]),
+        // Variables of a Supremica module as INTs, and guards over them in the rungs' conditions.
+        ("efa/buffer.toml", vec![("int", int()), ("bits", bits())]),
     ];
     let mut out = Vec::new();
     for (manifest, forms) in cases {

@@ -569,6 +569,16 @@ impl Manifest {
         self.read_automata_over(Vec::new())
     }
 
+    /// The modules' variables, guards and actions as written (`modules` that have any, in order): what
+    /// the PLC program's guards over the variables come from.
+    pub fn read_efa(&self) -> Result<Vec<crate::formats::efa::Efa>, ManifestError> {
+        let mut out = Vec::new();
+        for f in &self.modules {
+            out.extend(crate::formats::read_efa_path(&self.resolve(f))?);
+        }
+        Ok(out)
+    }
+
     /// [`Manifest::read_automata`] with `plants` that no file of the manifest holds first among the
     /// plants (the reachability graph of a hybrid controller's net), checked with the rest.
     pub fn read_automata_over(&self, plants: Vec<Automaton>) -> Result<ModelSet, ManifestError> {

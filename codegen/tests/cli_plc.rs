@@ -160,3 +160,29 @@ fn a_hybrid_net_with_two_tokens_in_a_place_exits_2_naming_it() {
     let st = std::fs::read_to_string(Path::new(&out_dir).join("line_hybrid.st")).unwrap();
     assert!(st.contains("examples/hybrid/line.pnml\n") && st.contains("Command: codegen plc "), "{st}");
 }
+
+// See: issue 37 (EFA: results back out as guards over the variables, the guard a condition on the rung).
+#[test]
+fn a_module_with_a_variable_gives_an_int_and_guards_over_it_in_the_rungs() {
+    let dir = scratch("efa");
+    let out =
+        codegen(&["plc", &repo("examples/efa/buffer.toml"), "--json", "-o", &dir.display().to_string()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["efa_variables"], serde_json::json!(["n"]));
+    assert_eq!(
+        json["guards"],
+        serde_json::json!([{"event": "start1", "guard": "n <= 1"}, {"event": "start2", "guard": "n >= 1"}])
+    );
+    let st = std::fs::read_to_string(dir.join("efa_buffer.st")).unwrap();
+    // The variable's actions, and the supervisor's enablement as the guard beside the plant's state.
+    for line in [
+        "    n_2 : INT; (* variable 'n' (0..2, initial 0): its events' actions *)",
+        "    n_2 := n_2 + 1;",
+        "    n_2 := n_2 - 1;",
+        "enabled[0] := st_M1 = 0 AND n_2 <= 1 AND NOT m1_start;",
+        "enabled[2] := st_M2 = 0 AND n_2 >= 1 AND NOT m2_start;",
+    ] {
+        assert!(st.lines().any(|l| l == line), "{line}\n{st}");
+    }
+}

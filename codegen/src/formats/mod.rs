@@ -151,6 +151,17 @@ pub fn read_bytes(path: &Path, bytes: &[u8]) -> Result<Vec<Automaton>, ParseErro
     read_text(path, &text, detect(path, &text)?)
 }
 
+/// The variables, guards and actions of the Supremica module at `path` as written, when it has any
+/// (`None` for a plain module and for files of other formats, which have no variables).
+pub fn read_efa_path(path: &Path) -> Result<Option<efa::Efa>, ParseError> {
+    let bytes = read_file(path)?;
+    let text = decode(path, &bytes)?;
+    match detect(path, &text)? {
+        Format::Wmod => wmod::read_efa(path, &text),
+        _ => Ok(None),
+    }
+}
+
 fn read_text(path: &Path, text: &str, format: Format) -> Result<Vec<Automaton>, ParseError> {
     match format {
         Format::Xmd => Ok(vec![xmd::read(path, text)?]),

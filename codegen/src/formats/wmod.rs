@@ -58,8 +58,31 @@ const PLAIN: [&str; 13] = [
     "SimpleIdentifier",
 ];
 
-/// Reads every `<SimpleComponent>` of a module from the text of a `.wmod` file.
+/// Reads every `<SimpleComponent>` of a module from the text of a `.wmod` file (a module with variables
+/// unfolded into plain automata, [`efa::unfold`]).
 pub fn read(file: &Path, text: &str) -> Result<Vec<Automaton>, ParseError> {
+    match parse(file, text)? {
+        Module::Plain(automata) => Ok(automata),
+        Module::Efa(efa) => efa::unfold(file, &efa),
+    }
+}
+
+/// The variables, guards and actions of a module with variables, as written (not unfolded); `None` for
+/// a plain module. What the PLC program's guards over the variables are built from.
+pub fn read_efa(file: &Path, text: &str) -> Result<Option<efa::Efa>, ParseError> {
+    match parse(file, text)? {
+        Module::Plain(_) => Ok(None),
+        Module::Efa(efa) => Ok(Some(efa)),
+    }
+}
+
+/// A module as read: plain automata, or an extended finite automaton before unfolding.
+enum Module {
+    Plain(Vec<Automaton>),
+    Efa(efa::Efa),
+}
+
+fn parse(file: &Path, text: &str) -> Result<Module, ParseError> {
     let doc = xml::parse(file, text)?;
     let root = doc.root_element();
     let line = |n: Node| xml::line(&doc, n);
@@ -115,9 +138,9 @@ pub fn read(file: &Path, text: &str) -> Result<Vec<Automaton>, ParseError> {
         }
     }
     if efa {
-        return efa::wmod::read(file, &doc, root, &events, &propositions);
+        return efa::wmod::read(file, &doc, root, &events, &propositions).map(Module::Efa);
     }
-    Ok(automata)
+    Ok(Module::Plain(automata))
 }
 
 fn component(file: &Path, g: Graph) -> Result<Automaton, ParseError> {

@@ -29,6 +29,7 @@ pub mod avalanche;
 pub mod choice;
 pub mod closed_loop;
 mod error;
+pub mod guards;
 pub mod hybrid;
 pub mod io;
 pub mod program;
@@ -251,6 +252,10 @@ pub struct PlcOptions {
     pub requests: bool,
     /// Timeouts (`[[timers]]`): one `TON` each, whose output raises the timeout event.
     pub timers: Vec<crate::manifest::TimerSpec>,
+    /// The modules' variables, guards and actions (before unfolding): the program keeps each variable it
+    /// can as an integer and writes the supervisors' enablement as guards over them where it can
+    /// ([`guards`]).
+    pub efa: Vec<crate::formats::efa::Efa>,
 }
 
 impl Default for PlcOptions {
@@ -268,6 +273,7 @@ impl Default for PlcOptions {
             require_outputs: false,
             requests: false,
             timers: Vec::new(),
+            efa: Vec::new(),
         }
     }
 }

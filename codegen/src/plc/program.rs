@@ -19,6 +19,11 @@
 //! 9. `aeem-reset` — every memory bit cleared.
 //! 10. `outputs` — set, clear, pulse countdown; all off in the safe state.
 //!
+//! A project of Supremica modules with variables keeps each variable it can as an `INT`, updated by its
+//! events' actions in a `variables` section after each `transitions` section, and a controllable
+//! event's rung tests the supervisors' guard over the variables instead of their states where their
+//! enablement is a function of the variables ([`super::guards`]).
+//!
 //! In the bits encoding the `aeem-set`, `transitions` and `aeem-reset` sections are built as Ladder
 //! Diagram rungs and printed as their ST statements; with `--avalanche aeem` the program keeps those
 //! rungs, after one for the initial states, as its ladder ([`Program::rungs`]), which the XML carries
@@ -32,6 +37,7 @@ use crate::pack::{PackSet, Role};
 
 use super::avalanche::{plan, Avalanche, Method, Plan};
 use super::choice::{self, PlantChoice};
+use super::guards::{self, Guard, Guards};
 use super::io::{IoMap, Source};
 use super::{Encoding, PlcError, PlcOptions};
 use crate::config::{Action, Edge, ScanPolicy};
@@ -78,6 +84,8 @@ pub struct Program {
     /// Per `[[timers]]` entry: its timeout event and its `TON` instance (a local of the block), whose
     /// `Q` rises when the timeout falls due.
     pub timers: Vec<(EventId, String)>,
+    /// The modules' variables kept as integers and the guards over them (empty without variables).
+    pub guards: Guards,
 }
 
 /// Identifiers of one automaton.
@@ -108,6 +116,10 @@ struct Builder<'a> {
     req: Vec<(EventId, String)>,
     /// The `[[timers]]` of the options whose events the set has.
     timers: Vec<Timer>,
+    /// The modules' variables kept and the guards over them.
+    guards: Guards,
+    /// Per kept variable, its identifier.
+    vars: Vec<String>,
 }
 
 /// A `[[timers]]` entry in the program: a running flag its start events set and its stop events and
@@ -222,7 +234,9 @@ pub fn build(set: &PackSet, opts: &PlcOptions) -> Result<Program, PlcError> {
     } else {
         Vec::new()
     };
-    let b = Builder { set, opts, io, ev, pend, prev, auts, bits, pulse, req, timers };
+    let guards = guards::extract(set, &opts.efa);
+    let vars = guards.variables.iter().map(|v| names.plain(&v.name)).collect();
+    let b = Builder { set, opts, io, ev, pend, prev, auts, bits, pulse, req, timers, guards, vars };
     b.check_owned()?;
     Ok(b.finish())
 }
@@ -309,6 +323,9 @@ impl Builder<'_> {
                     }
                 }
             }
+        }
+        for (v, name) in self.guards.variables.iter().zip(&self.vars) {
+            body.push(Stmt::set(name, Expr::Int(v.initial)));
         }
         for u in self.uncontrollable() {
             body.push(Stmt::set(&self.pend[u.index()], Expr::Bool(false)));
@@ -561,7 +578,16 @@ impl Builder<'_> {
         self.controllable()
             .into_iter()
             .map(|c| {
-                let mut terms: Vec<Expr> = self.holders(c).map(|a| self.allows(a, c)).collect();
+                let mut terms: Vec<Expr> = match self.guards.of(c) {
+                    // The supervisors' enablement as their guard; the plants' states still tested.
+                    Some(g) => self
+                        .holders(c)
+                        .filter(|&a| self.set.members()[a].role == Role::Plant)
+                        .map(|a| self.allows(a, c))
+                        .chain([self.guard(g)])
+                        .collect(),
+                    None => self.holders(c).map(|a| self.allows(a, c)).collect(),
+                };
                 for (o, pt) in self.io.outputs.iter().zip(&self.pulse) {
                     if pt.is_some() && o.actions.iter().any(|&(e, ..)| e == c) {
                         terms.push(Expr::var(&o.variable).not());
@@ -635,6 +661,67 @@ impl Builder<'_> {
             Stmt::when(Expr::var("c").op(Op::Ge, Expr::Int(0)), vec![Stmt::incr("commands_out")]),
             Stmt::set("fired", Expr::var("c")),
         ]
+    }
+
+    /// The guard as a condition over the variables.
+    fn guard(&self, g: &Guard) -> Expr {
+        let bound = |b: &guards::Bound| {
+            let x = || Expr::var(&self.vars[b.var]);
+            match (b.lo, b.hi) {
+                (Some(lo), Some(hi)) if lo == hi => vec![x().op(Op::Eq, Expr::Int(lo))],
+                (lo, hi) => lo
+                    .map(|lo| x().op(Op::Ge, Expr::Int(lo)))
+                    .into_iter()
+                    .chain(hi.map(|hi| x().op(Op::Le, Expr::Int(hi))))
+                    .collect(),
+            }
+        };
+        let term = |t: &Vec<guards::Bound>| Expr::fold(t.iter().flat_map(bound), Op::And, Expr::Bool(true));
+        Expr::fold(g.terms.iter().map(term), Op::Or, Expr::Bool(false))
+    }
+
+    /// An expression of module `module` over its variables, in the program's identifiers (only kept
+    /// variables' arithmetic reaches here, [`guards`]).
+    fn value(&self, module: usize, e: &crate::formats::efa::expr::Expr) -> Expr {
+        use crate::formats::efa::expr::{BinaryOp, Expr as E, UnaryOp};
+        let operand = |x: &E| self.value(module, x);
+        match e {
+            E::Int(n) => Expr::Int(*n),
+            E::Var(i) => match self.guards.module_index(module, *i) {
+                Some(k) => Expr::var(&self.vars[k]),
+                None => Expr::Int(0),
+            },
+            E::Unary(UnaryOp::Neg, x) => Expr::Int(0).op(Op::Sub, operand(x)),
+            E::Binary(BinaryOp::Add, l, r) => operand(l).op(Op::Add, operand(r)),
+            E::Binary(BinaryOp::Sub, l, r) => operand(l).op(Op::Sub, operand(r)),
+            E::Binary(BinaryOp::Mul, l, r) => operand(l).op(Op::Mul, operand(r)),
+            // Not kept by `guards`: never reached.
+            E::Unary(..) | E::Binary(..) => Expr::Int(0),
+        }
+    }
+
+    /// The variables' updates of a pass: per event, `IF ev THEN x := …` with each kept variable it
+    /// assigns (no action reads a variable the same event assigns, so the order does not matter).
+    fn variable_updates(&self, controllable: bool) -> Vec<Stmt> {
+        use crate::formats::efa::expr::AssignOp;
+        let mut out = Vec::new();
+        for e in self.events().ids().filter(|&e| self.events().is_controllable(e) == controllable) {
+            let mut body = Vec::new();
+            for (v, name) in self.guards.variables.iter().zip(&self.vars) {
+                let Some((_, a)) = v.updates.iter().find(|(x, _)| *x == e) else { continue };
+                let rhs = self.value(v.module, &a.value);
+                let value = match a.op {
+                    AssignOp::Set => rhs,
+                    AssignOp::Add => Expr::var(name).op(Op::Add, rhs),
+                    AssignOp::Sub => Expr::var(name).op(Op::Sub, rhs),
+                };
+                body.push(Stmt::set(name, value));
+            }
+            if !body.is_empty() {
+                out.push(Stmt::when(Expr::var(&self.ev[e.index()]), body));
+            }
+        }
+        out
     }
 
     /// AEEM's last step: a rung per memory bit resetting it, whatever used it.
@@ -726,6 +813,21 @@ impl Builder<'_> {
             Section::new(AEEM_RESET, "", statements(&self.aeem_reset())),
             Section::new("outputs", "", self.outputs()),
         ];
+        // Only a set with variables has their sections: every other program stays as it was.
+        if !self.vars.is_empty() {
+            let after = |sections: &[Section], n: usize| {
+                sections
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, x)| x.label == TRANSITIONS)
+                    .nth(n)
+                    .map_or(0, |(i, _)| i + 1)
+            };
+            let at = after(&sections, 0);
+            sections.insert(at, Section::new("variables", "uncontrollable", self.variable_updates(false)));
+            let at = after(&sections, 1);
+            sections.insert(at, Section::new("variables", "controllable", self.variable_updates(true)));
+        }
         // Only a set with timers has their sections: every other program stays as it was.
         if !self.timers.is_empty() {
             sections.insert(1, Section::new("timers", "a TON per [[timers]] entry", self.timer_calls()));
@@ -856,6 +958,16 @@ impl Builder<'_> {
         for pt in self.pulse.iter().flatten() {
             locals.push(Var::new(pt, Type::Int, "pulse scans left"));
         }
+        for (v, name) in self.guards.variables.iter().zip(&self.vars) {
+            locals.push(Var::new(
+                name,
+                Type::Int,
+                format!(
+                    "variable '{}' ({}..{}, initial {}): its events' actions",
+                    v.name, v.min, v.max, v.initial
+                ),
+            ));
+        }
         for t in &self.timers {
             let timeout = events.name(t.timeout);
             locals.push(Var::new(&t.run, Type::Bool, format!("timer of '{timeout}' running")));
@@ -930,7 +1042,20 @@ impl Builder<'_> {
         let memory_bits = std::mem::take(&mut self.bits).into_iter().map(|(b, ..)| b).collect();
         let requests = std::mem::take(&mut self.req);
         let timers = self.timers.iter().map(|t| (t.timeout, t.ton.clone())).collect();
-        Program { events_type, fb, main, io: self.io, avalanche, memory_bits, rungs, sites, requests, timers }
+        let guards = std::mem::take(&mut self.guards);
+        Program {
+            events_type,
+            fb,
+            main,
+            io: self.io,
+            avalanche,
+            memory_bits,
+            rungs,
+            sites,
+            requests,
+            timers,
+            guards,
+        }
     }
 }
 

@@ -49,6 +49,22 @@ pub struct Report {
     pub simultaneity: Simultaneity,
     /// Choice sites with a cursor (local queue).
     pub choice_sites: usize,
+    /// The modules' variables the program keeps as integers (absent without any).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub efa_variables: Vec<String>,
+    /// Per controllable event a supervisor holds, its guard over the variables, or `null` where the
+    /// supervisors' states are kept (absent without variables).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub guards: Vec<GuardEntry>,
+}
+
+/// A controllable event's condition in its rung.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct GuardEntry {
+    /// The event.
+    pub event: String,
+    /// The supervisors' guard over the variables, `None` where their states are tested instead.
+    pub guard: Option<String>,
 }
 
 /// Variables of the function block.
@@ -162,6 +178,18 @@ impl Report {
         }
         let sections: BTreeMap<&'static str, usize> = program.fb.statements().into_iter().collect();
         let seed_structure = SEED_STRUCTURE.iter().map(|k| sections.get(k).copied().unwrap_or(0)).sum();
+        let g = &program.guards;
+        let mut guards: Vec<GuardEntry> = g
+            .guards
+            .iter()
+            .map(|(e, x)| (*e, Some(x.text(&g.variables))))
+            .chain(g.kept.iter().map(|&e| (e, None)))
+            .map(|(e, guard)| GuardEntry { event: events.name(e).to_owned(), guard })
+            .collect();
+        guards.sort_by_key(|x| events.id(&x.event));
+        if g.variables.is_empty() {
+            guards.clear();
+        }
         let statements = Statements {
             function_block: sections.values().sum(),
             program: program.main.statements().iter().map(|(_, n)| n).sum(),
@@ -197,6 +225,8 @@ impl Report {
                 .collect(),
             simultaneity: simultaneity(set)?,
             choice_sites: program.sites,
+            efa_variables: g.variables.iter().map(|v| v.name.clone()).collect(),
+            guards,
         })
     }
 
@@ -226,6 +256,23 @@ impl Report {
         }
         for a in &self.avalanche {
             out += &format!("avalanche: {} in {}: {}\n", a.event, a.automaton, a.method);
+        }
+        if !self.efa_variables.is_empty() {
+            out += &format!(
+                "variables of the modules: {} (INT, updated by their events' actions)\n",
+                self.efa_variables.join(", ")
+            );
+        }
+        for g in &self.guards {
+            match &g.guard {
+                Some(guard) => out += &format!("guard: {} when {guard}\n", g.event),
+                None => {
+                    out += &format!(
+                        "guard: {} over the supervisors' states (not a function of the variables)\n",
+                        g.event
+                    )
+                }
+            }
         }
         out += &format!("simultaneity: {}", self.simultaneity.applied);
         if self.simultaneity.order_matters.is_empty() {

@@ -73,6 +73,9 @@ pub struct Project {
     pub plc: Option<PlcSpec>,
     /// Timeouts (`[[timers]]`): their automata are among the plants; the runtimes take their delays.
     pub timers: Vec<crate::manifest::TimerSpec>,
+    /// The variables, guards and actions of the manifest's Supremica modules that have any (as written,
+    /// before unfolding): the PLC program keeps the variables and writes guards over them.
+    pub efa: Vec<crate::formats::efa::Efa>,
     /// The plant's state vectors for a state-based program (`[state]`), if any.
     pub state: Option<StateSpec>,
     /// The sequence net that runs beside the interlocks in a PLC program (`[net]`), if any.
@@ -273,6 +276,7 @@ impl Project {
             return Project::hybrid(m, cfg);
         }
         let choice = m.runtime.supervisors;
+        let efa = m.read_efa()?;
         let loaded = Loaded::of_manifest(m, board)?;
         let (set, deployed) = deployed_set(&loaded, cfg, choice)?;
         let inputs = loaded.inputs.iter().map(|f| hash(f)).collect::<Result<_, _>>()?;
@@ -288,6 +292,7 @@ impl Project {
             board: m.board,
             plc: m.plc,
             timers: m.timers,
+            efa,
             state: m.state,
             net: m.net,
             models: loaded.models,
@@ -320,6 +325,7 @@ impl Project {
             board: m.board,
             plc: m.plc,
             timers: m.timers,
+            efa: Vec::new(),
             state: m.state,
             net: None,
             models,
@@ -376,6 +382,7 @@ impl Project {
             board: board_spec,
             plc: None,
             timers: Vec::new(),
+            efa: Vec::new(),
             state: None,
             net: None,
             models: loaded.models,
@@ -408,6 +415,7 @@ impl Project {
             board: None,
             plc: None,
             timers: Vec::new(),
+            efa: Vec::new(),
             state: None,
             net: None,
             models,
@@ -707,7 +715,7 @@ impl Project {
     /// random.
     fn plc_options(&self, policy: Option<ScanPolicy>) -> Result<PlcOptions, PlcError> {
         let opts = PlcOptions::new(&self.name, &self.runtime, self.plc.as_ref(), policy)?;
-        Ok(PlcOptions { timers: self.timers.clone(), ..opts })
+        Ok(PlcOptions { timers: self.timers.clone(), efa: self.efa.clone(), ..opts })
     }
 
     /// The manifest, or the set's name without one: what errors of the project name.

@@ -13,7 +13,7 @@ use super::expr::{Action, AssignOp, BinaryOp, Expr, UnaryOp};
 use super::{Component, Edge, Efa, Variable};
 use crate::formats::wmod_graph::{attr, element, graph};
 use crate::formats::{xml, ParseError};
-use crate::model::{Automaton, ModelError};
+use crate::model::ModelError;
 
 /// The most values one variable's range may hold.
 pub const MAX_RANGE: i64 = 1 << 16;
@@ -32,15 +32,14 @@ pub(crate) const ELEMENTS: [&str; 10] = [
     "IntConstant",
 ];
 
-/// Reads the module rooted at `root` (its events and propositions already read) as an [`Efa`] and
-/// unfolds it into plain automata.
+/// Reads the module rooted at `root` (its events and propositions already read) as an [`Efa`].
 pub(crate) fn read(
     file: &Path,
     doc: &Document,
     root: Node,
     events: &[(&str, bool)],
     propositions: &[&str],
-) -> Result<Vec<Automaton>, ParseError> {
+) -> Result<Efa, ParseError> {
     let mut efa = Efa { events: events.iter().map(|&(n, c)| (n.to_owned(), c)).collect(), ..Efa::default() };
     let decls: Vec<Node> = root.descendants().filter(|n| n.has_tag_name("VariableComponent")).collect();
     let mut names: HashMap<&str, usize> = HashMap::new();
@@ -133,7 +132,7 @@ pub(crate) fn read(
             line: at,
         });
     }
-    super::unfold(file, &efa)
+    Ok(efa)
 }
 
 /// What reading an expression needs: the file and document for messages, the variables by name.
