@@ -18,6 +18,7 @@
 //! on_fault = "continue"                         # continue | safe-state
 //! input_buffer = 32
 //! reseed_every = 1024                           # random draws between two reseeds
+//! answer_ms = { extend = [1000, 3000] }         # the virtual plant's answer delay per command (run)
 //!
 //! [board]                                       # optional: pins of a real board, `config::BoardSpec`
 //! name = "pico"

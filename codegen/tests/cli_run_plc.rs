@@ -53,16 +53,6 @@ fn every_plc_example_runs_with_no_violation() {
     let examples = plc_examples();
     assert!(examples.len() >= 3, "{examples:?}");
     for manifest in &examples {
-        // The known gap (issue 37): a project with `[[timers]]` (the cylinder) is refused before the run,
-        // exit 2, saying why — its timeouts are the program's own events and the driver does not let
-        // the scan clock run for them yet. When it does, this branch goes and the contract covers it.
-        if std::fs::read_to_string(manifest).unwrap().lines().any(|l| l.trim() == "[[timers]]") {
-            let out = codegen(&["run", manifest, "--target", "plc", "--events", "300", "--json"]);
-            assert_eq!(out.status.code(), Some(2), "{manifest}");
-            let err = String::from_utf8_lossy(&out.stderr);
-            assert!(err.contains("[[timers]] do not run closed loop yet"), "{manifest}: {err}");
-            continue;
-        }
         let (code, json, _) = run(manifest, 300, &[]);
         assert_eq!(code, Some(0), "{manifest}: {json}");
         assert_eq!(json["violations"].as_u64(), Some(0), "{manifest}: {json}");
@@ -238,4 +228,45 @@ fn a_hybrid_program_with_a_mutated_rung_is_caught() {
     // than restarting into the same one for ever.
     let report = hybrid_mutant("mot1 := P_p2;", "mot1 := TRUE;", 400);
     assert_eq!((report.violations, report.events), (1, 0), "{report:?}");
+}
+
+/// The cylinder's event-based program with `from` replaced by `to` (every occurrence), run closed loop
+/// with its timers for `events` events.
+fn cylinder_mutant(from: &str, to: &str, events: u64) -> codegen::monitor::Report {
+    use codegen::plc::{Avalanche, Encoding, Form};
+    let project =
+        codegen::project::Project::load(Path::new(&repo("examples/cylinder/cylinder.toml"))).unwrap();
+    let form = Form::Event { encoding: Encoding::Int, avalanche: Avalanche::Auto, policy: None };
+    let out = project.plc(&form).unwrap().into_event().unwrap();
+    let text = &out.files[0].1;
+    assert!(text.contains(from), "{from}");
+    let text = text.replace(from, to);
+    let mut options = codegen::closed_loop::Options::for_events(events);
+    options.timers = project.timers.clone();
+    options.plant.answer_delay_us = vec![("extend".into(), (1_000_000, 3_000_000))];
+    codegen::plc::closed_loop::run(&text, &out.report, &project.set, "cylinder", &options, &mut |_| {})
+        .unwrap()
+}
+
+// See: issue 37 (the monitor judges the timed events: a program whose timer is wrong is caught).
+#[test]
+fn a_cylinder_program_with_a_wrong_timer_is_caught() {
+    // As written: every timeout on time, both paths run.
+    let report = cylinder_mutant("T#2000ms", "T#2000ms", 200);
+    let timeouts = report.timeouts.unwrap();
+    assert_eq!((report.violations, timeouts.early, timeouts.missing), (0, 0, 0), "{report:?}");
+    assert!(timeouts.on_time > 0, "{report:?}");
+    // The TON's delay doubled: the timeout does not come by its deadline and slack.
+    let report = cylinder_mutant("T#2000ms", "T#4000ms", 200);
+    let timeouts = report.timeouts.unwrap();
+    assert!(timeouts.missing > 0 && report.violations >= timeouts.missing, "{report:?}");
+    assert!(report.findings.iter().any(|f| f.contains("timeout_missing")), "{:?}", report.findings);
+    // Halved: it comes before its deadline.
+    let report = cylinder_mutant("T#2000ms", "T#1000ms", 200);
+    let timeouts = report.timeouts.unwrap();
+    assert!(timeouts.early > 0, "{report:?}");
+    assert!(report.findings.iter().any(|f| f.contains("timeout_early")), "{:?}", report.findings);
+    // Never raised: the timer's running flag never set.
+    let report = cylinder_mutant("run_T_ext := TRUE;", "run_T_ext := FALSE;", 200);
+    assert!(report.timeouts.unwrap().missing > 0, "{report:?}");
 }

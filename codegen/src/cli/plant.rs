@@ -124,6 +124,19 @@ fn parse_answer_delay(s: &str) -> Result<(String, Delay), String> {
 }
 
 impl RunArgs {
+    /// The answer delays per command: `--answer-delay-us`, and the manifest's `[runtime] answer_ms`
+    /// for the commands it does not name.
+    fn answer_delays_us(&self, runtime: &RuntimeConfig) -> Vec<(String, (u64, u64))> {
+        let mut out: Vec<(String, (u64, u64))> =
+            self.answer_delay_us.iter().map(|(c, d)| (c.clone(), (d.0, d.1))).collect();
+        for (command, [lo, hi]) in &runtime.answer_ms {
+            if !out.iter().any(|(c, _)| c == command) {
+                out.push((command.clone(), (lo.saturating_mul(1000), hi.saturating_mul(1000))));
+            }
+        }
+        out
+    }
+
     /// The closed-loop options for a firmware running `runtime`, with its seed unless `--seed`
     /// overrides it.
     pub fn options(&self, runtime: &RuntimeConfig) -> Options {
@@ -132,7 +145,7 @@ impl RunArgs {
             plant: PlantConfig {
                 seed: self.seed.unwrap_or(runtime.seed),
                 delay_us: (self.delay_us.0, self.delay_us.1),
-                answer_delay_us: self.answer_delay_us.iter().map(|(c, d)| (c.clone(), (d.0, d.1))).collect(),
+                answer_delay_us: self.answer_delays_us(runtime),
                 burst_per_mille: self.burst.per_mille,
                 burst_max: self.burst.max,
                 race_per_mille: self.race,

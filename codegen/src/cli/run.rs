@@ -121,15 +121,15 @@ enum Sampling {
     Timer,
 }
 
-/// Refuses a project with `[[timers]]` before a closed loop (`run`, `plant`): neither the firmware nor
-/// the virtual plant and the monitor run their delays yet, so the plant would draw the timeouts untimed.
+/// Refuses a project with `[[timers]]` before a closed loop on a firmware (`run --target qemu|rp2040`,
+/// `plant`): the firmware does not run their delays yet; the PLC program does (its `TON`s).
 pub(super) fn refuse_timers(project: &Project, manifest: &std::path::Path) -> Result<(), Error> {
     if project.timers.is_empty() {
         return Ok(());
     }
     Err(format!(
-        "{}: [[timers]] do not run closed loop yet (neither the firmware nor the virtual plant and the \
-         monitor run their delays); synth, check and plc take them",
+        "{}: [[timers]] run closed loop on the PLC program only (`codegen run --target plc`): the \
+         firmware does not run their delays yet; synth, check and plc take them",
         manifest.display()
     )
     .into())
@@ -174,7 +174,9 @@ pub fn run(mut args: Args) -> Result<ExitCode, Error> {
         Target::Rp2040 => Project::load_for(&args.manifest, Board::Pico)?,
         Target::Qemu | Target::Plc => Project::load(&args.manifest)?,
     };
-    refuse_timers(&project, &args.manifest)?;
+    if args.target != Target::Plc {
+        refuse_timers(&project, &args.manifest)?;
+    }
     project.runtime.layout = args.layout.or(project.runtime.layout);
     if args.target == Target::Plc && project.hybrid.is_some() {
         return run_plc_hybrid(&args, &project);
@@ -307,7 +309,8 @@ fn check_plc_options(args: &Args) -> Result<(), Error> {
 /// the monitor on the other side of the link as for a firmware.
 fn run_plc(args: &Args, project: &Project) -> Result<ExitCode, Error> {
     check_plc_options(args)?;
-    let options = args.run.options(&project.runtime);
+    // The timers run on the session's virtual clock, their timeouts raised by the program's TONs.
+    let options = Options { timers: project.timers.clone(), ..args.run.options(&project.runtime) };
     eprintln!(
         "codegen run: the {} PLC program ({:?} encoding) scanned closed loop for {} events, plant seed {}",
         project.name, args.encoding, options.events, options.plant.seed

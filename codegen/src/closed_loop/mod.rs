@@ -14,8 +14,9 @@ use std::time::Duration;
 
 use crate::link::protocol::EXIT;
 use crate::link::ByteLink;
+use crate::manifest::TimerSpec;
 use crate::model::{Automaton, ModelError};
-use crate::monitor::{ChoiceModel, Monitor, Report};
+use crate::monitor::{ChoiceModel, Monitor, Report, Timers};
 use crate::pack::{PackSet, Role};
 use crate::plant::{PlantConfig, VirtualPlant};
 use crate::target::qemu::{Qemu, QemuConfig, QemuError};
@@ -46,6 +47,13 @@ pub struct Options {
     /// asked over the link before the run ([`Session::check_tables`]), a firmware that runs others is
     /// refused. Empty: not asked — the RP2040 pin harness and the PLC driver do not speak TABLES.
     pub tables: Vec<String>,
+    /// The project's `[[timers]]`: their timeouts are the target's to raise (the plant withholds them)
+    /// and the monitor judges them against deadlines in the session's virtual time (see
+    /// [`Session`]'s documentation). Empty: no virtual time, no TIME message.
+    pub timers: Vec<TimerSpec>,
+    /// How long after its deadline the target may raise a timeout, in ms: 0 for a firmware (it counts
+    /// whole milliseconds), a scan cycle for a PLC program ([`crate::plc::closed_loop`]).
+    pub timer_slack_ms: u64,
 }
 
 impl Default for Options {
@@ -59,6 +67,8 @@ impl Default for Options {
             rp2040: HarnessConfig::default(),
             choices: ChoiceModel::RandomLocalQueue,
             tables: Vec::new(),
+            timers: Vec::new(),
+            timer_slack_ms: 0,
         }
     }
 }
@@ -128,8 +138,11 @@ pub fn parts(set: &PackSet, options: &Options) -> Result<(VirtualPlant, Monitor)
         set.members().iter().filter(|m| m.role == role).map(|m| &m.automaton).collect()
     };
     let (plants, supervisors) = (of(Role::Plant), of(Role::Supervisor));
-    let plant = VirtualPlant::new(&plants, set.events(), options.plant.clone())?;
+    let mut plant = VirtualPlant::new(&plants, set.events(), options.plant.clone())?;
     let mut monitor = Monitor::new(&plants, &supervisors, set.events(), options.window_us)?;
+    let timers = Timers::new(&options.timers, set.events(), options.timer_slack_ms);
+    plant.withhold(timers.timeouts());
+    monitor.set_timers(timers);
     monitor.model_choices(options.choices);
     monitor.plant_answers_commands(options.session.step && plant.steers());
     Ok((plant, monitor))

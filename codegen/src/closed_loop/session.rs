@@ -31,10 +31,27 @@
 //! unless the controller never ran out of commands in a step: lock-step rounds would never end, and
 //! in realtime it would outrun the plant, which would decide on states long left. Such a run stays in
 //! steps to its end, the plant taking its turn in its own measure (a drawn burst length per step).
+//!
+//! A project with timers (`[[timers]]`: the monitor has [`Timers`](crate::monitor::Timers)) runs on a
+//! *virtual clock* in milliseconds, always in lock-step rounds and steps. The plant's delays are drawn
+//! in it: after a command `c`, the plant's next emission is due `c`'s answer delay later
+//! ([`PlantConfig::answer_delay_us`](crate::plant::PlantConfig::answer_delay_us), in whole ms), after an
+//! emission the plant's own delay later. Each round (or step) first moves the clock on, with the target
+//! held, by [`TIME`](crate::link::protocol::TIME) messages sent before the round's events:
+//!
+//! - to the plant's emission, when it is due before the earliest deadline `d` of a running timer — the
+//!   round then carries the emission;
+//! - else to `d - 1` (a round without events: a timeout raised in it is early), then to `d + slack` (a
+//!   round without events: a timeout raised in it is on time; a timer still running once the target
+//!   has answered SYNC is a missing timeout).
+//!
+//! The target reports each timeout as a byte with its event id; the session hands it to the monitor
+//! ([`Monitor::timeout`]), and the plant takes it from the monitor's state: the plant never raises a
+//! timeout itself. So the trace stays a function of the seeds.
 
 use std::time::{Duration, Instant};
 
-use crate::link::protocol::{Decoder, Frame, GO, HOLD, RESET, STATUS, STEP, SYNC, TABLES};
+use crate::link::protocol::{time, Decoder, Frame, GO, HOLD, RESET, STATUS, STEP, SYNC, TABLES};
 use crate::link::ByteLink;
 use crate::model::EventId;
 use crate::monitor::{FirmwareCounters, Monitor, Move, Report, Verdict};
@@ -178,6 +195,10 @@ pub struct Session<'a, L: ByteLink + ?Sized> {
     stepping: bool,
     /// A step found the controller without a command: it may run freely once coverage is full.
     idle_seen: bool,
+    /// With timers: the virtual clock, in ms (see the module documentation).
+    now_ms: u64,
+    /// With timers: when the plant's next emission is due on the virtual clock; `None` until drawn.
+    emit_at: Option<u64>,
 }
 
 impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
@@ -189,6 +210,8 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         config: SessionConfig,
     ) -> Self {
         let now = Instant::now();
+        // Virtual time goes in rounds and steps: a run with timers is in lock-step whatever it was told.
+        let config = SessionConfig { lockstep: config.lockstep || !monitor.timers().is_empty(), ..config };
         Session {
             link,
             plant,
@@ -208,7 +231,57 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             round: 0,
             stepping: false,
             idle_seen: false,
+            now_ms: 0,
+            emit_at: None,
         }
+    }
+
+    /// The virtual clock, in ms (0 all along without timers).
+    pub fn virtual_ms(&self) -> u64 {
+        self.now_ms
+    }
+
+    /// With timers, moves the virtual clock on for the next round or step (see the module
+    /// documentation) and appends its TIME messages to `bytes`; returns whether the round carries the
+    /// plant's emission, and whether the clock moved. Without timers: the emission, no time.
+    fn advance(&mut self, bytes: &mut Vec<u8>) -> (bool, bool) {
+        if self.monitor.timers().is_empty() {
+            return (true, false);
+        }
+        let now = self.now_ms;
+        let emit_at = match self.emit_at {
+            Some(t) => t,
+            None => *self.emit_at.insert(now + self.plant.next_delay_us(None) / 1000),
+        };
+        let slack = self.monitor.timers().slack_ms();
+        let (to, emits) = match self.monitor.timers().next_deadline() {
+            Some(d) if emit_at >= d && now + 1 < d => (d - 1, false),
+            Some(d) if emit_at >= d => (d + slack, false),
+            _ => (emit_at, true),
+        };
+        let to = to.max(now);
+        bytes.extend(time(to - now));
+        self.now_ms = to;
+        self.monitor.clock(to);
+        (emits, to > now)
+    }
+
+    /// With timers, after a round's emission: the next one is drawn afresh, unless the plant held it
+    /// back with events to send (the steering let the controller go first).
+    fn emitted(&mut self, sent: usize) {
+        if sent > 0 || self.plant.enabled_uncontrollable().is_empty() {
+            self.emit_at = None;
+        }
+    }
+
+    /// With timers, once the target answered a round: the timers it let run past their deadline and
+    /// slack are missing timeouts (a violation: both sides are reset). Returns whether it was so.
+    fn judge_missing(&mut self) -> Result<bool, SessionError> {
+        if self.monitor.timers().is_empty() || self.monitor.missing_timeouts() != Verdict::Violation {
+            return Ok(false);
+        }
+        self.out_of_step()?;
+        Ok(true)
     }
 
     /// The monitor's figures so far.
@@ -257,6 +330,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         self.await_frame("READY", count, |f| f == Frame::Ready)?;
         self.plant.reset();
         self.monitor.reset();
+        self.emit_at = None;
         self.in_step = true;
         let steps_on = self.monitor.is_steering() || (self.stepping && !self.idle_seen);
         self.stepping = self.config.step && self.plant.steers() && steps_on;
@@ -377,9 +451,15 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
     /// one decision judged. Neither moving is a stall.
     fn step(&mut self) -> Result<(), SessionError> {
         let t = self.micros();
-        let most = if self.monitor.is_steering() { MAX_STEERED_BURST } else { self.plant.burst_len() };
-        let mut bytes = Vec::with_capacity(most + 1);
-        while bytes.len() < most && self.monitor.next_move() != Move::Controller {
+        let mut bytes = Vec::new();
+        let (emits, moved) = self.advance(&mut bytes);
+        let most = match emits {
+            false => 0,
+            true if self.monitor.is_steering() => MAX_STEERED_BURST,
+            true => self.plant.burst_len(),
+        };
+        let timed = bytes.len();
+        while bytes.len() - timed < most && self.monitor.next_move() != Move::Controller {
             let monitor = &mut *self.monitor;
             let Some(e) = self.plant.emit_one(|e| monitor.rank_after(e)) else { break };
             bytes.push(e.as_u32() as u8);
@@ -388,13 +468,19 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
                 return self.out_of_step();
             }
         }
-        let sent = bytes.len();
+        let sent = bytes.len() - timed;
+        if emits {
+            self.emitted(sent);
+        }
         bytes.push(STEP);
         self.link.send(&bytes)?;
         self.active();
         let commands = self.await_round(READ_ALL)?;
+        if commands.is_some() && self.judge_missing()? {
+            return Ok(());
+        }
         self.idle_seen |= commands == Some(0);
-        if commands == Some(0) && sent == 0 {
+        if commands == Some(0) && sent == 0 && !moved {
             self.monitor.report_mut().stalls += 1;
             self.sync(true)?;
         }
@@ -411,9 +497,15 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
                 continue;
             }
             self.round += 1;
-            let (mut bytes, _, violated) = self.draw(2 * self.round * TICK_US);
-            let sent = bytes.len();
-            bytes.insert(0, HOLD);
+            let mut bytes = vec![HOLD];
+            let (emits, moved) = self.advance(&mut bytes);
+            let (events, _, violated) =
+                if emits { self.draw(2 * self.round * TICK_US) } else { (Vec::new(), false, false) };
+            let sent = events.len();
+            if emits {
+                self.emitted(sent);
+            }
+            bytes.extend(events);
             bytes.extend([SYNC, GO]);
             self.link.send(&bytes)?;
             if violated {
@@ -421,7 +513,8 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
                 continue;
             }
             match self.await_round((2 * self.round + 1) * TICK_US)? {
-                Some(0) if sent == 0 => {
+                Some(_) if self.judge_missing()? => {}
+                Some(0) if sent == 0 && !moved => {
                     self.monitor.report_mut().stalls += 1;
                     self.sync(true)?;
                 }
@@ -695,10 +788,20 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
 
     /// The monitor's verdict on command byte `c` at time `t`; where it takes the command, the plant
     /// takes it too.
+    ///
+    /// With timers, a byte that is a timer's timeout is the target's timeout, judged as such
+    /// ([`Monitor::timeout`]); a command taken makes the plant's answer due on the virtual clock after
+    /// the command's answer delay (or sooner, when an emission was due already).
     fn judge(&mut self, c: u8, t: u64) -> Verdict {
-        let verdict = self.monitor.command(EventId::from_u32(u32::from(c)), t);
+        let e = EventId::from_u32(u32::from(c));
+        let timeout = self.monitor.timers().is_timeout(e);
+        let verdict = if timeout { self.monitor.timeout(e, t) } else { self.monitor.command(e, t) };
         if matches!(verdict, Verdict::Ok | Verdict::Desync { resolved: true }) {
             self.plant.set_state(self.monitor.plant_state());
+            if !timeout && !self.monitor.timers().is_empty() {
+                let due = self.now_ms + self.plant.next_delay_us(Some(e)) / 1000;
+                self.emit_at = Some(self.emit_at.map_or(due, |t| t.min(due)));
+            }
         }
         verdict
     }

@@ -2,6 +2,7 @@
 //! tables — the choice policy, the fault reaction, the seed, the guard, the input buffer, the reseed
 //! period, the tables' [`Layout`] and which supervisors run ([`SupervisorChoice`]).
 
+use std::collections::BTreeMap;
 use std::fmt;
 
 use clap::ValueEnum;
@@ -162,6 +163,12 @@ pub struct RuntimeConfig {
     pub mode: Mode,
     /// Which supervisors run (default: the full set).
     pub supervisors: SupervisorChoice,
+    /// The virtual plant's answer delay per command, in ms of virtual time: `answer_ms = { extend =
+    /// [1000, 3000] }` draws the plant's next event after `extend` uniformly in 1–3 s. It is how a
+    /// sensor that stops a `[[timers]]` timer comes before or after the timeout in `codegen run`, so
+    /// that both paths are run; the firmware never reads it. `--answer-delay-us` overrides it per
+    /// command.
+    pub answer_ms: BTreeMap<String, [u64; 2]>,
 }
 
 impl RuntimeConfig {
@@ -187,6 +194,7 @@ impl Default for RuntimeConfig {
             layout: None,
             mode: Mode::Event,
             supervisors: SupervisorChoice::Full,
+            answer_ms: BTreeMap::new(),
         }
     }
 }

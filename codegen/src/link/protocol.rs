@@ -3,14 +3,41 @@
 //!
 //! Bytes `0x00..=0xEF` are event ids: host → firmware an uncontrollable event the plant produced,
 //! firmware → host a command the firmware fired. Control bytes: [`RESET`], [`STATUS`], [`EXIT`],
-//! [`READY`], [`SAFE`], [`HOLD`], [`GO`], [`SYNC`], [`STEP`], [`TABLES`] (see each). The firmware's side is in `firmware/src/link.rs`.
+//! [`READY`], [`SAFE`], [`HOLD`], [`GO`], [`SYNC`], [`STEP`], [`TABLES`], [`TIME`] (see each; TIME is
+//! written by [`time`]). The firmware's side is in `firmware/src/link.rs`.
 
 // The byte values and the STATUS answer's format are the firmware's own (`firmware::link`), so the two
 // ends cannot drift apart.
 pub use firmware::link::{
     EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, STATUS_BYTES, STEP, SYNC, TABLES, TABLES_BYTES,
+    TIME,
 };
 pub use firmware::runtime::Counters;
+
+/// Most milliseconds one [`TIME`] message carries.
+pub const MAX_TIME_MS: u64 = u16::MAX as u64;
+
+/// The [`TIME`] messages that move the target's virtual time on by `ms` milliseconds: one per
+/// [`MAX_TIME_MS`] at most (nothing for 0), each `TIME` then Δ as 2 bytes little-endian.
+///
+/// ```
+/// use codegen::link::protocol::{time, TIME};
+///
+/// assert_eq!(time(2000), [TIME, 0xD0, 0x07]);
+/// assert_eq!(time(70_000), [TIME, 0xFF, 0xFF, TIME, 0x71, 0x11]);
+/// assert!(time(0).is_empty());
+/// ```
+pub fn time(ms: u64) -> Vec<u8> {
+    let mut out = Vec::new();
+    let mut left = ms;
+    while left > 0 {
+        let d = left.min(MAX_TIME_MS);
+        out.push(TIME);
+        out.extend((d as u16).to_le_bytes());
+        left -= d;
+    }
+    out
+}
 
 /// One message from the firmware.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -4,8 +4,10 @@ use std::collections::{BTreeSet, VecDeque};
 
 use super::choice_model::{ChoiceModel, Choices};
 use super::coverage::{Edge, Graph, Taken};
+use super::report::TimeoutFigures;
 use super::report::{CoverageLine, FirmwareCounters, Report};
 use super::steering::{Command, Move, Steering};
+use super::timers::{Timers, Timing};
 use crate::model::{Automaton, Composition, EventId, EventTable, ModelError};
 
 /// Most firmware views kept at once; the ones that have seen the most events win.
@@ -74,6 +76,10 @@ pub struct Monitor {
     choices: Choices,
     report: Report,
     gap: u64,
+    /// The run's timers (none unless [`Monitor::set_timers`]).
+    timers: Timers,
+    /// The virtual time in ms, as the session last set it ([`Monitor::clock`]).
+    now_ms: u64,
 }
 
 impl Monitor {
@@ -124,6 +130,8 @@ impl Monitor {
             report,
             gap: 0,
             closed,
+            timers: Timers::default(),
+            now_ms: 0,
         })
     }
 
@@ -154,8 +162,87 @@ impl Monitor {
         }
         self.unread.push_back((event, t_us));
         self.sent += 1;
+        self.timers.take(event, self.now_ms);
         self.after_event();
         Verdict::Ok
+    }
+
+    /// The run's timers: their timeouts are the target's events, judged by [`Monitor::timeout`] against
+    /// deadlines in the virtual time the session keeps ([`Monitor::clock`]).
+    pub fn set_timers(&mut self, timers: Timers) {
+        self.report.timeouts = (!timers.is_empty())
+            .then(|| TimeoutFigures { slack_ms: timers.slack_ms(), ..Default::default() });
+        self.timers = timers;
+    }
+
+    /// The run's timers.
+    pub fn timers(&self) -> &Timers {
+        &self.timers
+    }
+
+    /// Virtual time is now `now_ms`: the time starts and stops are taken at, and timeouts judged at.
+    pub fn clock(&mut self, now_ms: u64) {
+        self.now_ms = now_ms;
+    }
+
+    /// The target raised timeout `event` at the current virtual time, having taken it as its input (so
+    /// every later command was decided on it; `t_us` is the link time of the commands of the round): a
+    /// violation when it comes before its timer's deadline or with the timer not running
+    /// (`timeout_early`), or after the deadline plus the slack (`timeout_late`); otherwise it is taken
+    /// as the uncontrollable event it is, judged by the supervisors as the plant's are.
+    pub fn timeout(&mut self, event: EventId, t_us: u64) -> Verdict {
+        self.report.events += 1;
+        self.report.trace.push(event.index() as u8);
+        let timing = self.timers.timeout(event, self.now_ms);
+        let figures = self.report.timeouts.get_or_insert_with(TimeoutFigures::default);
+        let kind = match timing {
+            Timing::OnTime => {
+                figures.on_time += 1;
+                None
+            }
+            Timing::Early => {
+                figures.early += 1;
+                Some("timeout_early: before its timer's deadline, or with the timer not running")
+            }
+            Timing::Late => {
+                figures.late += 1;
+                Some("timeout_late: after its timer's deadline and slack")
+            }
+        };
+        let name = self.name(event).to_owned();
+        if let Some(kind) = kind {
+            return self.violation(format!("'{name}' at {} ms: {kind}", self.now_ms));
+        }
+        if !self.closed.step(&mut self.physical, event) {
+            let refusers = self.closed.refusers(&self.physical, event).join(", ");
+            return self.violation(format!("timeout '{name}' refused by {refusers}"));
+        }
+        // The target took it before anything it decided after: read at once by every view.
+        self.unread.push_back((event, t_us.saturating_sub(self.window_us)));
+        self.sent += 1;
+        self.after_event();
+        Verdict::Ok
+    }
+
+    /// Judges the timers still running once the target has had every millisecond up to the current
+    /// virtual time: each one past its deadline plus the slack is a missing timeout (`timeout_missing`),
+    /// a violation.
+    pub fn missing_timeouts(&mut self) -> Verdict {
+        let missing = self.timers.missing(self.now_ms);
+        if missing.is_empty() {
+            return Verdict::Ok;
+        }
+        for e in missing {
+            if let Some(figures) = self.report.timeouts.as_mut() {
+                figures.missing += 1;
+            }
+            let name = self.name(e).to_owned();
+            self.violation(format!(
+                "'{name}' at {} ms: timeout_missing: its timer ran past its deadline and slack",
+                self.now_ms
+            ));
+        }
+        Verdict::Violation
     }
 
     /// The controller sent command byte `event` at `t_us`.
@@ -189,6 +276,7 @@ impl Monitor {
             }
             self.closed.step(&mut self.physical, event);
             self.views = views;
+            self.timers.take(event, self.now_ms);
             Verdict::Ok
         } else {
             self.report.desyncs += 1;
@@ -208,6 +296,7 @@ impl Monitor {
                     }
                     self.physical = state;
                     self.views = views;
+                    self.timers.take(event, self.now_ms);
                     Verdict::Desync { resolved: true }
                 }
                 None => return Verdict::Desync { resolved: false },
@@ -309,6 +398,7 @@ impl Monitor {
         self.views = BTreeSet::from([View { seen: self.sent, state: self.physical.clone() }]);
         self.unread.clear();
         self.first_unread = self.sent;
+        self.timers.reset();
     }
 
     /// The firmware reported a fault and went to its safe state.

@@ -9,6 +9,9 @@
 //! - **coverage**: which controllable transitions of each supervisor were taken, out of those reachable in
 //!   plants ‖ supervisors (the closed loop explored by synthesis's product walk,
 //!   [`crate::synth::Reachable`]);
+//! - **time** (a project with `[[timers]]`): every timeout the target raises falls in its timer's
+//!   `[deadline, deadline + slack]` of virtual time; an early, a late and a missing one are violations
+//!   ([`Timers`]);
 //! - **link**: desynchronisations (commands decided before the controller read the plant's latest events),
 //!   resets, and the firmware's own counters (overflows, guard re-decisions, unexpected events), from
 //!   which events lost silently are derived.
@@ -23,11 +26,13 @@ mod judge;
 mod report;
 mod scan;
 mod steering;
+mod timers;
 
 pub use board::{BoardFigures, CallCost, RuntimeCost};
 pub use choice_model::ChoiceModel;
 pub use coverage::{Edge, Graph, Taken, TooLarge};
 pub use judge::{Monitor, Verdict};
-pub use report::{CoverageLine, FirmwareCounters, Report, SCHEMA};
+pub use report::{CoverageLine, FirmwareCounters, Report, TimeoutFigures, SCHEMA};
 pub use scan::ScanFigures;
 pub use steering::Move;
+pub use timers::{Timers, Timing};

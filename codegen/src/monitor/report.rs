@@ -143,6 +143,37 @@ pub struct Report {
     pub board: Option<BoardFigures>,
     /// What the PLC program's scans showed (target `plc`; `None` on a firmware).
     pub scan: Option<ScanFigures>,
+    /// How the timeouts the target raised fell against their timers' deadlines (a project with
+    /// `[[timers]]`; `None` without).
+    pub timeouts: Option<TimeoutFigures>,
+}
+
+/// The timeouts of a run with timers, judged against their deadlines in virtual time. Early, late and
+/// missing ones are violations too (each one counted in [`Report::violations`] and described in
+/// [`Report::findings`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct TimeoutFigures {
+    /// Within `[deadline, deadline + slack_ms]`.
+    pub on_time: u64,
+    /// Before the deadline, or with the timer not running (`timeout_early`).
+    pub early: u64,
+    /// After `deadline + slack_ms` (`timeout_late`).
+    pub late: u64,
+    /// Not raised by `deadline + slack_ms` (`timeout_missing`).
+    pub missing: u64,
+    /// How long after its deadline the target may raise a timeout: 0 on a firmware, the scan cycle on
+    /// a PLC.
+    pub slack_ms: u64,
+}
+
+impl fmt::Display for TimeoutFigures {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "  timeouts  {} on time, {} early, {} late, {} missing (slack {} ms)",
+            self.on_time, self.early, self.late, self.missing, self.slack_ms
+        )
+    }
 }
 
 /// The running SHA-256 of a run's event sequence.
@@ -218,6 +249,9 @@ impl fmt::Display for Report {
         writeln!(f, "  trace     sha256 {}", self.trace_sha256)?;
         for finding in &self.findings {
             writeln!(f, "            {finding}")?;
+        }
+        if let Some(timeouts) = &self.timeouts {
+            write!(f, "{timeouts}")?;
         }
         writeln!(
             f,

@@ -100,6 +100,8 @@ pub struct VirtualPlant {
     /// Per global event: the delay range of the answer to it when it is a command with a rate of its own
     /// ([`PlantConfig::answer_delay_us`]).
     answer_delay: Vec<Option<(u64, u64)>>,
+    /// Per global event: another part of the loop raises it, never the plant ([`VirtualPlant::withhold`]).
+    withheld: Vec<bool>,
 }
 
 /// Longest activity duration, in plant events, as a power of two: a duration is drawn uniformly below
@@ -127,6 +129,7 @@ impl VirtualPlant {
             clock: 0,
             explore_per_mille: 0,
             due: vec![None; table.len()],
+            withheld: vec![false; table.len()],
             config,
         })
     }
@@ -168,9 +171,21 @@ impl VirtualPlant {
         }
     }
 
-    /// The uncontrollable events the plant can produce now, in id order.
+    /// The uncontrollable events the plant can produce now, in id order (never a withheld one).
     pub fn enabled_uncontrollable(&self) -> Vec<EventId> {
-        self.plants.enabled(&self.state).into_iter().filter(|e| !self.controllable[e.index()]).collect()
+        let own = |e: &EventId| !self.controllable[e.index()] && !self.withheld[e.index()];
+        self.plants.enabled(&self.state).into_iter().filter(own).collect()
+    }
+
+    /// The plant never produces `events`: they are uncontrollable events of its automata that the
+    /// target raises itself — a timer's timeout (`[[timers]]`), which the target reports and the plant
+    /// then takes through [`VirtualPlant::set_state`].
+    pub fn withhold(&mut self, events: impl IntoIterator<Item = EventId>) {
+        for e in events {
+            if let Some(w) = self.withheld.get_mut(e.index()) {
+                *w = true;
+            }
+        }
     }
 
     /// Produces the next emission and takes it: one uncontrollable event, or with the configured chance a
@@ -315,6 +330,17 @@ mod tests {
             assert!((300..=400).contains(&p.next_delay_us(t.id("a2"))));
             assert!((10..=20).contains(&p.next_delay_us(None)));
         }
+    }
+
+    #[test]
+    fn a_withheld_event_is_never_produced() {
+        let (mut p, t) = two_machines(PlantConfig { burst_per_mille: 0, ..PlantConfig::default() });
+        p.withhold([t.id("b1").unwrap()]);
+        p.command(t.id("a1").unwrap()).unwrap();
+        p.command(t.id("a2").unwrap()).unwrap();
+        assert_eq!(p.enabled_uncontrollable(), [t.id("b2").unwrap()]);
+        assert_eq!(p.emit(), [t.id("b2").unwrap()]);
+        assert!(p.emit().is_empty(), "M1 waits for its b1 from elsewhere");
     }
 
     #[test]

@@ -31,7 +31,7 @@ use std::collections::{BTreeMap, VecDeque};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
-use firmware::link::{EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, STEP, SYNC};
+use firmware::link::{EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, STEP, SYNC, TIME};
 
 use super::report::Report as ProgramReport;
 use crate::closed_loop::{attach, ClosedLoopError, Options, SessionConfig};
@@ -59,6 +59,8 @@ pub struct IoMap {
     inputs: BTreeMap<u8, InputLine>,
     /// Output variable → (event id, action).
     outputs: BTreeMap<String, Vec<(u8, &'static str)>>,
+    /// Per timer: its `TON`'s output (a path in the block) and its timeout's event id.
+    timers: Vec<(String, u8)>,
 }
 
 impl IoMap {
@@ -77,6 +79,8 @@ impl IoMap {
                 .ok_or(format!("event id {id} beyond the link"))?;
             if io.direction == "input" {
                 map.inputs.insert(id, InputLine { path: io.variable.clone(), edge: io.kind });
+            } else if io.direction == "timer" {
+                map.timers.push((format!("{FB}.{}", io.variable), id));
             } else {
                 map.outputs.entry(io.variable.clone()).or_default().push((id, io.kind));
             }
@@ -104,6 +108,12 @@ pub struct Driver {
     io: IoMap,
     levels: BTreeMap<String, bool>,
     outputs: BTreeMap<String, bool>,
+    /// Per timer of the map, its `TON`'s output after the last scan.
+    timer_q: Vec<bool>,
+    /// The task's interval: the scan clock's step while the link's TIME lets it run. A program with
+    /// timers runs every other scan at 0 ms, its clock frozen, so its `TON`s count the host's virtual
+    /// time alone ([`Scanner::pass_time`]).
+    cycle_ms: u32,
     /// An input's edge was made (or prepared) since the last scan.
     edged: bool,
 }
@@ -111,6 +121,8 @@ pub struct Driver {
 /// What one scan did.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Scan {
+    /// The timeouts it raised (a timer's `TON` output rose), in timer order.
+    pub timeouts: Vec<u8>,
     /// The commands it fired, in order.
     pub commands: Vec<u8>,
     /// The statements it executed, when it did work the figures count (read an input's change or
@@ -140,6 +152,13 @@ pub trait Scanner {
     fn reset(&mut self) -> Result<(), String>;
     /// The six STATUS counters, with the wrapper's `unknown` bytes last.
     fn status(&self, unknown: u32) -> Result<[u32; 6], String>;
+    /// The task's interval when the program has timers, which the link's TIME then lets its scan clock
+    /// run by ([`pass_time`]); `None` (the default): the program has none and TIME changes nothing.
+    fn timed_cycle(&self) -> Option<u32> {
+        None
+    }
+    /// Sets how far the scan clock moves at the next scans (a program with timers only).
+    fn set_interval(&mut self, _ms: u32) {}
 }
 
 /// What one attempt to make an event's edge did.
@@ -157,7 +176,16 @@ impl Driver {
     /// A driver for `text` (the `.st` file) with the map of its report, after its first scan.
     pub fn new(text: &str, io: IoMap) -> Result<Driver, String> {
         let plc = Plc::load(text)?;
-        let mut d = Driver { plc, io, levels: BTreeMap::new(), outputs: BTreeMap::new(), edged: false };
+        let timer_q = vec![false; io.timers.len()];
+        let mut d = Driver {
+            plc,
+            io,
+            levels: BTreeMap::new(),
+            outputs: BTreeMap::new(),
+            timer_q,
+            cycle_ms: 10,
+            edged: false,
+        };
         // The boot scan: initial states, the inputs' first sample.
         d.reset()?;
         Ok(d)
@@ -167,7 +195,17 @@ impl Driver {
         for var in self.io.outputs.keys() {
             self.outputs.insert(var.clone(), self.plc.get_bool(var)?);
         }
+        for ((q, _), was) in self.io.timers.iter().zip(&mut self.timer_q) {
+            *was = self.plc.get_bool(q)?;
+        }
         Ok(())
+    }
+
+    /// Sets the task's interval (`[plc] cycle_ms`): the scan clock's step; with timers, the step of the
+    /// scans the link's TIME runs, every other scan then leaving the clock where it is.
+    pub fn set_cycle_ms(&mut self, ms: u32) {
+        self.cycle_ms = ms;
+        self.plc.set_cycle_ms(if self.io.timers.is_empty() { ms } else { 0 });
     }
 
     /// Makes the edge of uncontrollable event `e` on its input, unless `used` says the input already
@@ -203,6 +241,14 @@ impl Driver {
     fn scan_counted(&mut self) -> Result<Scan, String> {
         let statements = self.plc.scan()?;
         let edged = std::mem::take(&mut self.edged);
+        let mut timeouts = Vec::new();
+        for ((q, id), was) in self.io.timers.iter().zip(&mut self.timer_q) {
+            let now = self.plc.get_bool(q)?;
+            if now && !*was {
+                timeouts.push(*id);
+            }
+            *was = now;
+        }
         let fired = self.plc.get_int(&format!("{FB}.fired"))?;
         let mut commands = Vec::new();
         let mut seen_fired = false;
@@ -225,16 +271,28 @@ impl Driver {
             commands.push(event);
         }
         let mapped = self.io.outputs.values().flatten().any(|&(e, _)| i64::from(e) == fired);
+        // A `set` of an output already set (or a `clear` of one already clear) fires its event with no
+        // change to see: an alarm lamp that stays lit through a second fault.
+        let mut unchanged = false;
+        for (var, actions) in &self.io.outputs {
+            let level = self.outputs.get(var).copied().unwrap_or(false);
+            unchanged |= actions
+                .iter()
+                .any(|&(e, k)| i64::from(e) == fired && ((k == "set" && level) || (k == "clear" && !level)));
+        }
         match (fired >= 0, mapped, seen_fired) {
             (true, false, _) => commands.push(u8::try_from(fired).map_err(|_| format!("fired {fired}"))?),
+            (true, true, false) if unchanged => {
+                commands.push(u8::try_from(fired).map_err(|_| format!("fired {fired}"))?)
+            }
             (true, true, false) => return Err(format!("event {fired} fired but its output did not change")),
             _ => {}
         }
         if commands.len() > 1 {
             return Err(format!("more than one command in a scan: {commands:?}"));
         }
-        let worked = edged || !commands.is_empty();
-        Ok(Scan { commands, statements: worked.then_some(statements) })
+        let worked = edged || !commands.is_empty() || !timeouts.is_empty();
+        Ok(Scan { timeouts, commands, statements: worked.then_some(statements) })
     }
 
     /// A scan with `reset` and `hold` set: the program back to its initial states, no command.
@@ -281,6 +339,14 @@ impl Scanner for Driver {
 
     fn reset(&mut self) -> Result<(), String> {
         Driver::reset(self)
+    }
+
+    fn timed_cycle(&self) -> Option<u32> {
+        (!self.io.timers.is_empty()).then_some(self.cycle_ms)
+    }
+
+    fn set_interval(&mut self, ms: u32) {
+        self.plc.set_cycle_ms(ms);
     }
 
     fn status(&self, unknown: u32) -> Result<[u32; 6], String> {
@@ -363,6 +429,15 @@ pub fn spawn_plc<D: Scanner + Send + 'static>(
                         fifo.pop_front();
                         driver.hold(b == HOLD)?;
                     }
+                    TIME => {
+                        // Its Δ in full, and every event before it applied.
+                        if fifo.len() < 3 || !used.is_empty() || driver.pending()? {
+                            break;
+                        }
+                        let ms = u16::from_le_bytes([fifo[1], fifo[2]]);
+                        fifo.drain(..3);
+                        pass_time(&mut driver, u32::from(ms), &mut out, &mut stats)?;
+                    }
                     RESET | STATUS | EXIT => {
                         if !used.is_empty() || driver.pending()? {
                             break;
@@ -396,10 +471,11 @@ pub fn spawn_plc<D: Scanner + Send + 'static>(
                 }
             }
             let held = driver.held()?;
-            let Scan { commands, statements } = driver.scan()?;
+            let Scan { timeouts, commands, statements } = driver.scan()?;
+            out.extend(&timeouts);
             out.extend(&commands);
             let pending = driver.pending()?;
-            let quiet = commands.is_empty() && used.is_empty() && !pending;
+            let quiet = timeouts.is_empty() && commands.is_empty() && used.is_empty() && !pending;
             // Only a scan that made an edge or fired a command is counted: how many scans a program
             // waits or works off what is pending before the host's next byte arrives is the machine's
             // timing, not the program's work.
@@ -429,6 +505,42 @@ pub fn spawn_plc<D: Scanner + Send + 'static>(
             idle = n == 0 && fifo.is_empty() && quiet && !answered;
         }
     })
+}
+
+/// The link's TIME: lets the scan clock of a program with timers run `ms` milliseconds, the program not
+/// held (as a PLC runs on between two looks of its plant), and appends what the scans raised and fired
+/// to `out` — each scan's timeouts before its commands. First a scan at 0 ms, so that a timer started by
+/// the last command counts from the time it was started at, then scans a task interval apart (the last
+/// one shorter when `ms` is not a multiple of it), so the clock ends exactly `ms` later. A `TON` is only
+/// evaluated at scans: its timeout is raised at the first scan at or after its deadline, up to one task
+/// interval late — the slack the host gives a PLC ([`crate::closed_loop::Options::timer_slack_ms`]).
+/// The hold is as it was afterwards. A program without timers ignores TIME.
+fn pass_time<D: Scanner>(
+    driver: &mut D,
+    ms: u32,
+    out: &mut Vec<u8>,
+    stats: &mut Option<ScanStats>,
+) -> Result<(), String> {
+    let Some(cycle) = driver.timed_cycle() else { return Ok(()) };
+    let held = driver.held()?;
+    driver.hold(false)?;
+    let mut left = ms;
+    let mut first = true;
+    while first || left > 0 {
+        let step = if first { 0 } else { left.min(cycle.max(1)) };
+        first = false;
+        left -= step;
+        driver.set_interval(step);
+        let Scan { timeouts, commands, statements } = driver.scan()?;
+        out.extend(timeouts);
+        out.extend(commands);
+        if let (Some(stats), Some(statements)) = (stats.as_mut(), statements) {
+            stats.scans += 1;
+            stats.max_statements = stats.max_statements.max(statements);
+        }
+    }
+    driver.set_interval(0);
+    driver.hold(held)
 }
 
 /// Why a program's closed-loop run failed (as opposed to finding violations, which are in its report).
@@ -461,7 +573,7 @@ pub fn run(
 ) -> Result<Report, RunError> {
     let mut driver = Driver::new(text, IoMap::new(program, set.events()).map_err(RunError::Program)?)
         .map_err(RunError::Program)?;
-    driver.plc.set_cycle_ms(program.cycle_ms);
+    driver.set_cycle_ms(program.cycle_ms);
     let (host, target) = memory::pair();
     let plc = spawn_plc(driver, target);
     run_spawned(host, plc, &program.into(), set, name, options, progress)
@@ -508,6 +620,8 @@ pub fn run_spawned(
         choices: program.choices,
         // The program has no tables' digest to report.
         tables: Vec::new(),
+        // Its `TON`s are evaluated at scans: a timeout comes up to one task interval after its deadline.
+        timer_slack_ms: u64::from(program.cycle_ms),
         ..options.clone()
     };
     let report = attach(&mut host, set, name, &options, progress);

@@ -75,6 +75,9 @@ pub struct Program {
     pub sites: usize,
     /// Per controllable event, its request input (`req_<event>`), when the options ask for requests.
     pub requests: Vec<(EventId, String)>,
+    /// Per `[[timers]]` entry: its timeout event and its `TON` instance (a local of the block), whose
+    /// `Q` rises when the timeout falls due.
+    pub timers: Vec<(EventId, String)>,
 }
 
 /// Identifiers of one automaton.
@@ -926,7 +929,8 @@ impl Builder<'_> {
         avalanche.sort_by_key(|(a, e, _)| (rank(a), *e));
         let memory_bits = std::mem::take(&mut self.bits).into_iter().map(|(b, ..)| b).collect();
         let requests = std::mem::take(&mut self.req);
-        Program { events_type, fb, main, io: self.io, avalanche, memory_bits, rungs, sites, requests }
+        let timers = self.timers.iter().map(|t| (t.timeout, t.ton.clone())).collect();
+        Program { events_type, fb, main, io: self.io, avalanche, memory_bits, rungs, sites, requests, timers }
     }
 }
 

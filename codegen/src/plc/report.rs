@@ -69,11 +69,13 @@ pub struct Variables {
 pub struct IoEntry {
     /// The event.
     pub event: String,
-    /// `input` (an uncontrollable event's source) or `output`.
+    /// `input` (an uncontrollable event's source), `output`, or `timer` (a `[[timers]]` timeout, which
+    /// the program raises itself).
     pub direction: &'static str,
-    /// Program variable (`EVENTS.<member>` for internal events).
+    /// Program variable (`EVENTS.<member>` for internal events; for a timer, its `TON` instance's
+    /// `<instance>.Q`, a local of the function block).
     pub variable: String,
-    /// `rising`, `falling`, `both` (inputs) or `set`, `clear`, `pulse` (outputs).
+    /// `rising`, `falling`, `both` (inputs, timers) or `set`, `clear`, `pulse` (outputs).
     pub kind: &'static str,
     /// Pulse length in scans (0 otherwise).
     pub scans: u16,
@@ -135,6 +137,15 @@ impl Report {
                 direction: "input",
                 variable,
                 kind,
+                scans: 0,
+            });
+        }
+        for (e, ton) in &program.timers {
+            io.push(IoEntry {
+                event: events.name(*e).to_owned(),
+                direction: "timer",
+                variable: format!("{ton}.Q"),
+                kind: "rising",
                 scans: 0,
             });
         }

@@ -227,7 +227,7 @@ impl Scanner for StateDriver {
         }
         self.commands_out += commands.len() as u32;
         let worked = std::mem::take(&mut self.changed) || !commands.is_empty();
-        Ok(Scan { commands, statements: worked.then_some(statements) })
+        Ok(Scan { timeouts: Vec::new(), commands, statements: worked.then_some(statements) })
     }
 
     fn reset(&mut self) -> Result<(), String> {
