@@ -92,14 +92,28 @@ fn a_firmware_built_from_other_tables_is_refused_naming_both() {
     assert!(!stdout.contains("violations"), "refused before the run, no report: {stdout}");
 }
 
-/// A project with `[[timers]]` is refused before anything is built (exit 2) on a firmware, which does
-/// not run their delays yet; `--target plc` runs them (docs/closed-loop.md).
+/// A project with `[[timers]]` runs closed loop under QEMU: the session's virtual clock sent as TIME,
+/// the firmware raising each timeout on its millisecond, the monitor judging them (slack 0). The
+/// cylinder, 200 events: both paths taken, every timeout on time, no violation. `--target rp2040` does
+/// not run virtual time yet: refused before anything is built (exit 2).
 #[test]
-fn a_project_with_timers_is_refused_before_the_run() {
-    let out = codegen(&["run", &repo("examples/cylinder/cylinder.toml"), "--events", "10"], None);
+fn a_project_with_timers_runs_under_qemu_with_its_timeouts_on_time() {
+    let cylinder = repo("examples/cylinder/cylinder.toml");
+    let out = codegen(&["run", &cylinder, "--target", "qemu", "--events", "200", "--json"], None);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!((json["name"].as_str(), json["violations"].as_u64()), (Some("cylinder"), Some(0)));
+    let t = &json["timeouts"];
+    assert!(t["on_time"].as_u64().unwrap() > 0, "no timeout fell due: {t}");
+    assert_eq!((t["early"].as_u64(), t["late"].as_u64(), t["missing"].as_u64()), (Some(0), Some(0), Some(0)));
+    assert_eq!(json["firmware"]["unknown_bytes"], 0, "TIME is no unknown byte to the firmware");
+    let out = codegen(&["run", &cylinder, "--target", "rp2040", "--events", "10"], None);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
-    assert!(err.contains("cylinder.toml: [[timers]] run closed loop on the PLC program only"), "{err}");
+    assert!(
+        err.contains("cylinder.toml: [[timers]] run closed loop under QEMU and on the PLC program only"),
+        "{err}"
+    );
 }
 
 #[test]

@@ -16,7 +16,7 @@
 //! | `0xF7` SYNC | both | request: answer SYNC once nothing is enabled (or in the safe state) and deciding is not on hold; so a host can run the loop in lock-step, every round's decisions taken on every input it sent |
 //! | `0xF8` STEP | host → fw | decide once on every input sent before it (fire at most one command), then hold again and answer SYNC; so a host can take its turn between any two decisions of a controller that never runs out of commands |
 //! | `0xF9` TABLES | both | request: which tables does the firmware run? answered by `0xF9` then the [`TABLES_BYTES`] ASCII hex digits of their digest (`firmware::table::image::digest`, the `DIGEST` of the emitted tables), so that a host refuses a firmware built from another manifest; a loop given no digest ([`EventLoop::new`](crate::event_loop::EventLoop::new)) treats it as any unknown byte, as a firmware from before TABLES does |
-//! | `0xFA` TIME | host → fw | then Δ ms as 2 bytes little-endian (1..=65535): virtual time moved on by Δ; each timer timeout that falls due is taken as an uncontrollable event and its id sent to the host; sent only while held, before the round's plant events; ignored (with its 2 bytes) by a target without timers |
+//! | `0xFA` TIME | host → fw | then 2 bytes, little-endian: Δ ms (1..=65535): virtual time moved on by Δ. The firmware advances its timers ([`crate::timer`]) by Δ; each timeout that falls due (in the order they fall due) is taken as an uncontrollable event, as if the plant had sent it, and its event id is sent to the host as a command is. Sent while the firmware is held, before that round's plant events, so a lock-step run stays a function of its seeds. A firmware without timers takes the 2 bytes and ignores them; a Δ of 0 is a fault (`unknown_bytes`). The 2 bytes are data, whatever their value: the receive filter ([`Hold::filter`]) passes them through, not as HOLD or GO |
 //!
 //! A firmware a host drives (QEMU's, the host-compiled one of the tests) boots on hold ([`Hold::on_hold`]):
 //! it sends READY and decides nothing until the host's first GO or STEP.
@@ -27,7 +27,7 @@
 //! it), except HOLD and GO. STEP goes through the buffer, so its decision sees every event before it.
 
 use crate::runtime::Counters;
-use core::sync::atomic::{AtomicBool, Ordering};
+use core::sync::atomic::{AtomicBool, AtomicU8, Ordering};
 
 /// Host → firmware: back to the initial state.
 pub const RESET: u8 = 0xF0;
@@ -50,13 +50,12 @@ pub const STEP: u8 = 0xF8;
 /// Host → firmware: which tables do you run; firmware → host: the answer's first byte, then the
 /// digest's [`TABLES_BYTES`] hex digits.
 pub const TABLES: u8 = 0xF9;
-/// Host → firmware: virtual time moved on; followed by 2 bytes, little-endian, Δ in milliseconds
-/// (1..=65535). The target advances its timers by Δ; each timeout that falls due (in the order they fall
-/// due) is taken as an uncontrollable event, as if the plant had sent it, and its event id is sent to
-/// the host (a byte `0x00..=0xEF`, as a command is; the host knows a timeout by its id). A host sends it
-/// only while the target is held (HOLD … GO, or between steps), before that round's plant events. RESET
-/// makes every timer idle; a target without timers ignores TIME and its 2 bytes.
+/// Host → firmware: virtual time moved on; then [`TIME_BYTES`] bytes, the Δ in ms, little-endian
+/// (1..=65535). The firmware's timers advance by Δ and every timeout that falls due is taken as an
+/// uncontrollable event and sent back as its event id (see the module's table).
 pub const TIME: u8 = 0xFA;
+/// Bytes of a TIME message after its leading [`TIME`]: the Δ ms as a `u16` little-endian.
+pub const TIME_BYTES: usize = 2;
 /// Bytes of a TABLES answer after its leading [`TABLES`]: the 16 lowercase hex digits of the tables'
 /// digest, as the emitted tables' `DIGEST` spells it.
 pub const TABLES_BYTES: usize = 16;
@@ -84,14 +83,20 @@ impl Counters {
     }
 }
 
-/// The decision gate that HOLD and GO set from the receive interrupt.
+/// The decision gate that HOLD and GO set from the receive interrupt. It also counts the bytes of a
+/// TIME message still to come, so that a Δ byte that happens to read as HOLD or GO goes to the loop as
+/// the data it is.
 #[derive(Debug, Default)]
-pub struct Hold(AtomicBool);
+pub struct Hold {
+    held: AtomicBool,
+    /// Bytes of a TIME message the receive filter still passes through as data.
+    payload: AtomicU8,
+}
 
 impl Hold {
     /// Deciding allowed: a board that no host drives.
     pub const fn new() -> Self {
-        Self(AtomicBool::new(false))
+        Self { held: AtomicBool::new(false), payload: AtomicU8::new(0) }
     }
 
     /// Deciding on hold until the first GO or STEP: a firmware a host drives boots this way, so that it
@@ -99,15 +104,26 @@ impl Hold {
     /// released it. A lock-step run then repeats exactly from the seeds, however long the host took to
     /// connect. A constant initialiser: no code at boot.
     pub const fn on_hold() -> Self {
-        Self(AtomicBool::new(true))
+        Self { held: AtomicBool::new(true), payload: AtomicU8::new(0) }
     }
 
     /// Called by the receive interrupt for every byte: consumes HOLD and GO, hands every other byte back
-    /// for the input buffer.
+    /// for the input buffer — the [`TIME_BYTES`] after a TIME too, whatever their value. Only the
+    /// receive interrupt calls it (one caller at a time), so its count needs no atomic read-modify-write
+    /// (which the Cortex-M0+ lacks).
     pub fn filter(&self, byte: u8) -> Option<u8> {
+        let payload = self.payload.load(Ordering::Relaxed);
+        if payload > 0 {
+            self.payload.store(payload - 1, Ordering::Relaxed);
+            return Some(byte);
+        }
         match byte {
             HOLD => self.hold(),
             GO => self.release(),
+            TIME => {
+                self.payload.store(TIME_BYTES as u8, Ordering::Relaxed);
+                return Some(TIME);
+            }
             other => return Some(other),
         }
         None
@@ -115,16 +131,16 @@ impl Hold {
 
     /// Puts deciding on hold, as HOLD does (the end of a STEP).
     pub fn hold(&self) {
-        self.0.store(true, Ordering::Relaxed);
+        self.held.store(true, Ordering::Relaxed);
     }
 
     /// Lets deciding go on, as GO does (a STEP's start).
     pub fn release(&self) {
-        self.0.store(false, Ordering::Relaxed);
+        self.held.store(false, Ordering::Relaxed);
     }
 
     /// Whether deciding is on hold.
     pub fn is_held(&self) -> bool {
-        self.0.load(Ordering::Relaxed)
+        self.held.load(Ordering::Relaxed)
     }
 }

@@ -152,6 +152,49 @@ mod tests {
         assert_eq!(t.advance(1000, &mut raised), 0);
     }
 
+    proptest::proptest! {
+        /// Any starts, stops and steps of time on two timers: the timeouts are those of absolute
+        /// deadlines (the last start's time + ms, cleared by a stop or the timeout), in deadline order,
+        /// ties in timer order.
+        #[test]
+        fn timeouts_are_the_absolute_deadlines_passed(
+            ops in proptest::collection::vec((0u8..5, 0u32..400), 0..60),
+        ) {
+            let mut t = Timers::new(&TWO);
+            let mut deadline: [Option<u64>; 2] = [None; 2];
+            let mut now = 0u64;
+            for (event, ms) in ops {
+                if event < 4 {
+                    t.observe(event);
+                    for (spec, d) in TWO.iter().zip(&mut deadline) {
+                        if spec.start.contains(&event) {
+                            *d = Some(now + u64::from(spec.ms));
+                        } else if spec.stop.contains(&event) {
+                            *d = None;
+                        }
+                    }
+                    continue;
+                }
+                now += u64::from(ms);
+                let mut due: Vec<(u64, usize)> = deadline
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(i, d)| d.filter(|&d| d <= now).map(|d| (d, i)))
+                    .collect();
+                due.sort_unstable();
+                let expected: Vec<u8> = due.iter().map(|&(_, i)| TWO[i].timeout).collect();
+                for &(_, i) in &due {
+                    deadline[i] = None;
+                }
+                let mut raised = [0u8; 2];
+                let n = t.advance(ms, &mut raised);
+                proptest::prop_assert_eq!(&raised[..n], &expected[..]);
+                let next = deadline.iter().flatten().map(|&d| (d - now) as u32).min();
+                proptest::prop_assert_eq!(t.next_due(), next);
+            }
+        }
+    }
+
     #[test]
     fn a_short_output_keeps_the_rest_due() {
         let mut t = Timers::new(&TWO);

@@ -121,15 +121,16 @@ enum Sampling {
     Timer,
 }
 
-/// Refuses a project with `[[timers]]` before a closed loop on a firmware (`run --target qemu|rp2040`,
-/// `plant`): the firmware does not run their delays yet; the PLC program does (its `TON`s).
+/// Refuses a project with `[[timers]]` before a closed loop whose host does not run virtual time
+/// (`run --target rp2040`, `plant`); QEMU's firmware (TIME on the link) and the PLC program (its `TON`s)
+/// run them.
 pub(super) fn refuse_timers(project: &Project, manifest: &std::path::Path) -> Result<(), Error> {
     if project.timers.is_empty() {
         return Ok(());
     }
     Err(format!(
-        "{}: [[timers]] run closed loop on the PLC program only (`codegen run --target plc`): the \
-         firmware does not run their delays yet; synth, check and plc take them",
+        "{}: [[timers]] run closed loop under QEMU and on the PLC program only (`codegen run --target \
+         qemu|plc`): this host does not run their virtual time yet; synth, check and plc take them",
         manifest.display()
     )
     .into())
@@ -174,7 +175,7 @@ pub fn run(mut args: Args) -> Result<ExitCode, Error> {
         Target::Rp2040 => Project::load_for(&args.manifest, Board::Pico)?,
         Target::Qemu | Target::Plc => Project::load(&args.manifest)?,
     };
-    if args.target != Target::Plc {
+    if args.target == Target::Rp2040 {
         refuse_timers(&project, &args.manifest)?;
     }
     project.runtime.layout = args.layout.or(project.runtime.layout);
@@ -200,8 +201,15 @@ pub fn run(mut args: Args) -> Result<ExitCode, Error> {
     if args.sampling.is_some() || args.sample_period_us.is_some() || args.rtt.is_some() {
         return Err("--sampling, --sample-period-us and --rtt go with --target rp2040".into());
     }
-    // A firmware (`--elf`) that runs other tables is refused before the run (`Options::tables`).
-    let options = Options { tables: project.table_digests()?, ..args.run.options(&project.runtime) };
+    // A firmware (`--elf`) that runs other tables is refused before the run (`Options::tables`). The
+    // timers run on the session's virtual clock, sent to the firmware as TIME; it raises each timeout
+    // on the millisecond (slack 0).
+    let options = Options {
+        tables: project.table_digests()?,
+        timers: project.timers.clone(),
+        timer_slack_ms: 0,
+        ..args.run.options(&project.runtime)
+    };
     let scratch = Scratch::new()?;
     let elf = match &args.elf {
         Some(elf) => elf.clone(),

@@ -29,6 +29,14 @@ pub enum EmitError {
     /// The `[board]` section does not fit the set.
     #[error(transparent)]
     Board(#[from] BoardError),
+    /// A timer names an event the set does not have (the manifest's check refuses it before).
+    #[error("timer '{timer}': the set has no event '{event}'")]
+    TimerEvent {
+        /// The timer's name.
+        timer: String,
+        /// The event.
+        event: String,
+    },
     /// The input buffer capacity is 0 or too large for the firmware's queue.
     #[error("input buffer of {capacity} events: it must hold 1 to 65535")]
     InputBuffer {

@@ -19,6 +19,8 @@
 //!   outputs for a real board.
 //! * [`state`] — the state-based firmware's tables (`[runtime] mode = "state"`): the state feedback of
 //!   [`crate::feedback`] as cubes over the packed signal word, no supervisor tables.
+//! * [`timers`] — the manifest's timers (`TIMERS`, `firmware::timer::TimerSpec`s), which every tables
+//!   file ends with (empty without `[[timers]]`), outside the image and its digest.
 //! * [`policy`] — the firmware types the run-time configuration ([`RuntimeConfig`](crate::config::RuntimeConfig)) names, and the RAM
 //!   each choice policy costs.
 //!
@@ -33,6 +35,7 @@ mod header;
 pub mod policy;
 pub mod rust;
 pub mod state;
+pub mod timers;
 
 pub use crate::provenance::{Input, Provenance};
 pub use board::BoardError;

@@ -524,8 +524,17 @@ impl Project {
     /// the Cortex-M3's layout cannot hold the set; the Cortex-M0+'s falls back to the Cortex-M3's tables
     /// when it does not fit the Pico, [`fit::choose`]). State-based (`mode = "state"`):
     /// the state feedback of the `[state]` section as cubes over the signal word, no supervisor tables
-    /// ([`emit::state::firmware_tables`]).
+    /// ([`emit::state::firmware_tables`]). Both end with the manifest's timers ([`emit::timers`]; an
+    /// empty table without `[[timers]]`).
     pub fn emit(&self) -> Result<String, ProjectError> {
+        let events = self.set.events();
+        let names: Vec<String> = events.ids().map(|e| events.name(e).to_owned()).collect();
+        let timers = emit::timers::rust(&self.timers, &names)?;
+        Ok(self.emit_tables()? + &timers)
+    }
+
+    /// The tables of [`Project::emit`] before its timers.
+    fn emit_tables(&self) -> Result<String, ProjectError> {
         let provenance = self.provenance(self.command());
         if self.runtime.mode == Mode::State {
             let signals = self.state.as_ref().ok_or(FeedbackError::Missing).and_then(|s| Ok(s.check()?));

@@ -1,11 +1,14 @@
 //! What every board application shares (the Pico's, the Nucleo's, the nRF52840 DK's): the runtime's
-//! published status, the outputs as the event loop's port, input sampling on a tick, the decision loop.
+//! published status, the outputs as the event loop's port, input sampling on a tick, the milliseconds
+//! the tick counts for the tables' timers, the decision loop.
 //! Each application (`cell_<board>.rs`, a `codegen new` project's `src/main.rs`) declares it as
 //! `mod board_app;` beside its own `mod tables` and keeps only its board's wiring: clocks, pins, timer.
 //!
 //! It is a module of the application, not of the `firmware` library, because it ties the runtime to
 //! what only an application has: the emitted tables (`crate::tables`), RTIC's resource locks, defmt's
 //! transport and the core's `wfi`. `codegen new` writes it beside `main.rs` (`src/board_app.rs`).
+
+use core::sync::atomic::{AtomicU32, Ordering};
 
 use embedded_hal::digital::{InputPin, OutputPin};
 use firmware::board::{Outputs, Sampler};
@@ -25,8 +28,30 @@ pub static HOLD: Hold = Hold::new();
 #[no_mangle]
 pub static SCT_STATUS: Published = Published::new();
 
-/// The timer tick every board application runs on: pulses are timed in it, inputs sampled in it.
+/// The timer tick every board application runs on: pulses are timed in it, inputs sampled in it, the
+/// tables' timers advanced by it (one tick, one millisecond).
 pub const TICK_US: u32 = 1_000;
+
+/// Milliseconds the tick counted that the decision loop has not yet given the timers: a counter, not a
+/// queue, so a loop that falls behind catches up in one step (bounded, no heap).
+static ELAPSED_MS: AtomicU32 = AtomicU32::new(0);
+
+/// One millisecond passed: called by the tick's interrupt, counted for the tables' timers
+/// (`tables::TIMERS`), which the decision loop advances by it. Only the tick writes it outside the
+/// loop's critical section, so a load and a store suffice (the Cortex-M0+ has no atomic add).
+pub fn count_ms() {
+    let ms = ELAPSED_MS.load(Ordering::Relaxed);
+    ELAPSED_MS.store(ms.saturating_add(1), Ordering::Relaxed);
+}
+
+/// The milliseconds counted since the last call, the count back to 0 (with the tick masked meanwhile).
+fn take_ms() -> u32 {
+    cortex_m::interrupt::free(|_| {
+        let ms = ELAPSED_MS.load(Ordering::Relaxed);
+        ELAPSED_MS.store(0, Ordering::Relaxed);
+        ms
+    })
+}
 
 /// Stops for good after a configuration error (logged); the outputs stay as they are.
 pub fn halt(why: &str) -> ! {
@@ -121,17 +146,20 @@ pub fn tick_outputs<P: OutputPin, const K: usize>(outputs: &mut impl rtic::Mutex
     }
 }
 
-/// The decision loop of `idle`: drains the inputs into the runtime, decides, drives the outputs behind
-/// `outputs`, publishes the counters ([`SCT_STATUS`]); when there is nothing to do, calls `on_idle` and
-/// sleeps in `wfi` unless an input came in meanwhile.
+/// The decision loop of `idle`: advances the tables' timers by the milliseconds the tick counted
+/// ([`count_ms`]; a timeout that falls due is taken as an input), drains the inputs into the runtime,
+/// decides, drives the outputs behind `outputs`, publishes the counters ([`SCT_STATUS`]); when there
+/// is nothing to do, calls `on_idle` and sleeps in `wfi` unless an input came in meanwhile (the tick
+/// wakes it every millisecond).
 pub fn decide(
     rt: &mut impl Decide,
     rx: &mut InputConsumer<'static>,
     outputs: &mut impl Port,
     mut on_idle: impl FnMut(),
 ) -> ! {
-    let mut event_loop = EventLoop::new();
+    let mut event_loop = EventLoop::new().with_timers(&tables::TIMERS);
     loop {
+        event_loop.elapse(take_ms(), rt, outputs);
         let poll = event_loop.turn(rt, rx, &HOLD, outputs);
         SCT_STATUS.store(&rt.counters().to_array(), rt.is_safe());
         if poll != Poll::Busy {

@@ -199,7 +199,8 @@ mod app {
         });
     }
 
-    /// The 1 ms tick: ends pulses; in sampling mode, samples the inputs every period.
+    /// The 1 ms tick: counts the millisecond for the timers, ends pulses; in sampling mode, samples the
+    /// inputs every period.
     #[task(binds = TIMER_IRQ_0, shared = [producer, outputs, inputs], local = [alarm, sampler])]
     fn tick(mut cx: tick::Context) {
         let alarm = cx.local.alarm;
@@ -207,6 +208,7 @@ mod app {
         if alarm.schedule(MicrosDurationU32::micros(TICK_US)).is_err() {
             defmt::error!("alarm schedule");
         }
+        board_app::count_ms();
         board_app::tick_outputs(&mut cx.shared.outputs);
         let sampler = cx.local.sampler;
         if sampler.due() {

@@ -70,7 +70,8 @@ pub fn log_note(note: Note) {
 
 /// The decision loop of `idle`, sending over `port`: drains the
 /// input buffer into the runtime, decides, sends the commands, answers TABLES with `digest` (that of
-/// the tables `rt` runs on), publishes the counters ([`SCT_STATUS`]), calls `after_turn` with the
+/// the tables `rt` runs on), runs the tables' timers on the host's TIME (`tables::TIMERS`: lock-step,
+/// no clock of its own), publishes the counters ([`SCT_STATUS`]), calls `after_turn` with the
 /// input buffer (to re-enable a receive that stopped while the buffer was full) and sleeps in `wfi` while there is
 /// nothing to do. EXIT (`Poll::Exit`) ends an emulation; a board stays up for the next host: idle.
 pub fn serve(
@@ -80,7 +81,7 @@ pub fn serve(
     digest: &'static str,
     mut after_turn: impl FnMut(&InputConsumer<'static>),
 ) -> ! {
-    let mut event_loop = EventLoop::with_tables(digest);
+    let mut event_loop = EventLoop::with_tables(digest).with_timers(&tables::TIMERS);
     loop {
         let poll = event_loop.turn(rt, rx, &HOLD, port);
         SCT_STATUS.store(&rt.counters().to_array(), rt.is_safe());

@@ -1,7 +1,7 @@
 //! What the boards that tick on SysTick share (the Nucleo-F401RE's and the nRF52840 DK's applications,
 //! not the Pico's, whose timer alarm ticks and whose ring oscillator seeds): the 1 ms SysTick at the
-//! core's clock, the runtime seeded from the manifest, and the tick's work — pulses timed, inputs
-//! sampled every tick (no edge interrupts on these boards yet). Declared as `mod systick_board;` beside
+//! core's clock, the runtime seeded from the manifest, and the tick's work — the tables' timers' millisecond
+//! counted, pulses timed, inputs sampled every tick (no edge interrupts on these boards yet). Declared as `mod systick_board;` beside
 //! `mod board_app;`; `codegen new` writes it beside `main.rs` for these boards.
 
 use cortex_m::peripheral::syst::SystClkSource;
@@ -37,13 +37,15 @@ pub fn sampler<P: InputPin>(inputs: &mut [P]) -> Sampler {
     board_app::sampler(board_app::levels(inputs), false)
 }
 
-/// One SysTick: ends the pulses that are due, and samples the inputs when a sample is due.
+/// One SysTick: counts the millisecond for the timers, ends the pulses that are due, and samples the
+/// inputs when a sample is due.
 pub fn tick<P: OutputPin, I: InputPin>(
     outputs: &mut impl rtic::Mutex<T = Outputs<P, { tables::OUTPUT_PINS.len() }>>,
     sampler: &mut Sampler,
     inputs: &mut [I],
     q: &mut InputProducer<'static>,
 ) {
+    board_app::count_ms();
     board_app::tick_outputs(outputs);
     if sampler.due() {
         board_app::update(sampler, board_app::levels(inputs), q);

@@ -503,3 +503,6 @@ pub const INPUT_PINS: [u8; 10] = [2, 3, 4, 5, 6, 7, 8, 9, 10, 11];
 pub const INPUT_PULLS: [firmware::board::Pull; 10] = [firmware::board::Pull::Down, firmware::board::Pull::Down, firmware::board::Pull::Down, firmware::board::Pull::Down, firmware::board::Pull::Down, firmware::board::Pull::Down, firmware::board::Pull::Down, firmware::board::Pull::Down, firmware::board::Pull::Down, firmware::board::Pull::Down];
 /// Distinct output GPIOs, ascending.
 pub const OUTPUT_PINS: [u8; 12] = [12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 26];
+
+/// The manifest's timers (`[[timers]]`): start and stop event ids, the timeout's id, its delay in ms (`firmware::timer`).
+pub static TIMERS: [firmware::timer::TimerSpec; 0] = [];

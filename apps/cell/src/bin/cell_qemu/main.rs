@@ -3,8 +3,9 @@
 //!
 //! Tables: `SCT_TABLES_FILE` (see `build.rs`), the cell's by default: supervisor tables
 //! (`[runtime] mode = "event"`) or the state feedback's (`mode = "state"`, `firmware::state`), which
-//! define the same names (`Runtime`, `CHECKED`, `DIGEST`, `CONFIG`, `Policy`, …), so one application runs
-//! both; the loop answers the link's TABLES with the tables' `DIGEST`, so a host refuses other tables. Run with `cargo qemu` from the
+//! define the same names (`Runtime`, `CHECKED`, `DIGEST`, `CONFIG`, `Policy`, `TIMERS`, …), so one application runs
+//! both; the loop answers the link's TABLES with the tables' `DIGEST`, so a host refuses other tables,
+//! and runs the tables' timers on the link's TIME alone (lock-step: a run is a function of its seeds). Run with `cargo qemu` from the
 //! repository root, or start QEMU on a socket for the virtual plant (docs/firmware.md, "Run the cell under QEMU").
 #![no_std]
 #![no_main]
@@ -83,7 +84,7 @@ mod app {
         producer: InputProducer<'static>,
         consumer: InputConsumer<'static>,
         runtime: Rt,
-        event_loop: EventLoop,
+        event_loop: EventLoop<{ tables::TIMERS.len() }>,
     }
 
     #[init(local = [queue: InputQueue<{ tables::INPUT_SLOTS }> = InputQueue::new()])]
@@ -100,9 +101,10 @@ mod app {
             tables::EVENT_NAMES.len(),
             tables::INPUT_SLOTS - 1
         );
+        let event_loop = EventLoop::with_tables(tables::DIGEST).with_timers(&tables::TIMERS);
         uart::init();
         uart::send(READY);
-        (Shared {}, Local { producer, consumer, runtime, event_loop: EventLoop::with_tables(tables::DIGEST) })
+        (Shared {}, Local { producer, consumer, runtime, event_loop })
     }
 
     /// Moves received bytes into the input buffer (HOLD and GO act here). Bounded by the buffer's room:
