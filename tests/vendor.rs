@@ -33,11 +33,14 @@ fn programs() -> Vec<(String, Written)> {
     };
     let cases: Vec<(&str, Vec<(&str, Form)>)> = vec![
         ("cell/cell.toml", vec![("int", int()), ("bits", bits()), ("aeem", aeem())]),
-        ("cell/cell-state.toml", vec![("state", state)]),
+        ("cell/cell-state.toml", vec![("state", state.clone())]),
+        ("distribution/distribution.toml", vec![("state", state)]),
         // A state-based program with memory, small (the cell's takes minutes to build).
         ("../codegen/tests/data/sfbc_memory/memory.toml", vec![("state-memory", memory)]),
         ("factory/factory.toml", vec![("int", int()), ("bits", bits())]),
+        ("station/station.toml", vec![("int", int())]),
         ("station-rtpn/net1.toml", vec![("sequence", int())]),
+        ("station-rtpn/net3.toml", vec![("sequence", int())]),
         ("hybrid/hybrid.toml", vec![("hybrid", Form::Hybrid)]),
         // A timer (TON) started inside an IF: Logix's TONR where it stands.
         ("cylinder/cylinder.toml", vec![("int", int())]),
