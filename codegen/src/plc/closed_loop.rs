@@ -153,7 +153,8 @@ pub trait Scanner {
     /// The six STATUS counters, with the wrapper's `unknown` bytes last.
     fn status(&self, unknown: u32) -> Result<[u32; 6], String>;
     /// The task's interval when the program has timers, which the link's TIME then lets its scan clock
-    /// run by ([`pass_time`]); `None` (the default): the program has none and TIME changes nothing.
+    /// run by (the driver's `pass_time`); `None` (the default): the program has none and TIME changes
+    /// nothing.
     fn timed_cycle(&self) -> Option<u32> {
         None
     }
