@@ -94,8 +94,8 @@ fn a_firmware_built_from_other_tables_is_refused_naming_both() {
 
 /// A project with `[[timers]]` runs closed loop under QEMU: the session's virtual clock sent as TIME,
 /// the firmware raising each timeout on its millisecond, the monitor judging them (slack 0). The
-/// cylinder, 200 events: timeouts fall due (the fault path), every one on time, no violation. `--target rp2040` does
-/// not run virtual time yet: refused before anything is built (exit 2).
+/// cylinder, 200 events: timeouts fall due (the fault path), every one on time, no violation.
+/// `--target rp2040` does not run virtual time yet: refused before anything is built (exit 2).
 #[test]
 fn a_project_with_timers_runs_under_qemu_with_its_timeouts_on_time() {
     let cylinder = repo("examples/cylinder/cylinder.toml");
