@@ -83,7 +83,7 @@ fn a_burst_that_fills_the_buffer_is_decided_on_when_go_comes_last() {
     drop(session);
     // The counter is odd: the firmware acks with nothing more from the host (a loop that slept through
     // GO would wait for the next byte, which the host, waiting for the ack, never sends). The ack comes
-    // within milliseconds; the 10 s of the session's answer timeout are margin for a loaded machine.
+    // within milliseconds; the 30 s of the session's answer timeout are margin for a loaded machine.
     let deadline = Instant::now() + SessionConfig::default().answer_timeout;
     let mut got = Vec::new();
     while got.is_empty() && Instant::now() < deadline {

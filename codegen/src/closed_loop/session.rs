@@ -83,7 +83,8 @@ const READ_ALL: u64 = u64::MAX;
 /// verdict of such a run — violations, stalls, coverage — is a function of the seeds alone, so a loaded
 /// machine makes it slower, never different. The time limits below only end a run whose firmware has
 /// stopped answering; they are far beyond anything load does to one that answers (QEMU and the
-/// host-compiled runtime answer in milliseconds).
+/// host-compiled runtime answer in milliseconds; the emulated RP2040's USB link, on a loaded 2-core
+/// machine, once took more than 10 s to answer a STATUS — hence 30 s).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SessionConfig {
     /// How long to wait for a READY, STATUS or SYNC answer before the run fails
@@ -110,7 +111,7 @@ pub struct SessionConfig {
 impl Default for SessionConfig {
     fn default() -> Self {
         SessionConfig {
-            answer_timeout: Duration::from_secs(10),
+            answer_timeout: Duration::from_secs(30),
             stall_timeout: Duration::from_secs(10),
             lockstep: true,
             step: true,
