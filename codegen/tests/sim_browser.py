@@ -84,9 +84,10 @@ def load(driver, wait, url):
                for img in driver.find_elements(By.CSS_SELECTOR, ".graph img")), "a graph is not drawn"
 
 
-def step_and_revert(driver, wait, name):
+def step_and_revert(driver, wait, name, stepped=None):
     """Steps the first controllable event every supervisor enables, sees a supervisor's state change,
-    and reverts to the initial state; returns the event."""
+    calls `stepped(event)` (if given) on the stepped page, and reverts to the initial state by clicking
+    the trace's first line; returns the event."""
     before = currents(driver)
     assert before, f"{name}: no supervisor drawn"
     button = driver.find_element(By.CSS_SELECTOR, "#enabled button")
@@ -97,6 +98,8 @@ def step_and_revert(driver, wait, name):
     changed = [s for s in before if before[s] != after.get(s)]
     assert changed, f"{name}: {event}: no supervisor changed state ({before} → {after})"
     print(f"{name}: stepped {event}: {', '.join(f'{s} {before[s]} → {after[s]}' for s in changed)}")
+    if stepped is not None:
+        stepped(event)
     driver.find_element(By.CSS_SELECTOR, "#trace li[data-step='0']").click()
     wait.until(lambda d: trace_length(d) == 0)
     assert currents(driver) == before, f"{name}: revert did not restore the supervisors' states"
@@ -130,24 +133,14 @@ def findings_on_graphs(driver, name):
 
 def cell(driver, wait, url, screenshot):
     load(driver, wait, url)
-    # Step the first controllable event every supervisor enables; a disabled event's reason shows.
-    before = currents(driver)
-    assert before, "no supervisor drawn"
-    button = driver.find_element(By.CSS_SELECTOR, "#enabled button")
-    event = button.text
-    button.click()
-    wait.until(lambda d: trace_length(d) == 1)
-    after = currents(driver)
-    changed = [s for s in before if before[s] != after.get(s)]
-    assert changed, f"{event}: no supervisor changed state ({before} → {after})"
-    reasons = texts(driver, "#disabled .by")
-    assert any(r.strip() for r in reasons), f"after {event}: no disabled event with its supervisors"
-    print(f"cell: stepped {event}: {', '.join(f'{s} {before[s]} → {after[s]}' for s in changed)}; "
-          f"disabled: {'; '.join(texts(driver, '#disabled li'))}")
-    # Revert by clicking the trace's first line (the initial state).
-    driver.find_element(By.CSS_SELECTOR, "#trace li[data-step='0']").click()
-    wait.until(lambda d: trace_length(d) == 0)
-    assert currents(driver) == before, "revert did not restore the supervisors' states"
+
+    def reasons(event):
+        # A disabled event's reason shows: the supervisors that disable it.
+        assert any(r.strip() for r in texts(driver, "#disabled .by")), \
+            f"after {event}: no disabled event with its supervisors"
+        print(f"cell: disabled after {event}: {'; '.join(texts(driver, '#disabled li'))}")
+
+    step_and_revert(driver, wait, "cell", reasons)
     taken = run(driver, wait, "cell", 1000)
     assert all(t > 0 for t in taken), f"cell: a supervisor with no coverage: {texts(driver, '#coverage tr')}"
     driver.save_screenshot(screenshot)
