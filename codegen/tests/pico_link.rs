@@ -185,8 +185,14 @@ fn check(report: &Value, events: u64, what: &str) {
     assert!(report["full_coverage_at"].is_u64(), "{what}: {report}");
 }
 
+/// One closed loop over a serial port at a time: the realtime runs race the emulated RP2040 against the
+/// plant's wall-clock timing, which two emulators and two plants sharing a 2-core machine slowed until
+/// a STATUS answer came too late.
+static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// `codegen plant` against `link`'s build: lock-step, then the plant's timing at different rates.
 fn closed_loop_over_serial(link: Link, tag: &str) {
+    let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
     let temp = Temp(std::env::temp_dir().join(format!("codegen-pico-{tag}-{}", std::process::id())));
     let _ = std::fs::remove_dir_all(&temp.0);
     std::fs::create_dir_all(&temp.0).unwrap();
