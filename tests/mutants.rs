@@ -16,7 +16,7 @@
 use std::path::{Path, PathBuf};
 
 use codegen::closed_loop::{run_under_qemu, Options};
-use codegen::emit::{emit, Provenance};
+use codegen::emit::{emit, timers, Provenance};
 use codegen::monitor::{ChoiceModel, Report};
 use codegen::pack::ranked;
 use codegen::pack::tables::{Packed, Record};
@@ -32,7 +32,10 @@ const EVENTS: u64 = 8_000;
 /// Builds the QEMU firmware on `packed` (with the cell's `[runtime]`) in `scratch`.
 fn image(project: &Project, packed: &Packed, scratch: &Scratch) -> PathBuf {
     let m0plus = Err("mutants run on the Cortex-M3".to_owned());
-    let text = emit(packed, m0plus, &project.name, &project.runtime, None, &Provenance::default()).unwrap();
+    let mut text =
+        emit(packed, m0plus, &project.name, &project.runtime, None, &Provenance::default()).unwrap();
+    // Every tables file ends with its timer table (the cell has none), as `Project::emit` writes it.
+    text += &timers::rust(&project.timers, &[]).unwrap();
     let tables = scratch.path().join("tables.rs");
     std::fs::write(&tables, text).unwrap();
     build_qemu_image(&tables, &scratch.path().join("firmware.elf")).unwrap_or_else(|e| panic!("{e}"))
