@@ -203,7 +203,7 @@ pub fn firmware_tables(
         });
     }
     let exact = signals.exact;
-    let (vector, f) = analyse(set, signals, false)?;
+    let (vector, f) = analyse(set, signals, false, &[])?;
     let rules = rules(&vector, &f, &Layout::default(), exact);
     Ok(rust(&StateTables::build(set, &vector, &f, &rules)?, set, name, runtime, provenance))
 }

@@ -66,10 +66,16 @@ pub struct Rule {
 }
 
 /// The feedback of `set` under `signals`' state vectors (memory kept where it decides when `memory`
-/// or `[state] memory` allows it), and the state vectors bound to the set.
-pub fn analyse(set: &PackSet, signals: Signals, memory: bool) -> Result<(Vector, Sfbc), FeedbackError> {
+/// or `[state] memory` allows it; the events of `decided` left to guards over a module's variables,
+/// [`Sfbc::compute_deciding`]), and the state vectors bound to the set.
+pub fn analyse(
+    set: &PackSet,
+    signals: Signals,
+    memory: bool,
+    decided: &[EventId],
+) -> Result<(Vector, Sfbc), FeedbackError> {
     let vector = Vector::bind(set, signals)?;
-    let f = Sfbc::compute(set, memory || vector.signals.memory)?;
+    let f = Sfbc::compute_deciding(set, memory || vector.signals.memory, decided)?;
     Ok((vector, f))
 }
 

@@ -131,6 +131,14 @@ impl Sfbc {
     /// disagreement are kept (and the conflicts stay reported); without, conflicts are left for the
     /// caller to refuse.
     pub fn compute(set: &PackSet, memory: bool) -> Result<Sfbc, FeedbackError> {
+        Sfbc::compute_deciding(set, memory, &[])
+    }
+
+    /// The feedback of `set` as [`Sfbc::compute`] gives it, except for the events of `decided`, which
+    /// something other than the plant state decides (guards over a module's variables): the supervisors
+    /// are read as allowing them wherever the plants do, so f_σ is σ's physical possibility, no
+    /// disagreement over them is a conflict and none keeps memory. The program writes f_σ ∧ guard.
+    pub fn compute_deciding(set: &PackSet, memory: bool, decided: &[EventId]) -> Result<Sfbc, FeedbackError> {
         let members = set.members();
         let plants = members.iter().take_while(|m| m.role == Role::Plant).count();
         let table = set.events();
@@ -140,9 +148,20 @@ impl Sfbc {
             .filter(|e| members[..plants].iter().any(|m| m.dfa.has_event(e.as_u32())))
             .collect();
         let closed = Closed::explore(set)?;
-        let en = enabled(&closed, &controllable);
+        let mut en = enabled(&closed, &controllable);
         let n = closed.reach.dfa().state_count() as u32;
         let tuples: Vec<Vec<u32>> = (0..n).map(|s| closed.reach.tuple(s)).collect();
+        let possible = |state: &[u32], e: EventId| {
+            members[..plants]
+                .iter()
+                .zip(state)
+                .all(|(m, &s)| !m.dfa.has_event(e.as_u32()) || m.dfa.step(s, e.as_u32()).is_some())
+        };
+        for (i, e) in controllable.iter().enumerate().filter(|(_, e)| decided.contains(e)) {
+            for (t, row) in tuples.iter().zip(&mut en) {
+                row[i] = possible(&t[..plants], *e);
+            }
+        }
         let plant_states = tuples.iter().map(|t| &t[..plants]).collect::<BTreeSet<_>>().len();
         let conflicts = conflicts(&closed, &tuples, &en, plants, &controllable);
         let kept = if memory && !conflicts.is_empty() {
@@ -164,14 +183,7 @@ impl Sfbc {
         let entries = domain
             .into_iter()
             .map(|(state, allowed)| {
-                let possible = controllable
-                    .iter()
-                    .map(|e| {
-                        members[..plants].iter().zip(&state).all(|(m, &s)| {
-                            !m.dfa.has_event(e.as_u32()) || m.dfa.step(s, e.as_u32()).is_some()
-                        })
-                    })
-                    .collect();
+                let possible = controllable.iter().map(|&e| possible(&state[..plants], e)).collect();
                 Entry { state, possible, allowed }
             })
             .collect();

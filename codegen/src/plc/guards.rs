@@ -31,25 +31,21 @@
 
 use std::collections::{BTreeSet, HashMap, VecDeque};
 
-use crate::formats::efa::expr::{Action, BinaryOp, Expr, UnaryOp};
-use crate::formats::efa::Efa;
+use crate::formats::efa::expr::{Action, AssignOp, BinaryOp, Expr, UnaryOp};
+use crate::formats::efa::{Efa, Variable as EfaVariable};
 use crate::model::EventId;
 use crate::pack::{PackSet, Role};
+use crate::scan::ir::{self, Op, Stmt};
 
 /// The most closed-loop configurations the walk visits: a larger closed loop keeps the state encoding.
 pub const MAX_CONFIGURATIONS: usize = 1 << 18;
 
-/// A variable kept in the program as an integer.
+/// A variable kept in the program as an integer: its declaration in the module, and what the program
+/// adds to it (its updates, where it comes from).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Variable {
-    /// Its name in the module.
-    pub name: String,
-    /// The least value of its range.
-    pub min: i64,
-    /// The greatest.
-    pub max: i64,
-    /// Its initial value.
-    pub initial: i64,
+    /// Its declaration: name, range and initial value.
+    pub declared: EfaVariable,
     /// Per event of the set that assigns it, the action (its expression's variables are indices into
     /// the module's variables: [`Guards::module_index`] maps them to kept variables).
     pub updates: Vec<(EventId, Action)>,
@@ -57,6 +53,18 @@ pub struct Variable {
     pub module: usize,
     /// Its index among its module's variables.
     pub index: usize,
+}
+
+impl Variable {
+    /// Its declaration in a program as the `INT` `name` (no initial value: each form sets it).
+    pub fn local(&self, name: &str) -> ir::Var {
+        let d = &self.declared;
+        let what = format!(
+            "variable '{}' ({}..{}, initial {}): its events' actions",
+            d.name, d.min, d.max, d.initial
+        );
+        ir::Var::new(name, ir::Type::Int, what)
+    }
 }
 
 /// A bound on one kept variable: `lo <= x <= hi`, either side absent when it is the range's end.
@@ -88,6 +96,12 @@ impl Guard {
         })
     }
 
+    /// Whether the guard always holds (`TRUE`: the supervisors never forbid the event where the
+    /// plants allow it).
+    pub fn always(&self) -> bool {
+        self.terms.iter().any(Vec::is_empty)
+    }
+
     /// The guard as text over the variables' names (`n <= 1`, `n = 2 OR n = 4`), for reports.
     pub fn text(&self, variables: &[Variable]) -> String {
         if self.terms.is_empty() {
@@ -100,7 +114,7 @@ impl Guard {
             let parts: Vec<String> = t
                 .iter()
                 .map(|b| {
-                    let n = &variables[b.var].name;
+                    let n = &variables[b.var].declared.name;
                     match (b.lo, b.hi) {
                         (Some(lo), Some(hi)) if lo == hi => format!("{n} = {lo}"),
                         (Some(lo), Some(hi)) => format!("{lo} <= {n} <= {hi}"),
@@ -117,6 +131,25 @@ impl Guard {
             [one] => one.clone(),
             _ => terms.iter().map(|t| format!("({t})")).collect::<Vec<_>>().join(" OR "),
         }
+    }
+
+    /// The guard as an ST condition over the kept variables' identifiers `names` (by kept index): what
+    /// both program forms test, the event-based one in the event's rung, the state-based one in the
+    /// guard's `BOOL`.
+    pub fn condition(&self, names: &[String]) -> ir::Expr {
+        let bound = |b: &Bound| {
+            let x = || ir::Expr::var(&names[b.var]);
+            match (b.lo, b.hi) {
+                (Some(lo), Some(hi)) if lo == hi => vec![x().op(Op::Eq, ir::Expr::Int(lo))],
+                (lo, hi) => lo
+                    .map(|lo| x().op(Op::Ge, ir::Expr::Int(lo)))
+                    .into_iter()
+                    .chain(hi.map(|hi| x().op(Op::Le, ir::Expr::Int(hi))))
+                    .collect(),
+            }
+        };
+        let term = |t: &Vec<Bound>| ir::Expr::fold(t.iter().flat_map(bound), Op::And, ir::Expr::Bool(true));
+        ir::Expr::fold(self.terms.iter().map(term), Op::Or, ir::Expr::Bool(false))
     }
 }
 
@@ -142,6 +175,43 @@ impl Guards {
     /// The kept variable for `var` of module `module`, if it is kept.
     pub fn module_index(&self, module: usize, var: usize) -> Option<usize> {
         self.variables.iter().position(|v| v.module == module && v.index == var)
+    }
+
+    /// The assignments event `e` makes to the kept variables, over their identifiers `names` (by kept
+    /// index): `x := x + 1`. No action reads a variable the same event assigns ([`extract`]), so their
+    /// order does not matter. Both program forms run them where the event happens.
+    pub fn assignments(&self, e: EventId, names: &[String]) -> Vec<Stmt> {
+        let mut out = Vec::new();
+        for (v, name) in self.variables.iter().zip(names) {
+            let Some((_, a)) = v.updates.iter().find(|(x, _)| *x == e) else { continue };
+            let rhs = self.value(v.module, &a.value, names);
+            let value = match a.op {
+                AssignOp::Set => rhs,
+                AssignOp::Add => ir::Expr::var(name).op(Op::Add, rhs),
+                AssignOp::Sub => ir::Expr::var(name).op(Op::Sub, rhs),
+            };
+            out.push(Stmt::set(name, value));
+        }
+        out
+    }
+
+    /// An expression of module `module` over its variables, in the identifiers `names` (only kept
+    /// variables' arithmetic reaches here, [`extract`]).
+    fn value(&self, module: usize, e: &Expr, names: &[String]) -> ir::Expr {
+        let operand = |x: &Expr| self.value(module, x, names);
+        match e {
+            Expr::Int(n) => ir::Expr::Int(*n),
+            Expr::Var(i) => match self.module_index(module, *i) {
+                Some(k) => ir::Expr::var(&names[k]),
+                None => ir::Expr::Int(0),
+            },
+            Expr::Unary(UnaryOp::Neg, x) => ir::Expr::Int(0).op(Op::Sub, operand(x)),
+            Expr::Binary(BinaryOp::Add, l, r) => operand(l).op(Op::Add, operand(r)),
+            Expr::Binary(BinaryOp::Sub, l, r) => operand(l).op(Op::Sub, operand(r)),
+            Expr::Binary(BinaryOp::Mul, l, r) => operand(l).op(Op::Mul, operand(r)),
+            // Not kept by `extract`: never reached.
+            Expr::Unary(..) | Expr::Binary(..) => ir::Expr::Int(0),
+        }
     }
 }
 
@@ -272,16 +342,7 @@ fn kept_variables(set: &PackSet, modules: &[Efa]) -> Vec<Variable> {
         }
         for (v, u) in updates.into_iter().enumerate() {
             let Some(updates) = u else { continue };
-            let var = &efa.variables[v];
-            out.push(Variable {
-                name: var.name.clone(),
-                min: var.min,
-                max: var.max,
-                initial: var.initial,
-                updates,
-                module: m,
-                index: v,
-            });
+            out.push(Variable { declared: efa.variables[v].clone(), updates, module: m, index: v });
         }
     }
     out
@@ -301,7 +362,7 @@ pub fn step(guards: &Guards, modules: &[Efa], values: &[i64], e: EventId) -> Opt
             .map(|(i, v)| guards.module_index(var.module, i).map_or(v.initial, |j| values[j]))
             .collect();
         let x = action.apply(&env)?;
-        if x < var.min || x > var.max {
+        if x < var.declared.min || x > var.declared.max {
             return None;
         }
         next[k] = x;
@@ -328,7 +389,7 @@ fn care_sets(set: &PackSet, modules: &[Efa], guards: &Guards) -> Option<Vec<(Eve
         care_events(set).into_iter().map(|e| (e, Default::default())).collect();
     let first: (Vec<usize>, Vec<i64>) = (
         members.iter().map(|m| m.initial().index()).collect(),
-        guards.variables.iter().map(|v| v.initial).collect(),
+        guards.variables.iter().map(|v| v.declared.initial).collect(),
     );
     let mut seen = HashMap::from([(first.clone(), ())]);
     let mut queue = VecDeque::from([first]);
@@ -391,15 +452,15 @@ fn separate(
         }
         // Runs of the range free of `off`, kept when they hold a value of `on`.
         let mut terms = Vec::new();
-        let mut lo = var.min;
+        let mut lo = var.declared.min;
         let mut cuts: Vec<i64> = off.iter().copied().collect();
-        cuts.push(var.max + 1);
+        cuts.push(var.declared.max + 1);
         for cut in cuts {
             if lo < cut && on.range(lo..cut).next().is_some() {
                 let bound = Bound {
                     var: k,
-                    lo: (lo > var.min).then_some(lo),
-                    hi: (cut - 1 < var.max).then_some(cut - 1),
+                    lo: (lo > var.declared.min).then_some(lo),
+                    hi: (cut - 1 < var.declared.max).then_some(cut - 1),
                 };
                 terms.push(vec![bound]);
             }
@@ -421,7 +482,6 @@ mod tests {
     use proptest::prelude::*;
 
     use super::*;
-    use crate::formats::efa::expr::AssignOp;
     use crate::formats::efa::{unfold, Component, Edge, Variable as EfaVariable};
     use crate::model::{Automaton, Kind};
     use crate::synth::{monolithic, Config};
@@ -446,14 +506,15 @@ mod tests {
         let first: Config = (
             members.iter().map(|m| m.initial().index()).collect(),
             unfolded.iter().map(|a| a.initial.map_or(0, |s| s.index())).collect(),
-            g.variables.iter().map(|v| v.initial).collect(),
+            g.variables.iter().map(|v| v.declared.initial).collect(),
         );
         let mut seen = std::collections::HashSet::from([first.clone()]);
         let mut queue = vec![first];
         while let Some((states, ustates, values)) = queue.pop() {
             for (k, v) in g.variables.iter().enumerate() {
-                let reference = unfolded.iter().zip(&ustates).find_map(|(a, &s)| value_in(a, s, &v.name));
-                assert_eq!(reference, Some(values[k]), "variable {} at {states:?}", v.name);
+                let reference =
+                    unfolded.iter().zip(&ustates).find_map(|(a, &s)| value_in(a, s, &v.declared.name));
+                assert_eq!(reference, Some(values[k]), "variable {} at {states:?}", v.declared.name);
             }
             let next = |a: usize, e: EventId| {
                 members[a].out(states[a]).find(|(x, _)| *x == e).map(|(_, t)| t.index())

@@ -37,7 +37,7 @@ use crate::pack::{PackSet, Role};
 
 use super::avalanche::{plan, Avalanche, Method, Plan};
 use super::choice::{self, PlantChoice};
-use super::guards::{self, Guard, Guards};
+use super::guards::{self, Guards};
 use super::io::{IoMap, Source};
 use super::{Encoding, PlcError, PlcOptions};
 use crate::config::{Action, Edge, ScanPolicy};
@@ -235,7 +235,7 @@ pub fn build(set: &PackSet, opts: &PlcOptions) -> Result<Program, PlcError> {
         Vec::new()
     };
     let guards = guards::extract(set, &opts.efa);
-    let vars = guards.variables.iter().map(|v| names.plain(&v.name)).collect();
+    let vars = guards.variables.iter().map(|v| names.plain(&v.declared.name)).collect();
     let b = Builder { set, opts, io, ev, pend, prev, auts, bits, pulse, req, timers, guards, vars };
     b.check_owned()?;
     Ok(b.finish())
@@ -325,7 +325,7 @@ impl Builder<'_> {
             }
         }
         for (v, name) in self.guards.variables.iter().zip(&self.vars) {
-            body.push(Stmt::set(name, Expr::Int(v.initial)));
+            body.push(Stmt::set(name, Expr::Int(v.declared.initial)));
         }
         for u in self.uncontrollable() {
             body.push(Stmt::set(&self.pend[u.index()], Expr::Bool(false)));
@@ -584,7 +584,7 @@ impl Builder<'_> {
                         .holders(c)
                         .filter(|&a| self.set.members()[a].role == Role::Plant)
                         .map(|a| self.allows(a, c))
-                        .chain([self.guard(g)])
+                        .chain([g.condition(&self.vars)])
                         .collect(),
                     None => self.holders(c).map(|a| self.allows(a, c)).collect(),
                 };
@@ -663,65 +663,16 @@ impl Builder<'_> {
         ]
     }
 
-    /// The guard as a condition over the variables.
-    fn guard(&self, g: &Guard) -> Expr {
-        let bound = |b: &guards::Bound| {
-            let x = || Expr::var(&self.vars[b.var]);
-            match (b.lo, b.hi) {
-                (Some(lo), Some(hi)) if lo == hi => vec![x().op(Op::Eq, Expr::Int(lo))],
-                (lo, hi) => lo
-                    .map(|lo| x().op(Op::Ge, Expr::Int(lo)))
-                    .into_iter()
-                    .chain(hi.map(|hi| x().op(Op::Le, Expr::Int(hi))))
-                    .collect(),
-            }
-        };
-        let term = |t: &Vec<guards::Bound>| Expr::fold(t.iter().flat_map(bound), Op::And, Expr::Bool(true));
-        Expr::fold(g.terms.iter().map(term), Op::Or, Expr::Bool(false))
-    }
-
-    /// An expression of module `module` over its variables, in the program's identifiers (only kept
-    /// variables' arithmetic reaches here, [`guards`]).
-    fn value(&self, module: usize, e: &crate::formats::efa::expr::Expr) -> Expr {
-        use crate::formats::efa::expr::{BinaryOp, Expr as E, UnaryOp};
-        let operand = |x: &E| self.value(module, x);
-        match e {
-            E::Int(n) => Expr::Int(*n),
-            E::Var(i) => match self.guards.module_index(module, *i) {
-                Some(k) => Expr::var(&self.vars[k]),
-                None => Expr::Int(0),
-            },
-            E::Unary(UnaryOp::Neg, x) => Expr::Int(0).op(Op::Sub, operand(x)),
-            E::Binary(BinaryOp::Add, l, r) => operand(l).op(Op::Add, operand(r)),
-            E::Binary(BinaryOp::Sub, l, r) => operand(l).op(Op::Sub, operand(r)),
-            E::Binary(BinaryOp::Mul, l, r) => operand(l).op(Op::Mul, operand(r)),
-            // Not kept by `guards`: never reached.
-            E::Unary(..) | E::Binary(..) => Expr::Int(0),
-        }
-    }
-
-    /// The variables' updates of a pass: per event, `IF ev THEN x := …` with each kept variable it
-    /// assigns (no action reads a variable the same event assigns, so the order does not matter).
+    /// The variables' updates of a pass: per event, `IF ev THEN` its assignments ([`Guards::assignments`]).
     fn variable_updates(&self, controllable: bool) -> Vec<Stmt> {
-        use crate::formats::efa::expr::AssignOp;
-        let mut out = Vec::new();
-        for e in self.events().ids().filter(|&e| self.events().is_controllable(e) == controllable) {
-            let mut body = Vec::new();
-            for (v, name) in self.guards.variables.iter().zip(&self.vars) {
-                let Some((_, a)) = v.updates.iter().find(|(x, _)| *x == e) else { continue };
-                let rhs = self.value(v.module, &a.value);
-                let value = match a.op {
-                    AssignOp::Set => rhs,
-                    AssignOp::Add => Expr::var(name).op(Op::Add, rhs),
-                    AssignOp::Sub => Expr::var(name).op(Op::Sub, rhs),
-                };
-                body.push(Stmt::set(name, value));
-            }
-            if !body.is_empty() {
-                out.push(Stmt::when(Expr::var(&self.ev[e.index()]), body));
-            }
-        }
-        out
+        self.events()
+            .ids()
+            .filter(|&e| self.events().is_controllable(e) == controllable)
+            .filter_map(|e| {
+                let body = self.guards.assignments(e, &self.vars);
+                (!body.is_empty()).then(|| Stmt::when(Expr::var(&self.ev[e.index()]), body))
+            })
+            .collect()
     }
 
     /// AEEM's last step: a rung per memory bit resetting it, whatever used it.
@@ -958,16 +909,7 @@ impl Builder<'_> {
         for pt in self.pulse.iter().flatten() {
             locals.push(Var::new(pt, Type::Int, "pulse scans left"));
         }
-        for (v, name) in self.guards.variables.iter().zip(&self.vars) {
-            locals.push(Var::new(
-                name,
-                Type::Int,
-                format!(
-                    "variable '{}' ({}..{}, initial {}): its events' actions",
-                    v.name, v.min, v.max, v.initial
-                ),
-            ));
-        }
+        locals.extend(self.guards.variables.iter().zip(&self.vars).map(|(v, name)| v.local(name)));
         for t in &self.timers {
             let timeout = events.name(t.timeout);
             locals.push(Var::new(&t.run, Type::Bool, format!("timer of '{timeout}' running")));

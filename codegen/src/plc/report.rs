@@ -7,10 +7,12 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
+use crate::model::{EventId, EventTable};
 use crate::pack::PackSet;
 use crate::problems::{run as check, Problem};
 use crate::synth::{product, Config};
 
+use super::guards::Guards;
 use super::io::Source;
 use super::program::SEED_STRUCTURE;
 use super::{PlcError, PlcOptions, Program};
@@ -49,6 +51,15 @@ pub struct Report {
     pub simultaneity: Simultaneity,
     /// Choice sites with a cursor (local queue).
     pub choice_sites: usize,
+    /// The modules' variables the program keeps and the guards over them (`efa_variables`, `guards`).
+    #[serde(flatten)]
+    pub guards: GuardsReport,
+}
+
+/// The modules' variables a program keeps as integers and each controllable event's guard over them:
+/// what both program forms report (empty without variables).
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct GuardsReport {
     /// The modules' variables the program keeps as integers (absent without any).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub efa_variables: Vec<String>,
@@ -56,6 +67,52 @@ pub struct Report {
     /// supervisors' states are kept (absent without variables).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub guards: Vec<GuardEntry>,
+}
+
+impl GuardsReport {
+    /// What `g` keeps and decides, events named from `events`, in event id order.
+    pub fn new(g: &Guards, events: &EventTable) -> GuardsReport {
+        if g.variables.is_empty() {
+            return GuardsReport::default();
+        }
+        let mut guards: Vec<(EventId, Option<String>)> = g
+            .guards
+            .iter()
+            .map(|(e, x)| (*e, Some(x.text(&g.variables))))
+            .chain(g.kept.iter().map(|&e| (e, None)))
+            .collect();
+        guards.sort_by_key(|(e, _)| *e);
+        GuardsReport {
+            efa_variables: g.variables.iter().map(|v| v.declared.name.clone()).collect(),
+            guards: guards
+                .into_iter()
+                .map(|(e, guard)| GuardEntry { event: events.name(e).to_owned(), guard })
+                .collect(),
+        }
+    }
+
+    /// The report's lines: the variables, then each event's guard.
+    pub fn text(&self) -> String {
+        let mut out = String::new();
+        if !self.efa_variables.is_empty() {
+            out += &format!(
+                "variables of the modules: {} (INT, updated by their events' actions)\n",
+                self.efa_variables.join(", ")
+            );
+        }
+        for g in &self.guards {
+            match &g.guard {
+                Some(guard) => out += &format!("guard: {} when {guard}\n", g.event),
+                None => {
+                    out += &format!(
+                        "guard: {} over the supervisors' states (not a function of the variables)\n",
+                        g.event
+                    )
+                }
+            }
+        }
+        out
+    }
 }
 
 /// A controllable event's condition in its rung.
@@ -178,18 +235,6 @@ impl Report {
         }
         let sections: BTreeMap<&'static str, usize> = program.fb.statements().into_iter().collect();
         let seed_structure = SEED_STRUCTURE.iter().map(|k| sections.get(k).copied().unwrap_or(0)).sum();
-        let g = &program.guards;
-        let mut guards: Vec<GuardEntry> = g
-            .guards
-            .iter()
-            .map(|(e, x)| (*e, Some(x.text(&g.variables))))
-            .chain(g.kept.iter().map(|&e| (e, None)))
-            .map(|(e, guard)| GuardEntry { event: events.name(e).to_owned(), guard })
-            .collect();
-        guards.sort_by_key(|x| events.id(&x.event));
-        if g.variables.is_empty() {
-            guards.clear();
-        }
         let statements = Statements {
             function_block: sections.values().sum(),
             program: program.main.statements().iter().map(|(_, n)| n).sum(),
@@ -225,8 +270,7 @@ impl Report {
                 .collect(),
             simultaneity: simultaneity(set)?,
             choice_sites: program.sites,
-            efa_variables: g.variables.iter().map(|v| v.name.clone()).collect(),
-            guards,
+            guards: GuardsReport::new(&program.guards, events),
         })
     }
 
@@ -257,23 +301,7 @@ impl Report {
         for a in &self.avalanche {
             out += &format!("avalanche: {} in {}: {}\n", a.event, a.automaton, a.method);
         }
-        if !self.efa_variables.is_empty() {
-            out += &format!(
-                "variables of the modules: {} (INT, updated by their events' actions)\n",
-                self.efa_variables.join(", ")
-            );
-        }
-        for g in &self.guards {
-            match &g.guard {
-                Some(guard) => out += &format!("guard: {} when {guard}\n", g.event),
-                None => {
-                    out += &format!(
-                        "guard: {} over the supervisors' states (not a function of the variables)\n",
-                        g.event
-                    )
-                }
-            }
-        }
+        out += &self.guards.text();
         out += &format!("simultaneity: {}", self.simultaneity.applied);
         if self.simultaneity.order_matters.is_empty() {
             out += "; the order never matters\n";

@@ -63,7 +63,7 @@ impl Program {
     /// (the section does not fit the plants, or the plant state does not decide and no memory is kept).
     pub fn new(set: &PackSet, signals: Signals) -> Result<Program, String> {
         let exact = signals.exact;
-        let (vector, f) = feedback::analyse(set, signals, false).map_err(|e| e.to_string())?;
+        let (vector, f) = feedback::analyse(set, signals, false, &[]).map_err(|e| e.to_string())?;
         let layout = match &f.memory {
             Some(m) => Layout::new(set, &m.kept, vector.signals.signals.len()).map_err(|e| e.to_string())?,
             None if !f.conflicts.is_empty() => {
@@ -182,7 +182,7 @@ mod tests {
     #[test]
     fn the_api_answers_the_signal_word_and_the_rungs_of_the_distribution_station() {
         let (mut sim, signals) = distribution();
-        let (vector, f) = feedback::analyse(&sim.set, signals, false).unwrap();
+        let (vector, f) = feedback::analyse(&sim.set, signals, false, &[]).unwrap();
         assert!(f.memory.is_none() && f.conflicts.is_empty());
         let rules = feedback::rules(&vector, &f, &Layout::default(), vector.signals.exact);
         let names: Vec<&str> = vector.signals.signals.iter().map(|s| s.name.as_str()).collect();

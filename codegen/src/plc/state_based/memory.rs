@@ -5,6 +5,12 @@
 //! its rung fires; an uncontrollable event is read as its component's state change between two scans
 //! (the previous state kept in an `INT`), so memory, unlike the rest of the program, depends on seeing
 //! every sensor change: a component that moves two steps between scans desynchronises it.
+//!
+//! A project of Supremica modules with variables keeps its variables the same way
+//! ([`crate::plc::guards`]): each an `INT` updated by its events' actions where they are seen (a
+//! sensor event in the detection, a command after its rung's coils), and per controllable event the
+//! guards decide a `BOOL` holding its guard, refreshed after every update, which the event's rung
+//! reads as a contact beside F_σ.
 
 use std::collections::BTreeMap;
 
@@ -12,6 +18,8 @@ use crate::feedback::memory::Layout;
 use crate::feedback::{FeedbackError, Vector};
 use crate::model::EventId;
 use crate::pack::PackSet;
+use crate::plc::choice;
+use crate::plc::guards::Guards;
 use crate::scan::ir::{Expr, Op, Stmt, Type, Var};
 use crate::scan::names::Names;
 
@@ -33,6 +41,38 @@ pub struct Tracking {
     pub detect: Vec<Stmt>,
     /// Per controllable event: what its rung does besides its coils.
     pub after: BTreeMap<u32, Vec<Stmt>>,
+    /// The modules' variables kept as `INT`s ([`Guards::variables`] order).
+    pub variables: Vec<String>,
+    /// Per controllable event with a guard: the `BOOL` holding it, its rung's further contact.
+    pub guards: Vec<(EventId, String)>,
+}
+
+impl Tracking {
+    /// The `BOOL` holding `e`'s guard, if it has one.
+    pub fn guard(&self, e: EventId) -> Option<&str> {
+        self.guards.iter().find(|(x, _)| *x == e).map(|(_, g)| g.as_str())
+    }
+
+    /// Each guard's `BOOL` set from the variables.
+    fn refresh(&self, guards: &Guards) -> Vec<Stmt> {
+        let guard = |e: EventId| guards.guards.iter().find(|(x, _)| *x == e).map(|(_, g)| g);
+        self.guards
+            .iter()
+            .filter_map(|(e, b)| Some(Stmt::set(b, guard(*e)?.condition(&self.variables))))
+            .collect()
+    }
+
+    /// What event `e` does to the memory: the kept supervisors' states, then the variables and the
+    /// guards read from them.
+    fn on_event(&self, set: &PackSet, guards: &Guards, e: EventId) -> Vec<Stmt> {
+        let mut out = apply(set, self, e);
+        let assigned = guards.assignments(e, &self.variables);
+        if !assigned.is_empty() {
+            out.extend(assigned);
+            out.extend(self.refresh(guards));
+        }
+        out
+    }
 }
 
 /// `CASE s OF q: s := q'; …` for event `e` in every kept supervisor holding it, then that supervisor's
@@ -68,16 +108,21 @@ fn apply(set: &PackSet, m: &Tracking, e: EventId) -> Vec<Stmt> {
 
 impl Tracking {
     /// The tracking of the memory bits of `layout` over `vector`'s signals, named `signal_names`:
-    /// variables numbered from the signals' count, names unique against them.
+    /// variables numbered from the signals' count, names unique against them; with `guards`' variables
+    /// and guards beside them.
     pub fn new(
         set: &PackSet,
         vector: &Vector,
         layout: &Layout,
         signal_names: &[String],
+        guards: &Guards,
     ) -> Result<Tracking, FeedbackError> {
         let members = set.members();
         let mut names = Names::default();
-        for n in signal_names {
+        // The program's own names too: its hold input and its choice section's variables.
+        for n in
+            signal_names.iter().map(String::as_str).chain([super::program::HOLD]).chain(choice::VARIABLES)
+        {
             names.reserve(n);
         }
         let mut m = Tracking { layout: layout.clone(), ..Tracking::default() };
@@ -100,12 +145,28 @@ impl Tracking {
                 m.names.push(name);
             }
         }
+        let initial: Vec<i64> = guards.variables.iter().map(|v| v.declared.initial).collect();
+        for (v, &x) in guards.variables.iter().zip(&initial) {
+            let name = names.plain(&v.declared.name);
+            m.vars.push(v.local(&name).init(Expr::Int(x)));
+            m.variables.push(name);
+        }
+        // A guard that always holds needs no contact.
+        for (e, g) in guards.guards.iter().filter(|(_, g)| !g.always()) {
+            let event = set.events().name(*e);
+            let name = names.fresh("g", event);
+            let what = format!("guard of '{event}': {}", g.text(&guards.variables));
+            m.vars.push(Var::new(name.clone(), Type::Bool, what).init(Expr::Bool(g.holds(&initial))));
+            m.guards.push((*e, name));
+        }
+        let updates = |e: EventId| guards.variables.iter().any(|v| v.updates.iter().any(|(x, _)| *x == e));
         let all_names: Vec<String> = signal_names.iter().chain(&m.names).cloned().collect();
         let table = set.events();
         let plants = vector.component.len();
         for p in 0..plants {
             let plant = &members[p];
-            let kept_has = |e: EventId| kept.iter().any(|&s| members[s].dfa.has_event(e.as_u32()));
+            let kept_has =
+                |e: EventId| kept.iter().any(|&s| members[s].dfa.has_event(e.as_u32())) || updates(e);
             // The uncontrollable transitions of the plant the kept supervisors see, by (from, to).
             let mut seen: BTreeMap<(usize, usize), EventId> = BTreeMap::new();
             for q in 0..plant.state_count() {
@@ -152,7 +213,7 @@ impl Tracking {
                 let cond = Expr::var(prev.clone())
                     .op(Op::Eq, Expr::Int(a as i64))
                     .op(Op::And, Expr::var(now.clone()).op(Op::Eq, Expr::Int(b as i64)));
-                let body = apply(set, &m, e);
+                let body = m.on_event(set, guards, e);
                 if !body.is_empty() {
                     m.detect.push(Stmt::when(cond, body));
                 }
@@ -174,7 +235,7 @@ impl Tracking {
             }
         }
         for e in table.ids().filter(|&e| table.is_controllable(e)) {
-            let mut body = apply(set, &m, e);
+            let mut body = m.on_event(set, guards, e);
             body.extend(m.after.remove(&e.as_u32()).unwrap_or_default());
             if !body.is_empty() {
                 m.after.insert(e.as_u32(), body);

@@ -27,6 +27,7 @@ use std::path::Path;
 use crate::config::{ScanPolicy, Signals};
 use crate::feedback::memory::Layout;
 use crate::feedback::{self, guards, product_size, FeedbackError, Sfbc, Vector};
+use crate::model::EventId;
 use crate::pack::PackSet;
 use crate::provenance::Provenance;
 use crate::scan::files::{File, Header, Source};
@@ -39,7 +40,7 @@ use super::{about, PlcError, PlcOptions};
 
 pub use memory::Tracking;
 pub use program::OnePerScan;
-pub use report::{Report, SymbolicReport};
+pub use report::{GuardsReport, Report, SymbolicReport};
 pub use rungs::EventRung;
 
 /// What the command line adds to the manifest's `[state]` keys (each ORed with its key).
@@ -145,10 +146,11 @@ fn in_file(file: &Path) -> impl Fn(FeedbackError) -> PlcError + '_ {
 
 /// Translation validation: for every entry of `f` (a reachable plant state x, with the kept supervisors'
 /// states when memory is kept) and every valuation of the program's variables that reads as it, rung σ
-/// conducts iff f_σ(x) = 1. Returns the valuations checked, or the first disagreement.
+/// conducts iff f_σ(x) = 1 (a guard over a module's variables taken as holding). Returns the valuations checked, or the first disagreement.
 pub fn validate(out: &Output, rungs: &[EventRung]) -> Result<usize, String> {
     let (vector, f) = (&out.vector, &out.sfbc);
     let names = out.names();
+    let guards: Vec<&str> = out.memory.guards.iter().map(|(_, g)| g.as_str()).collect();
     let all = if names.len() == 64 { u64::MAX } else { (1u64 << names.len()) - 1 };
     let mut checked = 0;
     for e in &f.entries {
@@ -157,7 +159,11 @@ pub fn validate(out: &Output, rungs: &[EventRung]) -> Result<usize, String> {
         let mut sub = free;
         loop {
             let v = x.value | sub;
-            let closed = |var: &str| names.iter().position(|n| *n == var).is_some_and(|i| v >> i & 1 == 1);
+            // A guard's contact is closed: the guards are checked against the closed loop on their own
+            // (`crate::plc::guards`); f_σ is then the rest of the rung.
+            let closed = |var: &str| {
+                guards.contains(&var) || names.iter().position(|n| *n == var).is_some_and(|i| v >> i & 1 == 1)
+            };
             for (k, r) in rungs.iter().enumerate() {
                 if r.rung.condition.conducts(&closed) != e.allowed[k] {
                     return Err(format!(
@@ -192,25 +198,30 @@ pub fn generate(
 ) -> Result<Output, PlcError> {
     let exact = choices.exact || signals.exact;
     let policy = choices.choice.or(signals.choice);
-    let (vector, f) = feedback::analyse(set, signals, choices.memory).map_err(in_file(file))?;
+    // The events whose guard over the modules' variables decides them (the event-based program's
+    // analysis): F_σ is their physical possibility, the guard a further contact.
+    let guards = crate::plc::guards::extract(set, &opts.efa);
+    let decided: Vec<EventId> = guards.guards.iter().map(|(e, _)| *e).collect();
+    let (vector, f) = feedback::analyse(set, signals, choices.memory, &decided).map_err(in_file(file))?;
     if !f.conflicts.is_empty() && f.memory.is_none() {
         return Err(in_file(file)(FeedbackError::Memory(report::conflicts_text(set, &f))));
     }
     let signal_names = variable_names(&vector, &Tracking::default());
-    let (layout, memory) = match &f.memory {
-        Some(m) => {
-            let layout = Layout::new(set, &m.kept, signal_names.len()).map_err(in_file(file))?;
-            let tracking = Tracking::new(set, &vector, &layout, &signal_names).map_err(in_file(file))?;
-            (layout, tracking)
-        }
-        None => (Layout::default(), Tracking::default()),
+    let layout = match &f.memory {
+        Some(m) => Layout::new(set, &m.kept, signal_names.len()).map_err(in_file(file))?,
+        None => Layout::default(),
+    };
+    let memory = if f.memory.is_some() || !guards.variables.is_empty() {
+        Tracking::new(set, &vector, &layout, &signal_names, &guards).map_err(in_file(file))?
+    } else {
+        Tracking::default()
     };
     let names = variable_names(&vector, &memory);
     let rungs: Vec<EventRung> = feedback::rules(&vector, &f, &layout, exact)
         .iter()
         .map(|r| {
             let extra = memory.after.get(&r.event.as_u32()).cloned().unwrap_or_default();
-            rungs::rung(set, &names, r, extra)
+            rungs::rung(set, &names, r, memory.guard(r.event), extra)
         })
         .collect();
     let one =
@@ -221,6 +232,7 @@ pub fn generate(
     let plants: Vec<_> = set.members()[..f.plants].iter().map(|m| &m.dfa).collect();
     let g = product_size(&plants).map_err(|e| in_file(file)(e.into()))?;
     let mut report = Report::new(set, &vector, &f, &rungs, g, ns, event_based);
+    report.guards = GuardsReport::new(&guards, set.events());
     report.choice = policy.map(ScanPolicy::name);
     report.cycle_ms = opts.cycle_ms;
     Ok(Output { files, sources: vec![source], report, rungs, vector, sfbc: f, memory, one })
@@ -245,7 +257,7 @@ pub fn from_guards(
     let vector = Vector::bind(set, signals).map_err(in_file(file))?;
     let names = variable_names(&vector, &Tracking::default());
     let rules = guards::rules(set, &vector, guards, exact).map_err(in_file(file))?;
-    let rungs: Vec<EventRung> = rules.iter().map(|r| rungs::rung(set, &names, r, Vec::new())).collect();
+    let rungs: Vec<EventRung> = rules.iter().map(|r| rungs::rung(set, &names, r, None, Vec::new())).collect();
     let one = policy.map(|policy| OnePerScan::new(policy, opts.seed, &vector, rules.iter().map(|r| r.event)));
     let source = program_source(
         set,
@@ -306,4 +318,74 @@ fn program_source(
     let program =
         ScanProgram { base, types: Vec::new(), pous: vec![(pou, graphic)], cycle_ms: opts.cycle_ms };
     Ok(Source { program, header })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formats::efa::unfold;
+    use crate::manifest::Manifest;
+    use crate::model::{Automaton, Kind};
+    use crate::scan::ld::Element;
+    use crate::synth::monolithic;
+
+    /// The variables of the contacts of `e`, left to right.
+    fn contacts(e: &Element, out: &mut Vec<String>) {
+        match e {
+            Element::Contact { variable, .. } => out.push(variable.clone()),
+            Element::Series(es) | Element::Parallel(es) => es.iter().for_each(|x| contacts(x, out)),
+        }
+    }
+
+    // See: issue 37 (the state-based program over a module with variables: the guard, not the
+    // supervisor's state, decides an event where the E/D analysis says it alone does).
+    #[test]
+    fn the_buffers_state_based_rungs_test_its_count_not_the_supervisors_state() {
+        let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/efa/buffer-state.toml");
+        let manifest = Manifest::load(&file).unwrap();
+        let efa = manifest.read_efa().unwrap();
+        let unfolded = unfold(&file, &efa[0]).unwrap();
+        let of = |kind| unfolded.iter().filter(|a| a.kind == kind).cloned().collect::<Vec<Automaton>>();
+        let sup = monolithic(&of(Kind::Plant), &of(Kind::Spec), &Config::default()).unwrap();
+        let set = PackSet::new(of(Kind::Plant), vec![sup.automaton]).unwrap();
+        let signals = || manifest.state.as_ref().unwrap().check().unwrap();
+        let opts = PlcOptions { name: "efa_buffer_state".into(), efa, ..PlcOptions::default() };
+        let program = |opts: &PlcOptions| {
+            generate(&set, signals(), opts, StateOptions::default(), &Provenance::default(), None, &file)
+        };
+        let out = program(&opts).unwrap();
+        // No supervisor's state is kept: the count is the only memory.
+        assert!(out.memory.layout.kept.is_empty() && out.memory.states.is_empty());
+        assert_eq!(out.memory.variables, ["n_2"]);
+        let text = &out.files[0].1;
+        for (event, machine, guard) in [("start1", "m1", "n_2 <= 1"), ("start2", "m2", "n_2 >= 1")] {
+            let rung = out.rungs.iter().find(|r| r.event == event).unwrap();
+            let mut seen = Vec::new();
+            contacts(&rung.rung.condition, &mut seen);
+            // The machine's idle state (its signals) and the guard: nothing of the supervisor.
+            let want = [format!("{machine}_done"), format!("{machine}_run"), format!("g_{event}")];
+            assert_eq!(seen, want, "{event}");
+            assert!(text.contains(&format!("g_{event} := {guard};")), "{event}: {text}");
+        }
+        // The stops' guards are TRUE: their rungs have no guard contact.
+        let stop = out.rungs.iter().find(|r| r.event == "stop1").unwrap();
+        assert_eq!(stop.rung.condition.contacts(), 2);
+        assert!(validate(&out, &out.rungs).unwrap() > 0);
+        let guards: Vec<(&str, Option<&str>)> =
+            out.report.guards.guards.iter().map(|g| (g.event.as_str(), g.guard.as_deref())).collect();
+        assert_eq!(
+            guards,
+            [
+                ("start1", Some("n <= 1")),
+                ("stop1", Some("TRUE")),
+                ("start2", Some("n >= 1")),
+                ("stop2", Some("TRUE"))
+            ]
+        );
+        // Without the module's variables the plant state does not decide start1 and start2: the
+        // supervisor's memory would have to be kept.
+        let plain = PlcOptions { efa: Vec::new(), ..opts };
+        let err = program(&plain).unwrap_err().to_string();
+        assert!(err.contains("start1") && err.contains("start2"), "{err}");
+    }
 }

@@ -14,6 +14,7 @@ use serde::Serialize;
 use super::EventRung;
 use crate::feedback::{Sfbc, Vector};
 use crate::pack::PackSet;
+pub use crate::plc::report::GuardsReport;
 use crate::symbolic::Guards;
 
 /// One rung's figures.
@@ -108,6 +109,9 @@ pub struct Report {
     pub event_based: Option<EventBased>,
     /// f as a table.
     pub table: Vec<Row>,
+    /// The modules' variables the program keeps and the guards over them (`efa_variables`, `guards`).
+    #[serde(flatten)]
+    pub guards: GuardsReport,
 }
 
 impl Report {
@@ -162,6 +166,7 @@ impl Report {
             event_based: event_based
                 .map(|(statements, bound_per_scan)| EventBased { statements, bound_per_scan }),
             table: table(set, f),
+            guards: GuardsReport::default(),
             memory: f.memory.as_ref().map(|m| MemoryFigures {
                 kept: m.kept.iter().map(|&k| set.members()[k].name().to_owned()).collect(),
                 bits: m.bits,
@@ -220,6 +225,7 @@ impl Report {
                 e.statements, e.bound_per_scan
             );
         }
+        out += &self.guards.text();
         for r in &self.per_rung {
             let _ = writeln!(
                 out,

@@ -47,8 +47,15 @@ pub fn condition(names: &[String], cubes: &[Cube]) -> Element {
     Element::Series(series)
 }
 
-/// The rung of `rule` of `set` over the variables `names`; `extra` runs in ST when it fires.
-pub fn rung(set: &PackSet, names: &[String], rule: &Rule, extra: Vec<Stmt>) -> EventRung {
+/// The rung of `rule` of `set` over the variables `names`, behind the contact of the `BOOL` `guard`
+/// holding its guard over a module's variables when it has one; `extra` runs in ST when it fires.
+pub fn rung(
+    set: &PackSet,
+    names: &[String],
+    rule: &Rule,
+    guard: Option<&str>,
+    extra: Vec<Stmt>,
+) -> EventRung {
     let event = set.events().name(rule.event);
     let coils = rule
         .command
@@ -58,7 +65,17 @@ pub fn rung(set: &PackSet, names: &[String], rule: &Rule, extra: Vec<Stmt>) -> E
             kind: if v { CoilKind::Set } else { CoilKind::Reset },
         })
         .collect();
-    let rung =
-        Rung { comment: format!("{event}: F_{event}"), condition: condition(names, &rule.cubes), coils };
+    let (comment, condition) = match (guard, condition(names, &rule.cubes)) {
+        (None, c) => (format!("{event}: F_{event}"), c),
+        (Some(g), c) => {
+            let mut series = match c {
+                Element::Series(series) => series,
+                other => vec![other],
+            };
+            series.push(Element::contact(g, false));
+            (format!("{event}: F_{event} and its guard over the variables"), Element::Series(series))
+        }
+    };
+    let rung = Rung { comment, condition, coils };
     EventRung { event: event.to_owned(), cubes: rule.cubes.clone(), rung, extra }
 }
