@@ -31,6 +31,7 @@ fn programs() -> Vec<(String, Written)> {
         options: StateOptions { memory: true, exact: false, choice: None::<ScanPolicy> },
         engine: Engine::Explicit,
     };
+    let state_guards = state.clone();
     let cases: Vec<(&str, Vec<(&str, Form)>)> = vec![
         ("cell/cell.toml", vec![("int", int()), ("bits", bits()), ("aeem", aeem())]),
         ("cell/cell-state.toml", vec![("state", state.clone())]),
@@ -46,6 +47,8 @@ fn programs() -> Vec<(String, Written)> {
         ("cylinder/cylinder.toml", vec![("int", int())]),
         // Variables of a Supremica module as INTs, and guards over them in the rungs' conditions.
         ("efa/buffer.toml", vec![("int", int()), ("bits", bits())]),
+        // The same state-based: the count an INT, the guards BOOL contacts on the rungs.
+        ("efa/buffer-state.toml", vec![("state", state_guards)]),
     ];
     let mut out = Vec::new();
     for (manifest, forms) in cases {

@@ -286,3 +286,38 @@ fn a_cylinder_program_with_a_wrong_timer_is_caught() {
     let report = cylinder_mutant("run_T_ext := TRUE;", "run_T_ext := FALSE;", 200);
     assert!(report.timeouts.unwrap().missing > 0, "{report:?}");
 }
+
+/// The EFA buffer's state-based program with `from` replaced by `to` (every occurrence), run closed
+/// loop for `events` events.
+fn buffer_state_mutant(from: &str, to: &str, events: u64) -> codegen::monitor::Report {
+    use codegen::plc::state_based::{closed_loop, Engine, StateOptions};
+    use codegen::plc::Form;
+    let project =
+        codegen::project::Project::load(Path::new(&repo("examples/efa/buffer-state.toml"))).unwrap();
+    let form = Form::State { options: StateOptions::default(), engine: Engine::Explicit };
+    let mut out = project.plc(&form).unwrap().into_state().unwrap();
+    let text = &mut out.files[0].1;
+    assert!(text.contains(from), "{from}");
+    *text = text.replace(from, to);
+    let options = codegen::closed_loop::Options::for_events(events);
+    closed_loop::run(&out, &project.set, "efa_buffer_state", &options, &mut |_| {}).unwrap()
+}
+
+// See: issue 37 (the state-based program over a module with variables: the count an INT, the guards
+// contacts on the rungs, run closed loop with 0 violations and the marked state visited; a wrong guard
+// is caught by the monitor).
+#[test]
+fn the_efa_buffer_state_based_runs_clean_and_a_wrong_guard_is_caught() {
+    let (code, json, _) = run(&repo("examples/efa/buffer-state.toml"), 500, &["--encoding", "state"]);
+    assert_eq!(code, Some(0), "{json}");
+    assert_eq!(json["violations"].as_u64(), Some(0), "{json}");
+    assert!(json["marked_visits"].as_u64() > Some(0), "{json}");
+    assert!(json["commands"].as_u64() > Some(100), "{json}");
+    // As written, under the test's own driver: clean.
+    let report = buffer_state_mutant("n_2 <= 1", "n_2 <= 1", 300);
+    assert_eq!(report.violations, 0, "{report:?}");
+    // start1's guard loosened to the count's whole range: M1 fills the full buffer, which the
+    // supervisor forbids.
+    let report = buffer_state_mutant("n_2 <= 1", "n_2 <= 2", 300);
+    assert!(report.violations > 0, "{report:?}");
+}
