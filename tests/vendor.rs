@@ -47,8 +47,9 @@ fn programs() -> Vec<(String, Written)> {
         ("cylinder/cylinder.toml", vec![("int", int())]),
         // Variables of a Supremica module as INTs, and guards over them in the rungs' conditions.
         ("efa/buffer.toml", vec![("int", int()), ("bits", bits())]),
-        // The same state-based: the count an INT, the guards BOOL contacts on the rungs.
-        ("efa/buffer-state.toml", vec![("state", state_guards)]),
+        // The same state-based: the count an INT, the guards BOOL contacts on the rungs; one command
+        // per scan by its `[state] choice` (ST only: the choice section is no ladder).
+        ("efa/buffer-state.toml", vec![("choice", state_guards)]),
     ];
     let mut out = Vec::new();
     for (manifest, forms) in cases {

@@ -1,5 +1,9 @@
-//! Guards over the variables of extended finite automata, for the PLC program: the way Supremica's "add
-//! guards" and ESCET's data-based synthesis give a supervisor back to a model with variables.
+//! Guards over the variables of extended finite automata, for the PLC programs: the way Supremica's "add
+//! guards" and ESCET's data-based synthesis give a supervisor back to a model with variables. The
+//! analysis ([`extract`]) is one for both forms, and so is what they write of it ([`Guard::condition`],
+//! [`Guards::assignments`], [`Variable::local`]); the event-based program tests the guard in the event's
+//! rung ([`super::program`]), the state-based one keeps it in a `BOOL` its rung reads
+//! ([`super::state_based::memory`]).
 //!
 //! The supervisors are synthesised from the unfolded automata ([`crate::formats::efa::unfold`]); this
 //! module takes them back to the variables in two steps.

@@ -34,8 +34,8 @@ pub struct Tracking {
     pub states: Vec<String>,
     /// Every memory bit's name, in index order.
     pub names: Vec<String>,
-    /// Declarations: the kept supervisors' states and bits (initial states set), each tracked
-    /// component's last state.
+    /// Declarations: the kept supervisors' states and bits (initial states set), the kept variables
+    /// and the guards' `BOOL`s (initial values set), each tracked component's last state.
     pub vars: Vec<Var>,
     /// Before the rungs: each tracked component's state decoded, its uncontrollable events applied.
     pub detect: Vec<Stmt>,
@@ -167,7 +167,8 @@ impl Tracking {
             let plant = &members[p];
             let kept_has =
                 |e: EventId| kept.iter().any(|&s| members[s].dfa.has_event(e.as_u32())) || updates(e);
-            // The uncontrollable transitions of the plant the kept supervisors see, by (from, to).
+            // The uncontrollable transitions of the plant the kept supervisors see or that update a kept
+            // variable, by (from, to).
             let mut seen: BTreeMap<(usize, usize), EventId> = BTreeMap::new();
             for q in 0..plant.state_count() {
                 for (e, t) in plant.out(q) {

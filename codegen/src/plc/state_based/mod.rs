@@ -7,7 +7,9 @@
 //!
 //! * [`rungs`] — F_σ factored into a rung (shared literals in series, products in parallel,
 //!   SET/RESET coils).
-//! * [`memory`] — where memory is kept, the supervisors' states tracked from events in ST.
+//! * [`memory`] — where memory is kept, the supervisors' states tracked from events in ST, and a
+//!   module's variables and guards over them ([`crate::plc::guards`]): a guarded event's rung is F_σ in
+//!   series with its guard's `BOOL`.
 //! * [`program`] — the ST `PROGRAM` written by the project's ST writer ([`crate::scan::st`]), the Ladder
 //!   Diagram body ([`crate::scan::ld`]) beside it in the PLCopen XML, and the choice of one command per
 //!   scan ([`program::OnePerScan`]).
