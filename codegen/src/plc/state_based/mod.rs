@@ -308,11 +308,11 @@ fn program_source(
         ],
         notes: Vec::new(),
     };
-    // The Ladder Diagram body holds the rungs alone: a program with memory tracks it in ST after each
-    // rung (ladder for a vendor whose rungs call ST), and one with a choice policy chooses among its
-    // rungs, in ST only.
+    // The Ladder Diagram body holds the rungs alone: a program with memory (supervisors' states, or a
+    // module's variables and guards) tracks it in ST after each rung (ladder for a vendor whose rungs
+    // call ST), and one with a choice policy chooses among its rungs, in ST only.
     let ladder = || rungs.iter().map(|r| r.rung.clone()).collect();
-    let graphic = match (memory.layout.kept.is_empty(), one) {
+    let graphic = match (memory.vars.is_empty(), one) {
         (true, None) => Graphic::Ladder(ladder()),
         (false, None) => Graphic::LadderCallingSt(rungs.iter().map(|r| program::held(&r.rung)).collect()),
         (_, Some(_)) => Graphic::Text,
@@ -384,6 +384,13 @@ mod tests {
                 ("stop2", Some("TRUE"))
             ]
         );
+        // Without a choice policy the rungs are ladder that call the variables' updates in ST (the
+        // XML's body is then the ST one: an LD body of the rungs alone would leave the updates out).
+        let fire_all = || Signals { choice: None, ..signals() };
+        let all =
+            generate(&set, fire_all(), &opts, StateOptions::default(), &Provenance::default(), None, &file);
+        let graphic = &all.unwrap().sources[0].program.pous[0].1;
+        assert!(matches!(graphic, crate::scan::Graphic::LadderCallingSt(_)), "{graphic:?}");
         // Without the module's variables the plant state does not decide start1 and start2: the
         // supervisor's memory would have to be kept.
         let plain = PlcOptions { efa: Vec::new(), ..opts };
