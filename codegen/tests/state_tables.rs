@@ -28,7 +28,7 @@ fn repo(rel: &str) -> PathBuf {
 fn station() -> (Project, Vector, Sfbc, StateTables) {
     let project = Project::load(&repo("examples/distribution/distribution-state.toml")).unwrap();
     let signals = project.state.as_ref().unwrap().check().unwrap();
-    let (vector, f) = analyse(&project.set, signals, false).unwrap();
+    let (vector, f) = analyse(&project.set, signals, false, &[]).unwrap();
     let rules = rules(&vector, &f, &Default::default(), false);
     let tables = StateTables::build(&project.set, &vector, &f, &rules).unwrap();
     (project, vector, f, tables)

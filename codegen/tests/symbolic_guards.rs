@@ -24,7 +24,7 @@ fn same_rungs(manifest: &Path) {
     let loaded = Sources::project(&[manifest.to_owned()]).load().unwrap();
     let project = Project::load(manifest).unwrap();
     let signals = project.state.as_ref().unwrap().check().unwrap();
-    let (vector, f) = feedback::analyse(&project.set, signals, false).unwrap();
+    let (vector, f) = feedback::analyse(&project.set, signals, false, &[]).unwrap();
     assert!(f.conflicts.is_empty());
     let (plants, specs) = (&loaded.models.plants, &loaded.models.specs);
     let g = Guards::compute(plants, specs, &Config::default(), &Options::default()).unwrap();
