@@ -180,6 +180,9 @@ pub struct Driver {
     net: Option<(NetDrive, Rng)>,
     /// The last scan changed nothing: no edge, command, timeout nor place, nothing pending.
     settled: bool,
+    /// The last scan moved the sequence net's marking: the program has not decided all it can yet (a
+    /// transition that fires no command may enable one that does), so it counts as pending.
+    moving: bool,
     /// TIME scans every task interval, never jumping to a delay's end ([`Driver::scan_every_cycle`]).
     every_cycle: bool,
 }
@@ -264,6 +267,7 @@ impl Driver {
             edged: false,
             net: None,
             settled: false,
+            moving: false,
             every_cycle: false,
         };
         // The boot scan: initial states, the inputs' first sample.
@@ -429,13 +433,15 @@ impl Driver {
             return Err(format!("more than one command in a scan: {commands:?}"));
         }
         let worked = edged || !commands.is_empty() || !timeouts.is_empty();
-        self.settled = !worked && self.marking()? == marking && !self.plc.get_bool(&format!("{FB}.pending"))?;
+        self.moving = self.marking()? != marking;
+        self.settled = !worked && !self.moving && !self.plc.get_bool(&format!("{FB}.pending"))?;
         Ok(Scan { timeouts, commands, statements: worked.then_some(statements) })
     }
 
     /// A scan with `reset` and `hold` set: the program back to its initial states, no command.
     /// The inputs are first brought to their levels at the plant's initial state, and a sequence net's
-    /// free inputs to theirs (held, or drawn), so the reset scan samples them without an edge.
+    /// free inputs to theirs (held, or drawn), so the reset scan samples them without an edge; a
+    /// sequence net goes back to its cold start ([`NetDrive::cold_start`]).
     pub fn reset(&mut self) -> Result<(), String> {
         let paths: Vec<String> = self.io.inputs.values().map(|l| l.path.clone()).collect();
         for path in paths {
@@ -447,6 +453,9 @@ impl Driver {
             for var in &drive.held {
                 self.plc.set_bool(var, true)?;
             }
+            for (path, value) in &drive.cold_start {
+                self.plc.set_bool(path, *value)?;
+            }
         }
         self.new_round()?;
         let hold = self.plc.get_bool("hold")?;
@@ -456,6 +465,7 @@ impl Driver {
         self.plc.set_bool("reset", false)?;
         self.plc.set_bool("hold", hold)?;
         self.edged = false;
+        (self.moving, self.settled) = (false, false);
         self.snapshot()
     }
 }
@@ -478,7 +488,7 @@ impl Scanner for Driver {
     }
 
     fn pending(&self) -> Result<bool, String> {
-        self.plc.get_bool(&format!("{FB}.pending"))
+        Ok(self.moving || self.plc.get_bool(&format!("{FB}.pending"))?)
     }
 
     fn safe(&self) -> Result<bool, String> {
