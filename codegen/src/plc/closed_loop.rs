@@ -125,6 +125,14 @@ impl IoMap {
         }
         self
     }
+
+    /// Whether, at the plant's initial state, the input that uncontrollable event `e` changes stands at
+    /// the level `e` leads to ([`IoMap::with_levels_of`]); `None` when `e` has no input.
+    pub fn initial_level(&self, e: u8) -> Option<bool> {
+        let line = self.inputs.get(&e)?;
+        let level = self.initial.get(&line.path).copied().unwrap_or(false);
+        Some(if line.edge == "falling" { !level } else { level })
+    }
 }
 
 /// Which of an input's edges (`rising`, `falling`: event ids) `dfa` can take first from its initial

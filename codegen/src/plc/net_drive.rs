@@ -46,7 +46,8 @@ impl NetDrive {
             if s.direction != Direction::Input || s.carried || s.initial != Value::Either {
                 continue;
             }
-            let timeout = net.conditions.iter().zip(&net.delays).any(|(c, &d)| d > 0 && c.vars().contains(&&k));
+            let timeout =
+                net.conditions.iter().zip(&net.delays).any(|(c, &d)| d > 0 && c.vars().contains(&&k));
             let list = if timeout { &mut drive.held } else { &mut drive.drawn };
             list.push(id.signal[k].clone());
         }

@@ -600,7 +600,15 @@ impl Project {
         let out = self.event_program(encoding, Avalanche::Auto, None)?;
         let text = out.files.first().map_or("", |(_, text)| text.as_str());
         let net = self.sequence()?.map(|net| plc::net_drive::NetDrive::new(&net));
-        Ok(plc::closed_loop::run_net(text, &out.report, &self.set, &self.name, net.as_ref(), options, progress)?)
+        Ok(plc::closed_loop::run_net(
+            text,
+            &out.report,
+            &self.set,
+            &self.name,
+            net.as_ref(),
+            options,
+            progress,
+        )?)
     }
 
     /// The state-based program run closed loop (`codegen run --target plc --encoding state`): the
