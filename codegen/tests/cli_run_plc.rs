@@ -61,6 +61,155 @@ fn every_plc_example_runs_with_no_violation() {
         // Liveness as under QEMU: a marked state of plants ‖ supervisors visited (a fixed choice rule
         // can keep a nonblocking closed loop out of them, as `local-queue` did the EFA buffer's).
         assert!(json["marked_visits"].as_u64() > Some(0), "{manifest}: {json}");
+        // No stall, but where the model blocks: net1 is the paper's blocking net (p7's action al is
+        // disabled by the piston interlock; the_station_nets_run_closed_loop_and_net1_blocks_at_p7).
+        if !manifest.ends_with("station-rtpn/net1.toml") {
+            assert_eq!(json["stalls"].as_u64(), Some(0), "{manifest}: {json}");
+        }
+    }
+}
+
+/// A station net's event-based program run closed loop for `events` events as `run --target plc` runs
+/// it (its TIME scanning every task interval with `every_cycle`), with the places marked at each RESET
+/// the program took, the power-up's first.
+fn station_net(name: &str, events: u64, every_cycle: bool) -> (codegen::monitor::Report, Vec<Vec<String>>) {
+    use codegen::plc::closed_loop::{net_driver, run_spawned, spawn_plc, Driver, Edge, Scan, Scanner};
+    use codegen::plc::net_drive::NetDrive;
+    use codegen::plc::{Avalanche, Encoding, Form};
+    use std::sync::{Arc, Mutex};
+
+    /// The driver, noting the marked places whenever the host resets it.
+    struct AtReset {
+        driver: Driver,
+        places: Vec<String>,
+        seen: Arc<Mutex<Vec<Vec<String>>>>,
+    }
+    impl Scanner for AtReset {
+        fn has_input(&self, e: u8) -> bool {
+            self.driver.has_input(e)
+        }
+        fn edge(&mut self, e: u8, used: &mut Vec<String>) -> Result<Edge, String> {
+            self.driver.edge(e, used)
+        }
+        fn hold(&mut self, on: bool) -> Result<(), String> {
+            Scanner::hold(&mut self.driver, on)
+        }
+        fn held(&self) -> Result<bool, String> {
+            self.driver.held()
+        }
+        fn pending(&self) -> Result<bool, String> {
+            self.driver.pending()
+        }
+        fn safe(&self) -> Result<bool, String> {
+            self.driver.safe()
+        }
+        fn scan(&mut self) -> Result<Scan, String> {
+            Scanner::scan(&mut self.driver)
+        }
+        fn reset(&mut self) -> Result<(), String> {
+            let marked = self.places.iter().filter(|p| self.driver.plc.get_bool(p) == Ok(true)).cloned();
+            self.seen.lock().unwrap().push(marked.collect());
+            Scanner::reset(&mut self.driver)
+        }
+        fn status(&self, unknown: u32) -> Result<[u32; 6], String> {
+            self.driver.status(unknown)
+        }
+        fn timed_cycle(&self) -> Option<u32> {
+            self.driver.timed_cycle()
+        }
+        fn set_interval(&mut self, ms: u32) {
+            self.driver.set_interval(ms)
+        }
+        fn new_round(&mut self) -> Result<(), String> {
+            Scanner::new_round(&mut self.driver)
+        }
+        fn quiet_for(&self) -> Result<Option<u32>, String> {
+            Scanner::quiet_for(&self.driver)
+        }
+    }
+
+    let manifest = repo(&format!("examples/station-rtpn/{name}.toml"));
+    let project = codegen::project::Project::load(Path::new(&manifest)).unwrap();
+    let form = Form::Event { encoding: Encoding::Int, avalanche: Avalanche::Auto, policy: None };
+    let out = project.plc(&form).unwrap().into_event().unwrap();
+    let net = NetDrive::new(&project.sequence().unwrap().unwrap());
+    let mut options = codegen::closed_loop::Options::for_events(events);
+    options.session.own_delays = net.own_delays(out.report.cycle_ms);
+    let mut driver =
+        net_driver(&out.files[0].1, &out.report, &project.set, Some(&net), options.plant.seed).unwrap();
+    driver.scan_every_cycle(every_cycle);
+    let seen = Arc::new(Mutex::new(Vec::new()));
+    let at_reset = AtReset { driver, places: net.places.clone(), seen: Arc::clone(&seen) };
+    let (host, target) = codegen::link::memory::pair();
+    let plc = spawn_plc(at_reset, target);
+    let report =
+        run_spawned(host, plc, &(&out.report).into(), &project.set, name, &options, &mut |_| {}).unwrap();
+    let seen = seen.lock().unwrap().clone();
+    (report, seen)
+}
+
+// See: issue 36 (the station's sequences under `--target plc` stalled every round: the driver's inputs
+// started FALSE though the arm starts at its left end, nothing drove the free inputs, and a round
+// without events was a stall before the net's own delays had run). net3, the corrected sequence, moves
+// the plant with no stall; net1, the paper's blocking net, stalls, each time with p7 alone marked (the
+// piston interlock disables al, p7's action). Jumping the clock over settled scans to the next delay's
+// end gives the same run as scanning every task interval.
+#[test]
+fn the_station_nets_run_closed_loop_and_net1_blocks_at_p7() {
+    let (net3, _) = station_net("net3", 150, false);
+    assert_eq!((net3.violations, net3.stalls), (0, 0), "{net3:?}");
+    assert!(net3.uncontrollable > 30 && net3.marked_visits > 0, "{net3:?}");
+    let (net1, resets) = station_net("net1", 80, false);
+    assert_eq!(net1.violations, 0, "{net1:?}");
+    assert!(net1.stalls > 0 && net1.uncontrollable > 0, "{net1:?}");
+    // The power-up's reset first, then one per resynchronisation, every one a stall at p7.
+    assert_eq!((resets.len() as u64, net1.resyncs), (1 + net1.stalls, net1.stalls), "{resets:?}");
+    for marked in &resets[1..] {
+        assert_eq!(marked, &["seq.P_p7"], "{resets:?}");
+    }
+    for (name, events, jumped) in [("net3", 150, &net3), ("net1", 80, &net1)] {
+        let (every, _) = station_net(name, events, true);
+        assert_eq!(every.trace_sha256, jumped.trace_sha256, "{name}: {every:?}");
+        assert_eq!((every.commands, every.stalls), (jumped.commands, jumped.stalls), "{name}");
+    }
+}
+
+// See: issue 36 (the driver's input levels start at the plant's initial state, derived from the plant
+// automata: for the station nets they are the levels `[net] initial` gives the sensors for `verify`).
+#[test]
+fn the_input_levels_from_the_plants_are_the_nets_initial_values() {
+    use codegen::net::condition::Value;
+    use codegen::net::interpretation::Direction;
+    use codegen::plc::closed_loop::IoMap;
+    use codegen::plc::{Avalanche, Encoding, Form};
+    for name in ["net1", "net3"] {
+        let manifest = repo(&format!("examples/station-rtpn/{name}.toml"));
+        let project = codegen::project::Project::load(Path::new(&manifest)).unwrap();
+        let form = Form::Event { encoding: Encoding::Int, avalanche: Avalanche::Auto, policy: None };
+        let out = project.plc(&form).unwrap().into_event().unwrap();
+        let io = IoMap::new(&out.report, project.set.events()).unwrap().with_levels_of(&project.set);
+        let net = project.sequence().unwrap().unwrap();
+        let mut on = Vec::new();
+        for (k, s) in net.signals.iter().enumerate() {
+            if s.direction != Direction::Input || !s.carried {
+                continue;
+            }
+            let e = net.event_for(k, true).unwrap().as_u32() as u8;
+            let level = io.initial_level(e).unwrap();
+            assert_eq!(Value::Is(level), s.initial, "{name}: {}", s.name);
+            if level {
+                on.push(s.name.as_str());
+            }
+        }
+        on.sort_unstable();
+        assert_eq!(on, ["sb", "sl"], "{name}: piston back, arm left");
+        // The timeouts a delayed transition reads are held TRUE, the others drawn; the stall waits for
+        // t15's 6 s and a scan, in rounds a scan shorter than the 0.5 s of t13, t14 and t19.
+        let drive = codegen::plc::net_drive::NetDrive::new(&net);
+        assert_eq!(drive.held, ["d05s", "d1s", "d2s", "d4s", "d6s"], "{name}");
+        assert_eq!(drive.drawn, ["ack", "si"], "{name}");
+        let delays = drive.own_delays(out.report.cycle_ms).unwrap();
+        assert_eq!((delays.wait_ms, delays.quantum_ms), (6010, 490), "{name}");
     }
 }
 

@@ -7,7 +7,7 @@
 
 mod session;
 
-pub use session::{Session, SessionConfig, SessionError};
+pub use session::{OwnDelays, Session, SessionConfig, SessionError};
 
 use std::path::Path;
 use std::time::Duration;

@@ -106,6 +106,23 @@ pub struct SessionConfig {
     /// mirror of the controller's choice rounds may have lost step (a choice the guard dropped still
     /// counts in the firmware's round), and a reset puts both back in step.
     pub steering_reset: u64,
+    /// The controller's own delays, if it has any ([`OwnDelays`]).
+    pub own_delays: Option<OwnDelays>,
+}
+
+/// A controller's own delays: timers of its own that no `[[timers]]` entry carries (a sequence net's
+/// `[net.delays]` in a PLC program), whose clock moves on the link's TIME alone. A round (or step) in
+/// which neither side moved is then a stall only once they have had their time: the session first sends
+/// TIME `quantum_ms` at a time, each in a round of its own, until the controller fires or `wait_ms`
+/// have passed. Time passes only while the loop waits on nothing else, so the run stays a function of
+/// the seeds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct OwnDelays {
+    /// How long to wait in all: the longest delay and one scan.
+    pub wait_ms: u64,
+    /// The time one round lets pass: shorter than the shortest delay, so a delay started by a command
+    /// in a round cannot end in it before the plant had its turn.
+    pub quantum_ms: u64,
 }
 
 impl Default for SessionConfig {
@@ -116,6 +133,7 @@ impl Default for SessionConfig {
             lockstep: true,
             step: true,
             steering_reset: 2_000,
+            own_delays: None,
         }
     }
 }
@@ -200,6 +218,9 @@ pub struct Session<'a, L: ByteLink + ?Sized> {
     now_ms: u64,
     /// With timers: when the plant's next emission is due on the virtual clock; `None` until drawn.
     emit_at: Option<u64>,
+    /// In steps: the plant held back for a command the controller did not fire, and sends at least one
+    /// event at the next step.
+    plant_turn: bool,
 }
 
 impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
@@ -234,6 +255,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             idle_seen: false,
             now_ms: 0,
             emit_at: None,
+            plant_turn: false,
         }
     }
 
@@ -332,6 +354,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         self.plant.reset();
         self.monitor.reset();
         self.emit_at = None;
+        self.plant_turn = false;
         self.in_step = true;
         let steps_on = self.monitor.is_steering() || (self.stepping && !self.idle_seen);
         self.stepping = self.config.step && self.plant.steers() && steps_on;
@@ -460,7 +483,10 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             true => self.plant.burst_len(),
         };
         let timed = bytes.len();
-        while bytes.len() - timed < most && self.monitor.next_move() != Move::Controller {
+        let turn = std::mem::take(&mut self.plant_turn);
+        while bytes.len() - timed < most
+            && ((turn && bytes.len() == timed) || self.monitor.next_move() != Move::Controller)
+        {
             let monitor = &mut *self.monitor;
             let Some(e) = self.plant.emit_one(|e| monitor.rank_after(e)) else { break };
             bytes.push(e.as_u32() as u8);
@@ -482,8 +508,14 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         }
         self.idle_seen |= commands == Some(0);
         if commands == Some(0) && sent == 0 && !moved {
-            self.monitor.report_mut().stalls += 1;
-            self.sync(true)?;
+            if emits && !turn && !self.plant.enabled_uncontrollable().is_empty() {
+                // The plant held back for a command the controller did not fire (one that only fires
+                // what its sequence asks for): the plant's turn, at the next step.
+                self.plant_turn = true;
+            } else if !self.wait_own_delays()? {
+                self.monitor.report_mut().stalls += 1;
+                self.sync(true)?;
+            }
         }
         Ok(())
     }
@@ -515,7 +547,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             }
             match self.await_round((2 * self.round + 1) * TICK_US)? {
                 Some(_) if self.judge_missing()? => {}
-                Some(0) if sent == 0 && !moved => {
+                Some(0) if sent == 0 && !moved && !self.wait_own_delays()? => {
                     self.monitor.report_mut().stalls += 1;
                     self.sync(true)?;
                 }
@@ -527,6 +559,31 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             }
         }
         Ok(())
+    }
+
+    /// A round or step in which nothing moved: lets the controller's own delays pass ([`OwnDelays`]), a
+    /// quantum per round (per step while stepping), until it fires (or the round ends in a restart).
+    /// Returns whether it moved; without own delays, or once they have passed, it did not (a stall).
+    fn wait_own_delays(&mut self) -> Result<bool, SessionError> {
+        let Some(delays) = self.config.own_delays else { return Ok(false) };
+        let mut waited = 0;
+        while waited < delays.wait_ms {
+            let quantum = (delays.wait_ms - waited).min(delays.quantum_ms.max(1));
+            waited += quantum;
+            let (t, mut bytes) = if self.stepping {
+                (READ_ALL, Vec::new())
+            } else {
+                self.round += 1;
+                ((2 * self.round + 1) * TICK_US, vec![HOLD])
+            };
+            bytes.extend(time(quantum));
+            bytes.extend(if self.stepping { &[STEP][..] } else { &[SYNC, GO][..] });
+            self.link.send(&bytes)?;
+            if self.await_round(t)? != Some(0) {
+                return Ok(true);
+            }
+        }
+        Ok(false)
     }
 
     /// Judges the firmware's commands, at time `t`, until it answers SYNC: how many there were, or

@@ -39,9 +39,12 @@ use crate::config::ScanPolicy;
 use crate::interpreter::Plc;
 use crate::link::memory::{self, MemoryLink};
 use crate::link::ByteLink;
-use crate::model::EventTable;
+use crate::model::{Dfa, EventTable};
 use crate::monitor::{ChoiceModel, Report, ScanFigures};
-use crate::pack::PackSet;
+use crate::pack::{PackSet, Role};
+use crate::plant::Rng;
+
+use super::net_drive::NetDrive;
 
 /// The path of the function block instance in the program.
 const FB: &str = "sct";
@@ -61,6 +64,9 @@ pub struct IoMap {
     outputs: BTreeMap<String, Vec<(u8, &'static str)>>,
     /// Per timer: its `TON`'s output (a path in the block) and its timeout's event id.
     timers: Vec<(String, u8)>,
+    /// The input variables' levels at the plant's initial state ([`IoMap::with_levels_of`]); an input
+    /// not here starts FALSE.
+    initial: BTreeMap<String, bool>,
 }
 
 impl IoMap {
@@ -87,6 +93,68 @@ impl IoMap {
         }
         Ok(map)
     }
+
+    /// The map with its inputs' levels at the plant's initial state, as `set`'s plants give them: an
+    /// input whose first edge each plant automaton over its events can take from its initial state is a
+    /// falling one (and none a rising one) starts TRUE — a sensor that is on, such as an arm's end switch
+    /// with the arm at that end. Derived from the plants the virtual plant runs, it holds for every
+    /// program, with or without a sequence net (whose `[net] initial` states the same levels for the
+    /// sensors it reads: a test checks they agree).
+    pub fn with_levels_of(mut self, set: &PackSet) -> IoMap {
+        let mut by_path: BTreeMap<&str, (Vec<u32>, Vec<u32>)> = BTreeMap::new();
+        for (&e, line) in &self.inputs {
+            let (rising, falling) = by_path.entry(line.path.as_str()).or_default();
+            match line.edge {
+                "rising" => rising.push(u32::from(e)),
+                "falling" => falling.push(u32::from(e)),
+                _ => {}
+            }
+        }
+        for (path, (rising, falling)) in by_path {
+            let firsts: Vec<(bool, bool)> = set
+                .members()
+                .iter()
+                .filter(|m| m.role == Role::Plant)
+                .map(|m| first_edges(&m.dfa, &rising, &falling))
+                .filter(|&(r, f)| r || f)
+                .collect();
+            let on = !firsts.is_empty() && firsts.iter().all(|&(r, f)| f && !r);
+            if on {
+                self.initial.insert(path.to_string(), true);
+            }
+        }
+        self
+    }
+
+    /// Whether, at the plant's initial state, the input that uncontrollable event `e` changes stands at
+    /// the level `e` leads to ([`IoMap::with_levels_of`]); `None` when `e` has no input.
+    pub fn initial_level(&self, e: u8) -> Option<bool> {
+        let line = self.inputs.get(&e)?;
+        let level = self.initial.get(&line.path).copied().unwrap_or(false);
+        Some(if line.edge == "falling" { !level } else { level })
+    }
+}
+
+/// Which of an input's edges (`rising`, `falling`: event ids) `dfa` can take first from its initial
+/// state, over any path of its other events: (a rising one, a falling one).
+fn first_edges(dfa: &Dfa, rising: &[u32], falling: &[u32]) -> (bool, bool) {
+    let (mut r, mut f) = (false, false);
+    let Some(start) = dfa.initial() else { return (r, f) };
+    let mut seen = vec![false; dfa.state_count()];
+    let mut stack = vec![start];
+    seen[start as usize] = true;
+    while let Some(s) = stack.pop() {
+        for (e, to) in dfa.edges(s) {
+            if rising.contains(&e) {
+                r = true;
+            } else if falling.contains(&e) {
+                f = true;
+            } else if !std::mem::replace(&mut seen[to as usize], true) {
+                stack.push(to);
+            }
+        }
+    }
+    (r, f)
 }
 
 /// What the wrapper measured, returned when the host sends EXIT: over the scans from the host's first
@@ -116,6 +184,15 @@ pub struct Driver {
     cycle_ms: u32,
     /// An input's edge was made (or prepared) since the last scan.
     edged: bool,
+    /// A sequence net's free inputs and the seed's draws for them ([`Driver::drive_net`]).
+    net: Option<(NetDrive, Rng)>,
+    /// The last scan changed nothing: no edge, command, timeout nor place, nothing pending.
+    settled: bool,
+    /// The last scan moved the sequence net's marking: the program has not decided all it can yet (a
+    /// transition that fires no command may enable one that does), so it counts as pending.
+    moving: bool,
+    /// TIME scans every task interval, never jumping to a delay's end ([`Driver::scan_every_cycle`]).
+    every_cycle: bool,
 }
 
 /// What one scan did.
@@ -160,6 +237,16 @@ pub trait Scanner {
     }
     /// Sets how far the scan clock moves at the next scans (a program with timers only).
     fn set_interval(&mut self, _ms: u32) {}
+    /// A round begins (the host asked for SYNC, or STEP): inputs the wrapper draws are drawn afresh
+    /// (the default: none).
+    fn new_round(&mut self) -> Result<(), String> {
+        Ok(())
+    }
+    /// How far TIME may move the clock before the next scan without skipping a change (a program with
+    /// timers only; `None`, the default: one task interval).
+    fn quiet_for(&self) -> Result<Option<u32>, String> {
+        Ok(None)
+    }
 }
 
 /// What one attempt to make an event's edge did.
@@ -186,6 +273,10 @@ impl Driver {
             timer_q,
             cycle_ms: 10,
             edged: false,
+            net: None,
+            settled: false,
+            moving: false,
+            every_cycle: false,
         };
         // The boot scan: initial states, the inputs' first sample.
         d.reset()?;
@@ -206,7 +297,63 @@ impl Driver {
     /// scans the link's TIME runs, every other scan then leaving the clock where it is.
     pub fn set_cycle_ms(&mut self, ms: u32) {
         self.cycle_ms = ms;
-        self.plc.set_cycle_ms(if self.io.timers.is_empty() { ms } else { 0 });
+        self.plc.set_cycle_ms(if self.timed() { 0 } else { ms });
+    }
+
+    /// Whether the scan clock moves on the link's TIME alone: the program has `[[timers]]`, or delays of
+    /// its own (a sequence net's, [`Driver::drive_net`]).
+    fn timed(&self) -> bool {
+        !self.io.timers.is_empty() || self.net.as_ref().is_some_and(|(d, _)| d.delays.is_some())
+    }
+
+    /// Drives the free inputs of the sequence net beside the interlocks as `drive` says, drawing from
+    /// `seed` ([`NetDrive`]): from the next reset on, and at every round. With delays, the scan clock
+    /// then moves on TIME alone, so the net's `TON`s count the session's time, not the machine's.
+    pub fn drive_net(&mut self, drive: NetDrive, seed: u64) -> Result<(), String> {
+        self.net = Some((drive, Rng::new(seed)));
+        self.set_cycle_ms(self.cycle_ms);
+        self.reset()
+    }
+
+    /// With `on`, TIME scans every task interval, as a PLC does, instead of jumping the clock over
+    /// settled scans to the next delay's end ([`Driver::quiet_for`]); the two give the same run (a test
+    /// compares them), the jump in a fraction of the scans.
+    pub fn scan_every_cycle(&mut self, on: bool) {
+        self.every_cycle = on;
+    }
+
+    /// How far the clock may move before the next scan without skipping a change: after a settled scan
+    /// (nothing changed, nothing pending; the inputs only change between TIME's scans), the scans before
+    /// the next end of a running delay of the sequence net would repeat it, so the clock may jump to
+    /// that end (`u32::MAX`: none running). `None`: scan every task interval.
+    pub fn quiet_for(&self) -> Result<Option<u32>, String> {
+        let Some((drive, _)) = &self.net else { return Ok(None) };
+        if self.every_cycle || !self.settled {
+            return Ok(None);
+        }
+        let mut next = u32::MAX;
+        for t in &drive.timers {
+            if self.plc.get_bool(&format!("{t}.RUNNING"))? && !self.plc.get_bool(&format!("{t}.Q"))? {
+                let left = self.plc.get_int(&format!("{t}.PT"))? - self.plc.get_int(&format!("{t}.ET"))?;
+                next = next.min(u32::try_from(left.max(1)).unwrap_or(u32::MAX));
+            }
+        }
+        Ok(Some(next))
+    }
+
+    /// The sequence net's marking (empty without one).
+    fn marking(&self) -> Result<Vec<bool>, String> {
+        let Some((drive, _)) = &self.net else { return Ok(Vec::new()) };
+        drive.places.iter().map(|p| self.plc.get_bool(p)).collect()
+    }
+
+    /// A new round: the free inputs that are drawn are drawn afresh.
+    pub fn new_round(&mut self) -> Result<(), String> {
+        let Some((drive, rng)) = &mut self.net else { return Ok(()) };
+        for var in &drive.drawn {
+            self.plc.set_bool(var, rng.chance(500))?;
+        }
+        Ok(())
     }
 
     /// Makes the edge of uncontrollable event `e` on its input, unless `used` says the input already
@@ -240,6 +387,7 @@ impl Driver {
     }
 
     fn scan_counted(&mut self) -> Result<Scan, String> {
+        let marking = self.marking()?;
         let statements = self.plc.scan()?;
         let edged = std::mem::take(&mut self.edged);
         let mut timeouts = Vec::new();
@@ -293,11 +441,31 @@ impl Driver {
             return Err(format!("more than one command in a scan: {commands:?}"));
         }
         let worked = edged || !commands.is_empty() || !timeouts.is_empty();
+        self.moving = self.marking()? != marking;
+        self.settled = !worked && !self.moving && !self.plc.get_bool(&format!("{FB}.pending"))?;
         Ok(Scan { timeouts, commands, statements: worked.then_some(statements) })
     }
 
     /// A scan with `reset` and `hold` set: the program back to its initial states, no command.
+    /// The inputs are first brought to their levels at the plant's initial state, and a sequence net's
+    /// free inputs to theirs (held, or drawn), so the reset scan samples them without an edge; a
+    /// sequence net goes back to its cold start ([`NetDrive::cold_start`]).
     pub fn reset(&mut self) -> Result<(), String> {
+        let paths: Vec<String> = self.io.inputs.values().map(|l| l.path.clone()).collect();
+        for path in paths {
+            let level = self.io.initial.get(&path).copied().unwrap_or(false);
+            self.plc.set_bool(&path, level)?;
+            self.levels.insert(path, level);
+        }
+        if let Some((drive, _)) = &self.net {
+            for var in &drive.held {
+                self.plc.set_bool(var, true)?;
+            }
+            for (path, value) in &drive.cold_start {
+                self.plc.set_bool(path, *value)?;
+            }
+        }
+        self.new_round()?;
         let hold = self.plc.get_bool("hold")?;
         self.plc.set_bool("reset", true)?;
         self.plc.set_bool("hold", true)?;
@@ -305,6 +473,7 @@ impl Driver {
         self.plc.set_bool("reset", false)?;
         self.plc.set_bool("hold", hold)?;
         self.edged = false;
+        (self.moving, self.settled) = (false, false);
         self.snapshot()
     }
 }
@@ -327,7 +496,7 @@ impl Scanner for Driver {
     }
 
     fn pending(&self) -> Result<bool, String> {
-        self.plc.get_bool(&format!("{FB}.pending"))
+        Ok(self.moving || self.plc.get_bool(&format!("{FB}.pending"))?)
     }
 
     fn safe(&self) -> Result<bool, String> {
@@ -343,7 +512,15 @@ impl Scanner for Driver {
     }
 
     fn timed_cycle(&self) -> Option<u32> {
-        (!self.io.timers.is_empty()).then_some(self.cycle_ms)
+        self.timed().then_some(self.cycle_ms)
+    }
+
+    fn new_round(&mut self) -> Result<(), String> {
+        Driver::new_round(self)
+    }
+
+    fn quiet_for(&self) -> Result<Option<u32>, String> {
+        Driver::quiet_for(self)
     }
 
     fn set_interval(&mut self, ms: u32) {
@@ -415,6 +592,7 @@ pub fn spawn_plc<D: Scanner + Send + 'static>(
                     SYNC => {
                         fifo.pop_front();
                         sync_asked = true;
+                        driver.new_round()?;
                     }
                     STEP => {
                         // Its one decision sees every event before it, and none after it.
@@ -422,6 +600,7 @@ pub fn spawn_plc<D: Scanner + Send + 'static>(
                             break;
                         }
                         fifo.pop_front();
+                        driver.new_round()?;
                         driver.hold(false)?;
                         stepping = true;
                         break;
@@ -528,7 +707,13 @@ fn pass_time<D: Scanner>(
     let mut left = ms;
     let mut first = true;
     while first || left > 0 {
-        let step = if first { 0 } else { left.min(cycle.max(1)) };
+        let cycle = cycle.max(1);
+        let step = match driver.quiet_for()? {
+            _ if first => 0,
+            // Whole task intervals, as the scans it stands for would have moved the clock.
+            Some(quiet) => left.min(quiet.div_ceil(cycle).max(1).saturating_mul(cycle)),
+            None => left.min(cycle),
+        };
         first = false;
         left -= step;
         driver.set_interval(step);
@@ -572,12 +757,43 @@ pub fn run(
     options: &Options,
     progress: &mut dyn FnMut(&Report),
 ) -> Result<Report, RunError> {
-    let mut driver = Driver::new(text, IoMap::new(program, set.events()).map_err(RunError::Program)?)
-        .map_err(RunError::Program)?;
-    driver.set_cycle_ms(program.cycle_ms);
+    run_net(text, program, set, name, None, options, progress)
+}
+
+/// [`run`] for a program with a sequence net beside the interlocks (`[net]`): its free inputs driven
+/// and its delays waited for as `net` says ([`NetDrive`]), from the plant's seed.
+pub fn run_net(
+    text: &str,
+    program: &ProgramReport,
+    set: &PackSet,
+    name: &str,
+    net: Option<&NetDrive>,
+    options: &Options,
+    progress: &mut dyn FnMut(&Report),
+) -> Result<Report, RunError> {
+    let driver = net_driver(text, program, set, net, options.plant.seed).map_err(RunError::Program)?;
+    let mut options = options.clone();
+    options.session.own_delays = net.and_then(|net| net.own_delays(program.cycle_ms));
     let (host, target) = memory::pair();
     let plc = spawn_plc(driver, target);
-    run_spawned(host, plc, &program.into(), set, name, options, progress)
+    run_spawned(host, plc, &program.into(), set, name, &options, progress)
+}
+
+/// The driver [`run_net`] runs: the program `text` with its report's map, its inputs at the plant's
+/// initial levels ([`IoMap::with_levels_of`]), the net's free inputs driven from `seed`.
+pub fn net_driver(
+    text: &str,
+    program: &ProgramReport,
+    set: &PackSet,
+    net: Option<&NetDrive>,
+    seed: u64,
+) -> Result<Driver, String> {
+    let mut driver = Driver::new(text, IoMap::new(program, set.events())?.with_levels_of(set))?;
+    driver.set_cycle_ms(program.cycle_ms);
+    if let Some(net) = net {
+        driver.drive_net(net.clone(), seed)?;
+    }
+    Ok(driver)
 }
 
 /// What the host's side of a run needs to know of the program it runs.

@@ -32,6 +32,7 @@ mod error;
 pub mod guards;
 pub mod hybrid;
 pub mod io;
+pub mod net_drive;
 pub mod program;
 pub mod report;
 pub mod sequence;

@@ -31,6 +31,9 @@ use crate::net::interpretation::{Direction, Interpretation};
 use crate::scan::ir::{Expr, Op, Pou, Section, Stmt, Type, Var, VarClass};
 use crate::scan::sfc::Chart;
 
+/// The sequence block's instance in the program: the paths of its places and timers start with it.
+pub const INSTANCE: &str = "seq";
+
 /// The token-passing function block `<name>_seq` of `net`, and the same block's chart.
 pub fn block(net: &Interpretation, name: &str) -> Result<(Pou, Chart), PlcError> {
     let id = Idents::new(net);
@@ -162,7 +165,7 @@ pub fn beside(net: &Interpretation, program: &Program, name: &str) -> Result<Seq
         own.push(v);
         Ok(())
     };
-    declare(&mut own, Var::new("seq", Type::Named(block.name.clone()), "the sequence net"))?;
+    declare(&mut own, Var::new(INSTANCE, Type::Named(block.name.clone()), "the sequence net"))?;
     let mut args = Vec::new();
     let mut lamps = Vec::new();
     // The sensors a condition reads and the actuators a place action names: only theirs are passed
@@ -197,7 +200,7 @@ pub fn beside(net: &Interpretation, program: &Program, name: &str) -> Result<Seq
                     &mut own,
                     Var::new(&id.signal[k], Type::Bool, format!("lamp {}, set by the sequence", s.name)),
                 )?;
-                lamps.push(Stmt::set(&id.signal[k], Expr::var(format!("seq.{}", id.signal[k]))));
+                lamps.push(Stmt::set(&id.signal[k], Expr::var(format!("{INSTANCE}.{}", id.signal[k]))));
             }
         }
     }
@@ -206,7 +209,7 @@ pub fn beside(net: &Interpretation, program: &Program, name: &str) -> Result<Seq
         let (k, value) = net.edges[e.index()];
         let ask = if demanded.contains(&k) {
             let out = level(net, program, k)?;
-            let want = Expr::var(format!("seq.{}", id.signal[k]));
+            let want = Expr::var(format!("{INSTANCE}.{}", id.signal[k]));
             if value {
                 want.op(Op::And, !out)
             } else {
@@ -231,7 +234,7 @@ pub fn beside(net: &Interpretation, program: &Program, name: &str) -> Result<Seq
             }
         }
     }
-    run.insert(0, Stmt::Call("seq".into(), args));
+    run.insert(0, Stmt::Call(INSTANCE.into(), args));
     run.extend(lamps);
     main.sections[0].title = "the sequence, the interlocks with its requests, the outputs".into();
     main.vars.push((VarClass::Local, own));

@@ -599,7 +599,16 @@ impl Project {
     ) -> Result<Report, ProjectError> {
         let out = self.event_program(encoding, Avalanche::Auto, None)?;
         let text = out.files.first().map_or("", |(_, text)| text.as_str());
-        Ok(plc::closed_loop::run(text, &out.report, &self.set, &self.name, options, progress)?)
+        let net = self.sequence()?.map(|net| plc::net_drive::NetDrive::new(&net));
+        Ok(plc::closed_loop::run_net(
+            text,
+            &out.report,
+            &self.set,
+            &self.name,
+            net.as_ref(),
+            options,
+            progress,
+        )?)
     }
 
     /// The state-based program run closed loop (`codegen run --target plc --encoding state`): the
