@@ -470,3 +470,17 @@ fn the_efa_buffer_state_based_runs_clean_and_a_wrong_guard_is_caught() {
     let report = buffer_state_mutant("n_2 <= 1", "n_2 <= 2", 300);
     assert!(report.violations > 0, "{report:?}");
 }
+
+// See: issue 36 (the station under its own local-queue policy moves).
+#[test]
+fn the_station_under_its_local_queue_gets_past_the_fixed_rounds_first_cycle() {
+    // The [plc] policy is `local-queue`: a fixed round over the plants. Modelled as a uniform choice,
+    // the steering held the plant back for target commands the round never takes where it stands, and
+    // the closed loop went round one cycle of actuator toggles with 71 transitions taken, whatever the
+    // length of the run. Mirroring the round's cursors, the steering takes more within 100 events.
+    let (code, json, _) = run(&repo("examples/station/station.toml"), 100, &[]);
+    assert_eq!(code, Some(0), "{json}");
+    assert_eq!(json["violations"], 0, "{json}");
+    let taken: u64 = json["coverage"].as_array().unwrap().iter().map(|c| c["taken"].as_u64().unwrap()).sum();
+    assert!(taken > 100, "{taken} transitions taken: {json}");
+}

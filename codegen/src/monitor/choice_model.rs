@@ -9,8 +9,16 @@
 //! the monitor mirrors every site's round from the commands it sees (the same rule as the firmware's,
 //! with the physical state standing for the controller's) and gives the steering the chances that
 //! follow. `first` is deterministic: the lowest enabled event id, always — a command with a lower one
-//! enabled beside it is never fired, and coverage does not count it ([`ChoiceModel::fires`]). Other
-//! policies are modelled as uniform; a wrong model costs only steering efficiency.
+//! enabled beside it is never fired, and coverage does not count it ([`ChoiceModel::fires`]).
+//! `local-queue` is deterministic too, given its cursors: the plants in a fixed cyclic order from the
+//! plant cursor (the first with an enabled command), then at that plant's choice site the first of its
+//! enabled commands at or after the site's cursor, cyclically; both cursors move past the command fired.
+//! The monitor mirrors the cursors from the commands it sees and gives the command they pick the whole
+//! chance, in every state as the cursors stand now (the plant's events do not move them, so what the
+//! plant can bring about before the controller's next decision is judged exactly). Modelled as a
+//! uniform choice, a fixed round looks as if it could take any enabled command while it keeps taking
+//! the same one in the same state — the steering would hold the plant back for a target command the
+//! round never reaches there. Other policies are modelled as uniform.
 
 use std::collections::HashMap;
 
@@ -28,6 +36,8 @@ pub enum ChoiceModel {
     RandomLocalQueue,
     /// The lowest enabled event id (the firmware's `first`).
     First,
+    /// A plant cursor and a cursor per choice site (the firmware's `local-queue`, the PLC program's).
+    LocalQueue,
 }
 
 impl ChoiceModel {
@@ -36,6 +46,7 @@ impl ChoiceModel {
         match policy {
             ChoicePolicy::RandomLocalQueue => ChoiceModel::RandomLocalQueue,
             ChoicePolicy::First => ChoiceModel::First,
+            ChoicePolicy::LocalQueue => ChoiceModel::LocalQueue,
             _ => ChoiceModel::Uniform,
         }
     }
@@ -55,6 +66,12 @@ pub struct Choices {
     owner: Vec<Option<usize>>,
     /// Per (plant, local state) that is a site: the events of the current round not taken yet.
     rounds: HashMap<(usize, u32), Vec<u32>>,
+    /// The number of plants.
+    plants: usize,
+    /// `local-queue`: the plant the next choice starts at.
+    plant_cursor: usize,
+    /// `local-queue`: per (plant, local state) that is a site, the event id its next choice starts at.
+    cursors: HashMap<(usize, u32), u32>,
 }
 
 impl Choices {
@@ -66,12 +83,41 @@ impl Choices {
                 controllable[e].then(|| (0..plants).find(|&p| closed.has_event(p, id))).flatten()
             })
             .collect();
-        Choices { model, owner, rounds: HashMap::new() }
+        Choices { model, owner, rounds: HashMap::new(), plants, plant_cursor: 0, cursors: HashMap::new() }
     }
 
     /// Back to the controller's initial state (a reset also resets its policy).
     pub fn reset(&mut self) {
         self.rounds.clear();
+        self.plant_cursor = 0;
+        self.cursors.clear();
+    }
+
+    /// `local-queue`: the number of plants and where the plant cursor stands (the steering keeps the
+    /// cursor in its state, [`Steering::queue_at`](super::steering::Steering::queue_at)).
+    pub fn queue(&self) -> Option<(usize, usize)> {
+        (self.model == ChoiceModel::LocalQueue).then_some((self.plants, self.plant_cursor))
+    }
+
+    /// `local-queue`: the command picked among `enabled` in `state` with the plant cursor at `cursor`
+    /// and the site cursors as they stand, as the firmware's `LocalQueue` and the PLC program's choice
+    /// section pick it; and the plant cursor after it.
+    pub fn queued(
+        &self,
+        closed: &Composition,
+        state: &[u32],
+        enabled: &[u32],
+        cursor: usize,
+    ) -> Option<(u32, usize)> {
+        (0..self.plants).map(|i| (cursor + i) % self.plants).find_map(|p| {
+            let mut mine: Vec<u32> =
+                enabled.iter().copied().filter(|&e| self.owner.get(e as usize) == Some(&Some(p))).collect();
+            mine.sort_unstable();
+            let site = self.offered(closed, p, state[p]).len() >= 2;
+            let cursor = if site { self.cursors.get(&(p, state[p])).copied().unwrap_or(0) } else { 0 };
+            let pick = mine.iter().find(|&&e| e >= cursor).or(mine.first()).copied();
+            pick.map(|e| (e, (p + 1) % self.plants))
+        })
     }
 
     /// The controllable events plant `p` generates out of its local state `local`: the site's events.
@@ -111,6 +157,16 @@ impl Choices {
         enabled: &[u32],
         command: u32,
     ) -> Option<(usize, u32)> {
+        if self.model == ChoiceModel::LocalQueue {
+            // The plant cursor moves past the plant; at a site, the site's cursor past the command (the
+            // site is returned: what it picks next changed).
+            let p = (*self.owner.get(command as usize)?)?;
+            self.plant_cursor = (p + 1) % self.plants.max(1);
+            let site = (p, state[p]);
+            let moved = self.offered(closed, p, state[p]).len() >= 2
+                && self.cursors.insert(site, command + 1) != Some(command + 1);
+            return moved.then_some(site);
+        }
         if self.model != ChoiceModel::RandomLocalQueue {
             return None;
         }
@@ -138,6 +194,10 @@ impl Choices {
         let uniform = || vec![1.0 / enabled.len() as f32; enabled.len()];
         if self.model == ChoiceModel::First {
             return enabled.iter().map(|&e| if self.model.fires(enabled, e) { 1.0 } else { 0.0 }).collect();
+        }
+        if self.model == ChoiceModel::LocalQueue {
+            let next = self.queued(closed, state, enabled, self.plant_cursor).map(|(e, _)| e);
+            return enabled.iter().map(|&e| if Some(e) == next { 1.0 } else { 0.0 }).collect();
         }
         if self.model != ChoiceModel::RandomLocalQueue || enabled.is_empty() {
             return uniform();
@@ -227,6 +287,25 @@ mod tests {
     }
 
     #[test]
+    fn a_local_queue_is_mirrored_from_its_cursors_as_the_firmware_picks() {
+        let (closed, controllable, t) = site();
+        let id = |e: &str| t.id(e).unwrap().as_u32();
+        let mut choices = Choices::new(ChoiceModel::of(ChoicePolicy::LocalQueue), &closed, 2, &controllable);
+        let (both, (a, b, x)) = ([0, 0], (id("a"), id("b"), id("x")));
+        let enabled = [a, b, x];
+        assert_eq!(choices.chances(&closed, &both, &enabled), [1.0, 0.0, 0.0], "plant M first, its lowest");
+        assert_eq!(choices.fired(&closed, &both, &enabled, a), Some((0, 0)), "M's site cursor moved");
+        assert_eq!(choices.queue(), Some((2, 1)));
+        assert_eq!(choices.chances(&closed, &both, &enabled), [0.0, 0.0, 1.0], "then N, whatever M offers");
+        assert_eq!(choices.fired(&closed, &both, &enabled, x), None, "N's state is no site");
+        assert_eq!(choices.chances(&closed, &both, &enabled), [0.0, 1.0, 0.0], "M again, past a");
+        // With the plant cursor elsewhere, the same state picks another command.
+        assert_eq!(choices.queued(&closed, &both, &enabled, 1), Some((x, 0)));
+        choices.reset();
+        assert_eq!(choices.chances(&closed, &both, &enabled), [1.0, 0.0, 0.0]);
+    }
+
+    #[test]
     fn first_fires_only_the_lowest_enabled_id() {
         let (closed, controllable, t) = site();
         let id = |e: &str| t.id(e).unwrap().as_u32();
@@ -241,7 +320,7 @@ mod tests {
     fn other_policies_are_uniform() {
         let (closed, controllable, t) = site();
         let id = |e: &str| t.id(e).unwrap().as_u32();
-        let mut choices = Choices::new(ChoiceModel::of(ChoicePolicy::LocalQueue), &closed, 2, &controllable);
+        let mut choices = Choices::new(ChoiceModel::of(ChoicePolicy::GlobalQueue), &closed, 2, &controllable);
         assert_eq!(choices.fired(&closed, &[0, 1], &[id("a"), id("b")], id("a")), None);
         assert_eq!(choices.chances(&closed, &[0, 1], &[id("a"), id("b")]), [0.5, 0.5]);
     }

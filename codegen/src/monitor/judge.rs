@@ -269,8 +269,13 @@ impl Monitor {
                 .filter(|&e| self.controllable[e as usize])
                 .collect();
             if let Some(site) = self.choices.fired(&self.closed, &self.physical, &enabled, event.as_u32()) {
-                self.steering.round_moved(site, &self.choices.round(&self.closed, site));
+                match self.choices.queue() {
+                    // A local queue's site cursor moved: what the site picks changed everywhere.
+                    Some(_) => self.steering.invalidate(),
+                    None => self.steering.round_moved(site, &self.choices.round(&self.closed, site)),
+                }
             }
+            self.queue_moved();
             if self.taken.record(&self.closed, self.plants, &self.physical, event) {
                 self.steering.invalidate();
             }
@@ -340,6 +345,13 @@ impl Monitor {
         graph.id(&self.physical).map_or(Move::Plant, |s| self.steering.next_move(graph, s))
     }
 
+    /// Tells the steering where a local queue's plant cursor stands, if the controller has one.
+    fn queue_moved(&mut self) {
+        if let Some((plants, cursor)) = self.choices.queue().filter(|&(plants, _)| plants <= 64) {
+            self.steering.queue_at(plants, cursor);
+        }
+    }
+
     fn refresh_steering(&mut self) {
         let Some(graph) = self.graph.as_ref() else { return };
         let (closed, taken, plants, choices) = (&self.closed, &self.taken, self.plants, &self.choices);
@@ -349,16 +361,31 @@ impl Monitor {
             |s, commands| {
                 let state = graph.tuple(s);
                 let chances = choices.chances(closed, &state, commands);
+                // A local queue: which command each plant cursor picks here, and the cursor after it.
+                let mut picked = vec![(0u64, 0u8); commands.len()];
+                if let Some((n, _)) = choices.queue().filter(|&(n, _)| n <= 64) {
+                    for cursor in 0..n {
+                        let Some((e, next)) = choices.queued(closed, &state, commands, cursor) else {
+                            continue;
+                        };
+                        if let Some(k) = commands.iter().position(|&c| c == e) {
+                            picked[k] = (picked[k].0 | 1 << cursor, next as u8);
+                        }
+                    }
+                }
                 commands
                     .iter()
                     .zip(chances)
-                    .map(|(&e, chance)| Command {
+                    .zip(picked)
+                    .map(|((&e, chance), (picked_at, next_cursor))| Command {
                         target: (plants..closed.len()).any(|i| {
                             closed.has_event(i, EventId::from_u32(e))
                                 && !taken.of(i - plants).contains(&(state[i], e))
                         }),
                         chance,
                         site: choices.site(closed, &state, e),
+                        picked_at,
+                        next_cursor,
                     })
                     .collect()
             },
@@ -370,6 +397,7 @@ impl Monitor {
     /// the transitions to cover are those the policy can take ([`ChoiceModel::fires`]).
     pub fn model_choices(&mut self, model: ChoiceModel) {
         self.choices = Choices::new(model, &self.closed, self.plants, &self.controllable);
+        self.queue_moved();
         self.reachable = self.graph.as_ref().map(|g| {
             g.controllable_edges(&self.closed, self.plants..self.closed.len(), &self.controllable, |on, e| {
                 model.fires(on, e)
@@ -394,6 +422,7 @@ impl Monitor {
     pub fn reset(&mut self) {
         self.choices.reset();
         self.steering.invalidate();
+        self.queue_moved();
         self.physical = self.closed.initial();
         self.views = BTreeSet::from([View { seen: self.sent, state: self.physical.clone() }]);
         self.unread.clear();

@@ -25,6 +25,14 @@
 //! round as the firmware does. Other sites' chances are those of their current rounds (and a target they
 //! exclude keeps a floor, for it comes back with the next round).
 //!
+//! A `local-queue` controller is deterministic given its cursors: a plant cursor that moves past the
+//! plant of every command fired, and a cursor per choice site. The plant cursor is part of the state in
+//! its stead ([`Steering::queue_at`]): values are kept per (closed-loop state, plant cursor), each
+//! command is fired only at the cursors that pick it ([`Command::picked_at`]) and moves the cursor past
+//! its plant. A model of a fixed round that forgot where the round stands would promise, after each
+//! command, the target the round would take were it still where it was — and the plant, holding back
+//! for that promise at every step, would never move.
+//!
 //! Value iteration from the breadth-first distance (a lower bound) converges to the values; after a
 //! change it starts again from the previous ones.
 //!
@@ -68,7 +76,7 @@ pub enum Move {
 }
 
 /// What the steering is told of one enabled command in one closed-loop state.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Command {
     /// Firing it takes a transition not taken yet.
     pub target: bool,
@@ -76,6 +84,11 @@ pub struct Command {
     pub chance: f32,
     /// The choice site it is chosen at, when its plant's state is one (a local queue's round applies).
     pub site: Option<Site>,
+    /// `local-queue` ([`Steering::queue_at`]): bit `c` set when the controller picks it with its plant
+    /// cursor at `c`, the site cursors as they stand; `chance` is then not read.
+    pub picked_at: u64,
+    /// `local-queue`: the plant cursor after it (past its plant).
+    pub next_cursor: u8,
 }
 
 /// A choice site's commands and where its round stands, as the monitor mirrors them.
@@ -98,6 +111,9 @@ struct Step {
     chance: f32,
     /// For a command of the focus site, its bit in the site's rounds.
     bit: Option<u8>,
+    /// `local-queue`: the plant cursors at which it is fired, and the cursor after it.
+    picked_at: u64,
+    next_cursor: u8,
 }
 
 /// The focus site's part of one state: its commands enabled there and their plant's share of the choice.
@@ -133,6 +149,8 @@ pub struct Steering {
     targets_left: bool,
     /// The plant answers every command before the controller decides again (a session in steps).
     answers: bool,
+    /// `local-queue`: the number of plants (the values' cursors) and the plant cursor now.
+    queue: Option<(usize, u64)>,
     fresh: bool,
 }
 
@@ -147,6 +165,19 @@ impl Steering {
     pub fn plant_answers_commands(&mut self, answers: bool) {
         self.answers = answers;
         self.fresh = false;
+    }
+
+    /// The controller is a `local-queue` over `plants` plants (at most 64) whose plant cursor is now at
+    /// `cursor`: the cursor is part of the state (see the module docs). A moved cursor needs no
+    /// recomputation.
+    pub fn queue_at(&mut self, plants: usize, cursor: usize) {
+        if self.queue.map(|(p, _)| p) != Some(plants) {
+            self.fresh = false;
+        }
+        self.queue = Some((plants, cursor as u64));
+        if self.rounds == plants {
+            self.round = cursor as u64;
+        }
     }
 
     /// The targets or the controller's chances changed: recompute before the next use.
@@ -206,6 +237,9 @@ impl Steering {
         self.round = focus.as_ref().map_or(0, |(_, r)| mask(&r.offered, &r.left));
         self.rounds = focus.as_ref().map_or(1, |(_, r)| 1 << r.offered.len());
         self.focus = focus.map(|(site, r)| (site, r.offered));
+        if let Some((plants, cursor)) = self.queue {
+            (self.round, self.rounds, self.focus) = (cursor, plants, None);
+        }
         self.build_steps(graph, controllable, &described);
         self.iterate(graph);
     }
@@ -251,7 +285,8 @@ impl Steering {
                             (None, false) if c.chance == 0.0 && c.site.is_some() => floor,
                             _ => c.chance,
                         };
-                        Step { command: true, target: c.target, chance, bit }
+                        let (picked_at, next_cursor) = (c.picked_at, c.next_cursor);
+                        Step { command: true, target: c.target, chance, bit, picked_at, next_cursor }
                     })
                     .collect();
                 // The focus plant is picked with the chance its commands have together (at least one
@@ -272,7 +307,7 @@ impl Steering {
         // Only what can happen counts: the plant's events, and commands the controller may fire.
         let possible = |s: u32, k: usize| {
             let step = self.steps[s as usize][k];
-            !step.command || step.chance > 0.0 || step.bit.is_some()
+            !step.command || step.chance > 0.0 || step.bit.is_some() || step.picked_at != 0
         };
         let lower = graph.distances(|s, k| self.steps[s as usize][k].target && possible(s, k), possible);
         if self.values.len() != n * m {
@@ -324,6 +359,9 @@ impl Steering {
         for ((_, t), step) in graph.edges(s).zip(&self.steps[s as usize]) {
             if step.command {
                 let (chance, after_round) = match step.bit {
+                    _ if self.queue.is_some() => {
+                        (f32::from(u8::from(step.picked_at >> r & 1 == 1)), u64::from(step.next_cursor))
+                    }
                     Some(b) if pool & (1 << b) != 0 => (per, next_round & !(1 << b)),
                     Some(_) => (0.0, r),
                     None => (step.chance, r),
@@ -408,7 +446,11 @@ mod tests {
             |_, commands| {
                 commands
                     .iter()
-                    .map(|&e| Command { target: target(e), chance: chance(e, commands), site: None })
+                    .map(|&e| Command {
+                        target: target(e),
+                        chance: chance(e, commands),
+                        ..Command::default()
+                    })
                     .collect()
             },
             |_| Round::default(),
@@ -475,8 +517,12 @@ mod tests {
         // At a site, a round that excludes the target still leaves it a floor (it comes back with the
         // next round).
         let mut s = Steering::new();
-        let excluded =
-            |e: u32| Command { target: e == take, chance: f32::from(e != take), site: Some((0, 0)) };
+        let excluded = |e: u32| Command {
+            target: e == take,
+            chance: f32::from(e != take),
+            site: Some((0, 0)),
+            ..Command::default()
+        };
         s.refresh(
             &g,
             &controllable,
@@ -551,6 +597,7 @@ mod tests {
                             target: e == b && g.tuple(s)[1] == 1,
                             chance: 1.0 / commands.len() as f32,
                             site: Some((0, 0)),
+                            ..Command::default()
                         })
                         .collect()
                 },

@@ -808,15 +808,16 @@ pub struct Facts {
 }
 
 impl From<&ProgramReport> for Facts {
-    /// The event-based program's: the monitor models `first` as the firmware's, the queues and the
+    /// The event-based program's: the monitor models `first` and `local-queue` as the firmware's (the
+    /// program's choice section follows the same rules over the same event ids), the global queue and the
     /// program's generator as a uniform choice.
     fn from(program: &ProgramReport) -> Facts {
-        let first = program.policy == ScanPolicy::First.name();
-        Facts {
-            bound_per_scan: program.bound_per_scan,
-            cycle_ms: program.cycle_ms,
-            choices: if first { ChoiceModel::First } else { ChoiceModel::Uniform },
-        }
+        let choices = match program.policy {
+            p if p == ScanPolicy::First.name() => ChoiceModel::First,
+            p if p == ScanPolicy::LocalQueue.name() => ChoiceModel::LocalQueue,
+            _ => ChoiceModel::Uniform,
+        };
+        Facts { bound_per_scan: program.bound_per_scan, cycle_ms: program.cycle_ms, choices }
     }
 }
 
