@@ -94,8 +94,8 @@ fn a_firmware_built_from_other_tables_is_refused_naming_both() {
 
 /// A project with `[[timers]]` runs closed loop under QEMU: the session's virtual clock sent as TIME,
 /// the firmware raising each timeout on its millisecond, the monitor judging them (slack 0). The
-/// cylinder, 200 events: timeouts fall due (the fault path), every one on time, no violation.
-/// `--target rp2040` does not run virtual time yet: refused before anything is built (exit 2).
+/// cylinder, 200 events: timeouts fall due (the fault path), every one on time, no violation, and
+/// every supervisor transition taken (the alarm after a late end switch included).
 #[test]
 fn a_project_with_timers_runs_under_qemu_with_its_timeouts_on_time() {
     let cylinder = repo("examples/cylinder/cylinder.toml");
@@ -107,13 +107,30 @@ fn a_project_with_timers_runs_under_qemu_with_its_timeouts_on_time() {
     assert!(t["on_time"].as_u64().unwrap() > 0, "no timeout fell due: {t}");
     assert_eq!((t["early"].as_u64(), t["late"].as_u64(), t["missing"].as_u64()), (Some(0), Some(0), Some(0)));
     assert_eq!(json["firmware"]["unknown_bytes"], 0, "TIME is no unknown byte to the firmware");
-    let out = codegen(&["run", &cylinder, "--target", "rp2040", "--events", "10"], None);
+    // The late end switch's path too (after the timeout, before the alarm): every transition taken.
+    assert_eq!(json["uncovered"], serde_json::json!([]), "{}", json["coverage"]);
+    assert!(json["full_coverage_at"].as_u64().is_some(), "{}", json["coverage"]);
+}
+
+/// The Pico's link build runs the tables' timers on the host's TIME as QEMU's firmware does: the
+/// cylinder on the emulated RP2040 over UART0, 100 events (about 10 s, the link image built once into
+/// the cache), every timeout on time and every transition taken. Its pin build runs them on its own
+/// tick in the emulator's wall-clock time: refused before anything is built (exit 2).
+#[test]
+fn a_project_with_timers_runs_on_the_picos_link_build_and_is_refused_on_its_pins() {
+    let cylinder = repo("examples/cylinder/cylinder.toml");
+    let out = codegen(&["run", &cylinder, "--target", "rp2040", "--events", "100", "--json"], None);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!((json["target"].as_str(), json["violations"].as_u64()), (Some("rp2040"), Some(0)));
+    let t = &json["timeouts"];
+    assert!(t["on_time"].as_u64().unwrap() > 0, "no timeout fell due: {t}");
+    assert_eq!((t["early"].as_u64(), t["late"].as_u64(), t["missing"].as_u64()), (Some(0), Some(0), Some(0)));
+    assert_eq!(json["uncovered"], serde_json::json!([]), "{}", json["coverage"]);
+    let out = codegen(&["run", &cylinder, "--target", "rp2040", "--io", "pins", "--events", "10"], None);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
-    assert!(
-        err.contains("cylinder.toml: [[timers]] run closed loop under QEMU and on the PLC program only"),
-        "{err}"
-    );
+    assert!(err.contains("cylinder.toml: [[timers]] with --io pins"), "{err}");
 }
 
 #[test]
@@ -182,6 +199,11 @@ fn a_project_of_your_own_is_run_on_its_boards_emulator_or_refused() {
 
     let socket = temp.join("no-such-socket");
     let connect = format!("unix:{}", socket.display());
+    // A project with timers is taken too (a link build runs them on the session's TIME): the run
+    // stops at the socket, not at the timers.
+    let out = codegen_in(&["plant", &repo("examples/cylinder/cylinder.toml"), "--connect", &connect]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("connecting to"), "{}", stderr(&out));
     let out = codegen_in(&["plant", "--project", &dir_arg, "--connect", &connect]);
     assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
     assert!(

@@ -416,11 +416,13 @@ fn cylinder_mutant(from: &str, to: &str, events: u64) -> codegen::monitor::Repor
 // See: issue 37 (the monitor judges the timed events: a program whose timer is wrong is caught).
 #[test]
 fn a_cylinder_program_with_a_wrong_timer_is_caught() {
-    // As written: every timeout on time, both paths run.
+    // As written: every timeout on time, both paths run — the alarm after a late end switch too (the
+    // switch after the timeout, before the alarm: the deadline round's split), so coverage is full.
     let report = cylinder_mutant("T#2000ms", "T#2000ms", 200);
-    let timeouts = report.timeouts.unwrap();
+    let timeouts = report.timeouts.as_ref().unwrap();
     assert_eq!((report.violations, timeouts.early, timeouts.missing), (0, 0, 0), "{report:?}");
     assert!(timeouts.on_time > 0, "{report:?}");
+    assert!(report.full_coverage(), "{:?}", report.coverage);
     // The TON's delay doubled: the timeout does not come by its deadline and slack.
     let report = cylinder_mutant("T#2000ms", "T#4000ms", 200);
     let timeouts = report.timeouts.unwrap();
@@ -483,4 +485,23 @@ fn the_station_under_its_local_queue_gets_past_the_fixed_rounds_first_cycle() {
     assert_eq!(json["violations"], 0, "{json}");
     let taken: u64 = json["coverage"].as_array().unwrap().iter().map(|c| c["taken"].as_u64().unwrap()).sum();
     assert!(taken > 100, "{taken} transitions taken: {json}");
+}
+
+// See: issue 37 (timers run in the event-based program only: the other forms refuse them, named).
+#[test]
+fn timers_with_a_form_that_has_none_are_refused() {
+    let cylinder = repo("examples/cylinder/cylinder.toml");
+    let dir = std::env::temp_dir().join(format!("cli_run_plc_timers_{}", std::process::id()));
+    let dir = dir.to_str().unwrap();
+    for args in [
+        &["plc", &cylinder, "--encoding", "state", "-o", dir][..],
+        &["run", &cylinder, "--target", "plc", "--encoding", "state", "--events", "10"][..],
+    ] {
+        let out = codegen(args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains("cylinder.toml: [[timers]] run in the event-based program only"), "{err}");
+        assert!(err.contains("the state-based program has no timeout event"), "{err}");
+    }
+    assert!(!Path::new(dir).exists(), "refused before anything is written");
 }

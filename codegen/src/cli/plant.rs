@@ -164,9 +164,16 @@ pub fn run(args: Args) -> Result<ExitCode, Error> {
         None => args.manifest,
     };
     let project = Project::load(&manifest)?;
-    super::run::refuse_timers(&project, &manifest)?;
-    // A firmware that runs other tables is refused before the run (`Options::tables`).
-    let options = Options { tables: project.table_digests()?, ..args.run.options(&project.runtime) };
+    // A firmware that runs other tables is refused before the run (`Options::tables`; the digest holds
+    // the timers' specs too). A link build — QEMU's, or a board's on a serial port — runs the tables'
+    // timers on the TIME the session sends (no clock of its own there), so the monitor judges each
+    // timeout on the session's virtual clock, on its millisecond (slack 0), as `run --target qemu` does.
+    let options = Options {
+        tables: project.table_digests()?,
+        timers: project.timers.clone(),
+        timer_slack_ms: 0,
+        ..args.run.options(&project.runtime)
+    };
     let mut link = args.connect.connect().map_err(|e| format!("connecting to {:?}: {e}", args.connect))?;
     let mut progress = Progress::new(options.events);
     let report = attach(&mut link, &project.set, &project.name, &options, &mut |r| progress.show(r));

@@ -121,16 +121,20 @@ enum Sampling {
     Timer,
 }
 
-/// Refuses a project with `[[timers]]` before a closed loop whose host does not run virtual time
-/// (`run --target rp2040`, `plant`); QEMU's firmware (TIME on the link) and the PLC program (its `TON`s)
-/// run them.
-pub(super) fn refuse_timers(project: &Project, manifest: &std::path::Path) -> Result<(), Error> {
+/// Refuses a project with `[[timers]]` before `run --target rp2040 --io pins`: the Pico's pin build
+/// runs its timers on its own millisecond tick, in the emulator's wall-clock time, where a timeout's
+/// millisecond cannot be judged the same from run to run. Every link build (QEMU's, the Pico's over
+/// UART0, a board's link build behind `codegen plant`) runs them on the host's TIME instead, and the PLC
+/// program on its `TON`s.
+fn refuse_timers_on_pins(project: &Project, manifest: &std::path::Path) -> Result<(), Error> {
     if project.timers.is_empty() {
         return Ok(());
     }
     Err(format!(
-        "{}: [[timers]] run closed loop under QEMU and on the PLC program only (`codegen run --target \
-         qemu|plc`): this host does not run their virtual time yet; synth, check and plc take them",
+        "{}: [[timers]] with --io pins: the Pico's pin build runs its timers on its own millisecond tick, \
+         in the emulator's wall-clock time, where the monitor cannot judge a timeout's millisecond \
+         reproducibly; run the link build (`--io link`, the default), whose timers run on the host's \
+         virtual clock (TIME)",
         manifest.display()
     )
     .into())
@@ -175,8 +179,8 @@ pub fn run(mut args: Args) -> Result<ExitCode, Error> {
         Target::Rp2040 => Project::load_for(&args.manifest, Board::Pico)?,
         Target::Qemu | Target::Plc => Project::load(&args.manifest)?,
     };
-    if args.target == Target::Rp2040 {
-        refuse_timers(&project, &args.manifest)?;
+    if args.target == Target::Rp2040 && args.io == Some(Io::Pins) {
+        refuse_timers_on_pins(&project, &args.manifest)?;
     }
     project.runtime.layout = args.layout.or(project.runtime.layout);
     if args.target == Target::Plc && project.hybrid.is_some() {
@@ -237,8 +241,14 @@ fn run_rp2040_link(args: Args, project: Project) -> Result<ExitCode, Error> {
     }
     // Tables the Pico cannot run are refused before anything is built, naming what would fit.
     project.fit(Core::CortexM0Plus, &Core::CortexM0Plus.flash())?;
-    // A link build (`--elf`) that runs other tables is refused before the run (`Options::tables`).
-    let mut options = Options { tables: project.table_digests()?, ..args.run.options(&project.runtime) };
+    // A link build (`--elf`) that runs other tables is refused before the run (`Options::tables`). Its
+    // timers run on the session's virtual clock (TIME), as under QEMU: each timeout on its millisecond.
+    let mut options = Options {
+        tables: project.table_digests()?,
+        timers: project.timers.clone(),
+        timer_slack_ms: 0,
+        ..args.run.options(&project.runtime)
+    };
     options.rp2040.seed = options.plant.seed;
     options.rp2040.rtt = args.rtt.clone();
     let scratch = Scratch::new()?;

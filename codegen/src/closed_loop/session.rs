@@ -42,8 +42,17 @@
 //! - to the plant's emission, when it is due before the earliest deadline `d` of a running timer — the
 //!   round then carries the emission;
 //! - else to `d - 1` (a round without events: a timeout raised in it is early), then to `d + slack` (a
-//!   round without events: a timeout raised in it is on time; a timer still running once the target
-//!   has answered SYNC is a missing timeout).
+//!   timeout raised in it is on time; a timer still running once the target has answered SYNC is a
+//!   missing timeout). This *deadline round* is split: HOLD, TIME, STATUS, and the timeouts the held
+//!   target raised come back before the STATUS answer and are judged; only then are the round's events
+//!   drawn (an emission due by `d + slack`: a late sensor), sent with SYNC and GO — so the target takes
+//!   the timeout, then the late event, and decides on both, as a controller does whose sensor comes
+//!   between the timeout and its reaction.
+//!
+//! While the plant steers and a timeout leads to a transition not taken yet sooner than any of its own
+//! events, the plant holds its emission back to the deadline round, within the delay range the emission
+//! was drawn from ([`Session::awaits_timeout`]) — so the fault path after a late sensor is reached in a
+//! few hundred events rather than by the chance of a draw landing in the slack.
 //!
 //! The target reports each timeout as a byte with its event id; the session hands it to the monitor
 //! ([`Monitor::timeout`]), and the plant takes it from the monitor's state: the plant never raises a
@@ -76,6 +85,27 @@ const TICK_US: u64 = 1 << 32;
 const MAX_ROUND_COMMANDS: usize = 4096;
 /// The time a step's command is judged at: after every event sent before its STEP, all of them read.
 const READ_ALL: u64 = u64::MAX;
+
+/// What a round awaits from the target ([`Session::await_round`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Answer {
+    /// SYNC: it decided until nothing was enabled (or took a STEP's one decision).
+    Sync,
+    /// STATUS: it took every byte before the request (a deadline round's TIME, while held).
+    Status,
+}
+
+/// How a round (or step) moves the virtual clock on ([`Session::advance`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Advance {
+    /// The round carries the plant's emission.
+    emits: bool,
+    /// The clock moved.
+    moved: bool,
+    /// Its TIME reaches a running timer's deadline (and slack): the timeouts it raises come back before
+    /// the emission is drawn ([`Session::pass_deadline`]).
+    deadline: bool,
+}
 
 /// How a session takes turns with the firmware, and how long it waits for it.
 ///
@@ -221,6 +251,9 @@ pub struct Session<'a, L: ByteLink + ?Sized> {
     /// In steps: the plant held back for a command the controller did not fire, and sends at least one
     /// event at the next step.
     plant_turn: bool,
+    /// With timers: the latest the plant's next emission may come, the upper end of the delay range it
+    /// was drawn from (the steering may hold it back until then, see [`Session::awaits_timeout`]).
+    emit_latest: u64,
 }
 
 impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
@@ -256,6 +289,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             now_ms: 0,
             emit_at: None,
             plant_turn: false,
+            emit_latest: 0,
         }
     }
 
@@ -265,28 +299,66 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
     }
 
     /// With timers, moves the virtual clock on for the next round or step (see the module
-    /// documentation) and appends its TIME messages to `bytes`; returns whether the round carries the
-    /// plant's emission, and whether the clock moved. Without timers: the emission, no time.
-    fn advance(&mut self, bytes: &mut Vec<u8>) -> (bool, bool) {
+    /// documentation) and appends its TIME messages to `bytes`. Without timers: the emission, no time.
+    fn advance(&mut self, bytes: &mut Vec<u8>) -> Advance {
         if self.monitor.timers().is_empty() {
-            return (true, false);
+            return Advance { emits: true, moved: false, deadline: false };
         }
         let now = self.now_ms;
-        let emit_at = match self.emit_at {
+        let mut emit_at = match self.emit_at {
             Some(t) => t,
-            None => *self.emit_at.insert(now + self.plant.next_delay_us(None) / 1000),
+            None => {
+                let (_, hi) = self.plant.delay_range_us(None);
+                self.emit_latest = now + hi / 1000;
+                *self.emit_at.insert(now + self.plant.next_delay_us(None) / 1000)
+            }
         };
+        let deadline = self.monitor.timers().next_deadline();
+        if let Some(d) = deadline {
+            if emit_at < d && d <= self.emit_latest && self.awaits_timeout() {
+                emit_at = d;
+                self.emit_at = Some(d);
+            }
+        }
         let slack = self.monitor.timers().slack_ms();
-        let (to, emits) = match self.monitor.timers().next_deadline() {
-            Some(d) if emit_at >= d && now + 1 < d => (d - 1, false),
-            Some(d) if emit_at >= d => (d + slack, false),
-            _ => (emit_at, true),
+        let (to, emits, deadline) = match deadline {
+            Some(d) if emit_at >= d && now + 1 < d => (d - 1, false, false),
+            Some(d) if emit_at >= d => (d + slack, emit_at <= d + slack, true),
+            _ => (emit_at, true, false),
         };
         let to = to.max(now);
         bytes.extend(time(to - now));
         self.now_ms = to;
         self.monitor.clock(to);
-        (emits, to > now)
+        Advance { emits, moved: to > now, deadline }
+    }
+
+    /// Steering, with a timer running: whether the plant should hold its emission back until the
+    /// timer's deadline, because a timeout leads to a transition not taken yet sooner than any of the
+    /// plant's own events — a sensor that comes late, the very fault a timeout is there for. The plant
+    /// holds back only within the delay range its emission was drawn from ([`Session::advance`]), and
+    /// its emission then comes in the deadline round, after the timeout.
+    fn awaits_timeout(&mut self) -> bool {
+        if !self.plant.steers() || !self.monitor.is_steering() {
+            return false;
+        }
+        let timeouts: Vec<EventId> = self.monitor.timers().timeouts().collect();
+        let Some(best) = timeouts.into_iter().filter_map(|e| self.monitor.rank_after(e)).min() else {
+            return false;
+        };
+        let own = self.plant.enabled_uncontrollable();
+        own.into_iter().all(|e| self.monitor.rank_after(e).is_none_or(|r| r > best))
+    }
+
+    /// With timers, a round (or step) whose TIME reaches a running timer's deadline: the target, held,
+    /// is asked for STATUS after the TIME, and every timeout it raised comes back before the answer and
+    /// is judged before the round's events are drawn — so that the plant's emission due in the same
+    /// round (a late sensor) comes after the timeout, and the controller decides on both. Returns
+    /// whether the round goes on (`false`: it ended in a restart).
+    fn pass_deadline(&mut self, mut bytes: Vec<u8>, t: u64) -> Result<bool, SessionError> {
+        bytes.push(STATUS);
+        self.link.send(&bytes)?;
+        Ok(self.await_round(t, Answer::Status)?.is_some())
     }
 
     /// With timers, after a round's emission: the next one is drawn afresh, unless the plant held it
@@ -476,7 +548,10 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
     fn step(&mut self) -> Result<(), SessionError> {
         let t = self.micros();
         let mut bytes = Vec::new();
-        let (emits, moved) = self.advance(&mut bytes);
+        let Advance { emits, moved, deadline } = self.advance(&mut bytes);
+        if deadline && !self.pass_deadline(std::mem::take(&mut bytes), t)? {
+            return Ok(());
+        }
         // While the steering stagnates, the plant takes its own turn now and then: its drawn burst, sent
         // whatever the steering says of the controller's choice (see `explore_when_stuck`).
         let own = emits && self.monitor.is_steering() && self.plant.takes_own_turn();
@@ -505,7 +580,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         bytes.push(STEP);
         self.link.send(&bytes)?;
         self.active();
-        let commands = self.await_round(READ_ALL)?;
+        let commands = self.await_round(READ_ALL, Answer::Sync)?;
         if commands.is_some() && self.judge_missing()? {
             return Ok(());
         }
@@ -528,13 +603,17 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         let mut last_progress = Instant::now();
         while self.monitor.report().events < events {
             self.explore_when_stuck()?;
-            if std::mem::take(&mut self.settle) && self.await_round((2 * self.round + 1) * TICK_US)?.is_none()
+            if std::mem::take(&mut self.settle)
+                && self.await_round((2 * self.round + 1) * TICK_US, Answer::Sync)?.is_none()
             {
                 continue;
             }
             self.round += 1;
             let mut bytes = vec![HOLD];
-            let (emits, moved) = self.advance(&mut bytes);
+            let Advance { emits, moved, deadline } = self.advance(&mut bytes);
+            if deadline && !self.pass_deadline(std::mem::take(&mut bytes), 2 * self.round * TICK_US)? {
+                continue;
+            }
             let (events, _, violated) =
                 if emits { self.draw(2 * self.round * TICK_US) } else { (Vec::new(), false, false) };
             let sent = events.len();
@@ -548,7 +627,7 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
                 self.out_of_step()?;
                 continue;
             }
-            match self.await_round((2 * self.round + 1) * TICK_US)? {
+            match self.await_round((2 * self.round + 1) * TICK_US, Answer::Sync)? {
                 Some(_) if self.judge_missing()? => {}
                 Some(0) if sent == 0 && !moved && !self.wait_own_delays()? => {
                     self.monitor.report_mut().stalls += 1;
@@ -582,17 +661,17 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             bytes.extend(time(quantum));
             bytes.extend(if self.stepping { &[STEP][..] } else { &[SYNC, GO][..] });
             self.link.send(&bytes)?;
-            if self.await_round(t)? != Some(0) {
+            if self.await_round(t, Answer::Sync)? != Some(0) {
                 return Ok(true);
             }
         }
         Ok(false)
     }
 
-    /// Judges the firmware's commands, at time `t`, until it answers SYNC: how many there were, or
-    /// `None` when the round ended in a restart (a violation, a fault, a reboot, a controller that does
-    /// not go idle).
-    fn await_round(&mut self, t: u64) -> Result<Option<usize>, SessionError> {
+    /// Judges the firmware's commands (and timeouts), at time `t`, until it gives `answer`: how many
+    /// there were, or `None` when the round ended in a restart (a violation, a fault, a reboot, a
+    /// controller that does not go idle).
+    fn await_round(&mut self, t: u64, answer: Answer) -> Result<Option<usize>, SessionError> {
         let mut commands = 0;
         let mut buf = [0u8; 256];
         let mut deadline = Instant::now() + self.config.answer_timeout;
@@ -600,7 +679,8 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             while let Some(frame) = self.inbox.pop_front() {
                 deadline = Instant::now() + self.config.answer_timeout;
                 match frame {
-                    Frame::Sync => return Ok(Some(commands)),
+                    Frame::Sync if answer == Answer::Sync => return Ok(Some(commands)),
+                    Frame::Status(_) if answer == Answer::Status => return Ok(Some(commands)),
                     Frame::Command(c) => {
                         commands += 1;
                         let verdict = self.judge(c, t);
@@ -619,13 +699,14 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
                         self.handle(frame)?;
                         return Ok(None);
                     }
-                    Frame::Status(_) | Frame::Tables(_) => {}
+                    Frame::Status(_) | Frame::Tables(_) | Frame::Sync => {}
                     Frame::Unknown(_) => self.garbled += 1,
                 }
             }
             let left = deadline.saturating_duration_since(Instant::now());
             if left.is_zero() {
-                return Err(SessionError::NoAnswer { what: "SYNC", timeout: self.config.answer_timeout });
+                let what = if answer == Answer::Sync { "SYNC" } else { "STATUS" };
+                return Err(SessionError::NoAnswer { what, timeout: self.config.answer_timeout });
             }
             let n = self.link.recv(&mut buf, left.min(Duration::from_millis(50)))?;
             for &b in &buf[..n] {
@@ -861,7 +942,10 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
             self.plant.set_state(self.monitor.plant_state());
             if !timeout && !self.monitor.timers().is_empty() {
                 let due = self.now_ms + self.plant.next_delay_us(Some(e)) / 1000;
-                self.emit_at = Some(self.emit_at.map_or(due, |t| t.min(due)));
+                if self.emit_at.is_none_or(|t| due < t) {
+                    self.emit_at = Some(due);
+                    self.emit_latest = self.now_ms + self.plant.delay_range_us(Some(e)).1 / 1000;
+                }
             }
         }
         verdict

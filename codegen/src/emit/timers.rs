@@ -4,8 +4,10 @@
 //! time from the link's TIME under a host, from a hardware millisecond tick on a board.
 //!
 //! Every tables file ends with it, a project without timers with an empty one (`[…; 0]`), so every
-//! application compiles against the same names. It lies outside the table image: the image's bytes and
-//! its `DIGEST` are those of the set alone, as they were before timers.
+//! application compiles against the same names. It lies outside the table image: the image's bytes are
+//! those of the set alone. Its `DIGEST` — what the firmware answers the link's TABLES with — covers the
+//! timers too when there are any ([`seal`]), so a firmware whose timer runs another delay is refused as
+//! one on other tables is; without timers it is the image's, as before timers.
 
 use std::fmt::Write as _;
 
@@ -61,4 +63,66 @@ pub fn rust(timers: &[TimerSpec], names: &[String]) -> Result<String, EmitError>
     }
     let _ = writeln!(out, "];");
     Ok(out)
+}
+
+/// The tables file `text` (ending with its [`rust`] timer table) with every `DIGEST` covering the timer
+/// table as well, when it holds a timer ([`firmware::build::image::tables_digest`]: the build script's
+/// check, `firmware::build::image::check_source`, proves the same digests); unchanged without timers.
+pub fn seal(text: String) -> String {
+    let Some(timers) = firmware::build::image::timers_item(&text) else { return text };
+    let mut out = String::with_capacity(text.len());
+    for line in text.split_inclusive('\n') {
+        let item = line.trim_start();
+        let digest =
+            item.strip_prefix(super::DIGEST_ITEM).and_then(|rest| rest.trim_end().strip_suffix("\";"));
+        match digest {
+            Some(digest) => {
+                let indent = &line[..line.len() - item.len()];
+                let sealed = firmware::build::image::tables_digest(digest, Some(timers));
+                let end = if line.ends_with('\n') { "\n" } else { "" };
+                out.push_str(&format!("{indent}{}{sealed}\";{end}", super::DIGEST_ITEM));
+            }
+            None => out.push_str(line),
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use firmware::build::image::{check_source, digest_hex, images_in};
+
+    use crate::project::Project;
+
+    /// The cylinder's project (`examples/cylinder`) with its timer's delay set to `ms`, or without its
+    /// timers (`None`).
+    fn cylinder(ms: Option<u32>) -> Project {
+        let manifest = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/cylinder/cylinder.toml");
+        let mut project = Project::load(&manifest).unwrap();
+        match ms {
+            Some(ms) => project.timers[0].ms = ms,
+            None => project.timers.clear(),
+        }
+        project
+    }
+
+    #[test]
+    fn a_timers_delay_changes_the_digest_and_tables_without_timers_keep_their_images() {
+        let (on_time, longer) = (cylinder(Some(2000)), cylinder(Some(2100)));
+        let digests = on_time.table_digests().unwrap();
+        assert_eq!(digests.len(), 2, "the Cortex-M3's and the Cortex-M0+'s");
+        assert_ne!(digests, longer.table_digests().unwrap(), "the timer's ms is in the digest");
+        // The build script proves the digests the file declares, timers and all.
+        let text = on_time.emit().unwrap();
+        assert_eq!(check_source(&text).unwrap(), digests.join(" "));
+        // Without timers, the digests are the images' own, as before timers.
+        let plain = cylinder(None);
+        let text = plain.emit().unwrap();
+        let images: Vec<String> =
+            images_in(&text).unwrap().iter().map(|(_, image)| digest_hex(image)).collect();
+        assert_eq!(plain.table_digests().unwrap(), images);
+        assert!(digests.iter().all(|d| !images.contains(d)), "{digests:?} {images:?}");
+    }
 }

@@ -273,9 +273,15 @@ impl VirtualPlant {
         if after.is_some() && self.rng.chance(self.config.race_per_mille) {
             return 0;
         }
-        let own = after.and_then(|e| self.answer_delay.get(e.index()).copied().flatten());
-        let (lo, hi) = own.unwrap_or(self.config.delay_us);
+        let (lo, hi) = self.delay_range_us(after);
         self.rng.between(lo, hi)
+    }
+
+    /// The range [`VirtualPlant::next_delay_us`] draws from after `after` (a command with a delay of its
+    /// own, or none): its upper end is the latest the plant's next emission may come.
+    pub fn delay_range_us(&self, after: Option<EventId>) -> (u64, u64) {
+        let own = after.and_then(|e| self.answer_delay.get(e.index()).copied().flatten());
+        own.unwrap_or(self.config.delay_us)
     }
 }
 

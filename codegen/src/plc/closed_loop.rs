@@ -687,14 +687,17 @@ pub fn spawn_plc<D: Scanner + Send + 'static>(
     })
 }
 
-/// The link's TIME: lets the scan clock of a program with timers run `ms` milliseconds, the program not
-/// held (as a PLC runs on between two looks of its plant), and appends what the scans raised and fired
-/// to `out` — each scan's timeouts before its commands. First a scan at 0 ms, so that a timer started by
+/// The link's TIME: lets the scan clock of a program with timers run `ms` milliseconds, and appends
+/// what the scans raised and fired to `out` — each scan's timeouts before its commands. The hold stays
+/// as it is: the host sends TIME while it holds the program, whose `TON`s run and whose timeouts are
+/// taken, while its commands wait for GO — so that an event the plant sends after a timeout, in the same
+/// round, reaches the program before it decides (a late end switch after the timeout), as on the
+/// firmware. First a scan at 0 ms, so that a timer started by
 /// the last command counts from the time it was started at, then scans a task interval apart (the last
 /// one shorter when `ms` is not a multiple of it), so the clock ends exactly `ms` later. A `TON` is only
 /// evaluated at scans: its timeout is raised at the first scan at or after its deadline, up to one task
 /// interval late — the slack the host gives a PLC ([`crate::closed_loop::Options::timer_slack_ms`]).
-/// The hold is as it was afterwards. A program without timers ignores TIME.
+/// A program without timers ignores TIME.
 fn pass_time<D: Scanner>(
     driver: &mut D,
     ms: u32,
@@ -702,8 +705,6 @@ fn pass_time<D: Scanner>(
     stats: &mut Option<ScanStats>,
 ) -> Result<(), String> {
     let Some(cycle) = driver.timed_cycle() else { return Ok(()) };
-    let held = driver.held()?;
-    driver.hold(false)?;
     let mut left = ms;
     let mut first = true;
     while first || left > 0 {
@@ -726,7 +727,7 @@ fn pass_time<D: Scanner>(
         }
     }
     driver.set_interval(0);
-    driver.hold(held)
+    Ok(())
 }
 
 /// Why a program's closed-loop run failed (as opposed to finding violations, which are in its report).

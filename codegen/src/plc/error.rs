@@ -85,6 +85,22 @@ pub enum PlcError {
         /// The manifest.
         file: PathBuf,
     },
+    /// `[[timers]]` with a form whose program has no timers: only the event-based program runs them (a
+    /// `TON` per timer, its timeout an event the program takes); the state-based program decides on
+    /// signal vectors and the hybrid controller times its plant net's own transitions, and neither has a
+    /// timeout event to raise.
+    #[error(
+        "{}: [[timers]] run in the event-based program only (a TON per timer); the {form} has no timeout \
+         event to raise, so its program would drop them: write the event-based program (`codegen plc` \
+         without --encoding state), or leave [[timers]] out",
+        file.display()
+    )]
+    Timers {
+        /// The manifest.
+        file: PathBuf,
+        /// The form, as a user names it ("state-based program", "hybrid controller").
+        form: &'static str,
+    },
     /// No supervisor exists for a hybrid controller: the specifications forbid what the net cannot be
     /// kept from.
     #[error("{}: no supervisor exists: the specifications cannot be enforced on the net (supC is empty)", file.display())]

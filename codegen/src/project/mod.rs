@@ -525,12 +525,13 @@ impl Project {
     /// when it does not fit the Pico, [`fit::choose`]). State-based (`mode = "state"`):
     /// the state feedback of the `[state]` section as cubes over the signal word, no supervisor tables
     /// ([`emit::state::firmware_tables`]). Both end with the manifest's timers ([`emit::timers`]; an
-    /// empty table without `[[timers]]`).
+    /// empty table without `[[timers]]`), and with timers their `DIGEST`s cover them
+    /// ([`emit::timers::seal`]).
     pub fn emit(&self) -> Result<String, ProjectError> {
         let events = self.set.events();
         let names: Vec<String> = events.ids().map(|e| events.name(e).to_owned()).collect();
         let timers = emit::timers::rust(&self.timers, &names)?;
-        Ok(self.emit_tables()? + &timers)
+        Ok(emit::timers::seal(self.emit_tables()? + &timers))
     }
 
     /// The tables of [`Project::emit`] before its timers.
@@ -658,6 +659,14 @@ impl Project {
     /// report compares the event-based program's size); the hybrid form needs a `[hybrid]` manifest.
     pub fn plc(&self, form: &Form) -> Result<Written, ProjectError> {
         let file = self.file();
+        let untimed = match form {
+            Form::Hybrid => Some("hybrid controller"),
+            Form::State { .. } => Some("state-based program"),
+            Form::Event { .. } => None,
+        };
+        if let Some(form) = untimed.filter(|_| !self.timers.is_empty()) {
+            return Err(PlcError::Timers { file, form }.into());
+        }
         match form {
             Form::Hybrid => {
                 let h = self.hybrid.as_ref().ok_or_else(|| PlcError::Sections { file: file.clone() })?;

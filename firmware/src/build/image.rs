@@ -197,6 +197,31 @@ pub fn digest_hex(image: &[u8]) -> String {
     digest(image).iter().map(|&b| char::from(b)).collect()
 }
 
+/// The start of the timer table a tables file ends with (`codegen::emit::timers`).
+const TIMERS_ITEM: &str = "pub static TIMERS: [firmware::timer::TimerSpec; ";
+
+/// The timer table of the tables `text` — its text from `pub static TIMERS` to the closing `];` — when
+/// it holds at least one timer; `None` for an empty one or none.
+pub fn timers_item(text: &str) -> Option<&str> {
+    let rest = &text[text.find(TIMERS_ITEM)?..];
+    if rest[TIMERS_ITEM.len()..].starts_with("0]") {
+        return None;
+    }
+    rest.find("\n];").map(|end| &rest[..end + 3])
+}
+
+/// The digest a tables file declares (`DIGEST`) for tables whose own digest is `tables`: that digest
+/// itself without timers, so a project without any keeps the digest of its image alone; with a timer
+/// table (`timers`, [`timers_item`]), the digest of `tables` followed by its text — the timers run
+/// outside the image, and a timer's delay or events changed must change what the firmware reports
+/// over the link's TABLES as well.
+pub fn tables_digest(tables: &str, timers: Option<&str>) -> String {
+    match timers {
+        None => String::from(tables),
+        Some(timers) => digest_hex(&[tables.as_bytes(), timers.as_bytes()].concat()),
+    }
+}
+
 /// The name of the constant the emitted file holds an image in.
 pub const IMAGE_CONST: &str = "const IMAGE: &[u8; ";
 
@@ -283,12 +308,13 @@ pub fn images_in(text: &str) -> Result<Vec<(usize, Vec<u8>)>, SourceError> {
 
 /// Checks every image of the Rust source `text` ([`images_in`], [`check`]): the value of
 /// `SCT_TABLES_CHECKED` for them, their digests separated by spaces (empty for a file without images:
-/// the state tables).
+/// the state tables) — each the one the file declares, with its timer table ([`tables_digest`]).
 pub fn check_source(text: &str) -> Result<String, SourceError> {
     let mut proof = Vec::new();
+    let timers = timers_item(text);
     for (line, image) in images_in(text)? {
         check(&image).map_err(|error| SourceError::Check { line, error })?;
-        proof.push(digest_hex(&image));
+        proof.push(tables_digest(&digest_hex(&image), timers));
     }
     Ok(proof.join(" "))
 }
