@@ -126,6 +126,9 @@ fn station_net(name: &str, events: u64, every_cycle: bool) -> (codegen::monitor:
         fn quiet_for(&self) -> Result<Option<u32>, String> {
             Scanner::quiet_for(&self.driver)
         }
+        fn runs_free_on_time(&self) -> bool {
+            self.driver.runs_free_on_time()
+        }
     }
 
     let manifest = repo(&format!("examples/station-rtpn/{name}.toml"));

@@ -237,6 +237,13 @@ pub trait Scanner {
     }
     /// Sets how far the scan clock moves at the next scans (a program with timers only).
     fn set_interval(&mut self, _ms: u32) {}
+    /// Whether TIME runs the program released from the host's hold: a program whose only time is its
+    /// own sequence's delays fires what they decide as they run out (its own moves, as a PLC makes
+    /// them while its plant is still); one with `[[timers]]` stays held, so that the plant's events
+    /// after a timeout reach it before it decides (the default: held).
+    fn runs_free_on_time(&self) -> bool {
+        false
+    }
     /// A round begins (the host asked for SYNC, or STEP): inputs the wrapper draws are drawn afresh
     /// (the default: none).
     fn new_round(&mut self) -> Result<(), String> {
@@ -515,6 +522,10 @@ impl Scanner for Driver {
         self.timed().then_some(self.cycle_ms)
     }
 
+    fn runs_free_on_time(&self) -> bool {
+        self.io.timers.is_empty()
+    }
+
     fn new_round(&mut self) -> Result<(), String> {
         Driver::new_round(self)
     }
@@ -687,17 +698,18 @@ pub fn spawn_plc<D: Scanner + Send + 'static>(
     })
 }
 
-/// The link's TIME: lets the scan clock of a program with timers run `ms` milliseconds, and appends
-/// what the scans raised and fired to `out` — each scan's timeouts before its commands. The hold stays
-/// as it is: the host sends TIME while it holds the program, whose `TON`s run and whose timeouts are
-/// taken, while its commands wait for GO — so that an event the plant sends after a timeout, in the same
-/// round, reaches the program before it decides (a late end switch after the timeout), as on the
-/// firmware. First a scan at 0 ms, so that a timer started by
-/// the last command counts from the time it was started at, then scans a task interval apart (the last
-/// one shorter when `ms` is not a multiple of it), so the clock ends exactly `ms` later. A `TON` is only
-/// evaluated at scans: its timeout is raised at the first scan at or after its deadline, up to one task
-/// interval late — the slack the host gives a PLC ([`crate::closed_loop::Options::timer_slack_ms`]).
-/// A program without timers ignores TIME.
+/// The link's TIME: lets the scan clock of a timed program run `ms` milliseconds, and appends what
+/// the scans raised and fired to `out` — each scan's timeouts before its commands. A program with
+/// `[[timers]]` stays held if the host holds it: its `TON`s run and its timeouts are taken while its
+/// commands wait for GO, so that an event the plant sends after a timeout, in the same round, reaches
+/// the program before it decides (a late end switch after the timeout), as on the firmware. A program
+/// timed only by its sequence's delays runs released during TIME ([`Scanner::runs_free_on_time`]) and
+/// held again after it. First a scan at 0 ms, so that a timer started by the last command counts from
+/// the time it was started at, then scans a task interval apart (the last one shorter when `ms` is not
+/// a multiple of it, or a jump over settled scans, [`Scanner::quiet_for`]), so the clock ends exactly
+/// `ms` later. A `TON` is only evaluated at scans: its timeout is raised at the first scan at or after
+/// its deadline, up to one task interval late — the slack the host gives a PLC
+/// ([`crate::closed_loop::Options::timer_slack_ms`]). A program without timers ignores TIME.
 fn pass_time<D: Scanner>(
     driver: &mut D,
     ms: u32,
@@ -705,6 +717,10 @@ fn pass_time<D: Scanner>(
     stats: &mut Option<ScanStats>,
 ) -> Result<(), String> {
     let Some(cycle) = driver.timed_cycle() else { return Ok(()) };
+    let held = driver.held()?;
+    if driver.runs_free_on_time() {
+        driver.hold(false)?;
+    }
     let mut left = ms;
     let mut first = true;
     while first || left > 0 {
@@ -727,7 +743,7 @@ fn pass_time<D: Scanner>(
         }
     }
     driver.set_interval(0);
-    Ok(())
+    driver.hold(held)
 }
 
 /// Why a program's closed-loop run failed (as opposed to finding violations, which are in its report).
