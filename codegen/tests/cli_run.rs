@@ -98,18 +98,26 @@ fn a_firmware_built_from_other_tables_is_refused_naming_both() {
 /// every supervisor transition taken (the alarm after a late end switch included).
 #[test]
 fn a_project_with_timers_runs_under_qemu_with_its_timeouts_on_time() {
+    let json = cylinder_runs_clean("qemu", "200");
+    assert_eq!(json["firmware"]["unknown_bytes"], 0, "TIME is no unknown byte to the firmware");
+    assert!(json["full_coverage_at"].as_u64().is_some(), "{}", json["coverage"]);
+}
+
+/// The cylinder run on `target` for `events` events, its JSON report checked: exit 0, no violation,
+/// some timeout fell due, every one on time, and every supervisor transition taken — the late end
+/// switch's path too (after the timeout, before the alarm).
+fn cylinder_runs_clean(target: &str, events: &str) -> serde_json::Value {
     let cylinder = repo("examples/cylinder/cylinder.toml");
-    let out = codegen(&["run", &cylinder, "--target", "qemu", "--events", "200", "--json"], None);
+    let out = codegen(&["run", &cylinder, "--target", target, "--events", events, "--json"], None);
     assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    assert_eq!((json["name"].as_str(), json["violations"].as_u64()), (Some("cylinder"), Some(0)));
+    assert_eq!((json["name"].as_str(), json["target"].as_str()), (Some("cylinder"), Some(target)));
+    assert_eq!(json["violations"].as_u64(), Some(0), "{json}");
     let t = &json["timeouts"];
     assert!(t["on_time"].as_u64().unwrap() > 0, "no timeout fell due: {t}");
     assert_eq!((t["early"].as_u64(), t["late"].as_u64(), t["missing"].as_u64()), (Some(0), Some(0), Some(0)));
-    assert_eq!(json["firmware"]["unknown_bytes"], 0, "TIME is no unknown byte to the firmware");
-    // The late end switch's path too (after the timeout, before the alarm): every transition taken.
     assert_eq!(json["uncovered"], serde_json::json!([]), "{}", json["coverage"]);
-    assert!(json["full_coverage_at"].as_u64().is_some(), "{}", json["coverage"]);
+    json
 }
 
 /// The Pico's link build runs the tables' timers on the host's TIME as QEMU's firmware does: the
@@ -118,15 +126,8 @@ fn a_project_with_timers_runs_under_qemu_with_its_timeouts_on_time() {
 /// tick in the emulator's wall-clock time: refused before anything is built (exit 2).
 #[test]
 fn a_project_with_timers_runs_on_the_picos_link_build_and_is_refused_on_its_pins() {
+    cylinder_runs_clean("rp2040", "100");
     let cylinder = repo("examples/cylinder/cylinder.toml");
-    let out = codegen(&["run", &cylinder, "--target", "rp2040", "--events", "100", "--json"], None);
-    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
-    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    assert_eq!((json["target"].as_str(), json["violations"].as_u64()), (Some("rp2040"), Some(0)));
-    let t = &json["timeouts"];
-    assert!(t["on_time"].as_u64().unwrap() > 0, "no timeout fell due: {t}");
-    assert_eq!((t["early"].as_u64(), t["late"].as_u64(), t["missing"].as_u64()), (Some(0), Some(0), Some(0)));
-    assert_eq!(json["uncovered"], serde_json::json!([]), "{}", json["coverage"]);
     let out = codegen(&["run", &cylinder, "--target", "rp2040", "--io", "pins", "--events", "10"], None);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
