@@ -909,3 +909,43 @@ mod tests {
         assert!(matches!(err, ProjectError::Manifest(ManifestError::File(_))), "{err}");
     }
 }
+
+/// The timers in the table digests ([`emit::timers::seal`]): the project emits, the build script proves.
+#[cfg(test)]
+mod timer_digests {
+    use std::path::Path;
+
+    use firmware::build::image::{check_source, digest_hex, images_in};
+
+    use super::Project;
+
+    /// The cylinder's project (`examples/cylinder`) with its timer's delay set to `ms`, or without its
+    /// timers (`None`).
+    fn cylinder(ms: Option<u32>) -> Project {
+        let manifest = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/cylinder/cylinder.toml");
+        let mut project = Project::load(&manifest).unwrap();
+        match ms {
+            Some(ms) => project.timers[0].ms = ms,
+            None => project.timers.clear(),
+        }
+        project
+    }
+
+    #[test]
+    fn a_timers_delay_changes_the_digest_and_tables_without_timers_keep_their_images() {
+        let (on_time, longer) = (cylinder(Some(2000)), cylinder(Some(2100)));
+        let digests = on_time.table_digests().unwrap();
+        assert_eq!(digests.len(), 2, "the Cortex-M3's and the Cortex-M0+'s");
+        assert_ne!(digests, longer.table_digests().unwrap(), "the timer's ms is in the digest");
+        // The build script proves the digests the file declares, timers and all.
+        let text = on_time.emit().unwrap();
+        assert_eq!(check_source(&text).unwrap(), digests.join(" "));
+        // Without timers, the digests are the images' own, as before timers.
+        let plain = cylinder(None);
+        let text = plain.emit().unwrap();
+        let images: Vec<String> =
+            images_in(&text).unwrap().iter().map(|(_, image)| digest_hex(image)).collect();
+        assert_eq!(plain.table_digests().unwrap(), images);
+        assert!(digests.iter().all(|d| !images.contains(d)), "{digests:?} {images:?}");
+    }
+}

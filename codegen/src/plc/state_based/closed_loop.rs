@@ -13,7 +13,7 @@
 //!
 //! A program keeping supervisors' memory reads each tracked component's sensor changes scan by scan,
 //! so it must see every change in a scan of its own, as a PLC does when its sensors change between
-//! scans; it has a `hold` input ([`super::program::HOLD`]) for that: held, the driver sets it and makes
+//! scans; it has a `hold` input ([`super::memory::HOLD`]) for that: held, the driver sets it and makes
 //! one event's change per scan, the memory following each while no rung fires, as the event-based
 //! driver does. A program without memory has no `hold`: held, it is not scanned (a PLC in STOP), and
 //! the events sent meanwhile all change the image before the next scan reads it — as the firmware
@@ -25,7 +25,7 @@ use std::collections::BTreeSet;
 
 use firmware::link::MAX_EVENT;
 
-use super::program::HOLD;
+use super::memory::HOLD;
 use super::Output;
 use crate::closed_loop::Options;
 use crate::config::ScanPolicy;

@@ -25,6 +25,9 @@ use crate::scan::names::Names;
 
 use super::rungs;
 
+/// The input that, with memory kept, stops the rungs while the memory goes on reading the sensors.
+pub const HOLD: &str = "hold";
+
 /// The memory literals' names and the code that keeps them.
 #[derive(Clone, Debug, Default)]
 pub struct Tracking {
@@ -120,9 +123,7 @@ impl Tracking {
         let members = set.members();
         let mut names = Names::default();
         // The program's own names too: its hold input and its choice section's variables.
-        for n in
-            signal_names.iter().map(String::as_str).chain([super::program::HOLD]).chain(choice::VARIABLES)
-        {
+        for n in signal_names.iter().map(String::as_str).chain([HOLD]).chain(choice::VARIABLES) {
             names.reserve(n);
         }
         let mut m = Tracking { layout: layout.clone(), ..Tracking::default() };

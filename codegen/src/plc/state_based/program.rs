@@ -13,7 +13,7 @@ use crate::scan::ir::{Expr, Pou, Section, Stmt, Type, Var, VarClass};
 use crate::scan::ld::{CoilKind, Element, Rung};
 use crate::scan::names::is_identifier;
 
-use super::memory::Tracking;
+use super::memory::{Tracking, HOLD};
 use super::rungs::EventRung;
 
 /// One command per scan, chosen among the rungs that conduct.
@@ -62,9 +62,6 @@ impl OnePerScan {
         out
     }
 }
-
-/// The input that, with memory kept, stops the rungs while the memory goes on reading the sensors.
-pub const HOLD: &str = "hold";
 
 /// `rung` behind a normally closed `hold` contact ([`HOLD`]): the rung of a program keeping memory, in
 /// its ST condition and its ladder alike.
