@@ -552,18 +552,15 @@ impl<'a, L: ByteLink + ?Sized> Session<'a, L> {
         if deadline && !self.pass_deadline(std::mem::take(&mut bytes), t)? {
             return Ok(());
         }
-        // While the steering stagnates, the plant takes its own turn now and then: its drawn burst, sent
-        // whatever the steering says of the controller's choice (see `explore_when_stuck`).
-        let own = emits && self.monitor.is_steering() && self.plant.takes_own_turn();
         let most = match emits {
             false => 0,
-            true if self.monitor.is_steering() && !own => MAX_STEERED_BURST,
+            true if self.monitor.is_steering() => MAX_STEERED_BURST,
             true => self.plant.burst_len(),
         };
         let timed = bytes.len();
         let turn = std::mem::take(&mut self.plant_turn);
         while bytes.len() - timed < most
-            && (own || (turn && bytes.len() == timed) || self.monitor.next_move() != Move::Controller)
+            && ((turn && bytes.len() == timed) || self.monitor.next_move() != Move::Controller)
         {
             let monitor = &mut *self.monitor;
             let Some(e) = self.plant.emit_one(|e| monitor.rank_after(e)) else { break };

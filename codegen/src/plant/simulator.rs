@@ -210,13 +210,6 @@ impl VirtualPlant {
         self.explore_per_mille = per_mille;
     }
 
-    /// Whether the plant takes its own turn now, in its own timing, where the caller's guide would hold
-    /// it back for the controller: with the chance [`VirtualPlant::explore`] set (none at 0, and then no
-    /// draw, so a run that never stagnates keeps its trace).
-    pub fn takes_own_turn(&mut self) -> bool {
-        self.explore_per_mille > 0 && self.rng.chance(self.explore_per_mille)
-    }
-
     /// Whether the plant follows the caller's steering at all (`--guide` above 0).
     pub fn steers(&self) -> bool {
         self.config.guide_per_mille > 0
