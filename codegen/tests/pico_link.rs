@@ -251,3 +251,56 @@ fn codegen_plant_runs_the_cell_closed_loop_against_the_pico_usb_link_build_over_
 fn codegen_plant_runs_the_cell_closed_loop_against_the_pico_uart_link_build_over_a_serial_port() {
     closed_loop_over_serial(Link::Uart, "uart");
 }
+
+/// A host far ahead of the firmware: a burst many times the input buffer's size (1 000 unknown bytes,
+/// held) reaches the USB link build at once. The input buffer fills, the rest waits in the USB stack
+/// (its packets refused until the loop has drained the buffer), and every byte is taken in the end:
+/// the STATUS that follows is answered, counting each byte once as unknown and none lost. Before the
+/// buffer-status interrupt was switched off while the buffer was full, a packet left in the endpoint
+/// kept that interrupt running and the firmware never answered (a realtime run's "no STATUS answer").
+#[test]
+fn a_burst_far_beyond_the_input_buffer_waits_in_the_usb_stack_and_is_all_taken() {
+    use codegen::link::protocol::{Decoder, Frame, HOLD, RESET, STATUS};
+    /// Not an event of the cell's set: counted as unknown, nothing else happens.
+    const UNKNOWN: u8 = 0xEF;
+    const BURST: usize = 1_000;
+
+    let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    let temp = Temp(std::env::temp_dir().join(format!("codegen-pico-burst-{}", std::process::id())));
+    let _ = std::fs::remove_dir_all(&temp.0);
+    std::fs::create_dir_all(&temp.0).unwrap();
+    let dir = new_pico_project(&temp.0);
+    let manifest = UserProject::open(&dir).unwrap_or_else(|e| panic!("{e}")).manifest;
+    let project = Project::load(&manifest).unwrap_or_else(|e| panic!("{e}"));
+    let elf = Link::Usb.image(&project, &temp.0);
+    let (_harness, mut stream) =
+        LinkHarness::start(Link::Usb, &elf, &temp.0.join("burst.sock"), &temp.0.join("burst.json"));
+    // Not a timing margin: a firmware that stopped answering fails here instead of hanging the test.
+    stream.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
+    let mut decoder = Decoder::default();
+    let mut next_frame = |stream: &mut UnixStream| loop {
+        let mut byte = [0u8];
+        match stream.read(&mut byte) {
+            Ok(1) => {
+                if let Some(frame) = decoder.push(byte[0]) {
+                    return frame;
+                }
+            }
+            other => panic!("the link build stopped answering: {other:?}"),
+        }
+    };
+
+    stream.write_all(&[RESET]).unwrap();
+    while next_frame(&mut stream) != Frame::Ready {}
+    let mut burst = vec![HOLD];
+    burst.extend([UNKNOWN; BURST]);
+    burst.push(STATUS);
+    stream.write_all(&burst).unwrap();
+    let counters = loop {
+        if let Frame::Status(counters) = next_frame(&mut stream) {
+            break counters;
+        }
+    };
+    assert_eq!(counters.unknown_bytes, BURST as u32, "{counters:?}");
+    assert_eq!(counters.overflows, 0, "{counters:?}");
+}

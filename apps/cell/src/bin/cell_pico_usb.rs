@@ -65,6 +65,18 @@ impl Usb {
 /// raises the interrupt again once it has drained the buffer.
 static STARVED: AtomicBool = AtomicBool::new(false);
 
+/// Turns the USB controller's buffer-status interrupt on or off. Off while the input buffer is full:
+/// a received packet the interrupt cannot take stays in the endpoint with its status bit set, and that
+/// bit holds the interrupt line up, so the interrupt would run again the moment it returned and the
+/// decision loop, which drains the buffer, would never run. Setup and bus-reset interrupts stay on.
+fn buffer_interrupt(on: bool) {
+    // SAFETY: INTE is written only here — by the interrupt (the highest priority that touches it) and
+    // by the loop inside a critical section — and its other bits, which rp2040-hal set at `enable`,
+    // are kept by the read-modify-write.
+    let regs = unsafe { &*rp2040_hal::pac::USBCTRL_REGS::ptr() };
+    regs.inte().modify(|_, w| w.buff_status().bit(on));
+}
+
 /// The USB serial port, behind the RTIC lock `L` the loop shares with the interrupt, as the event
 /// loop's port: each byte sent holds the lock while it is written.
 struct UsbPort<'a, L>(&'a mut L);
@@ -86,7 +98,7 @@ const VID_PID: (u16, u16) = (0x16c0, 0x27dd);
 mod app {
     use super::link_app::Rt;
     use super::link_loop::{self, halt};
-    use super::{tables, Usb, UsbPort, STARVED, VID_PID};
+    use super::{buffer_interrupt, tables, Usb, UsbPort, STARVED, VID_PID};
     use core::sync::atomic::Ordering;
     use firmware::input_queue::{InputConsumer, InputProducer, InputQueue};
     use firmware::link::READY;
@@ -152,7 +164,8 @@ mod app {
     }
 
     /// Services the bus and moves received bytes into the input buffer (HOLD and GO act here), as many
-    /// as it has room for; what is left waits in the USB stack (STARVED) until the loop drained it.
+    /// as it has room for; what is left waits in the USB stack (STARVED, the buffer-status interrupt
+    /// off) until the loop drained it.
     #[task(binds = USBCTRL_IRQ, shared = [usb], local = [producer])]
     fn usb(mut cx: usb::Context) {
         let q = cx.local.producer;
@@ -165,6 +178,7 @@ mod app {
             });
             if full {
                 STARVED.store(true, Ordering::Relaxed);
+                buffer_interrupt(false);
             }
         });
     }
@@ -177,6 +191,8 @@ mod app {
         link_loop::serve(rt, rx, &mut UsbPort(&mut cx.shared.usb), tables::m0plus::DIGEST, |rx| {
             if rx.is_empty() && STARVED.load(Ordering::Relaxed) {
                 STARVED.store(false, Ordering::Relaxed);
+                cortex_m::interrupt::free(|_| buffer_interrupt(true));
+                // Bytes left in the serial class's own buffer raise no interrupt of their own.
                 rtic::pend(Interrupt::USBCTRL_IRQ);
             }
         })
