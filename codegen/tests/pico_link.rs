@@ -185,14 +185,13 @@ fn check(report: &Value, events: u64, what: &str) {
     assert!(report["full_coverage_at"].is_u64(), "{what}: {report}");
 }
 
-/// One closed loop over a serial port at a time: the realtime runs race the emulated RP2040 against the
-/// plant's wall-clock timing, which two emulators and two plants sharing a 2-core machine slowed until
-/// a STATUS answer came too late.
+/// One emulated RP2040 at a time: the realtime runs race the emulator against the plant's wall-clock
+/// timing, and two emulators and two plants on a 2-core machine would only slow each other down.
 static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
-/// `codegen plant` against `link`'s build: lock-step, then the plant's timing at different rates.
-fn closed_loop_over_serial(link: Link, tag: &str) {
-    let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+/// A fresh `codegen new --board pico` project in a temporary directory named for `tag`, and `link`'s
+/// build on its tables: the directory (removed when dropped), the project's and the image's paths.
+fn project_and_image(link: Link, tag: &str) -> (Temp, PathBuf, PathBuf) {
     let temp = Temp(std::env::temp_dir().join(format!("codegen-pico-{tag}-{}", std::process::id())));
     let _ = std::fs::remove_dir_all(&temp.0);
     std::fs::create_dir_all(&temp.0).unwrap();
@@ -200,6 +199,13 @@ fn closed_loop_over_serial(link: Link, tag: &str) {
     let manifest = UserProject::open(&dir).unwrap_or_else(|e| panic!("{e}")).manifest;
     let project = Project::load(&manifest).unwrap_or_else(|e| panic!("{e}"));
     let elf = link.image(&project, &temp.0);
+    (temp, dir, elf)
+}
+
+/// `codegen plant` against `link`'s build: lock-step, then the plant's timing at different rates.
+fn closed_loop_over_serial(link: Link, tag: &str) {
+    let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    let (temp, dir, elf) = project_and_image(link, tag);
     let run = |what: &str, args: &[&str]| {
         plant_over_serial(link, &dir, &elf, &temp.0, &format!("{tag}-{what}"), args)
     };
@@ -266,13 +272,7 @@ fn a_burst_far_beyond_the_input_buffer_waits_in_the_usb_stack_and_is_all_taken()
     const BURST: usize = 1_000;
 
     let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
-    let temp = Temp(std::env::temp_dir().join(format!("codegen-pico-burst-{}", std::process::id())));
-    let _ = std::fs::remove_dir_all(&temp.0);
-    std::fs::create_dir_all(&temp.0).unwrap();
-    let dir = new_pico_project(&temp.0);
-    let manifest = UserProject::open(&dir).unwrap_or_else(|e| panic!("{e}")).manifest;
-    let project = Project::load(&manifest).unwrap_or_else(|e| panic!("{e}"));
-    let elf = Link::Usb.image(&project, &temp.0);
+    let (temp, _, elf) = project_and_image(Link::Usb, "burst");
     let (_harness, mut stream) =
         LinkHarness::start(Link::Usb, &elf, &temp.0.join("burst.sock"), &temp.0.join("burst.json"));
     // Not a timing margin: a firmware that stopped answering fails here instead of hanging the test.
