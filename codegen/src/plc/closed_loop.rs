@@ -17,12 +17,16 @@
 //! are all made before the program decides on any of them — as the firmware takes a whole write before
 //! it decides, though here one input changes once per scan. STEP, once the events before it have been
 //! applied, clears `hold` and lets the scans run until one fires a command or has nothing to decide
-//! (no edge, nothing pending), then sets `hold` again and answers SYNC; the bytes after it wait for
-//! that — so the plant takes its turn between any two commands, as with a firmware in steps. RESET, STATUS and EXIT are answered in order, once the events
+//! (no edge, nothing pending), then sets `hold` again and answers SYNC once the program is at rest (a
+//! command's pulse ended in the held scans); the bytes after it wait for that — so the plant takes its
+//! turn between any two commands, as with a firmware in steps. RESET, STATUS and EXIT are answered in order, once the events
 //! before them have been applied (no edge waiting, `pending` low): RESET by a scan with `reset` (and
 //! `hold`) set, then READY; STATUS from the block's counters. SYNC, once the events before it have been applied, is answered after the first
-//! scan that runs with `hold` low, makes no edge, fires no command and leaves nothing pending: the
-//! program has decided all it can on every event before it — the lock-step rounds of a session. As in
+//! scan that runs with `hold` low, makes no edge, fires no command and leaves nothing pending, no pulse
+//! running: the program has decided all it can on every event before it — the lock-step rounds of a
+//! session. A SYNC answer (a round's, a step's) thus finds the program at rest, where a scan with
+//! nothing new changes nothing: how many scans the wrapper runs before the host's next bytes come (the
+//! machine's timing) cannot change what the program does with them, nor the scan figures. As in
 //! the firmware's event loop, the bytes after it do not wait for the answer. A rise of `safe` sends
 //! SAFE. The scan figures ([`ScanStats`]) count from the host's first RESET: before it the program
 //! runs unheld, as a PLC from power-up, for as long as the host takes to send its first HOLD.
@@ -219,7 +223,10 @@ pub trait Scanner {
     fn hold(&mut self, on: bool) -> Result<(), String>;
     /// Whether the program is held.
     fn held(&self) -> Result<bool, String>;
-    /// Whether events read are still waiting to be applied.
+    /// Whether the program is not at rest yet: events read still waiting to be applied, or a change it
+    /// makes on its own still under way (a pulse running down, a sequence net's marking moving). The
+    /// wrapper answers SYNC only at rest, so that the scans it runs while the host takes its turn — as
+    /// many as the machine's timing gives — change nothing.
     fn pending(&self) -> Result<bool, String>;
     /// Whether the program is in its safe state.
     fn safe(&self) -> Result<bool, String>;
@@ -348,6 +355,15 @@ impl Driver {
         Ok(Some(next))
     }
 
+    /// Whether a pulsed output is still high: its pulse runs down over the next scans, so the program
+    /// is not at rest — a scan with nothing new would still change it, and a command on that output is
+    /// disabled until it ends.
+    fn pulsing(&self) -> bool {
+        self.io.outputs.iter().any(|(var, actions)| {
+            actions.iter().any(|&(_, k)| k == "pulse") && self.outputs.get(var).copied().unwrap_or(false)
+        })
+    }
+
     /// The sequence net's marking (empty without one).
     fn marking(&self) -> Result<Vec<bool>, String> {
         let Some((drive, _)) = &self.net else { return Ok(Vec::new()) };
@@ -449,7 +465,8 @@ impl Driver {
         }
         let worked = edged || !commands.is_empty() || !timeouts.is_empty();
         self.moving = self.marking()? != marking;
-        self.settled = !worked && !self.moving && !self.plc.get_bool(&format!("{FB}.pending"))?;
+        self.settled =
+            !worked && !self.moving && !self.pulsing() && !self.plc.get_bool(&format!("{FB}.pending"))?;
         Ok(Scan { timeouts, commands, statements: worked.then_some(statements) })
     }
 
@@ -503,7 +520,7 @@ impl Scanner for Driver {
     }
 
     fn pending(&self) -> Result<bool, String> {
-        Ok(self.moving || self.plc.get_bool(&format!("{FB}.pending"))?)
+        Ok(self.moving || self.pulsing() || self.plc.get_bool(&format!("{FB}.pending"))?)
     }
 
     fn safe(&self) -> Result<bool, String> {
@@ -568,6 +585,8 @@ pub fn spawn_plc<D: Scanner + Send + 'static>(
         let mut sync_asked = false;
         // A STEP was taken: the scans decide until one fires a command or has nothing to decide.
         let mut stepping = false;
+        // The STEP's decision is taken, the program held again: SYNC is answered once it is at rest.
+        let mut stepped = false;
         // The figures count from the host's first RESET: before it the program runs on its own, as a
         // PLC does from power-up, for as long as the host takes to send its first HOLD — a matter of
         // the machine's timing, and unmonitored (the session starts with HOLD, STATUS, RESET).
@@ -591,6 +610,10 @@ pub fn spawn_plc<D: Scanner + Send + 'static>(
             let mut out = Vec::new();
             let mut answered = false;
             while let Some(&b) = fifo.front() {
+                if stepping || stepped {
+                    // The bytes after a STEP wait for its answer.
+                    break;
+                }
                 match b {
                     0..=MAX_EVENT if driver.has_input(b) => {
                         if !used.is_empty() {
@@ -675,12 +698,18 @@ pub fn spawn_plc<D: Scanner + Send + 'static>(
                 stats.max_statements = stats.max_statements.max(statements);
             }
             if stepping && !held && (!commands.is_empty() || quiet) {
-                // The step's decision is taken (a command, or none to take): hold again, answer SYNC.
+                // The step's decision is taken (a command, or none to take): hold again.
                 stepping = false;
+                stepped = true;
                 driver.hold(true)?;
+            }
+            if stepped && !pending {
+                // At rest (a command's pulse ended in the held scans since): the same program state
+                // however soon the host's next bytes come.
+                stepped = false;
                 answered = true;
                 out.push(SYNC);
-            } else if sync_asked && quiet && !held && !stepping {
+            } else if sync_asked && quiet && !held && !stepping && !stepped {
                 sync_asked = false;
                 answered = true;
                 out.push(SYNC);
