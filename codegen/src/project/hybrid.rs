@@ -2,7 +2,7 @@
 //! its `[net]` is the plant — read, labelled by `[hybrid]`, and its reachability graph the plant
 //! automaton the manifest's specifications are read against — and its supervisor is supC of those
 //! specifications against that plant, or one ready supervisor checked against it. The event-based
-//! runtimes run the graph beside the arrivals its controllable transitions wait for ([`arrivals`]).
+//! runtimes run the graph beside the arrivals its controllable transitions wait for ([`arrivals()`]).
 
 use std::path::Path;
 

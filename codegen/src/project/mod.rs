@@ -313,7 +313,7 @@ impl Project {
 
     /// The project of the hybrid manifest `m` ([`hybrid`]): the net's reachability graph the plant
     /// `SUPER` is synthesised against and the one supervisor; the set the event-based runtimes run has
-    /// beside the graph the arrivals its controllable transitions wait for ([`hybrid::arrivals`]: M1
+    /// beside the graph the arrivals its controllable transitions wait for ([`hybrid::arrivals()`]: M1
     /// starts on a part, not whenever it is idle); its inputs the manifest, the net and the model files
     /// it names.
     fn hybrid(m: Manifest, cfg: &Config) -> Result<Project, ProjectError> {
