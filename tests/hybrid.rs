@@ -7,12 +7,13 @@
 
 use std::process::Command;
 
+use codegen::closed_loop::Options;
 use codegen::interpreter::Plc;
 use codegen::model::{Automaton, StateId};
 use codegen::plc::hybrid::{Output, Plant, Side};
 use codegen::plc::Form;
 use codegen::project::Project;
-use end_to_end::{example, root, Scratch};
+use end_to_end::{assert_clean, example, qemu_closed_loop, root, Scratch};
 
 const CYCLE_MS: i64 = 10;
 const SCANS: i64 = 6_000;
@@ -133,6 +134,22 @@ fn the_timer_holds_m1_for_its_delay() {
             _ => {}
         }
     }
+}
+
+/// Under QEMU the firmware runs the line's reachability graph beside its part arrival (`part1`, the
+/// condition of M1's start): M1 starts on a part, not the moment it is idle, so now and then M2 finishes
+/// the last part before the next one arrives and the line is back home — the closed loop's one marked
+/// state, which a plant with parts always waiting never let it reach again (0 marked visits in 2 000
+/// events). 200 events, clean, at least one marked visit (seeds 0–5 at 300 events: 21–28, the longest
+/// gap 43–118 events) and `SUPER`'s 7 controllable transitions all taken (after 20 events).
+#[test]
+fn under_qemu_m1_waits_for_its_part_and_the_line_comes_back_home() {
+    let project = Project::load(&example("hybrid/hybrid.toml")).unwrap();
+    let report = qemu_closed_loop(&project, &Options::for_events(200));
+    assert_clean(&report, "the line under QEMU");
+    assert!(report.marked_visits > 0, "never back home: {report}");
+    let coverage: Vec<_> = report.coverage.iter().map(|c| (c.taken, c.reachable)).collect();
+    assert_eq!(coverage, [(7, Some(7))], "{report}");
 }
 
 /// blark parses both programs and the XML (ST and Ladder Diagram bodies) validates against the schema.

@@ -375,7 +375,7 @@ fn hybrid_mutant(from: &str, to: &str, events: u64) -> codegen::monitor::Report 
     let program = Program { text: &text, bound_per_scan: 1_000, cycle_ms: 10 };
     let options = codegen::closed_loop::Options::for_events(events);
     let hybrid = project.hybrid.as_ref().unwrap();
-    run(program, &hybrid.plant, &project.set, "line", &options, &mut |_| {}).unwrap()
+    run(program, &hybrid.plant, &hybrid.net_set().unwrap(), "line", &options, &mut |_| {}).unwrap()
 }
 
 // See: issue 36 (a broken hybrid program is caught: the monitor and the plant net judge what it does).

@@ -9,6 +9,7 @@
 //! | the interpretation (Y, Z, D) bound to the plant's signals | [`interpretation`](mod@interpretation) |
 //! | the IO-reachability graph | [`io_graph`] |
 //! | the reachability graph of an event-labelled net, as a plant automaton | [`reachability`] |
+//! | what a hybrid controller's controllable transitions wait for, as plant automata | [`arrivals`] |
 //! | the safe-net check a PLC program needs, with a firing sequence to a second token | [`safety`] |
 //! | Definition 2's verdict, the trace and the diagnosis | [`verdict`] |
 //! | the graph in Graphviz | [`dot`] |
@@ -16,6 +17,7 @@
 //! [`verify`] runs them in order: the net of a manifest's `[net]` section, under the admissible
 //! behaviour (plants ‖ supervisors) of the same manifest.
 
+pub mod arrivals;
 pub mod condition;
 pub mod dot;
 mod error;

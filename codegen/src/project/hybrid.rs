@@ -1,12 +1,14 @@
 //! The stages of a hybrid controller's project (a manifest with a `[hybrid]` section, docs/hybrid.md):
 //! its `[net]` is the plant — read, labelled by `[hybrid]`, and its reachability graph the plant
 //! automaton the manifest's specifications are read against — and its supervisor is supC of those
-//! specifications against that plant, or one ready supervisor checked against it.
+//! specifications against that plant, or one ready supervisor checked against it. The event-based
+//! runtimes run the graph beside the arrivals its controllable transitions wait for ([`arrivals()`]).
 
 use std::path::Path;
 
 use crate::manifest::{Manifest, ModelSet};
 use crate::model::{Automaton, Kind};
+use crate::net::arrivals;
 use crate::net::reachability::{reachability, Labels};
 use crate::net::{read_pnml, Interpretation, NetError};
 use crate::plc::hybrid::Plant;
@@ -27,6 +29,13 @@ pub fn plant(m: &Manifest, cfg: &Config) -> Result<Plant, ProjectError> {
     let graph =
         reachability(&net.net, &labels, &format!("G_{}", net.net.name), cfg.state_limit).map_err(plc)?;
     Ok(Plant { net, labels, graph })
+}
+
+/// The plant automata of the arrivals the controllable transitions of the hybrid manifest `m`'s
+/// `plant` wait for ([`arrivals::arrivals`]): the plants an event-based runtime runs beside the graph.
+pub fn arrivals(m: &Manifest, plant: &Plant) -> Result<Vec<Automaton>, ProjectError> {
+    let spec = m.net.as_ref().ok_or_else(|| plc(PlcError::Sections { file: m.file.clone() }))?;
+    arrivals::arrivals(spec, &m.file, &plant.net, &plant.labels).map_err(plc)
 }
 
 /// A net's error as the PLC wing's.

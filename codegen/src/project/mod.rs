@@ -104,6 +104,15 @@ pub struct Hybrid {
     pub supervisor: Automaton,
 }
 
+impl Hybrid {
+    /// The net's reachability graph and `SUPER` as a set: what the hybrid controller's own run judges
+    /// its firings by (it reads its sensors itself: the arrivals of the project's set are no events
+    /// of it).
+    pub fn net_set(&self) -> Result<PackSet, ProjectError> {
+        Ok(PackSet::new(vec![self.plant.graph.clone()], vec![self.supervisor.clone()])?)
+    }
+}
+
 /// Where a project came from, for the command its emitted header records.
 #[derive(Clone, Debug)]
 enum Origin {
@@ -302,13 +311,17 @@ impl Project {
         })
     }
 
-    /// The project of the hybrid manifest `m` ([`hybrid`]): the net's reachability graph the one plant,
-    /// `SUPER` the one supervisor; its inputs the manifest, the net and the model files it names.
+    /// The project of the hybrid manifest `m` ([`hybrid`]): the net's reachability graph the plant
+    /// `SUPER` is synthesised against and the one supervisor; the set the event-based runtimes run has
+    /// beside the graph the arrivals its controllable transitions wait for ([`hybrid::arrivals()`]: M1
+    /// starts on a part, not whenever it is idle); its inputs the manifest, the net and the model files
+    /// it names.
     fn hybrid(m: Manifest, cfg: &Config) -> Result<Project, ProjectError> {
         let plant = hybrid::plant(&m, cfg)?;
         let models = m.read_automata_over(vec![plant.graph.clone()])?;
         let supervisor = hybrid::supervisor(&m, &models, &plant, cfg)?;
-        let set = PackSet::new(vec![plant.graph.clone()], vec![supervisor.clone()])?;
+        let plants = std::iter::once(plant.graph.clone()).chain(hybrid::arrivals(&m, &plant)?).collect();
+        let set = PackSet::new(plants, vec![supervisor.clone()])?;
         let pnml = m.net.as_ref().map(|n| m.resolve(n.pnml.get_ref()));
         let named = m.plants.iter().chain(&m.specs).chain(&m.supervisors).map(|p| m.resolve(p));
         let inputs = std::iter::once(m.file.clone())
@@ -648,7 +661,8 @@ impl Project {
             bound_per_scan: source.program.pous.iter().map(|(pou, _)| pou.bound()).sum(),
             cycle_ms: source.program.cycle_ms,
         };
-        Ok(plc::hybrid::closed_loop::run(program, &h.plant, &self.set, &self.name, options, progress)?)
+        let set = h.net_set()?;
+        Ok(plc::hybrid::closed_loop::run(program, &h.plant, &set, &self.name, options, progress)?)
     }
 
     /// The PLC stage, the one entry of every form ([`Form`]): the program's files under a header naming
