@@ -22,7 +22,9 @@
 //! before them have been applied (no edge waiting, `pending` low): RESET by a scan with `reset` (and
 //! `hold`) set, then READY; STATUS from the block's counters. SYNC, once the events before it have been applied, is answered after the first
 //! scan that runs with `hold` low, makes no edge, fires no command and leaves nothing pending: the
-//! program has decided all it can on every event before it — the lock-step rounds of a session. As in
+//! program has decided all it can on every event before it — the lock-step rounds of a session. (A
+//! sequence net whose marking cycles with no command never leaves nothing pending: once the
+//! program's whole state repeats, the cycle no longer counts, [`Driver`]'s `cycling`.) As in
 //! the firmware's event loop, the bytes after it do not wait for the answer. A rise of `safe` sends
 //! SAFE. The scan figures ([`ScanStats`]) count from the host's first RESET: before it the program
 //! runs unheld, as a PLC from power-up, for as long as the host takes to send its first HOLD.
@@ -190,7 +192,7 @@ pub struct Driver {
     settled: bool,
     /// The last scan moved the sequence net's marking: the program has not decided all it can yet (a
     /// transition that fires no command may enable one that does), so it counts as pending — unless
-    /// its marking cycles ([`Driver::cycling`]).
+    /// its marking cycles (`Driver::cycling`).
     moving: bool,
     /// The program's states after the scans since the last one that did work (an edge, a command, a
     /// timeout) or left the marking where it was, or the last round or reset.

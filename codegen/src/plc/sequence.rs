@@ -91,7 +91,7 @@ pub fn block(net: &Interpretation, name: &str) -> Result<(Pou, Chart), PlcError>
         locals.push(Var::new(&id.timer[t], Type::Named("TON".into()), what));
     }
     inputs.push(
-        Var::new(&reset, Type::Bool, "the initial marking, timers stopped, outputs FALSE while TRUE")
+        Var::new(&reset, Type::Bool, "TRUE: the scan starts from the initial marking, timers stopped")
             .init(Expr::Bool(false)),
     );
     let places = net.net.places.iter().zip(&id.place);
@@ -114,7 +114,7 @@ pub fn block(net: &Interpretation, name: &str) -> Result<(Pou, Chart), PlcError>
         sections: vec![
             Section::new(
                 "reset",
-                "reset: the initial marking, its timers stopped, its outputs FALSE (a first scan)",
+                "the initial marking, its timers stopped, its outputs FALSE: the first scan again",
                 vec![Stmt::when(Expr::var(&reset), restart)],
             ),
             Section::new("transitions", "token passing, one transition per scan", passing),
