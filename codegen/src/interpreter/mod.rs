@@ -16,4 +16,4 @@ pub mod parse;
 pub mod run;
 
 pub use parse::{parse, sections, Stmt, Unit};
-pub use run::Plc;
+pub use run::{Plc, Value};

@@ -303,6 +303,12 @@ impl Plc {
         lookup(&self.vars, &path)
     }
 
+    /// Every variable's value, block instances' and timers' included: the program's whole state but
+    /// its clock — two scans of equal states on the same clock behave alike.
+    pub fn variables(&self) -> &BTreeMap<String, Value> {
+        &self.vars
+    }
+
     /// The BOOL at `path` (`sct.conveyor`, `EVENTS.s_c1`), case-insensitive.
     pub fn get_bool(&self, path: &str) -> Result<bool, String> {
         as_bool(self.path(path)?)

@@ -26,7 +26,9 @@
 //! running: the program has decided all it can on every event before it — the lock-step rounds of a
 //! session. A SYNC answer (a round's, a step's) thus finds the program at rest, where a scan with
 //! nothing new changes nothing: how many scans the wrapper runs before the host's next bytes come (the
-//! machine's timing) cannot change what the program does with them, nor the scan figures. As in
+//! machine's timing) cannot change what the program does with them, nor the scan figures. (A
+//! sequence net whose marking cycles with no command never leaves nothing pending: once the
+//! program's whole state repeats, the cycle no longer counts, [`Driver`]'s `cycling`.) As in
 //! the firmware's event loop, the bytes after it do not wait for the answer. A rise of `safe` sends
 //! SAFE. The scan figures ([`ScanStats`]) count from the host's first RESET: before it the program
 //! runs unheld, as a PLC from power-up, for as long as the host takes to send its first HOLD.
@@ -40,7 +42,7 @@ use firmware::link::{EXIT, GO, HOLD, MAX_EVENT, READY, RESET, SAFE, STATUS, STEP
 use super::report::Report as ProgramReport;
 use crate::closed_loop::{attach, ClosedLoopError, Options, SessionConfig};
 use crate::config::ScanPolicy;
-use crate::interpreter::Plc;
+use crate::interpreter::{Plc, Value};
 use crate::link::memory::{self, MemoryLink};
 use crate::link::ByteLink;
 use crate::model::{Dfa, EventTable};
@@ -193,8 +195,12 @@ pub struct Driver {
     /// The last scan changed nothing: no edge, command, timeout nor place, nothing pending.
     settled: bool,
     /// The last scan moved the sequence net's marking: the program has not decided all it can yet (a
-    /// transition that fires no command may enable one that does), so it counts as pending.
+    /// transition that fires no command may enable one that does), so it counts as pending — unless
+    /// its marking cycles (`Driver::cycling`).
     moving: bool,
+    /// The program's states after the scans since the last one that did work (an edge, a command, a
+    /// timeout) or left the marking where it was, or the last round or reset.
+    streak: Vec<BTreeMap<String, Value>>,
     /// TIME scans every task interval, never jumping to a delay's end ([`Driver::scan_every_cycle`]).
     every_cycle: bool,
 }
@@ -290,6 +296,7 @@ impl Driver {
             net: None,
             settled: false,
             moving: false,
+            streak: Vec::new(),
             every_cycle: false,
         };
         // The boot scan: initial states, the inputs' first sample.
@@ -370,8 +377,29 @@ impl Driver {
         drive.places.iter().map(|p| self.plc.get_bool(p)).collect()
     }
 
+    /// Whether the sequence net's marking cycles: the program's whole state after the last scan is one
+    /// a scan of this streak left already — its inputs unchanged since (an edge or a timeout is work,
+    /// which `ended` says ends the streak, as does a scan that left the marking where it was), so every
+    /// scan from here repeats the cycle, and nothing comes of it until something outside changes (an
+    /// event, a round's draw, a delay running out on TIME). The program is deterministic and its
+    /// states finite, so a cycle shows within as many scans as it passes through states, and the
+    /// session then judges the round instead of waiting for the program to settle.
+    fn cycling(&mut self, ended: bool) -> bool {
+        if ended {
+            self.streak.clear();
+            return false;
+        }
+        let now = self.plc.variables();
+        if self.streak.iter().any(|s| s == now) {
+            return true;
+        }
+        self.streak.push(now.clone());
+        false
+    }
+
     /// A new round: the free inputs that are drawn are drawn afresh.
     pub fn new_round(&mut self) -> Result<(), String> {
+        self.streak.clear();
         let Some((drive, rng)) = &mut self.net else { return Ok(()) };
         for var in &drive.drawn {
             self.plc.set_bool(var, rng.chance(500))?;
@@ -464,16 +492,18 @@ impl Driver {
             return Err(format!("more than one command in a scan: {commands:?}"));
         }
         let worked = edged || !commands.is_empty() || !timeouts.is_empty();
-        self.moving = self.marking()? != marking;
+        let moved = self.marking()? != marking;
+        let cycling = self.cycling(worked || !moved);
+        self.moving = moved && !cycling;
         self.settled =
-            !worked && !self.moving && !self.pulsing() && !self.plc.get_bool(&format!("{FB}.pending"))?;
+            !worked && !moved && !self.pulsing() && !self.plc.get_bool(&format!("{FB}.pending"))?;
         Ok(Scan { timeouts, commands, statements: worked.then_some(statements) })
     }
 
     /// A scan with `reset` and `hold` set: the program back to its initial states, no command.
     /// The inputs are first brought to their levels at the plant's initial state, and a sequence net's
-    /// free inputs to theirs (held, or drawn), so the reset scan samples them without an edge; a
-    /// sequence net goes back to its cold start ([`NetDrive::cold_start`]).
+    /// free inputs to theirs (held, or drawn), so the reset scan samples them without an edge; the
+    /// program's `reset` brings a sequence net back to its initial marking in the same scan.
     pub fn reset(&mut self) -> Result<(), String> {
         let paths: Vec<String> = self.io.inputs.values().map(|l| l.path.clone()).collect();
         for path in paths {
@@ -485,9 +515,6 @@ impl Driver {
             for var in &drive.held {
                 self.plc.set_bool(var, true)?;
             }
-            for (path, value) in &drive.cold_start {
-                self.plc.set_bool(path, *value)?;
-            }
         }
         self.new_round()?;
         let hold = self.plc.get_bool("hold")?;
@@ -498,6 +525,7 @@ impl Driver {
         self.plc.set_bool("hold", hold)?;
         self.edged = false;
         (self.moving, self.settled) = (false, false);
+        self.streak.clear();
         self.snapshot()
     }
 }

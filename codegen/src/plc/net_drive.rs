@@ -34,10 +34,6 @@ pub struct NetDrive {
     pub places: Vec<String>,
     /// The paths of the delayed transitions' `TON`s in the program.
     pub timers: Vec<String>,
-    /// The sequence block's state at a cold start, as (path, value): each place at its initial marking,
-    /// each demanded output FALSE, each `TON` stopped. The generated program's `reset` input resets the
-    /// interlocks only; the closed loop's RESET brings the sequence back with them (a PLC's cold start).
-    pub cold_start: Vec<(String, bool)>,
 }
 
 impl NetDrive {
@@ -59,15 +55,6 @@ impl NetDrive {
         drive.timers = (id.timer.iter().zip(&net.delays))
             .filter(|&(_, &d)| d > 0)
             .map(|(t, _)| format!("{INSTANCE}.{t}"))
-            .collect();
-        drive.cold_start = (drive.places.iter().zip(&net.net.places))
-            .map(|(path, place)| (path.clone(), place.initial > 0))
-            .chain(
-                (id.signal.iter().zip(&net.signals))
-                    .filter(|(_, s)| s.direction == Direction::Output)
-                    .map(|(v, _)| (format!("{INSTANCE}.{v}"), false)),
-            )
-            .chain(drive.timers.iter().map(|t| (format!("{t}.RUNNING"), false)))
             .collect();
         let delays = net.delays.iter().copied().filter(|&d| d > 0);
         drive.delays = delays.clone().min().zip(delays.max());
