@@ -7,6 +7,8 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
+use codegen::plc::closed_loop::{Driver, Edge, Scan, Scanner};
+
 fn codegen(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_codegen")).args(args).output().expect("run codegen")
 }
@@ -69,67 +71,75 @@ fn every_plc_example_runs_with_no_violation() {
     }
 }
 
+/// A PLC driver behind the wrapper with the test looking on: `on_scan` sees every scan's result,
+/// `on_reset` the driver just before each reset (the power-up's first); everything else is the
+/// driver's own.
+struct Watched<S, R> {
+    driver: Driver,
+    on_scan: S,
+    on_reset: R,
+}
+
+impl<S, R> Scanner for Watched<S, R>
+where
+    S: FnMut(&Scan) + Send,
+    R: FnMut(&Driver) + Send,
+{
+    fn has_input(&self, e: u8) -> bool {
+        self.driver.has_input(e)
+    }
+    fn edge(&mut self, e: u8, used: &mut Vec<String>) -> Result<Edge, String> {
+        self.driver.edge(e, used)
+    }
+    fn hold(&mut self, on: bool) -> Result<(), String> {
+        Scanner::hold(&mut self.driver, on)
+    }
+    fn held(&self) -> Result<bool, String> {
+        self.driver.held()
+    }
+    fn pending(&self) -> Result<bool, String> {
+        self.driver.pending()
+    }
+    fn safe(&self) -> Result<bool, String> {
+        self.driver.safe()
+    }
+    fn scan(&mut self) -> Result<Scan, String> {
+        let scan = Scanner::scan(&mut self.driver)?;
+        (self.on_scan)(&scan);
+        Ok(scan)
+    }
+    fn reset(&mut self) -> Result<(), String> {
+        (self.on_reset)(&self.driver);
+        Scanner::reset(&mut self.driver)
+    }
+    fn status(&self, unknown: u32) -> Result<[u32; 6], String> {
+        self.driver.status(unknown)
+    }
+    fn timed_cycle(&self) -> Option<u32> {
+        self.driver.timed_cycle()
+    }
+    fn set_interval(&mut self, ms: u32) {
+        self.driver.set_interval(ms)
+    }
+    fn new_round(&mut self) -> Result<(), String> {
+        Scanner::new_round(&mut self.driver)
+    }
+    fn quiet_for(&self) -> Result<Option<u32>, String> {
+        Scanner::quiet_for(&self.driver)
+    }
+    fn runs_free_on_time(&self) -> bool {
+        self.driver.runs_free_on_time()
+    }
+}
+
 /// A station net's event-based program run closed loop for `events` events as `run --target plc` runs
 /// it (its TIME scanning every task interval with `every_cycle`), with the places marked at each RESET
 /// the program took, the power-up's first.
 fn station_net(name: &str, events: u64, every_cycle: bool) -> (codegen::monitor::Report, Vec<Vec<String>>) {
-    use codegen::plc::closed_loop::{net_driver, run_spawned, spawn_plc, Driver, Edge, Scan, Scanner};
+    use codegen::plc::closed_loop::{net_driver, run_spawned, spawn_plc};
     use codegen::plc::net_drive::NetDrive;
     use codegen::plc::{Avalanche, Encoding, Form};
     use std::sync::{Arc, Mutex};
-
-    /// The driver, noting the marked places whenever the host resets it.
-    struct AtReset {
-        driver: Driver,
-        places: Vec<String>,
-        seen: Arc<Mutex<Vec<Vec<String>>>>,
-    }
-    impl Scanner for AtReset {
-        fn has_input(&self, e: u8) -> bool {
-            self.driver.has_input(e)
-        }
-        fn edge(&mut self, e: u8, used: &mut Vec<String>) -> Result<Edge, String> {
-            self.driver.edge(e, used)
-        }
-        fn hold(&mut self, on: bool) -> Result<(), String> {
-            Scanner::hold(&mut self.driver, on)
-        }
-        fn held(&self) -> Result<bool, String> {
-            self.driver.held()
-        }
-        fn pending(&self) -> Result<bool, String> {
-            self.driver.pending()
-        }
-        fn safe(&self) -> Result<bool, String> {
-            self.driver.safe()
-        }
-        fn scan(&mut self) -> Result<Scan, String> {
-            Scanner::scan(&mut self.driver)
-        }
-        fn reset(&mut self) -> Result<(), String> {
-            let marked = self.places.iter().filter(|p| self.driver.plc.get_bool(p) == Ok(true)).cloned();
-            self.seen.lock().unwrap().push(marked.collect());
-            Scanner::reset(&mut self.driver)
-        }
-        fn status(&self, unknown: u32) -> Result<[u32; 6], String> {
-            self.driver.status(unknown)
-        }
-        fn timed_cycle(&self) -> Option<u32> {
-            self.driver.timed_cycle()
-        }
-        fn set_interval(&mut self, ms: u32) {
-            self.driver.set_interval(ms)
-        }
-        fn new_round(&mut self) -> Result<(), String> {
-            Scanner::new_round(&mut self.driver)
-        }
-        fn quiet_for(&self) -> Result<Option<u32>, String> {
-            Scanner::quiet_for(&self.driver)
-        }
-        fn runs_free_on_time(&self) -> bool {
-            self.driver.runs_free_on_time()
-        }
-    }
 
     let manifest = repo(&format!("examples/station-rtpn/{name}.toml"));
     let project = codegen::project::Project::load(Path::new(&manifest)).unwrap();
@@ -142,7 +152,15 @@ fn station_net(name: &str, events: u64, every_cycle: bool) -> (codegen::monitor:
         net_driver(&out.files[0].1, &out.report, &project.set, Some(&net), options.plant.seed).unwrap();
     driver.scan_every_cycle(every_cycle);
     let seen = Arc::new(Mutex::new(Vec::new()));
-    let at_reset = AtReset { driver, places: net.places.clone(), seen: Arc::clone(&seen) };
+    let (places, noted) = (net.places.clone(), Arc::clone(&seen));
+    let at_reset = Watched {
+        driver,
+        on_scan: |_: &Scan| {},
+        on_reset: move |driver: &Driver| {
+            let marked = places.iter().filter(|p| driver.plc.get_bool(p) == Ok(true)).cloned();
+            noted.lock().unwrap().push(marked.collect());
+        },
+    };
     let (host, target) = codegen::link::memory::pair();
     let plc = spawn_plc(at_reset, target);
     let report =
@@ -517,48 +535,10 @@ fn timers_with_a_form_that_has_none_are_refused() {
 fn factory_wrapper(chunks: &[Vec<u8>]) -> (Vec<codegen::link::protocol::Frame>, Vec<u64>) {
     use codegen::link::protocol::{Decoder, Frame, EXIT, READY, RESET, STATUS, STEP};
     use codegen::link::ByteLink;
-    use codegen::plc::closed_loop::{net_driver, spawn_plc, Driver, Edge, Scan, Scanner};
+    use codegen::plc::closed_loop::{net_driver, spawn_plc};
     use codegen::plc::{Avalanche, Encoding, Form};
     use std::sync::{Arc, Mutex};
     use std::time::Duration;
-
-    /// The driver, noting the statements of every scan that did work.
-    struct Noted {
-        driver: Driver,
-        statements: Arc<Mutex<Vec<u64>>>,
-    }
-    impl Scanner for Noted {
-        fn has_input(&self, e: u8) -> bool {
-            self.driver.has_input(e)
-        }
-        fn edge(&mut self, e: u8, used: &mut Vec<String>) -> Result<Edge, String> {
-            self.driver.edge(e, used)
-        }
-        fn hold(&mut self, on: bool) -> Result<(), String> {
-            Scanner::hold(&mut self.driver, on)
-        }
-        fn held(&self) -> Result<bool, String> {
-            self.driver.held()
-        }
-        fn pending(&self) -> Result<bool, String> {
-            self.driver.pending()
-        }
-        fn safe(&self) -> Result<bool, String> {
-            self.driver.safe()
-        }
-        fn scan(&mut self) -> Result<Scan, String> {
-            let scan = Scanner::scan(&mut self.driver)?;
-            self.statements.lock().unwrap().extend(scan.statements);
-            Ok(scan)
-        }
-        fn reset(&mut self) -> Result<(), String> {
-            self.statements.lock().unwrap().clear();
-            Scanner::reset(&mut self.driver)
-        }
-        fn status(&self, unknown: u32) -> Result<[u32; 6], String> {
-            self.driver.status(unknown)
-        }
-    }
 
     let project = codegen::project::Project::load(Path::new(&repo("examples/factory/factory.toml"))).unwrap();
     let form = Form::Event { encoding: Encoding::Int, avalanche: Avalanche::Auto, policy: None };
@@ -566,7 +546,13 @@ fn factory_wrapper(chunks: &[Vec<u8>]) -> (Vec<codegen::link::protocol::Frame>, 
     let driver = net_driver(&out.files[0].1, &out.report, &project.set, None, 1).unwrap();
     let statements = Arc::new(Mutex::new(Vec::new()));
     let (mut host, target) = codegen::link::memory::pair();
-    let plc = spawn_plc(Noted { driver, statements: Arc::clone(&statements) }, target);
+    let (on_scan, on_reset) = (Arc::clone(&statements), Arc::clone(&statements));
+    let noted = Watched {
+        driver,
+        on_scan: move |scan: &Scan| on_scan.lock().unwrap().extend(scan.statements),
+        on_reset: move |_: &Driver| on_reset.lock().unwrap().clear(),
+    };
+    let plc = spawn_plc(noted, target);
     let (mut decoder, mut frames, mut buf) = (Decoder::default(), Vec::new(), [0u8; 64]);
     let mut read_until = |host: &mut codegen::link::memory::MemoryLink, answers: usize| {
         let mut seen = 0;

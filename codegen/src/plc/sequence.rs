@@ -295,6 +295,39 @@ mod tests {
         build("A", &["0", "1"], &["af1", "af0"], &[("0", "af1", "1"), ("1", "af0", "0"), ("0", "sr1", "0")])
     }
 
+    /// The program written for the manifest `text` over the tests' plant and a net of one-arc
+    /// transitions `(id, from, to)` between places `p0, p1, …` marked where `initial` says: the set, the
+    /// bound net and the program.
+    fn chain_program(
+        text: &str,
+        initial: &[bool],
+        transitions: &[(&str, usize, usize)],
+    ) -> (crate::pack::PackSet, Interpretation, crate::plc::Output) {
+        let m = Manifest::parse(Path::new("m.toml"), text).unwrap();
+        let n = Net {
+            name: "n".into(),
+            places: initial
+                .iter()
+                .enumerate()
+                .map(|(i, &m)| Place { id: format!("p{i}"), initial: u32::from(m) })
+                .collect(),
+            transitions: transitions
+                .iter()
+                .map(|&(id, from, to)| Transition {
+                    id: id.into(),
+                    inputs: vec![(from, 1)],
+                    outputs: vec![(to, 1)],
+                    ..Transition::default()
+                })
+                .collect(),
+        };
+        let set = crate::pack::PackSet::new(vec![plant()], Vec::new()).unwrap();
+        let opts = crate::plc::PlcOptions::new("x", &Default::default(), m.plc.as_ref(), None).unwrap();
+        let net = Interpretation::bind(m.net.as_ref().unwrap(), &m.file, n, set.events()).unwrap();
+        let out = crate::plc::generate_with_sequence(&set, &opts, &Default::default(), &net).unwrap();
+        (set, net, out)
+    }
+
     /// p0 –t0 (sr)→ p1, and a second way out of p0 (t2 into p1 and p2) that t1 joins back into p0: a
     /// safe net; p1 demands `af`.
     fn net() -> Interpretation {
@@ -397,23 +430,9 @@ mod tests {
             [[plc.outputs]]\nevent = \"af1\"\nvariable = \"af\"\naction = \"set\"\n\
             [[plc.outputs]]\nevent = \"af0\"\nvariable = \"af\"\naction = \"clear\"\n\
             [[plc.inputs]]\nevent = \"sr1\"\nvariable = \"x_sr\"\nedge = \"rising\"\n";
-        let m = Manifest::parse(Path::new("m.toml"), text).unwrap();
-        let t = |id: &str, from: usize, to: usize| Transition {
-            id: id.into(),
-            inputs: vec![(from, 1)],
-            outputs: vec![(to, 1)],
-            ..Transition::default()
-        };
         // p0 –t0 (sr)→ p1 –t1 (1 s)→ p0, and p2 –t2 (sr, 1 s)→ p3.
-        let n = Net {
-            name: "n".into(),
-            places: (0..4).map(|i| Place { id: format!("p{i}"), initial: u32::from(i % 2 == 0) }).collect(),
-            transitions: vec![t("t0", 0, 1), t("t1", 1, 0), t("t2", 2, 3)],
-        };
-        let set = crate::pack::PackSet::new(vec![plant()], Vec::new()).unwrap();
-        let opts = crate::plc::PlcOptions::new("x", &Default::default(), m.plc.as_ref(), None).unwrap();
-        let net = Interpretation::bind(m.net.as_ref().unwrap(), &m.file, n, set.events()).unwrap();
-        let out = crate::plc::generate_with_sequence(&set, &opts, &Default::default(), &net).unwrap();
+        let (_, _, out) =
+            chain_program(text, &[true, false, true, false], &[("t0", 0, 1), ("t1", 1, 0), ("t2", 2, 3)]);
         let mut plc = crate::interpreter::Plc::load(&out.files[0].1).unwrap();
         plc.set_cycle_ms(100);
         let marking = |plc: &crate::interpreter::Plc| -> Vec<bool> {
@@ -456,22 +475,7 @@ mod tests {
             [[plc.outputs]]\nevent = \"af1\"\nvariable = \"af\"\naction = \"set\"\n\
             [[plc.outputs]]\nevent = \"af0\"\nvariable = \"af\"\naction = \"clear\"\n\
             [[plc.inputs]]\nevent = \"sr1\"\nvariable = \"x_sr\"\nedge = \"rising\"\n";
-        let m = Manifest::parse(Path::new("m.toml"), text).unwrap();
-        let t = |id: &str, from: usize, to: usize| Transition {
-            id: id.into(),
-            inputs: vec![(from, 1)],
-            outputs: vec![(to, 1)],
-            ..Transition::default()
-        };
-        let n = Net {
-            name: "n".into(),
-            places: (0..2).map(|i| Place { id: format!("p{i}"), initial: u32::from(i == 0) }).collect(),
-            transitions: vec![t("t0", 0, 1), t("t1", 1, 0)],
-        };
-        let set = crate::pack::PackSet::new(vec![plant()], Vec::new()).unwrap();
-        let opts = crate::plc::PlcOptions::new("x", &Default::default(), m.plc.as_ref(), None).unwrap();
-        let net = Interpretation::bind(m.net.as_ref().unwrap(), &m.file, n, set.events()).unwrap();
-        let out = crate::plc::generate_with_sequence(&set, &opts, &Default::default(), &net).unwrap();
+        let (set, net, out) = chain_program(text, &[true, false], &[("t0", 0, 1), ("t1", 1, 0)]);
         let io = IoMap::new(&out.report, set.events()).unwrap();
         let mut d = Driver::new(&out.files[0].1, io).unwrap();
         d.drive_net(crate::plc::net_drive::NetDrive::new(&net), 0).unwrap();
